@@ -1,0 +1,30 @@
+"""lagrangian: analytical mechanics from the Lagrangian to equations, analysis and motion.
+
+    >>> import lagrangian as lg
+    >>> eom = lg.load("simple_pendulum").equations_of_motion()
+    >>> eom.accelerations["theta"]
+    -g*sin(theta)/l
+"""
+
+from .derive import CoordinateDerivation, EquationsOfMotion, derive
+from .errors import LagrangianError, ModelError, ParseError, SingularMassMatrixError
+from .model import Gravity, Parameter, Particle, RigidBody2D, Spring, System, load, loads
+
+__all__ = [
+    "CoordinateDerivation",
+    "EquationsOfMotion",
+    "Gravity",
+    "LagrangianError",
+    "ModelError",
+    "Parameter",
+    "ParseError",
+    "Particle",
+    "RigidBody2D",
+    "SingularMassMatrixError",
+    "Spring",
+    "System",
+    "derive",
+    "load",
+    "loads",
+]
+__version__ = "0.1.0"

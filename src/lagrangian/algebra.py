@@ -1,0 +1,97 @@
+"""Bounded simplification: cheap, predictable steps that make equations readable.
+
+SymPy's ``simplify`` can run for hours on a mid-sized mechanical expression, so
+nothing here calls it.  :func:`tidy` expands products (never powers of sums,
+which could explode), optionally tries ``trigsimp`` on small expressions and
+keeps its result only when it is shorter, and writes the result the way a
+textbook does: terms with the same dependence on the state grouped, with the
+parameter coefficient factored ((m1 + m2) g sin(theta1)).  Every step is
+skipped above a fixed operation count, so the cost is bounded.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+import sympy
+
+#: Largest operation count handed to ``trigsimp`` (tens of milliseconds at this size).
+TRIGSIMP_MAX_OPS = 120
+#: Largest operation count for which ``expand`` and grouping are attempted at all.
+EXPAND_MAX_OPS = 4_000
+#: Largest coefficient (operation count) that is factored.
+FACTOR_MAX_OPS = 40
+
+
+def expand_products(expr: sympy.Expr) -> sympy.Expr:
+    """Distribute products over sums, but never expand ``(a + b)**n``."""
+    if sympy.count_ops(expr) > EXPAND_MAX_OPS:
+        return expr
+    return sympy.expand(
+        expr, deep=True, mul=True, multinomial=False, power_exp=False, power_base=False, log=False
+    )
+
+
+def tidy(
+    expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = False
+) -> sympy.Expr:
+    """A readable, equal form of ``expr`` computed in bounded time.
+
+    ``state``: the symbols (q, q', q'', t) whose terms are grouped; with
+    ``trig``, trigonometric identities (sin^2 + cos^2 = 1, angle sums) are
+    applied when they make the expression shorter.
+    """
+    if expr.is_Number:
+        return expr
+    expanded = expand_products(expr)
+    if trig and expanded.has(sympy.sin, sympy.cos):
+        ops = sympy.count_ops(expanded)
+        if ops <= TRIGSIMP_MAX_OPS:
+            candidate = sympy.trigsimp(expanded)
+            if sympy.count_ops(candidate) < ops:
+                expanded = expand_products(candidate)
+    state = tuple(state)
+    if state and isinstance(expanded, sympy.Add):
+        return group_by_state(expanded, state)
+    return sympy.factor_terms(expanded)
+
+
+def group_by_state(expr: sympy.Expr, state: tuple[sympy.Symbol, ...]) -> sympy.Expr:
+    """Collect the terms of a sum by their state-dependent part, factoring each coefficient.
+
+    g*m1*sin(theta1) + g*m2*sin(theta1) -> g*(m1 + m2)*sin(theta1).
+    """
+    if sympy.count_ops(expr) > EXPAND_MAX_OPS:
+        return expr
+    state_set = set(state)
+    groups: dict[sympy.Expr, list[sympy.Expr]] = {}
+    for term in sympy.Add.make_args(expr):
+        coefficient, dependent = [], []
+        for factor in sympy.Mul.make_args(term):
+            (dependent if factor.free_symbols & state_set else coefficient).append(factor)
+        key = sympy.Mul(*dependent)
+        groups.setdefault(key, []).append(sympy.Mul(*coefficient))
+    terms = []
+    for key, coefficients in groups.items():
+        coefficient = sympy.Add(*coefficients)
+        if len(coefficients) > 1 and sympy.count_ops(coefficient) <= FACTOR_MAX_OPS:
+            coefficient = sympy.factor(coefficient)
+        terms.append(coefficient * key)
+    return sympy.Add(*terms)
+
+
+def positive_content(expr: sympy.Expr, state: Iterable[sympy.Symbol]) -> sympy.Expr:
+    """The state-free common factor of ``expr`` when it is positive (else 1).
+
+    For m l^2 theta'' + m g l sin(theta) it is m l: dividing an equation
+    ``expr = 0`` by it changes nothing but makes it read like the textbook.
+    """
+    content = sympy.factor_terms(expr).as_independent(*state, as_Add=False)[0]
+    coefficient, rest = content.as_coeff_Mul()
+    content = abs(coefficient) * rest
+    return content if content.is_positive else sympy.Integer(1)
+
+
+def is_zero(expr: sympy.Expr) -> bool:
+    """True when ``expr`` is identically zero after bounded simplification."""
+    return tidy(expr, trig=True) == 0

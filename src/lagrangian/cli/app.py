@@ -1,0 +1,51 @@
+"""The click application: one small function per command, no physics."""
+
+from __future__ import annotations
+
+import json
+
+import click
+
+MODEL_HELP = "MODEL is a model file (TOML) or the name of a built-in example."
+
+
+@click.group(
+    name="lagrangian",
+    help="Analytical mechanics: derive, analyse and simulate Lagrange's equations of motion.",
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+@click.version_option(package_name="lagrangian")
+def app() -> None:
+    pass
+
+
+@app.command()
+def examples() -> None:
+    """List the built-in example models."""
+    from ..examples import example_names
+    from ..model import load
+
+    for name in example_names():
+        system = load(name)
+        click.echo(f"{name:30s} {system.name}  ({', '.join(system.coordinate_names)})")
+
+
+@app.command(epilog=MODEL_HELP)
+@click.argument("model")
+@click.option("--json", "as_json", is_flag=True, help="Print the JSON document.")
+@click.option("--latex", "as_latex", is_flag=True, help="Print LaTeX.")
+@click.option("--steps", is_flag=True, help="Show the derivation step by step, as by hand.")
+def derive(model: str, as_json: bool, as_latex: bool, steps: bool) -> None:
+    """Derive Lagrange's equations of motion of MODEL."""
+    from .. import output
+    from ..model import load
+
+    if as_json and as_latex:
+        raise click.UsageError("choose one of --json and --latex")
+    eom = load(model).equations_of_motion()
+    if as_json:
+        click.echo(json.dumps(output.derive_document(eom), indent=2, ensure_ascii=False))
+    elif as_latex:
+        click.echo(output.latex_steps(eom) if steps else output.latex_equations(eom))
+    else:
+        click.echo(output.format_steps(eom) if steps else output.format_equations(eom))

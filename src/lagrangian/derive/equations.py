@@ -1,0 +1,75 @@
+"""`EquationsOfMotion`: the one object every later stage reads."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import sympy
+
+from ..symbols import Coordinate
+
+if TYPE_CHECKING:
+    from ..model import System
+
+
+@dataclass(frozen=True)
+class CoordinateDerivation:
+    """Lagrange's equation for one coordinate q, term by term, as done by hand.
+
+        d/dt (dL/dq_dot) - dL/dq = Q_q - dF/dq_dot
+    """
+
+    coordinate: Coordinate
+    momentum: sympy.Expr  # dL/dq_dot
+    momentum_rate: sympy.Expr  # d/dt (dL/dq_dot), contains accelerations
+    force_gradient: sympy.Expr  # dL/dq
+    generalized_force: sympy.Expr  # Q_q
+    dissipation_force: sympy.Expr  # dF/dq_dot
+    equation: sympy.Expr  # the left side minus the right side, = 0
+
+
+@dataclass(frozen=True, eq=False)
+class EquationsOfMotion:
+    """Lagrange's equations of a :class:`~lagrangian.model.System`.
+
+    The canonical form, referred to everywhere else, is
+
+        M(q, t) q'' = f(q, q', t),
+
+    with the mass matrix M_ij = d^2 L / (dq_i' dq_j') and the forcing
+    f_i = dL/dq_i - sum_j d^2 L/(dq_i' dq_j) q_j' - d^2 L/(dq_i' dt) + Q_i - dF/dq_i'.
+    ``equations[i]`` is the i-th Euler-Lagrange equation written as
+    ``expr = 0`` (equal to ``(M q'' - f)[i]`` up to rearrangement).
+    ``accelerations`` holds q'' solved explicitly (``None`` where that would
+    not stay readable; the numeric stages solve M q'' = f instead).  M depends
+    on the velocities only for Lagrangians that are not quadratic in them (a
+    relativistic particle).
+    """
+
+    system: System
+    equations: tuple[sympy.Expr, ...]
+    mass_matrix: sympy.ImmutableMatrix
+    forcing: sympy.ImmutableMatrix
+    accelerations: Mapping[str, sympy.Expr] | None
+    steps: tuple[CoordinateDerivation, ...]
+
+    @property
+    def coordinates(self) -> tuple[Coordinate, ...]:
+        return self.system.coordinates
+
+    @property
+    def lagrangian(self) -> sympy.Expr:
+        return self.system.lagrangian
+
+    def acceleration(self, coordinate: str) -> sympy.Expr:
+        """q'' of ``coordinate`` as an expression of (q, q', t)."""
+        if self.accelerations is None:
+            raise ValueError("accelerations were not solved symbolically for this system")
+        return self.accelerations[coordinate]
+
+    def _repr_latex_(self) -> str:
+        from ..output.latex import latex_equations
+
+        return latex_equations(self)

@@ -1,0 +1,131 @@
+"""Solving M q'' = f: the singularity check and the explicit accelerations.
+
+The mass matrix often splits into independent blocks (the free particle in
+spherical coordinates is diagonal), so each block is solved on its own: a
+1x1 block is a division, a small block uses Cramer's rule with the determinant
+simplified (readable), a larger one LU without simplification.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Sequence
+
+import numpy as np
+import sympy
+from sympy.core.function import AppliedUndef
+
+from ..algebra import positive_content, tidy
+from ..errors import SingularMassMatrixError
+from ..symbols import Coordinate
+
+#: Blocks up to this size are solved with a simplified determinant (Cramer's rule).
+CRAMER_MAX_SIZE = 3
+#: Blocks larger than this are not solved symbolically (the formulas explode).
+SYMBOLIC_MAX_SIZE = 6
+
+
+def check_regular(mass_matrix: sympy.Matrix, coordinates: Sequence[Coordinate]) -> None:
+    """Raise SingularMassMatrixError unless M is invertible at a generic point.
+
+    Rank is judged numerically at random points (parameters and coordinates in
+    [0.5, 2.5], unspecified functions replaced by random numbers), which
+    separates "singular everywhere" from "singular on a set of measure zero"
+    (the spherical pendulum at theta = 0) without symbolic determinants.
+    """
+    names = [c.name for c in coordinates]
+    missing = [name for name, row in zip(names, mass_matrix.tolist(), strict=True) if all(
+        entry == 0 for entry in row
+    )]
+    if missing:
+        raise SingularMassMatrixError(
+            "singular mass matrix: no kinetic term for " + ", ".join(missing)
+            + " (the Lagrangian must be quadratic in each velocity)"
+        )
+    rng = random.Random(20261122)
+    ranks = []
+    for _ in range(3):
+        numeric = _at_random_point(mass_matrix, rng)
+        if numeric is None:
+            return  # could not evaluate: let the symbolic solve decide
+        ranks.append(np.linalg.matrix_rank(numeric, tol=1e-9 * max(1.0, np.abs(numeric).max())))
+    rank = max(ranks)
+    if rank < len(names):
+        null = np.linalg.svd(_at_random_point(mass_matrix, rng))[2][-1]
+        involved = [name for name, weight in zip(names, null, strict=True) if abs(weight) > 1e-6]
+        raise SingularMassMatrixError(
+            f"singular mass matrix (rank {rank} of {len(names)}): the velocities of "
+            + ", ".join(involved)
+            + " enter the Lagrangian only in a combination; use fewer coordinates"
+        )
+
+
+def _at_random_point(matrix: sympy.Matrix, rng: random.Random) -> np.ndarray | None:
+    undefined = matrix.atoms(AppliedUndef, sympy.Derivative)
+    values = {atom: sympy.Float(rng.uniform(0.5, 2.5)) for atom in undefined}
+    numeric = matrix.xreplace(values)
+    values = {s: sympy.Float(rng.uniform(0.5, 2.5)) for s in numeric.free_symbols}
+    try:
+        return np.array(numeric.xreplace(values).evalf(), dtype=float)
+    except (TypeError, ValueError):
+        return None
+
+
+def solve_accelerations(
+    mass_matrix: sympy.Matrix,
+    forcing: sympy.Matrix,
+    coordinates: Sequence[Coordinate],
+    state: Sequence[sympy.Symbol],
+) -> dict[str, sympy.Expr] | None:
+    """q'' = M^-1 f block by block, or None when a block is too large to stay readable."""
+    solved: dict[str, sympy.Expr] = {}
+    for block in _blocks(mass_matrix):
+        if len(block) > SYMBOLIC_MAX_SIZE:
+            return None
+        sub_m = mass_matrix.extract(block, block)
+        sub_f = forcing.extract(block, [0])
+        if len(block) == 1:
+            values = [tidy(sub_f[0] / sub_m[0, 0], state, trig=True)]
+        elif len(block) <= CRAMER_MAX_SIZE:
+            values = _cramer(sub_m, sub_f, state)
+        else:
+            values = list(sub_m.LUsolve(sub_f))
+        for index, value in zip(block, values, strict=True):
+            solved[coordinates[index].name] = value
+    return {c.name: solved[c.name] for c in coordinates}
+
+
+def _cramer(
+    matrix: sympy.Matrix, rhs: sympy.Matrix, state: Sequence[sympy.Symbol]
+) -> list[sympy.Expr]:
+    """x_i = (adj(M) f)_i / det M, with the common positive factors cancelled."""
+    determinant = sympy.expand(matrix.det(method="berkowitz"))
+    det_content = positive_content(determinant, state)
+    values = []
+    for numerator in matrix.adjugate(method="berkowitz") * rhs:
+        common = sympy.gcd(det_content, positive_content(numerator, state))
+        denominator = tidy(determinant / common, state, trig=True)
+        outside = positive_content(denominator, state)
+        denominator = outside * tidy(denominator / outside, state)
+        values.append(tidy(numerator / common, state, trig=True) / denominator)
+    return values
+
+
+def _blocks(matrix: sympy.Matrix) -> list[list[int]]:
+    """Index sets of the independent diagonal blocks of a symmetric matrix."""
+    n = matrix.rows
+    unseen = set(range(n))
+    blocks = []
+    while unseen:
+        stack = [min(unseen)]
+        block = []
+        unseen.discard(stack[0])
+        while stack:
+            i = stack.pop()
+            block.append(i)
+            for j in list(unseen):
+                if matrix[i, j] != 0:
+                    unseen.discard(j)
+                    stack.append(j)
+        blocks.append(sorted(block))
+    return blocks

@@ -1,0 +1,83 @@
+"""Errors with one-line messages that say what is wrong and where.
+
+Every error a user can cause derives from :class:`LagrangianError`; the CLI
+prints ``str(error)`` on one line and exits with status 2.  Anything else that
+escapes is a bug in the toolkit (exit status 1).
+"""
+
+from __future__ import annotations
+
+
+class LagrangianError(Exception):
+    """Base of every error caused by the user's input."""
+
+
+class ParseError(LagrangianError):
+    """Text that is not a valid expression.
+
+    ``position`` is the 0-based character offset in ``text`` where the problem
+    was found (``None`` when it concerns the whole text, e.g. its length).
+    """
+
+    def __init__(self, message: str, text: str = "", position: int | None = None):
+        self.message = message
+        self.text = text
+        self.position = position
+        super().__init__(self._render())
+
+    def _render(self) -> str:
+        if self.position is None:
+            return self.message
+        return f"{self.message} at position {self.position + 1}"
+
+
+class UnknownNameError(ParseError):
+    """An identifier that is neither declared nor built in."""
+
+    def __init__(self, name: str, text: str = "", position: int | None = None):
+        self.name = name
+        super().__init__(f"unknown symbol '{name}'", text, position)
+
+
+class ModelError(LagrangianError):
+    """A model that cannot be built: names the file, the field and the offending text."""
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        source: str | None = None,
+        field: str | None = None,
+        text: str | None = None,
+    ):
+        self.message = message
+        self.source = source
+        self.field = field
+        self.text = text
+        super().__init__(self._render())
+
+    def _render(self) -> str:
+        where = ": ".join(part for part in (self.source, self.field) if part)
+        quoted = ""
+        if self.text is not None:
+            shown = self.text if len(self.text) <= 60 else self.text[:57] + "..."
+            quoted = f" in {_single_line(repr(shown))}"
+        prefix = f"{where}: " if where else ""
+        return _single_line(f"{prefix}{self.message}{quoted}")
+
+    def located(self, *, source: str | None = None, field: str | None = None) -> ModelError:
+        """The same error with the file (and field, if not yet known) filled in."""
+        return ModelError(
+            self.message,
+            source=self.source or source,
+            field=self.field or field,
+            text=self.text,
+        )
+
+
+class SingularMassMatrixError(LagrangianError):
+    """The equations cannot be solved for the accelerations."""
+
+
+def _single_line(message: str) -> str:
+    return " ".join(message.split())

@@ -1,0 +1,21 @@
+"""Stage 1: a mechanical system as frozen data (`System`) from text, TOML or Python."""
+
+from .build import ModelSpec, build_system
+from .components import Gravity, Particle, RigidBody2D, Spring
+from .system import FunctionDeclaration, Parameter, System
+from .toml_io import load, load_file, loads
+
+__all__ = [
+    "FunctionDeclaration",
+    "Gravity",
+    "ModelSpec",
+    "Parameter",
+    "Particle",
+    "RigidBody2D",
+    "Spring",
+    "System",
+    "build_system",
+    "load",
+    "load_file",
+    "loads",
+]

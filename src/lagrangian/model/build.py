@@ -1,0 +1,486 @@
+"""Turn a raw model description (text, numbers, SymPy) into a checked, frozen `System`.
+
+The TOML loader and the Python constructors both produce a :class:`ModelSpec`;
+:func:`build_system` validates names, parses every expression with the safe
+parser, checks what each field may depend on, and assembles L = T - V.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+
+import sympy
+from sympy.core.function import AppliedUndef
+
+from ..errors import ModelError, ParseError
+from ..parsing import (
+    BUILTIN_CONSTANTS,
+    BUILTIN_FUNCTIONS,
+    DeclaredFunction,
+    Namespace,
+    parse_expression,
+    referenced_names,
+)
+from ..symbols import (
+    ACCELERATION_SUFFIX,
+    TIME_NAME,
+    VELOCITY_SUFFIX,
+    Coordinate,
+    is_identifier,
+    parameter_symbol,
+    time_symbol,
+)
+from .components import ExprLike, Gravity, Particle, RigidBody2D, Spring
+from .energy import conservative_potential, gravity_potential, kinetic_energy, spring_potential
+from .system import PARAMETER_SIGNS, FunctionDeclaration, Parameter, System
+
+# What an expression field may depend on.
+COORDINATES, VELOCITIES, TIME, PARAMETERS = "coordinates", "velocities", "t", "parameters"
+STATE_AND_TIME = frozenset({COORDINATES, VELOCITIES, TIME, PARAMETERS})
+CONFIGURATION = frozenset({COORDINATES, TIME, PARAMETERS})
+CONSTANT = frozenset({PARAMETERS})
+CONSTANT_OR_TIME = frozenset({PARAMETERS, TIME})
+
+RESERVED = frozenset({TIME_NAME, *BUILTIN_FUNCTIONS, *BUILTIN_CONSTANTS})
+
+
+@dataclass(frozen=True)
+class ModelSpec:
+    """A model as the user wrote it: names, and expressions as text, SymPy or numbers.
+
+    ``parameters`` maps a name to its default value (``None`` for none) or to
+    ``{"value": v, "sign": "real"}``; a plain sequence of names declares
+    parameters without values; ``None`` takes every undeclared name used in the
+    expressions as a positive parameter (Python API only; model files must
+    declare their parameters).
+    """
+
+    coordinates: tuple[str, ...]
+    parameters: Mapping[str, object] | Sequence[str] | None = None
+    lagrangian: ExprLike | None = None
+    kinetic: ExprLike | None = None
+    potential: ExprLike | None = None
+    particles: tuple[Particle, ...] = ()
+    bodies: tuple[RigidBody2D, ...] = ()
+    springs: tuple[Spring, ...] = ()
+    gravity: Gravity | None = None
+    forces: Mapping[str, ExprLike] = field(default_factory=dict)
+    conservative_forces: Mapping[str, ExprLike] = field(default_factory=dict)
+    dissipation: ExprLike | None = None
+    constraints: tuple[ExprLike, ...] = ()
+    functions: Mapping[str, Sequence[str]] = field(default_factory=dict)
+    initial: Mapping[str, float] = field(default_factory=dict)
+    simulate: Mapping[str, object] = field(default_factory=dict)
+    name: str = ""
+    description: str = ""
+    source: str | None = None
+
+
+def build_system(spec: ModelSpec) -> System:
+    """Validate ``spec`` and build the frozen :class:`System` it describes."""
+    try:
+        return _Builder(spec).build()
+    except ModelError as error:
+        raise error.located(source=spec.source) from None
+
+
+class _Builder:
+    def __init__(self, spec: ModelSpec):
+        self.spec = spec
+        self.coordinates = _coordinates(spec.coordinates)
+        self.names = self._base_names()
+        self.functions = self._functions()
+        self.parameters = self._parameters()
+        self.namespace = self._namespace()
+
+    # -- names ---------------------------------------------------------------
+    def _base_names(self) -> dict[str, tuple[sympy.Expr, str]]:
+        names: dict[str, tuple[sympy.Expr, str]] = {TIME_NAME: (time_symbol(), TIME)}
+        for c in self.coordinates:
+            names[c.name] = (c.q, COORDINATES)
+            names[c.q_dot.name] = (c.q_dot, VELOCITIES)
+            names[c.q_ddot.name] = (c.q_ddot, "accelerations")
+        return names
+
+    def _functions(self) -> dict[str, FunctionDeclaration]:
+        declared = {}
+        if not isinstance(self.spec.functions, Mapping):
+            raise ModelError("expected a table of name = [arguments]", field="functions")
+        for name, arguments in self.spec.functions.items():
+            where = f"functions.{name}"
+            self._check_new_name(name, where)
+            if isinstance(arguments, str) or not isinstance(arguments, Sequence):
+                raise ModelError("expected a list of argument names", field=where)
+            symbols = []
+            for argument in arguments:
+                if argument not in self.names or self.names[argument][1] == "accelerations":
+                    raise ModelError(
+                        f"argument '{argument}' is not a coordinate, velocity or t", field=where
+                    )
+                symbols.append(self.names[argument][0])
+            declared[name] = FunctionDeclaration(
+                name, sympy.Function(name, real=True), tuple(symbols)
+            )
+        return declared
+
+    def _parameters(self) -> tuple[Parameter, ...]:
+        given = self.spec.parameters
+        if given is None:
+            entries: dict[str, object] = dict.fromkeys(sorted(self._undeclared_names()))
+        elif isinstance(given, Mapping):
+            entries = dict(given)
+        elif isinstance(given, Sequence) and not isinstance(given, str):
+            entries = dict.fromkeys(given)
+        else:
+            raise ModelError("expected a table of name = value", field="parameters")
+        parameters = []
+        for name, entry in entries.items():
+            where = f"parameters.{name}"
+            self._check_new_name(name, where)
+            value, sign = _parameter_entry(entry, where)
+            symbol = parameter_symbol(name, positive=(sign == "positive"))
+            if sign == "nonnegative":
+                symbol = sympy.Symbol(name, nonnegative=True)
+            elif sign == "negative":
+                symbol = sympy.Symbol(name, negative=True)
+            parameters.append(Parameter(name, symbol, value, sign))
+        return tuple(parameters)
+
+    def _check_new_name(self, name: object, where: str) -> None:
+        if not isinstance(name, str) or not is_identifier(name):
+            raise ModelError(f"invalid name {name!r}", field=where)
+        if name in RESERVED:
+            raise ModelError(f"'{name}' is reserved and cannot be declared", field=where)
+        if name in self.names or name in getattr(self, "functions", {}):
+            raise ModelError(f"'{name}' is declared twice", field=where)
+
+    def _undeclared_names(self) -> set[str]:
+        found: set[str] = set()
+        for where, value, _ in self._expression_fields():
+            if isinstance(value, str):
+                try:
+                    referenced = referenced_names(value)
+                except ParseError as error:
+                    raise ModelError(str(error), field=where, text=value) from None
+                found |= referenced.symbols
+            elif isinstance(value, sympy.Basic):
+                found |= {s.name for s in value.free_symbols if isinstance(s, sympy.Symbol)}
+        return found - set(self.names) - set(self.functions) - RESERVED
+
+    def _namespace(self) -> Namespace:
+        symbols = {name: symbol for name, (symbol, _) in self.names.items()}
+        symbols.update({p.name: p.symbol for p in self.parameters})
+        symbols.update({f.name: f.applied for f in self.functions.values()})
+        functions = {
+            f.name: DeclaredFunction(f.function, f.arguments) for f in self.functions.values()
+        }
+        return Namespace(symbols=symbols, functions=functions)
+
+    def _category(self, symbol: sympy.Symbol) -> str:
+        entry = self.names.get(symbol.name)
+        return entry[1] if entry else PARAMETERS
+
+    # -- expressions -----------------------------------------------------------
+    def expr(self, value: object, where: str, allowed: frozenset[str]) -> sympy.Expr:
+        """Parse or adopt one expression and check what it depends on."""
+        if isinstance(value, bool) or value is None:
+            raise ModelError(f"expected an expression, got {value!r}", field=where)
+        if isinstance(value, str):
+            try:
+                result = parse_expression(value, self.namespace)
+            except ParseError as error:
+                raise ModelError(str(error), field=where, text=value) from None
+        elif isinstance(value, int):
+            result = sympy.Integer(value)
+        elif isinstance(value, float):
+            if not math.isfinite(value):
+                raise ModelError(f"expected a finite number, got {value!r}", field=where)
+            result = sympy.Rational(repr(value))
+        elif isinstance(value, sympy.Expr):
+            result = self._adopt(value, where)
+        else:
+            raise ModelError(
+                f"expected an expression, got {type(value).__name__}", field=where, text=str(value)
+            )
+        for symbol in result.free_symbols:
+            category = self._category(symbol)
+            if category not in allowed:
+                raise ModelError(
+                    f"'{symbol}' ({category}) is not allowed here; this field may depend on "
+                    + ", ".join(sorted(allowed)),
+                    field=where,
+                    text=value if isinstance(value, str) else str(value),
+                )
+        return result
+
+    def _adopt(self, value: sympy.Expr, where: str) -> sympy.Expr:
+        """Rebind the symbols of a user's SymPy expression to the model's, by name."""
+        table = self.namespace.symbols
+        mapping = {}
+        for symbol in value.free_symbols:
+            if symbol.name not in table:
+                raise ModelError(f"unknown symbol '{symbol.name}'", field=where, text=str(value))
+            mapping[symbol] = table[symbol.name]
+        adopted = value.xreplace(mapping)
+        for applied in adopted.atoms(AppliedUndef):
+            declared = self.functions.get(applied.func.__name__)
+            if declared is None:
+                raise ModelError(
+                    f"undeclared function '{applied.func.__name__}'", field=where, text=str(value)
+                )
+            adopted = adopted.xreplace({applied: declared.function(*applied.args)})
+        return adopted
+
+    def _expression_fields(self) -> Iterator[tuple[str, object, frozenset[str]]]:
+        """Every expression of the spec with its field name and what it may depend on."""
+        spec = self.spec
+        for key in ("lagrangian", "kinetic", "potential", "dissipation"):
+            value = getattr(spec, key)
+            if value is not None:
+                yield key, value, STATE_AND_TIME
+        for i, particle in enumerate(spec.particles):
+            yield f"particles[{i}].mass", particle.mass, CONSTANT
+            for k, x in enumerate(particle.position):
+                yield f"particles[{i}].position[{k}]", x, CONFIGURATION
+        for i, body in enumerate(spec.bodies):
+            yield f"bodies[{i}].mass", body.mass, CONSTANT
+            yield f"bodies[{i}].inertia", body.inertia, CONSTANT
+            for k, x in enumerate(body.center):
+                yield f"bodies[{i}].center[{k}]", x, CONFIGURATION
+            yield f"bodies[{i}].angle", body.angle, CONFIGURATION
+        for i, spring in enumerate(spec.springs):
+            yield f"springs[{i}].stiffness", spring.stiffness, CONSTANT_OR_TIME
+            yield f"springs[{i}].rest_length", spring.rest_length, CONSTANT_OR_TIME
+            for e, end in enumerate(spring.ends):
+                if not isinstance(end, str):
+                    for k, x in enumerate(end):
+                        yield f"springs[{i}].ends[{e}][{k}]", x, CONSTANT_OR_TIME
+        if spec.gravity is not None:
+            yield "gravity.g", spec.gravity.g, CONSTANT
+            for k, x in enumerate(spec.gravity.direction or ()):
+                yield f"gravity.direction[{k}]", x, CONSTANT
+        for name, value in spec.forces.items():
+            yield f"forces.{name}", value, STATE_AND_TIME
+        for name, value in spec.conservative_forces.items():
+            yield f"conservative_forces.{name}", value, CONFIGURATION
+        for i, value in enumerate(spec.constraints):
+            yield f"constraints[{i}]", value, STATE_AND_TIME
+
+    # -- assembly --------------------------------------------------------------
+    def build(self) -> System:
+        spec = self.spec
+        resolved = {where: self.expr(v, where, ok) for where, v, ok in self._expression_fields()}
+        particles = tuple(
+            replace(
+                p,
+                name=p.name or f"particle{i + 1}",
+                mass=resolved[f"particles[{i}].mass"],
+                position=tuple(
+                    resolved[f"particles[{i}].position[{k}]"] for k in range(len(p.position))
+                ),
+            )
+            for i, p in enumerate(spec.particles)
+        )
+        bodies = tuple(
+            replace(
+                b,
+                name=b.name or f"body{i + 1}",
+                mass=resolved[f"bodies[{i}].mass"],
+                inertia=resolved[f"bodies[{i}].inertia"],
+                center=tuple(resolved[f"bodies[{i}].center[{k}]"] for k in range(len(b.center))),
+                angle=resolved[f"bodies[{i}].angle"],
+            )
+            for i, b in enumerate(spec.bodies)
+        )
+        dimension = self._dimension(particles, bodies)
+        points = {p.name: p.position for p in particles} | {b.name: b.center for b in bodies}
+        if len(points) != len(particles) + len(bodies):
+            raise ModelError("two particles or bodies share a name", field="particles")
+        springs = tuple(
+            self._spring(i, s, resolved, points, dimension) for i, s in enumerate(spec.springs)
+        )
+        gravity = self._gravity(resolved, dimension)
+
+        time = time_symbol()
+        kinetic = kinetic_energy(self.coordinates, time, particles, bodies) if (
+            particles or bodies
+        ) else None
+        if spec.kinetic is not None:
+            kinetic = resolved["kinetic"] + (kinetic or 0)
+        potential_terms = []
+        if spec.potential is not None:
+            potential_terms.append(resolved["potential"])
+        if gravity is not None:
+            potential_terms.append(gravity_potential(gravity, particles, bodies))
+        potential_terms += [spring_potential(s) for s in springs]
+        conservative = self._by_coordinate(spec.conservative_forces, "conservative_forces", resolved)
+        if conservative:
+            potential_terms.append(
+                conservative_potential(self.coordinates, conservative, "conservative_forces")
+            )
+        potential = sympy.Add(*potential_terms) if potential_terms else None
+
+        if spec.lagrangian is not None:
+            if kinetic is not None or potential is not None:
+                raise ModelError(
+                    "give either 'lagrangian' or the energies (kinetic, potential, particles, "
+                    "bodies, springs, gravity), not both",
+                    field="lagrangian",
+                )
+            lagrangian = resolved["lagrangian"]
+        elif kinetic is None:
+            raise ModelError(
+                "no kinetic energy: give 'lagrangian', 'kinetic' or particles/bodies",
+                field="kinetic",
+            )
+        else:
+            lagrangian = kinetic - (potential if potential is not None else 0)
+
+        self._check_initial()
+        return System(
+            name=spec.name or "system",
+            description=spec.description,
+            coordinates=self.coordinates,
+            parameters=self.parameters,
+            functions=tuple(self.functions.values()),
+            lagrangian=lagrangian,
+            kinetic=kinetic,
+            potential=potential if potential is not None else (0 if kinetic is not None else None),
+            forces=self._by_coordinate(spec.forces, "forces", resolved),
+            dissipation=resolved.get("dissipation", sympy.Integer(0)),
+            constraints=tuple(resolved[f"constraints[{i}]"] for i in range(len(spec.constraints))),
+            particles=particles,
+            bodies=bodies,
+            springs=springs,
+            gravity=gravity,
+            initial={k: float(v) for k, v in spec.initial.items()},
+            simulate_settings=dict(spec.simulate),
+            source=spec.source,
+        )
+
+    def _by_coordinate(self, table, where, resolved) -> dict[str, sympy.Expr]:
+        names = {c.name for c in self.coordinates}
+        for name in table:
+            if name not in names:
+                raise ModelError(f"'{name}' is not a coordinate", field=f"{where}.{name}")
+        return {name: resolved[f"{where}.{name}"] for name in table}
+
+    def _dimension(self, particles, bodies) -> int | None:
+        dimensions = {len(p.position) for p in particles} | {2 for _ in bodies}
+        for i, p in enumerate(particles):
+            if len(p.position) not in (2, 3):
+                raise ModelError(
+                    f"a position has 2 or 3 components, got {len(p.position)}",
+                    field=f"particles[{i}].position",
+                )
+        if len(dimensions) > 1:
+            raise ModelError("particles and bodies mix 2-D and 3-D positions", field="particles")
+        return dimensions.pop() if dimensions else None
+
+    def _spring(self, i, spring, resolved, points, dimension) -> Spring:
+        ends = []
+        for e, end in enumerate(spring.ends):
+            where = f"springs[{i}].ends[{e}]"
+            if isinstance(end, str):
+                if end not in points:
+                    raise ModelError(f"no particle or body named '{end}'", field=where, text=end)
+                ends.append(points[end])
+            else:
+                point = tuple(resolved[f"{where}[{k}]"] for k in range(len(end)))
+                if dimension is not None and len(point) != dimension:
+                    raise ModelError(f"expected a point with {dimension} components", field=where)
+                ends.append(point)
+        if len(ends) != 2:
+            raise ModelError("a spring has exactly two ends", field=f"springs[{i}].ends")
+        return replace(
+            spring,
+            name=spring.name or f"spring{i + 1}",
+            stiffness=resolved[f"springs[{i}].stiffness"],
+            rest_length=resolved[f"springs[{i}].rest_length"],
+            ends=tuple(ends),
+        )
+
+    def _gravity(self, resolved, dimension) -> Gravity | None:
+        if self.spec.gravity is None:
+            return None
+        given = self.spec.gravity.direction
+        if given is None:
+            direction = (0,) * ((dimension or 2) - 1) + (-1,)
+        else:
+            direction = tuple(resolved[f"gravity.direction[{k}]"] for k in range(len(given)))
+        if dimension is not None and len(direction) != dimension:
+            raise ModelError(
+                f"direction has {len(direction)} components, positions have {dimension}",
+                field="gravity.direction",
+            )
+        norm = sympy.sqrt(sum(d**2 for d in direction))
+        if norm == 0:
+            raise ModelError("direction is the zero vector", field="gravity.direction")
+        return Gravity(g=resolved["gravity.g"], direction=tuple(d / norm for d in direction))
+
+    def _check_initial(self) -> None:
+        allowed = {c.name for c in self.coordinates} | {c.q_dot.name for c in self.coordinates}
+        for name, value in self.spec.initial.items():
+            if name not in allowed:
+                raise ModelError(f"'{name}' is not a coordinate or velocity", field=f"initial.{name}")
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                raise ModelError(f"expected a number, got {value!r}", field=f"initial.{name}")
+
+
+def _coordinates(names: Sequence[str]) -> tuple[Coordinate, ...]:
+    if isinstance(names, str) or not isinstance(names, Sequence) or not names:
+        raise ModelError("expected a non-empty list of coordinate names", field="coordinates")
+    seen: set[str] = set()
+    coordinates = []
+    for name in names:
+        if not isinstance(name, str) or not is_identifier(name):
+            raise ModelError(f"invalid coordinate name {name!r}", field="coordinates")
+        if name in RESERVED:
+            raise ModelError(f"'{name}' is reserved and cannot be a coordinate", field="coordinates")
+        if name.endswith((VELOCITY_SUFFIX, ACCELERATION_SUFFIX)):
+            raise ModelError(
+                f"coordinate '{name}' must not end in {VELOCITY_SUFFIX} or {ACCELERATION_SUFFIX}",
+                field="coordinates",
+            )
+        if name in seen:
+            raise ModelError(f"coordinate '{name}' is listed twice", field="coordinates")
+        seen.add(name)
+        coordinates.append(Coordinate.named(name))
+    clashes = seen & {c.q_dot.name for c in coordinates} | seen & {c.q_ddot.name for c in coordinates}
+    if clashes:
+        raise ModelError(f"coordinate names clash: {sorted(clashes)}", field="coordinates")
+    return tuple(coordinates)
+
+
+def _parameter_entry(entry: object, where: str) -> tuple[float | None, str]:
+    """(default value, sign) of one parameter entry."""
+    sign = None
+    value = entry
+    if isinstance(entry, Mapping):
+        unknown = set(entry) - {"value", "sign"}
+        if unknown:
+            raise ModelError(f"unknown key(s) {sorted(unknown)}; expected value, sign", field=where)
+        value = entry.get("value")
+        sign = entry.get("sign")
+        if sign is not None and sign not in PARAMETER_SIGNS:
+            raise ModelError(
+                f"sign must be one of {', '.join(PARAMETER_SIGNS)}", field=where, text=str(sign)
+            )
+    if value is not None:
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise ModelError(f"expected a number, got {value!r}", field=where)
+        if not math.isfinite(value):
+            raise ModelError(f"expected a finite number, got {value!r}", field=where)
+        value = float(value)
+    if sign is None:
+        sign = "positive" if value is None or value > 0 else "real"
+    violated = {
+        "positive": value is not None and value <= 0,
+        "nonnegative": value is not None and value < 0,
+        "negative": value is not None and value >= 0,
+    }.get(sign, False)
+    if violated:
+        raise ModelError(f"value {value} contradicts sign '{sign}'", field=where)
+    return value, sign

@@ -1,0 +1,125 @@
+"""Kinetic and potential energy from the geometry of particles, bodies, springs and gravity.
+
+The kinetic energy of points r_k(q, t) is assembled in the quadratic form
+
+    T = 1/2 q'^T M q' + b . q' + c,
+    M = sum_k m_k J_k^T J_k,  b = sum_k m_k J_k^T dr_k/dt,  c = 1/2 sum_k m_k |dr_k/dt|^2,
+
+with J_k = dr_k/dq, so each (small) entry is simplified on its own: the double
+pendulum's T comes out as in the textbook, and the cost grows with the number
+of entries, not with the size of an expanded sum of squares.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import sympy
+
+from ..algebra import is_zero, tidy
+from ..errors import ModelError
+from ..symbols import Coordinate
+from .components import Gravity, Particle, RigidBody2D, Spring
+
+
+def kinetic_energy(
+    coordinates: Sequence[Coordinate],
+    time: sympy.Symbol,
+    particles: Sequence[Particle],
+    bodies: Sequence[RigidBody2D],
+) -> sympy.Expr:
+    """T of the particles and planar rigid bodies (translation of the centre + rotation)."""
+    q = [c.q for c in coordinates]
+    n = len(q)
+    mass_matrix = [[sympy.Integer(0)] * n for _ in range(n)]
+    linear = [sympy.Integer(0)] * n
+    constant = sympy.Integer(0)
+
+    # (mass or inertia, position components): a body's rotation is a 1-D "point" at its angle.
+    points = [(p.mass, p.position) for p in particles]
+    points += [(b.mass, b.center) for b in bodies]
+    points += [(b.inertia, (b.angle,)) for b in bodies]
+    for mass, position in points:
+        jacobian = [[sympy.diff(x, qj) for qj in q] for x in position]
+        explicit = [sympy.diff(x, time) for x in position]
+        for i in range(n):
+            for j in range(i, n):
+                mass_matrix[i][j] += mass * sum(row[i] * row[j] for row in jacobian)
+            linear[i] += mass * sum(row[i] * v for row, v in zip(jacobian, explicit, strict=True))
+        constant += mass * sum(v**2 for v in explicit) / 2
+
+    velocities = [c.q_dot for c in coordinates]
+    state = (*q, time)
+    terms = []
+    for i in range(n):
+        terms.append(tidy(mass_matrix[i][i], state, trig=True) * velocities[i] ** 2 / 2)
+        terms += [
+            tidy(mass_matrix[i][j], state, trig=True) * velocities[i] * velocities[j]
+            for j in range(i + 1, n)
+        ]
+        terms.append(tidy(linear[i], state, trig=True) * velocities[i])
+    terms.append(tidy(constant, state, trig=True))
+    return sympy.Add(*terms)
+
+
+def gravity_potential(
+    gravity: Gravity, particles: Sequence[Particle], bodies: Sequence[RigidBody2D]
+) -> sympy.Expr:
+    """V = -g sum_k m_k (direction . r_k): height measured against the direction of gravity."""
+    terms = []
+    for mass, position in [(p.mass, p.position) for p in particles] + [
+        (b.mass, b.center) for b in bodies
+    ]:
+        height = -sum(d * x for d, x in zip(gravity.direction, position, strict=True))
+        terms.append(mass * gravity.g * tidy(height))
+    return sympy.Add(*terms)
+
+
+def spring_potential(spring: Spring) -> sympy.Expr:
+    """V = k (|r_a - r_b| - rest)^2 / 2; with zero rest length, k |r_a - r_b|^2 / 2."""
+    a, b = spring.ends
+    squared = tidy(sum((x - y) ** 2 for x, y in zip(a, b, strict=True)), trig=True)
+    if spring.rest_length == 0:
+        return spring.stiffness * squared / 2
+    return spring.stiffness * (sympy.sqrt(squared) - spring.rest_length) ** 2 / 2
+
+
+def conservative_potential(
+    coordinates: Sequence[Coordinate], forces: Mapping[str, sympy.Expr], where: str
+) -> sympy.Expr:
+    """V with Q_i = -dV/dq_i for generalized forces that derive from a potential.
+
+    Checks dQ_i/dq_j = dQ_j/dq_i, then integrates coordinate by coordinate:
+    Phi = int Q_1 dq_1, Phi += int (Q_i - dPhi/dq_i) dq_i, V = -Phi.  Only
+    integrals SymPy's rule-based integrator finds are accepted, so the time is
+    bounded; otherwise the user is asked for the potential itself.
+    """
+    from sympy.integrals.manualintegrate import manualintegrate
+
+    q = {c.name: c.q for c in coordinates}
+    force = {name: forces.get(name, sympy.Integer(0)) for name in q}
+    names = list(q)
+    for i, a in enumerate(names):
+        for b in names[i + 1 :]:
+            if not is_zero(sympy.diff(force[a], q[b]) - sympy.diff(force[b], q[a])):
+                raise ModelError(
+                    f"the forces on '{a}' and '{b}' do not derive from a potential "
+                    f"(dQ_{a}/d{b} != dQ_{b}/d{a}); give them under 'forces'",
+                    field=where,
+                )
+    phi = sympy.Integer(0)
+    for name in names:
+        integrand = tidy(force[name] - sympy.diff(phi, q[name]))
+        if integrand == 0:
+            continue
+        if integrand.is_polynomial(q[name]):
+            primitive = sympy.integrate(sympy.expand(integrand), q[name])
+        else:
+            primitive = manualintegrate(integrand, q[name])
+        if primitive.has(sympy.Integral):
+            raise ModelError(
+                f"cannot integrate the force on '{name}'; give the potential instead",
+                field=f"{where}.{name}",
+            )
+        phi += primitive
+    return tidy(-phi, q.values())

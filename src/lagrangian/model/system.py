@@ -1,0 +1,183 @@
+"""`System`: a mechanical system as immutable data, ready for derivation."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import TYPE_CHECKING
+
+import sympy
+
+from ..errors import ModelError
+from ..symbols import Coordinate, time_symbol
+from .components import ExprLike, Gravity, Particle, RigidBody2D, Spring
+
+if TYPE_CHECKING:
+    from ..derive import EquationsOfMotion
+
+PARAMETER_SIGNS = ("positive", "nonnegative", "real", "negative")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A named constant of the model with an optional default value."""
+
+    name: str
+    symbol: sympy.Symbol
+    default: float | None = None
+    sign: str = "positive"
+
+
+@dataclass(frozen=True)
+class FunctionDeclaration:
+    """An unspecified function, e.g. a vector potential A(x, y, z)."""
+
+    name: str
+    function: sympy.FunctionClass
+    arguments: tuple[sympy.Expr, ...]
+
+    @property
+    def applied(self) -> sympy.Expr:
+        return self.function(*self.arguments)
+
+
+def _frozen(mapping: Mapping | None) -> Mapping:
+    return MappingProxyType(dict(mapping or {}))
+
+
+@dataclass(frozen=True, eq=False)
+class System:
+    """A mechanical system: coordinates, parameters and its Lagrangian L = T - V.
+
+    Build one with :func:`lagrangian.load` (a model file or example name) or the
+    constructors :meth:`from_lagrangian`, :meth:`from_energies` and
+    :meth:`from_particles`.  ``forces`` are generalized non-conservative forces
+    Q_q, ``dissipation`` is Rayleigh's function F; both enter Lagrange's equation
+
+        d/dt (dL/dq_dot) - dL/dq = Q_q - dF/dq_dot.
+    """
+
+    name: str
+    coordinates: tuple[Coordinate, ...]
+    parameters: tuple[Parameter, ...]
+    lagrangian: sympy.Expr
+    kinetic: sympy.Expr | None = None
+    potential: sympy.Expr | None = None
+    functions: tuple[FunctionDeclaration, ...] = ()
+    forces: Mapping[str, sympy.Expr] = field(default_factory=dict)
+    dissipation: sympy.Expr = sympy.Integer(0)
+    constraints: tuple[sympy.Expr, ...] = ()
+    particles: tuple[Particle, ...] = ()
+    bodies: tuple[RigidBody2D, ...] = ()
+    springs: tuple[Spring, ...] = ()
+    gravity: Gravity | None = None
+    initial: Mapping[str, float] = field(default_factory=dict)
+    simulate_settings: Mapping[str, object] = field(default_factory=dict)
+    description: str = ""
+    source: str | None = None
+
+    def __post_init__(self) -> None:
+        for name in ("forces", "initial", "simulate_settings"):
+            object.__setattr__(self, name, _frozen(getattr(self, name)))
+
+    # -- names ---------------------------------------------------------------
+    @property
+    def time(self) -> sympy.Symbol:
+        return time_symbol()
+
+    @property
+    def coordinate_names(self) -> tuple[str, ...]:
+        return tuple(c.name for c in self.coordinates)
+
+    @property
+    def parameter_names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self.parameters)
+
+    @property
+    def symbols(self) -> Mapping[str, sympy.Expr]:
+        """Every name of the model -> its SymPy symbol (q, q_dot, q_ddot, parameters, t)."""
+        table: dict[str, sympy.Expr] = {"t": self.time}
+        for c in self.coordinates:
+            table.update({c.name: c.q, c.q_dot.name: c.q_dot, c.q_ddot.name: c.q_ddot})
+        table.update({p.name: p.symbol for p in self.parameters})
+        return MappingProxyType(table)
+
+    def symbol(self, name: str) -> sympy.Expr:
+        try:
+            return self.symbols[name]
+        except KeyError:
+            known = ", ".join(self.symbols)
+            raise ModelError(f"unknown name '{name}' (known: {known})") from None
+
+    @property
+    def parameter_values(self) -> Mapping[str, float]:
+        """Default values of the parameters that have one."""
+        return MappingProxyType(
+            {p.name: p.default for p in self.parameters if p.default is not None}
+        )
+
+    @property
+    def is_autonomous(self) -> bool:
+        """True when nothing in the model depends explicitly on time."""
+        parts = [self.lagrangian, self.dissipation, *self.forces.values(), *self.constraints]
+        return not any(part.has(self.time) for part in parts)
+
+    # -- stages ----------------------------------------------------------------
+    def equations_of_motion(self) -> EquationsOfMotion:
+        """Lagrange's equations of this system (see :class:`~lagrangian.derive.EquationsOfMotion`)."""
+        from ..derive import derive
+
+        return derive(self)
+
+    def _repr_latex_(self) -> str:
+        from ..output.latex import latex_expression
+
+        return f"$L = {latex_expression(self.lagrangian)}$"
+
+    # -- constructors ----------------------------------------------------------
+    @classmethod
+    def from_lagrangian(
+        cls,
+        lagrangian: ExprLike,
+        coordinates: Sequence[str],
+        **options: object,
+    ) -> System:
+        """A system given by its Lagrangian. Options: see :func:`lagrangian.model.build_system`.
+
+        >>> System.from_lagrangian("m*x_dot**2/2 - k*x**2/2", coordinates=["x"]).parameter_names
+        ('k', 'm')
+        """
+        from .build import ModelSpec, build_system
+
+        return build_system(ModelSpec(coordinates=tuple(coordinates), lagrangian=lagrangian, **options))
+
+    @classmethod
+    def from_energies(
+        cls,
+        kinetic: ExprLike,
+        potential: ExprLike,
+        coordinates: Sequence[str],
+        **options: object,
+    ) -> System:
+        """A system given by its kinetic energy T and potential energy V (L = T - V)."""
+        from .build import ModelSpec, build_system
+
+        return build_system(
+            ModelSpec(coordinates=tuple(coordinates), kinetic=kinetic, potential=potential, **options)
+        )
+
+    @classmethod
+    def from_particles(
+        cls,
+        coordinates: Sequence[str],
+        particles: Sequence[Particle] = (),
+        **options: object,
+    ) -> System:
+        """A system of particles (and ``bodies``, ``springs``, ``gravity``) whose positions
+        depend on the coordinates and time; T and V follow from the geometry."""
+        from .build import ModelSpec, build_system
+
+        return build_system(
+            ModelSpec(coordinates=tuple(coordinates), particles=tuple(particles), **options)
+        )

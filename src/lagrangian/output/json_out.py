@@ -1,0 +1,24 @@
+"""The JSON documents of DESIGN section 5: SymPy ``str()`` text over the model's names."""
+
+from __future__ import annotations
+
+from ..derive import EquationsOfMotion
+
+
+def derive_document(eom: EquationsOfMotion) -> dict:
+    """``derive --json``: equations, M and f with M q'' = f, and the solved accelerations."""
+    system = eom.system
+    n = len(eom.coordinates)
+    document = {
+        "name": system.name,
+        "coordinates": list(system.coordinate_names),
+        "parameters": sorted(system.parameter_names),
+        "functions": {f.name: [str(a) for a in f.arguments] for f in system.functions},
+        "lagrangian": str(system.lagrangian),
+        "equations": [str(e) for e in eom.equations],
+        "mass_matrix": [[str(eom.mass_matrix[i, j]) for j in range(n)] for i in range(n)],
+        "forcing": [str(eom.forcing[i, 0]) for i in range(n)],
+    }
+    if eom.accelerations is not None:
+        document["accelerations"] = {name: str(expr) for name, expr in eom.accelerations.items()}
+    return document

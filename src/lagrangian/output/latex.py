@@ -1,0 +1,57 @@
+"""LaTeX of equations and derivations, with dot notation."""
+
+from __future__ import annotations
+
+import sympy
+
+from ..derive import EquationsOfMotion
+from ..model import System
+from .notation import DotLatexPrinter, declared_functions, latex_name
+
+
+def latex_expression(expr: sympy.Expr, system: System | None = None) -> str:
+    return DotLatexPrinter(declared_functions(system)).doprint(expr)
+
+
+def latex_equations(eom: EquationsOfMotion) -> str:
+    """An ``align*`` block: L, each equation (= 0) and each solved acceleration."""
+    system = eom.system
+    show = lambda expr: latex_expression(expr, system)  # noqa: E731
+    rows = [rf"L &= {show(system.lagrangian)}"]
+    rows += [rf"0 &= {show(equation)}" for equation in eom.equations]
+    if eom.accelerations is not None:
+        rows += [
+            rf"{latex_name(c.q_ddot.name)} &= {show(eom.accelerations[c.name])}"
+            for c in eom.coordinates
+        ]
+    return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
+
+
+def latex_steps(eom: EquationsOfMotion) -> str:
+    """The derivation step by step as LaTeX (one ``align*`` block)."""
+    system = eom.system
+    show = lambda expr: latex_expression(expr, system)  # noqa: E731
+    rows = []
+    if system.kinetic is not None:
+        rows += [rf"T &= {show(system.kinetic)}", rf"V &= {show(system.potential)}"]
+    rows.append(rf"L &= {show(system.lagrangian)}")
+    if system.dissipation != 0:
+        rows.append(rf"\mathcal{{F}} &= {show(system.dissipation)}")
+    for step in eom.steps:
+        c = step.coordinate
+        q, q_dot = latex_name(c.name), latex_name(c.q_dot.name)
+        rows.append(rf"\frac{{\partial L}}{{\partial {q_dot}}} &= {show(step.momentum)}")
+        rows.append(
+            rf"\frac{{d}}{{dt}}\frac{{\partial L}}{{\partial {q_dot}}} &= {show(step.momentum_rate)}"
+        )
+        rows.append(rf"\frac{{\partial L}}{{\partial {q}}} &= {show(step.force_gradient)}")
+        if step.generalized_force != 0:
+            rows.append(rf"Q_{{{q}}} &= {show(step.generalized_force)}")
+        if step.dissipation_force != 0:
+            rows.append(
+                rf"\frac{{\partial \mathcal{{F}}}}{{\partial {q_dot}}} &= {show(step.dissipation_force)}"
+            )
+        rows.append(rf"0 &= {show(step.equation)}")
+        if eom.accelerations is not None:
+            rows.append(rf"{latex_name(c.q_ddot.name)} &= {show(eom.accelerations[c.name])}")
+    return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"

@@ -1,0 +1,166 @@
+"""Textbook notation for printing: dots over velocities, Greek letters, sin²θ.
+
+Two printers share one rule set:
+- :class:`UnicodePrinter`, one line of Unicode text (``r̈ = ω² r``) for terminals;
+- :class:`DotLatexPrinter`, LaTeX with ``\\dot{\\theta}`` and partial derivatives
+  of declared functions written as ``\\frac{\\partial A}{\\partial x}``.
+A declared function applied to its declared arguments, A(x, y, z), prints as A.
+"""
+
+from __future__ import annotations
+
+import unicodedata
+from collections.abc import Iterable
+
+import sympy
+from sympy.core.function import AppliedUndef
+from sympy.printing.latex import LatexPrinter
+from sympy.printing.pretty.pretty_symbology import pretty_symbol
+from sympy.printing.str import StrPrinter
+
+from ..symbols import ACCELERATION_SUFFIX, VELOCITY_SUFFIX
+
+SUPERSCRIPT = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+COMBINING_DOT = "\u0307"
+COMBINING_DIAERESIS = "\u0308"
+
+
+def _split_dots(name: str) -> tuple[str, int]:
+    """('theta', 1) for 'theta_dot', ('x', 2) for 'x_ddot', (name, 0) otherwise."""
+    if name.endswith(ACCELERATION_SUFFIX) and len(name) > len(ACCELERATION_SUFFIX):
+        return name[: -len(ACCELERATION_SUFFIX)], 2
+    if name.endswith(VELOCITY_SUFFIX) and len(name) > len(VELOCITY_SUFFIX):
+        return name[: -len(VELOCITY_SUFFIX)], 1
+    return name, 0
+
+
+def unicode_name(name: str) -> str:
+    """θ̇₁ for 'theta1_dot': the pretty symbol with a combining dot on its head."""
+    base, dots = _split_dots(name)
+    shown = pretty_symbol(base)
+    if dots == 0:
+        return shown
+    head = len(shown)
+    while head > 1 and not shown[head - 1].isalpha():
+        head -= 1  # subscripts and primes stay after the dot
+    mark = COMBINING_DOT if dots == 1 else COMBINING_DIAERESIS
+    return unicodedata.normalize("NFC", shown[:head] + mark + shown[head:])  # ẋ, not x + dot
+
+
+def latex_name(name: str) -> str:
+    """\\dot{\\theta}_{1} for 'theta1_dot'."""
+    base, dots = _split_dots(name)
+    shown = sympy.latex(sympy.Symbol(base))
+    if dots == 0:
+        return shown
+    command = r"\dot" if dots == 1 else r"\ddot"
+    head, sep, subscript = shown.partition("_")
+    return f"{command}{{{head}}}{sep}{subscript}"
+
+
+def _dot_rank(term: sympy.Expr) -> int:
+    """2 for a term with an acceleration, 1 with a velocity, 0 otherwise."""
+    return max((_split_dots(s.name)[1] for s in term.free_symbols if s.is_Symbol), default=0)
+
+
+class _TextbookOrder:
+    """Sums print as a textbook writes them: acceleration terms, then velocity terms, then the rest."""
+
+    def _as_ordered_terms(self, expr, order=None):
+        terms = super()._as_ordered_terms(expr, order=order)
+        return sorted(terms, key=lambda term: -_dot_rank(term))
+
+
+class UnicodePrinter(_TextbookOrder, StrPrinter):
+    """One-line Unicode text: juxtaposition for products, superscripts for small powers."""
+
+    def __init__(self, declared: Iterable[sympy.Expr] = ()):
+        super().__init__({"order": None})
+        self._declared = frozenset(declared)
+
+    def _print_Symbol(self, expr):
+        return unicode_name(expr.name)
+
+    def _print_Pi(self, expr):
+        return "π"
+
+    def _print_Exp1(self, expr):
+        return "e"
+
+    def _print_Abs(self, expr):
+        return f"|{self._print(expr.args[0])}|"
+
+    def _print_Function(self, expr):
+        if isinstance(expr, AppliedUndef) and expr in self._declared:
+            return expr.func.__name__
+        return super()._print_Function(expr)
+
+    def _print_Derivative(self, expr):
+        function = expr.expr
+        if isinstance(function, AppliedUndef) and function in self._declared:
+            order = sum(count for _, count in expr.variable_count)
+            top = "∂" + (str(order).translate(SUPERSCRIPT) if order > 1 else "")
+            bottom = "".join(
+                "∂" + self._print(v) + (str(c).translate(SUPERSCRIPT) if c > 1 else "")
+                for v, c in expr.variable_count
+            )
+            return f"{top}{function.func.__name__}/{bottom}"
+        return super()._print_Derivative(expr)
+
+    def _print_Pow(self, expr, rational=False):
+        base, exponent = expr.args
+        if exponent == sympy.Rational(1, 2):
+            return f"√{self._atom(base)}"
+        if exponent.is_Integer and exponent > 1:
+            sup = str(exponent).translate(SUPERSCRIPT)
+            if isinstance(base, sympy.Function) and len(base.args) == 1 and not isinstance(
+                base, AppliedUndef
+            ):
+                return f"{base.func.__name__}{sup}{self._atom(base.args[0])}"  # sin²(θ)
+            return f"{self._atom(base)}{sup}"
+        return super()._print_Pow(expr, rational).replace("**", "^")
+
+    def _print_Mul(self, expr):
+        return super()._print_Mul(expr).replace("*", " ")
+
+    def _atom(self, expr) -> str:
+        text = self._print(expr)
+        if expr.is_Atom or isinstance(expr, sympy.Function | sympy.Derivative):
+            return text if expr.is_Atom or text[-1] == ")" else f"({text})"
+        return f"({text})"
+
+
+class DotLatexPrinter(_TextbookOrder, LatexPrinter):
+    """LaTeX with dot notation and compact partial derivatives of declared functions."""
+
+    def __init__(self, declared: Iterable[sympy.Expr] = ()):
+        super().__init__()
+        self._declared = frozenset(declared)
+
+    def _print_Symbol(self, expr, style="plain"):
+        return latex_name(expr.name)
+
+    def _print_Function(self, expr, exp=None):
+        if isinstance(expr, AppliedUndef) and expr in self._declared:
+            name = expr.func.__name__
+            return f"{name}^{{{exp}}}" if exp else name
+        return super()._print_Function(expr, exp)
+
+    def _print_Derivative(self, expr):
+        function = expr.expr
+        if isinstance(function, AppliedUndef) and function in self._declared:
+            order = sum(count for _, count in expr.variable_count)
+            top = r"\partial" + (f"^{{{order}}}" if order > 1 else "")
+            bottom = " ".join(
+                r"\partial " + self._print(v) + (f"^{{{c}}}" if c > 1 else "")
+                for v, c in expr.variable_count
+            )
+            return rf"\frac{{{top} {function.func.__name__}}}{{{bottom}}}"
+        return super()._print_Derivative(expr)
+
+
+def declared_functions(system) -> frozenset:
+    """The applied forms A(x, y, z) of a system's declared functions (printed as A)."""
+    if system is None:
+        return frozenset()
+    return frozenset(f.applied for f in system.functions)

@@ -1,0 +1,72 @@
+"""Readable Unicode text of equations and of the derivation step by step."""
+
+from __future__ import annotations
+
+import sympy
+
+from ..derive import EquationsOfMotion
+from ..model import System
+from .notation import UnicodePrinter, declared_functions, unicode_name
+
+
+def unicode_expression(expr: sympy.Expr, system: System | None = None) -> str:
+    """One line of textbook notation, e.g. ``r̈ = ω² r`` for Eq(r_ddot, omega**2*r)."""
+    return UnicodePrinter(declared_functions(system)).doprint(expr)
+
+
+def _equality(lhs: str, rhs: sympy.Expr, system: System) -> str:
+    return f"{lhs} = {unicode_expression(rhs, system)}"
+
+
+def format_equations(eom: EquationsOfMotion) -> str:
+    """The equations of motion as text: L, the equations (= 0) and the accelerations."""
+    system = eom.system
+    show = lambda expr: unicode_expression(expr, system)  # noqa: E731
+    lines = [_title(system)]
+    lines.append(f"  L = {show(system.lagrangian)}")
+    lines.append("")
+    lines.append("Equations of motion:")
+    for c, equation in zip(eom.coordinates, eom.equations, strict=True):
+        lines.append(f"  {unicode_name(c.name)}:  {show(equation)} = 0")
+    if eom.accelerations is not None:
+        lines.append("")
+        lines.append("Accelerations:")
+        for c in eom.coordinates:
+            lines.append("  " + _equality(unicode_name(c.q_ddot.name), eom.accelerations[c.name], system))
+    return "\n".join(lines)
+
+
+def format_steps(eom: EquationsOfMotion) -> str:
+    """The derivation as done by hand: T, V, L, then each coordinate's terms."""
+    system = eom.system
+    show = lambda expr: unicode_expression(expr, system)  # noqa: E731
+    lines = [_title(system)]
+    if system.kinetic is not None:
+        lines.append(f"  T = {show(system.kinetic)}")
+        lines.append(f"  V = {show(system.potential)}")
+    lines.append(f"  L = {show(system.lagrangian)}")
+    if system.dissipation != 0:
+        lines.append(f"  F = {show(system.dissipation)}   (Rayleigh dissipation function)")
+    lines.append("")
+    lines.append("Lagrange's equation for each coordinate q: d/dt(∂L/∂q̇) − ∂L/∂q = Q − ∂F/∂q̇")
+    for step in eom.steps:
+        c = step.coordinate
+        q, q_dot = unicode_name(c.name), unicode_name(c.q_dot.name)
+        lines.append("")
+        lines.append(f"Coordinate {q}:")
+        lines.append(f"  ∂L/∂{q_dot} = {show(step.momentum)}")
+        lines.append(f"  d/dt(∂L/∂{q_dot}) = {show(step.momentum_rate)}")
+        lines.append(f"  ∂L/∂{q} = {show(step.force_gradient)}")
+        if step.generalized_force != 0:
+            lines.append(f"  Q_{q} = {show(step.generalized_force)}")
+        if step.dissipation_force != 0:
+            lines.append(f"  ∂F/∂{q_dot} = {show(step.dissipation_force)}")
+        lines.append(f"  equation: {show(step.equation)} = 0")
+        if eom.accelerations is not None:
+            lines.append("  " + _equality(unicode_name(c.q_ddot.name), eom.accelerations[c.name], system))
+    return "\n".join(lines)
+
+
+def _title(system: System) -> str:
+    coordinates = ", ".join(unicode_name(name) for name in system.coordinate_names)
+    return f"{system.name}   (coordinates: {coordinates})"

@@ -1,0 +1,98 @@
+"""The command line, run in-process through ``main(argv)``."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import pytest
+import sympy
+
+from lagrangian.cli import ExitStatus, main
+from lagrangian.examples import example_names
+
+
+def run(capsys, *argv):
+    status = main(list(argv))
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+def test_examples_lists_the_ten_worked_examples(capsys):
+    status, out, _ = run(capsys, "examples")
+    assert status == ExitStatus.SUCCESS
+    for name in (
+        "simple_pendulum velocity_dependent_potential harmonic_oscillator central_force "
+        "spherical_pendulum double_pendulum vertical_spring free_particle_spherical "
+        "planar_particle_forces rotating_wire_bead"
+    ).split():
+        assert name in out
+    assert len(out.strip().splitlines()) == len(example_names())
+
+
+def test_rotating_wire_prints_textbook_acceleration(capsys):
+    status, out, _ = run(capsys, "derive", "rotating_wire_bead")
+    assert status == ExitStatus.SUCCESS
+    assert "r̈ = ω² r" in out
+
+
+def test_derive_json_reads_back_with_sympy(capsys):
+    status, out, _ = run(capsys, "derive", "double_pendulum", "--json")
+    assert status == ExitStatus.SUCCESS
+    document = json.loads(out)
+    assert document["coordinates"] == ["theta1", "theta2"]
+    assert document["parameters"] == ["g", "l1", "l2", "m1", "m2"]
+    names = {n: sympy.Symbol(n) for n in ["theta1", "theta2", "theta1_dot", "theta2_dot"]}
+    names |= {n: sympy.Symbol(n) for n in document["parameters"]}
+    for text in document["accelerations"].values():
+        expr = sympy.parse_expr(text, local_dict=names)  # trusted: our own output
+        assert expr.free_symbols <= set(names.values())
+    assert len(document["mass_matrix"]) == 2 and len(document["forcing"]) == 2
+
+
+def test_derive_latex_uses_dot_notation(capsys):
+    status, out, _ = run(capsys, "derive", "simple_pendulum", "--latex")
+    assert status == ExitStatus.SUCCESS
+    assert r"\ddot{\theta}" in out and r"\begin{align*}" in out
+
+
+def test_steps_show_the_hand_derivation(capsys):
+    status, out, _ = run(capsys, "derive", "simple_pendulum", "--steps")
+    assert status == ExitStatus.SUCCESS
+    for piece in ["T = ", "V = ", "L = ", "∂L/∂θ̇ = ", "d/dt(∂L/∂θ̇) = ", "∂L/∂θ = ", "θ̈ = "]:
+        assert piece in out
+    status, out, _ = run(capsys, "derive", "simple_pendulum", "--steps", "--latex")
+    assert r"\frac{\partial L}{\partial \dot{\theta}}" in out
+
+
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["derive", "no_such_model"], "no such model file or built-in example"),
+        (["derive"], "Missing argument"),
+        (["derive", "simple_pendulum", "--json", "--latex"], "choose one of"),
+        (["frobnicate"], "No such command"),
+    ],
+)
+def test_bad_input_is_one_line_and_exit_2(capsys, argv, fragment):
+    status, out, err = run(capsys, *argv)
+    assert status == ExitStatus.BAD_INPUT
+    assert out == ""
+    assert fragment in err
+    assert len(err.strip().splitlines()) == 1
+
+
+def test_console_script_exit_codes(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('coordinates = ["x"]\nlagrangian = "x_dot**2/2 - __import__(1)"\n')
+    result = subprocess.run(
+        [sys.executable, "-m", "lagrangian", "derive", str(bad)],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert result.returncode == 2
+    assert "bad.toml" in result.stderr and "lagrangian" in result.stderr
+    assert len(result.stderr.strip().splitlines()) == 1
+    assert result.stdout == ""

@@ -1,0 +1,170 @@
+"""Shared helpers of the test suite: seeded random points, evaluation by name, comparisons.
+
+Symbols of a ``System`` carry assumptions (real, positive), so a reference
+expression typed in a test with plain ``sympy.Symbol("x")`` is a different
+symbol.  Everything here therefore works BY NAME: a point is a dict
+``{name: float}`` and :func:`evaluate` substitutes each free symbol of an
+expression by the value of its name, whatever its assumptions.
+
+Unspecified functions (``A(x, y, z)`` and ``Derivative(A(x, y, z), x)``) are
+replaced, also by name, by concrete ones given as Python callables of SymPy
+arguments, e.g. ``{"A": lambda x, y, z: sympy.sin(x) * y}``.
+"""
+
+from __future__ import annotations
+
+import random
+from collections.abc import Callable, Iterable, Mapping, Sequence
+
+import mpmath
+import sympy
+from sympy.core.function import AppliedUndef
+
+#: Digits used to evaluate expressions (far more than the tolerances need).
+DIGITS = 30
+#: Default relative tolerance of the comparisons.
+RTOL = 1e-9
+
+COORDINATE_RANGE = (-2.0, 2.0)
+VELOCITY_RANGE = (-2.0, 2.0)
+POSITIVE_RANGE = (0.5, 2.0)
+REAL_RANGE = (-2.0, 2.0)
+TIME_RANGE = (-2.0, 2.0)
+
+ConcreteFunctions = Mapping[str, Callable[..., sympy.Expr]]
+
+
+# -- random points -------------------------------------------------------------
+def random_point(
+    system,
+    rng: random.Random,
+    ranges: Mapping[str, tuple[float, float]] | None = None,
+    *,
+    avoid: Callable[[Mapping[str, float]], bool] | None = None,
+) -> dict[str, float]:
+    """A random value for every name of ``system``: q, q_dot, q_ddot, parameters and t.
+
+    Coordinates in [-2, 2], velocities in [-2, 2], positive parameters in
+    [0.5, 2], other parameters and t in [-2, 2]; ``ranges`` overrides any name
+    (e.g. ``{"r": (0.5, 2.0)}`` to keep a radius away from 0).  ``avoid``
+    rejects points (near singular ones) and draws again.
+    """
+    ranges = dict(ranges or {})
+    for _ in range(1000):
+        point = {}
+        for c in system.coordinates:
+            point[c.name] = _draw(rng, ranges.get(c.name, COORDINATE_RANGE))
+            point[c.q_dot.name] = _draw(rng, ranges.get(c.q_dot.name, VELOCITY_RANGE))
+            point[c.q_ddot.name] = _draw(rng, ranges.get(c.q_ddot.name, VELOCITY_RANGE))
+        for p in system.parameters:
+            default = POSITIVE_RANGE if p.symbol.is_positive else REAL_RANGE
+            point[p.name] = _draw(rng, ranges.get(p.name, default))
+        point["t"] = _draw(rng, ranges.get("t", TIME_RANGE))
+        if avoid is None or not avoid(point):
+            return point
+    raise AssertionError("no acceptable random point found")
+
+
+def random_values(
+    names: Iterable[str], rng: random.Random, low: float = -2.0, high: float = 2.0
+) -> dict[str, float]:
+    """Independent uniform values for ``names``."""
+    return {name: _draw(rng, (low, high)) for name in names}
+
+
+def _draw(rng: random.Random, bounds: tuple[float, float]) -> float:
+    low, high = bounds
+    return rng.uniform(low, high)
+
+
+# -- unspecified functions -----------------------------------------------------
+def substitute_functions(expr: sympy.Expr, functions: ConcreteFunctions) -> sympy.Expr:
+    """Replace unspecified functions (matched by name) by concrete ones, then do derivatives."""
+    if not functions:
+        return expr
+    classes = {applied.func for applied in expr.atoms(AppliedUndef)}
+    for cls in classes:
+        concrete = functions.get(cls.__name__)
+        if concrete is None:
+            continue
+        arity = len(next(iter(a for a in expr.atoms(AppliedUndef) if a.func == cls)).args)
+        dummies = sympy.symbols(f"_arg0:{arity}", cls=sympy.Dummy)
+        expr = expr.replace(cls, sympy.Lambda(dummies, concrete(*dummies)))
+    return expr.doit()
+
+
+# -- evaluation ------------------------------------------------------------------
+def evaluate(
+    expr: sympy.Expr | float | int,
+    point: Mapping[str, float],
+    functions: ConcreteFunctions | None = None,
+) -> complex | float:
+    """The value of ``expr`` at ``point`` ({name: value}), symbols matched by name."""
+    expr = sympy.sympify(expr)
+    expr = substitute_functions(expr, functions or {})
+    leftover = expr.atoms(AppliedUndef)
+    if leftover:
+        raise AssertionError(f"unspecified functions left in the expression: {leftover}")
+    mapping = {}
+    for symbol in expr.free_symbols:
+        if symbol.name not in point:
+            raise AssertionError(f"no value for '{symbol.name}' in {sorted(point)}")
+        mapping[symbol] = sympy.Float(point[symbol.name], DIGITS)
+    value = expr.xreplace(mapping).evalf(DIGITS)
+    if value.free_symbols:
+        raise AssertionError(f"could not evaluate {expr} (left: {value.free_symbols})")
+    value = complex(value)
+    return value.real if value.imag == 0 else value
+
+
+def scale_of(
+    expr: sympy.Expr, point: Mapping[str, float], functions: ConcreteFunctions | None = None
+) -> float:
+    """The size of the terms of ``expr`` at ``point``: a scale for "is this zero?"."""
+    expr = substitute_functions(sympy.sympify(expr), functions or {})
+    terms = sympy.Add.make_args(sympy.expand(expr))
+    return max(1e-300, sum(abs(evaluate(term, point)) for term in terms))
+
+
+def substitute_by_name(expr: sympy.Expr, replacements: Mapping[str, sympy.Expr]) -> sympy.Expr:
+    """Replace each free symbol whose NAME is a key by the given expression."""
+    mapping = {s: replacements[s.name] for s in expr.free_symbols if s.name in replacements}
+    return expr.xreplace(mapping)
+
+
+def plain(expr: sympy.Expr) -> sympy.Expr:
+    """``expr`` with every symbol replaced by an assumption-free symbol of the same name."""
+    return expr.xreplace({s: sympy.Symbol(s.name) for s in expr.free_symbols})
+
+
+# -- comparison ------------------------------------------------------------------
+def assert_close(actual, expected, rtol: float = RTOL, *, scale: float = 0.0, what: str = ""):
+    """|actual - expected| <= rtol * max(|actual|, |expected|, scale, tiny)."""
+    size = max(abs(actual), abs(expected), scale, 1e-12)
+    assert abs(actual - expected) <= rtol * size, (
+        f"{what}: got {actual!r}, expected {expected!r} (relative error "
+        f"{abs(actual - expected) / size:.3e} > {rtol:g})"
+    )
+
+
+def solve_linear(matrix: Sequence[Sequence[float]], rhs: Sequence[float]) -> list[float]:
+    """x with matrix x = rhs, in extended precision (mpmath)."""
+    with mpmath.workdps(DIGITS):
+        a = mpmath.matrix([[mpmath.mpf(float(v)) for v in row] for row in matrix])
+        b = mpmath.matrix([mpmath.mpf(float(v)) for v in rhs])
+        return [float(v) for v in mpmath.lu_solve(a, b)]
+
+
+def total_time_derivative(expr: sympy.Expr, coordinates: Sequence[str]) -> sympy.Expr:
+    """d/dt of an expression of (q, q_dot, t), by the chain rule, with symbols by name.
+
+    Plain symbols named ``q``, ``q_dot``, ``q_ddot`` and ``t`` are used for the
+    result; the expression may hold symbols with any assumptions.
+    """
+    expr = plain(expr)
+    t = sympy.Symbol("t")
+    result = sympy.diff(expr, t)
+    for name in coordinates:
+        q, q_dot, q_ddot = sympy.symbols(f"{name} {name}_dot {name}_ddot")
+        result += sympy.diff(expr, q) * q_dot + sympy.diff(expr, q_dot) * q_ddot
+    return result

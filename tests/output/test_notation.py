@@ -1,0 +1,50 @@
+"""Textbook notation in text and LaTeX."""
+
+from __future__ import annotations
+
+import pytest
+import sympy
+
+import lagrangian as lg
+from lagrangian.output import latex_expression, unicode_expression
+from lagrangian.output.notation import latex_name, unicode_name
+
+
+@pytest.mark.parametrize(
+    "name, text, latex",
+    [
+        ("theta", "θ", r"\theta"),
+        ("theta_dot", "θ̇", r"\dot{\theta}"),
+        ("theta_ddot", "θ̈", r"\ddot{\theta}"),
+        ("theta1_dot", "θ̇₁", r"\dot{\theta}_{1}"),
+        ("x_dot", "ẋ", r"\dot{x}"),
+        ("omega", "ω", r"\omega"),
+    ],
+)
+def test_names(name, text, latex):
+    assert unicode_name(name) == text
+    assert latex_name(name) == latex
+
+
+def test_one_line_text_reads_like_a_textbook():
+    theta, theta_dot, theta_ddot, m, l, g = sympy.symbols("theta theta_dot theta_ddot m l g")
+    expr = m * l**2 * theta_ddot + m * g * l * sympy.sin(theta) + theta_dot**2 * sympy.sin(theta) ** 2
+    text = unicode_expression(expr)
+    assert text.startswith("l² m θ̈")  # accelerations first
+    assert "sin²(θ)" in text or "sin²θ" in text
+    assert "*" not in text and "**" not in text
+
+
+def test_declared_functions_print_by_name():
+    system = lg.load("velocity_dependent_potential")
+    eom = system.equations_of_motion()
+    text = unicode_expression(eom.equations[0], system)
+    assert "∂A/∂y" in text and "∂V/∂x" in text and "(x, y, z)" not in text
+    latex = latex_expression(eom.equations[0], system)
+    assert r"\frac{\partial A}{\partial y}" in latex
+
+
+def test_jupyter_display():
+    system = lg.load("simple_pendulum")
+    assert system._repr_latex_().startswith("$L = ")
+    assert r"\ddot{\theta}" in system.equations_of_motion()._repr_latex_()
