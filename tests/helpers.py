@@ -45,7 +45,8 @@ def random_point(
     """A random value for every name of ``system``: q, q_dot, q_ddot, parameters and t.
 
     Coordinates in [-2, 2], velocities in [-2, 2], positive parameters in
-    [0.5, 2], other parameters and t in [-2, 2]; ``ranges`` overrides any name
+    [0.5, 2] (negative ones in [-2, -0.5], non-negative in [0, 2]), other
+    parameters and t in [-2, 2]; ``ranges`` overrides any name
     (e.g. ``{"r": (0.5, 2.0)}`` to keep a radius away from 0).  ``avoid``
     rejects points (near singular ones) and draws again.
     """
@@ -57,19 +58,22 @@ def random_point(
             point[c.q_dot.name] = _draw(rng, ranges.get(c.q_dot.name, VELOCITY_RANGE))
             point[c.q_ddot.name] = _draw(rng, ranges.get(c.q_ddot.name, VELOCITY_RANGE))
         for p in system.parameters:
-            default = POSITIVE_RANGE if p.symbol.is_positive else REAL_RANGE
-            point[p.name] = _draw(rng, ranges.get(p.name, default))
+            point[p.name] = _draw(rng, ranges.get(p.name, parameter_range(p.symbol)))
         point["t"] = _draw(rng, ranges.get("t", TIME_RANGE))
         if avoid is None or not avoid(point):
             return point
     raise AssertionError("no acceptable random point found")
 
 
-def random_values(
-    names: Iterable[str], rng: random.Random, low: float = -2.0, high: float = 2.0
-) -> dict[str, float]:
-    """Independent uniform values for ``names``."""
-    return {name: _draw(rng, (low, high)) for name in names}
+def parameter_range(symbol: sympy.Symbol) -> tuple[float, float]:
+    """Where a parameter's random values lie, respecting its sign assumption."""
+    if symbol.is_positive:
+        return POSITIVE_RANGE
+    if symbol.is_negative:
+        return (-POSITIVE_RANGE[1], -POSITIVE_RANGE[0])
+    if symbol.is_nonnegative:
+        return (0.0, POSITIVE_RANGE[1])
+    return REAL_RANGE
 
 
 def _draw(rng: random.Random, bounds: tuple[float, float]) -> float:

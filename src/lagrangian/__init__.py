@@ -1,9 +1,9 @@
 """lagrangian: analytical mechanics from the Lagrangian to equations, analysis and motion.
 
-    >>> import lagrangian as lg
-    >>> eom = lg.load("simple_pendulum").equations_of_motion()
-    >>> eom.accelerations["theta"]
-    -g*sin(theta)/l
+>>> import lagrangian as lg
+>>> eom = lg.load("simple_pendulum").equations_of_motion()
+>>> eom.accelerations["theta"]
+-g*sin(theta)/l
 """
 
 from .derive import CoordinateDerivation, EquationsOfMotion, derive

@@ -32,9 +32,7 @@ def expand_products(expr: sympy.Expr) -> sympy.Expr:
     )
 
 
-def tidy(
-    expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = False
-) -> sympy.Expr:
+def tidy(expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = False) -> sympy.Expr:
     """A readable, equal form of ``expr`` computed in bounded time.
 
     ``state``: the symbols (q, q', q'', t) whose terms are grouped; with
@@ -90,6 +88,32 @@ def positive_content(expr: sympy.Expr, state: Iterable[sympy.Symbol]) -> sympy.E
     coefficient, rest = content.as_coeff_Mul()
     content = abs(coefficient) * rest
     return content if content.is_positive else sympy.Integer(1)
+
+
+def with_positive_content_outside(expr: sympy.Expr, state: Iterable[sympy.Symbol]) -> sympy.Expr:
+    """l1 (m1 + m2 - m2 cos^2(...)) rather than l1 m1 + l1 m2 - l1 m2 cos^2(...)."""
+    state = tuple(state)
+    content = positive_content(expr, state)
+    return content * tidy(expr / content, state)
+
+
+def tidy_fraction(
+    expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = False
+) -> sympy.Expr:
+    """``tidy`` for a quotient: one numerator over one denominator, common factors cancelled.
+
+    (g x y - x (x'^2 + y'^2)) / (x^2 + y^2) rather than a sum of fractions.
+    """
+    state = tuple(state)
+    if sympy.count_ops(expr) > EXPAND_MAX_OPS:
+        return expr
+    numerator, denominator = sympy.fraction(sympy.together(expr))
+    if not any(factor.as_base_exp()[0].is_Add for factor in sympy.Mul.make_args(denominator)):
+        return tidy(expr, state, trig=trig)  # a monomial denominator: r theta'^2 - mu/r^2
+    common = sympy.gcd(positive_content(numerator, state), positive_content(denominator, state))
+    numerator = tidy(numerator / common, state, trig=trig)
+    denominator = with_positive_content_outside(tidy(denominator / common, state, trig=trig), state)
+    return numerator / denominator
 
 
 def is_zero(expr: sympy.Expr) -> bool:

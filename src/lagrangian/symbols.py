@@ -70,6 +70,11 @@ class Coordinate:
     def momentum_name(self) -> str:
         return momentum_name(self.name)
 
+    @property
+    def p(self) -> sympy.Symbol:
+        """The conjugate momentum symbol p_q (real)."""
+        return sympy.Symbol(self.momentum_name, real=True)
+
 
 def is_identifier(name: str) -> bool:
     return bool(IDENTIFIER.match(name))

@@ -12,6 +12,19 @@ import sympy
 from lagrangian.cli import ExitStatus, main
 from lagrangian.examples import example_names
 
+WORKED_EXAMPLES = (
+    "simple_pendulum",
+    "velocity_dependent_potential",
+    "harmonic_oscillator",
+    "central_force",
+    "spherical_pendulum",
+    "double_pendulum",
+    "vertical_spring",
+    "free_particle_spherical",
+    "planar_particle_forces",
+    "rotating_wire_bead",
+)
+
 
 def run(capsys, *argv):
     status = main(list(argv))
@@ -22,11 +35,7 @@ def run(capsys, *argv):
 def test_examples_lists_the_ten_worked_examples(capsys):
     status, out, _ = run(capsys, "examples")
     assert status == ExitStatus.SUCCESS
-    for name in (
-        "simple_pendulum velocity_dependent_potential harmonic_oscillator central_force "
-        "spherical_pendulum double_pendulum vertical_spring free_particle_spherical "
-        "planar_particle_forces rotating_wire_bead"
-    ).split():
+    for name in WORKED_EXAMPLES:
         assert name in out
     assert len(out.strip().splitlines()) == len(example_names())
 

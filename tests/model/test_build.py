@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-import sympy
 import pytest
+import sympy
 
 import lagrangian as lg
 
@@ -126,7 +126,9 @@ def test_negative_and_real_parameters():
 
 
 def test_latex_input_gives_the_same_system():
-    text = lg.System.from_lagrangian("m*l^2*theta_dot^2/2 + m*g*l*cos(theta)", coordinates=["theta"])
+    text = lg.System.from_lagrangian(
+        "m*l^2*theta_dot^2/2 + m*g*l*cos(theta)", coordinates=["theta"]
+    )
     latex = lg.System.from_lagrangian(
         r"\frac{1}{2} m l^{2} \dot{\theta}^{2} + m g l \cos\theta", coordinates=["theta"]
     )
@@ -134,9 +136,7 @@ def test_latex_input_gives_the_same_system():
 
 
 def test_relativistic_particle_mass_matrix_depends_on_velocity():
-    system = lg.System.from_lagrangian(
-        "-m*c^2*sqrt(1 - x_dot^2/c^2) - k*x^2/2", coordinates=["x"]
-    )
+    system = lg.System.from_lagrangian("-m*c^2*sqrt(1 - x_dot^2/c^2) - k*x^2/2", coordinates=["x"])
     x, x_dot, m, c, k = s(system, "x x_dot m c k")
     expected = -k * x * (1 - x_dot**2 / c**2) ** sympy.Rational(3, 2) / m
     assert same(acc(system, "x"), expected, system)

@@ -28,7 +28,9 @@ def test_names(name, text, latex):
 
 def test_one_line_text_reads_like_a_textbook():
     theta, theta_dot, theta_ddot, m, l, g = sympy.symbols("theta theta_dot theta_ddot m l g")
-    expr = m * l**2 * theta_ddot + m * g * l * sympy.sin(theta) + theta_dot**2 * sympy.sin(theta) ** 2
+    expr = (
+        m * l**2 * theta_ddot + m * g * l * sympy.sin(theta) + theta_dot**2 * sympy.sin(theta) ** 2
+    )
     text = unicode_expression(expr)
     assert text.startswith("l² m θ̈")  # accelerations first
     assert "sin²(θ)" in text or "sin²θ" in text

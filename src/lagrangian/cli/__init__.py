@@ -45,7 +45,11 @@ def main(argv: Sequence[str] | None = None) -> ExitStatus:
             ExitStatus.INTERNAL_ERROR,
             f"internal error: {type(error).__name__}: {error} (set LAGRANGIAN_DEBUG=1 for details)",
         )
-    return ExitStatus(result) if isinstance(result, int) and result in (0, 1, 2) else ExitStatus.SUCCESS
+    return (
+        ExitStatus(result)
+        if isinstance(result, int) and result in (0, 1, 2)
+        else ExitStatus.SUCCESS
+    )
 
 
 def _fail(status: ExitStatus, message: str) -> ExitStatus:

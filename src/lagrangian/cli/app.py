@@ -26,7 +26,7 @@ def examples() -> None:
     from ..model import load
 
     for name in example_names():
-        system = load(name)
+        system = load(name)  # built, not just listed: a broken example shows up here
         click.echo(f"{name:30s} {system.name}  ({', '.join(system.coordinate_names)})")
 
 

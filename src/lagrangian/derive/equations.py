@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 import sympy
 
 from ..symbols import Coordinate
+from .constraints import ConstraintForms
 
 if TYPE_CHECKING:
     from ..model import System
@@ -18,7 +19,7 @@ if TYPE_CHECKING:
 class CoordinateDerivation:
     """Lagrange's equation for one coordinate q, term by term, as done by hand.
 
-        d/dt (dL/dq_dot) - dL/dq = Q_q - dF/dq_dot
+    d/dt (dL/dq_dot) - dL/dq = Q_q - dF/dq_dot
     """
 
     coordinate: Coordinate
@@ -27,6 +28,7 @@ class CoordinateDerivation:
     force_gradient: sympy.Expr  # dL/dq
     generalized_force: sympy.Expr  # Q_q
     dissipation_force: sympy.Expr  # dF/dq_dot
+    constraint_force: sympy.Expr  # sum_j lambda_j A_jq (zero without constraints)
     equation: sympy.Expr  # the left side minus the right side, = 0
 
 
@@ -42,6 +44,10 @@ class EquationsOfMotion:
     f_i = dL/dq_i - sum_j d^2 L/(dq_i' dq_j) q_j' - d^2 L/(dq_i' dt) + Q_i - dF/dq_i'.
     ``equations[i]`` is the i-th Euler-Lagrange equation written as
     ``expr = 0`` (equal to ``(M q'' - f)[i]`` up to rearrangement).
+    With constraints (see :mod:`lagrangian.derive.constraints`) the equations
+    read M q'' = f + A^T lambda with A q'' = beta; ``equations`` then contain the
+    multiplier symbols lambda_j, and ``accelerations`` and ``multipliers`` are
+    solved with lambda eliminated.
     ``accelerations`` holds q'' solved explicitly (``None`` where that would
     not stay readable; the numeric stages solve M q'' = f instead).  M depends
     on the velocities only for Lagrangians that are not quadratic in them (a
@@ -54,6 +60,8 @@ class EquationsOfMotion:
     forcing: sympy.ImmutableMatrix
     accelerations: Mapping[str, sympy.Expr] | None
     steps: tuple[CoordinateDerivation, ...]
+    constraints: ConstraintForms | None = None
+    multipliers: Mapping[str, sympy.Expr] | None = None
 
     @property
     def coordinates(self) -> tuple[Coordinate, ...]:

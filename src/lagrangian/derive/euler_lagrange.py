@@ -16,8 +16,9 @@ import sympy
 from ..algebra import positive_content, tidy
 from ..errors import ModelError
 from ..model import System
+from .constraints import constraint_forms, solve_constrained
 from .equations import CoordinateDerivation, EquationsOfMotion
-from .solve import check_regular, solve_accelerations
+from .solve import check_independent, check_regular, solve_accelerations
 
 
 def derive(system: System) -> EquationsOfMotion:
@@ -32,8 +33,9 @@ def derive(system: System) -> EquationsOfMotion:
         if part.has(*accelerations):
             raise ModelError("accelerations (q_ddot) are not allowed", field=where)
 
+    forms = constraint_forms(system) if system.constraints else None
     n = len(coordinates)
-    state = _state_symbols(system)
+    state = system.state_symbols
     mass_rows = []
     forcing = []
     steps = []
@@ -47,6 +49,11 @@ def derive(system: System) -> EquationsOfMotion:
         force_gradient = tidy(sympy.diff(lagrangian, c.q), state)
         generalized_force = system.forces.get(c.name, sympy.Integer(0))
         dissipation_force = tidy(sympy.diff(system.dissipation, c.q_dot), state)
+        constraint_force = (
+            sum((lam * a for lam, a in zip(forms.multipliers, forms.matrix.col(i), strict=True)), 0)
+            if forms
+            else sympy.Integer(0)
+        )
         rest = tidy(velocity_terms - force_gradient - generalized_force + dissipation_force, state)
         inertia = sympy.Add(*(m * a for m, a in zip(row, accelerations, strict=True)))
         mass_rows.append(row)
@@ -59,27 +66,35 @@ def derive(system: System) -> EquationsOfMotion:
                 force_gradient=force_gradient,
                 generalized_force=generalized_force,
                 dissipation_force=dissipation_force,
-                equation=tidy((inertia + rest) / positive_content(inertia + rest, state), state),
+                constraint_force=constraint_force,
+                equation=_readable_equation(inertia + rest - constraint_force, state),
             )
         )
     mass_matrix = sympy.ImmutableMatrix(n, n, [m for row in mass_rows for m in row])
     check_regular(mass_matrix, coordinates)
     forcing_vector = sympy.ImmutableMatrix(n, 1, forcing)
+    if forms is None:
+        accelerations = solve_accelerations(mass_matrix, forcing_vector, coordinates, state)
+        multipliers = None
+    else:
+        check_independent(forms.matrix, [f"constraints[{j}]" for j in range(forms.matrix.rows)])
+        solved = solve_constrained(mass_matrix, forcing_vector, forms, state)
+        accelerations = multipliers = None
+        if solved is not None:
+            accelerations = {c.name: a for c, a in zip(coordinates, solved[0], strict=True)}
+            multipliers = {s.name: lam for s, lam in zip(forms.multipliers, solved[1], strict=True)}
     return EquationsOfMotion(
         system=system,
         equations=tuple(step.equation for step in steps),
         mass_matrix=mass_matrix,
         forcing=forcing_vector,
-        accelerations=solve_accelerations(mass_matrix, forcing_vector, coordinates, state),
+        accelerations=accelerations,
         steps=tuple(steps),
+        constraints=forms,
+        multipliers=multipliers,
     )
 
 
-
-def _state_symbols(system: System) -> tuple[sympy.Symbol, ...]:
-    """Everything that varies along a motion: q, q', q'' and t."""
-    symbols = [system.time]
-    for c in system.coordinates:
-        symbols += [c.q, c.q_dot, c.q_ddot]
-    return tuple(symbols)
-
+def _readable_equation(expr: sympy.Expr, state) -> sympy.Expr:
+    """The equation expr = 0 divided by its positive constant factor, terms grouped."""
+    return tidy(expr / positive_content(expr, state), state)

@@ -15,8 +15,8 @@ import numpy as np
 import sympy
 from sympy.core.function import AppliedUndef
 
-from ..algebra import positive_content, tidy
-from ..errors import SingularMassMatrixError
+from ..algebra import tidy_fraction
+from ..errors import ModelError, SingularMassMatrixError
 from ..symbols import Coordinate
 
 #: Blocks up to this size are solved with a simplified determinant (Cramer's rule).
@@ -34,12 +34,15 @@ def check_regular(mass_matrix: sympy.Matrix, coordinates: Sequence[Coordinate]) 
     (the spherical pendulum at theta = 0) without symbolic determinants.
     """
     names = [c.name for c in coordinates]
-    missing = [name for name, row in zip(names, mass_matrix.tolist(), strict=True) if all(
-        entry == 0 for entry in row
-    )]
+    missing = [
+        name
+        for name, row in zip(names, mass_matrix.tolist(), strict=True)
+        if all(entry == 0 for entry in row)
+    ]
     if missing:
         raise SingularMassMatrixError(
-            "singular mass matrix: no kinetic term for " + ", ".join(missing)
+            "singular mass matrix: no kinetic term for "
+            + ", ".join(missing)
             + " (the Lagrangian must be quadratic in each velocity)"
         )
     rng = random.Random(20261122)
@@ -60,6 +63,16 @@ def check_regular(mass_matrix: sympy.Matrix, coordinates: Sequence[Coordinate]) 
         )
 
 
+def check_independent(matrix: sympy.Matrix, names: Sequence[str]) -> None:
+    """Raise ModelError unless the rows of ``matrix`` (constraints) are independent."""
+    rng = random.Random(7)
+    numeric = _at_random_point(matrix, rng)
+    if numeric is not None and np.linalg.matrix_rank(numeric) < matrix.rows:
+        raise ModelError(
+            "the constraints are not independent: " + ", ".join(names), field="constraints"
+        )
+
+
 def _at_random_point(matrix: sympy.Matrix, rng: random.Random) -> np.ndarray | None:
     undefined = matrix.atoms(AppliedUndef, sympy.Derivative)
     values = {atom: sympy.Float(rng.uniform(0.5, 2.5)) for atom in undefined}
@@ -77,41 +90,49 @@ def solve_accelerations(
     coordinates: Sequence[Coordinate],
     state: Sequence[sympy.Symbol],
 ) -> dict[str, sympy.Expr] | None:
-    """q'' = M^-1 f block by block, or None when a block is too large to stay readable."""
-    solved: dict[str, sympy.Expr] = {}
-    for block in _blocks(mass_matrix):
+    """q'' = M^-1 f by coordinate name, or None when that would not stay readable."""
+    solved = solve_linear(mass_matrix, forcing, state)
+    if solved is None:
+        return None
+    return {c.name: value for c, value in zip(coordinates, solved, strict=True)}
+
+
+def solve_linear(
+    matrix: sympy.Matrix, rhs: sympy.Matrix, state: Sequence[sympy.Symbol]
+) -> list[sympy.Expr] | None:
+    """x with ``matrix x = rhs``, block by block; None when a block is too large.
+
+    ``state``: the symbols that vary along a motion (terms are grouped by them).
+    """
+    solution: list[sympy.Expr | None] = [None] * matrix.rows
+    for block in diagonal_blocks(matrix):
         if len(block) > SYMBOLIC_MAX_SIZE:
             return None
-        sub_m = mass_matrix.extract(block, block)
-        sub_f = forcing.extract(block, [0])
+        sub_m = matrix.extract(block, block)
+        sub_f = rhs.extract(block, [0])
         if len(block) == 1:
-            values = [tidy(sub_f[0] / sub_m[0, 0], state, trig=True)]
+            values = [tidy_fraction(sub_f[0] / sub_m[0, 0], state, trig=True)]
         elif len(block) <= CRAMER_MAX_SIZE:
             values = _cramer(sub_m, sub_f, state)
         else:
             values = list(sub_m.LUsolve(sub_f))
         for index, value in zip(block, values, strict=True):
-            solved[coordinates[index].name] = value
-    return {c.name: solved[c.name] for c in coordinates}
+            solution[index] = value
+    return solution
 
 
 def _cramer(
     matrix: sympy.Matrix, rhs: sympy.Matrix, state: Sequence[sympy.Symbol]
 ) -> list[sympy.Expr]:
-    """x_i = (adj(M) f)_i / det M, with the common positive factors cancelled."""
+    """x_i = (adj(M) f)_i / det M, each as one readable fraction."""
     determinant = sympy.expand(matrix.det(method="berkowitz"))
-    det_content = positive_content(determinant, state)
-    values = []
-    for numerator in matrix.adjugate(method="berkowitz") * rhs:
-        common = sympy.gcd(det_content, positive_content(numerator, state))
-        denominator = tidy(determinant / common, state, trig=True)
-        outside = positive_content(denominator, state)
-        denominator = outside * tidy(denominator / outside, state)
-        values.append(tidy(numerator / common, state, trig=True) / denominator)
-    return values
+    return [
+        tidy_fraction(numerator / determinant, state, trig=True)
+        for numerator in matrix.adjugate(method="berkowitz") * rhs
+    ]
 
 
-def _blocks(matrix: sympy.Matrix) -> list[list[int]]:
+def diagonal_blocks(matrix: sympy.Matrix) -> list[list[int]]:
     """Index sets of the independent diagonal blocks of a symmetric matrix."""
     n = matrix.rows
     unseen = set(range(n))

@@ -304,9 +304,11 @@ class _Builder:
         gravity = self._gravity(resolved, dimension)
 
         time = time_symbol()
-        kinetic = kinetic_energy(self.coordinates, time, particles, bodies) if (
-            particles or bodies
-        ) else None
+        kinetic = (
+            kinetic_energy(self.coordinates, time, particles, bodies)
+            if (particles or bodies)
+            else None
+        )
         if spec.kinetic is not None:
             kinetic = resolved["kinetic"] + (kinetic or 0)
         potential_terms = []
@@ -315,7 +317,9 @@ class _Builder:
         if gravity is not None:
             potential_terms.append(gravity_potential(gravity, particles, bodies))
         potential_terms += [spring_potential(s) for s in springs]
-        conservative = self._by_coordinate(spec.conservative_forces, "conservative_forces", resolved)
+        conservative = self._by_coordinate(
+            spec.conservative_forces, "conservative_forces", resolved
+        )
         if conservative:
             potential_terms.append(
                 conservative_potential(self.coordinates, conservative, "conservative_forces")
@@ -424,7 +428,9 @@ class _Builder:
         allowed = {c.name for c in self.coordinates} | {c.q_dot.name for c in self.coordinates}
         for name, value in self.spec.initial.items():
             if name not in allowed:
-                raise ModelError(f"'{name}' is not a coordinate or velocity", field=f"initial.{name}")
+                raise ModelError(
+                    f"'{name}' is not a coordinate or velocity", field=f"initial.{name}"
+                )
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise ModelError(f"expected a number, got {value!r}", field=f"initial.{name}")
 
@@ -438,7 +444,9 @@ def _coordinates(names: Sequence[str]) -> tuple[Coordinate, ...]:
         if not isinstance(name, str) or not is_identifier(name):
             raise ModelError(f"invalid coordinate name {name!r}", field="coordinates")
         if name in RESERVED:
-            raise ModelError(f"'{name}' is reserved and cannot be a coordinate", field="coordinates")
+            raise ModelError(
+                f"'{name}' is reserved and cannot be a coordinate", field="coordinates"
+            )
         if name.endswith((VELOCITY_SUFFIX, ACCELERATION_SUFFIX)):
             raise ModelError(
                 f"coordinate '{name}' must not end in {VELOCITY_SUFFIX} or {ACCELERATION_SUFFIX}",
@@ -448,7 +456,9 @@ def _coordinates(names: Sequence[str]) -> tuple[Coordinate, ...]:
             raise ModelError(f"coordinate '{name}' is listed twice", field="coordinates")
         seen.add(name)
         coordinates.append(Coordinate.named(name))
-    clashes = seen & {c.q_dot.name for c in coordinates} | seen & {c.q_ddot.name for c in coordinates}
+    clashes = seen & {c.q_dot.name for c in coordinates} | seen & {
+        c.q_ddot.name for c in coordinates
+    }
     if clashes:
         raise ModelError(f"coordinate names clash: {sorted(clashes)}", field="coordinates")
     return tuple(coordinates)

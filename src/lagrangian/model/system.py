@@ -66,7 +66,7 @@ class System:
     potential: sympy.Expr | None = None
     functions: tuple[FunctionDeclaration, ...] = ()
     forces: Mapping[str, sympy.Expr] = field(default_factory=dict)
-    dissipation: sympy.Expr = sympy.Integer(0)
+    dissipation: sympy.Expr = sympy.S.Zero
     constraints: tuple[sympy.Expr, ...] = ()
     particles: tuple[Particle, ...] = ()
     bodies: tuple[RigidBody2D, ...] = ()
@@ -118,6 +118,14 @@ class System:
         )
 
     @property
+    def state_symbols(self) -> tuple[sympy.Symbol, ...]:
+        """Everything that varies along a motion: t, and each q, q', q''."""
+        symbols = [self.time]
+        for c in self.coordinates:
+            symbols += [c.q, c.q_dot, c.q_ddot]
+        return tuple(symbols)
+
+    @property
     def is_autonomous(self) -> bool:
         """True when nothing in the model depends explicitly on time."""
         parts = [self.lagrangian, self.dissipation, *self.forces.values(), *self.constraints]
@@ -125,7 +133,7 @@ class System:
 
     # -- stages ----------------------------------------------------------------
     def equations_of_motion(self) -> EquationsOfMotion:
-        """Lagrange's equations of this system (see :class:`~lagrangian.derive.EquationsOfMotion`)."""
+        """Lagrange's equations (see :class:`~lagrangian.derive.EquationsOfMotion`)."""
         from ..derive import derive
 
         return derive(self)
@@ -150,7 +158,9 @@ class System:
         """
         from .build import ModelSpec, build_system
 
-        return build_system(ModelSpec(coordinates=tuple(coordinates), lagrangian=lagrangian, **options))
+        return build_system(
+            ModelSpec(coordinates=tuple(coordinates), lagrangian=lagrangian, **options)
+        )
 
     @classmethod
     def from_energies(
@@ -164,7 +174,9 @@ class System:
         from .build import ModelSpec, build_system
 
         return build_system(
-            ModelSpec(coordinates=tuple(coordinates), kinetic=kinetic, potential=potential, **options)
+            ModelSpec(
+                coordinates=tuple(coordinates), kinetic=kinetic, potential=potential, **options
+            )
         )
 
     @classmethod

@@ -37,7 +37,9 @@ def load_file(path: str | Path) -> System:
     try:
         size = path.stat().st_size
         if size > MAX_FILE_BYTES:
-            raise ModelError(f"file too large ({size} bytes, limit {MAX_FILE_BYTES})", source=source)
+            raise ModelError(
+                f"file too large ({size} bytes, limit {MAX_FILE_BYTES})", source=source
+            )
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:
         raise ModelError("no such model file or built-in example", source=source) from None
@@ -67,7 +69,9 @@ def _spec(data: Mapping[str, object], source: str | None) -> ModelSpec:
     unknown = set(data) - TOP_LEVEL_KEYS
     if unknown:
         name = sorted(unknown)[0]
-        raise ModelError(f"unknown key (expected one of {', '.join(sorted(TOP_LEVEL_KEYS))})", field=name)
+        raise ModelError(
+            f"unknown key (expected one of {', '.join(sorted(TOP_LEVEL_KEYS))})", field=name
+        )
     if "coordinates" not in data:
         raise ModelError("missing field", field="coordinates")
     simulate = _table(data, "simulate")

@@ -21,4 +21,11 @@ def derive_document(eom: EquationsOfMotion) -> dict:
     }
     if eom.accelerations is not None:
         document["accelerations"] = {name: str(expr) for name, expr in eom.accelerations.items()}
+    if eom.constraints is not None:
+        document["constraints"] = [str(c) for c in system.constraints]
+        document["multipliers"] = (
+            {name: str(expr) for name, expr in eom.multipliers.items()}
+            if eom.multipliers is not None
+            else {str(s): None for s in eom.constraints.multipliers}
+        )
     return document

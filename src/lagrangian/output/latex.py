@@ -24,6 +24,8 @@ def latex_equations(eom: EquationsOfMotion) -> str:
             rf"{latex_name(c.q_ddot.name)} &= {show(eom.accelerations[c.name])}"
             for c in eom.coordinates
         ]
+    if eom.multipliers is not None:
+        rows += [rf"{latex_name(n)} &= {show(v)}" for n, v in eom.multipliers.items()]
     return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
 
 
@@ -40,17 +42,17 @@ def latex_steps(eom: EquationsOfMotion) -> str:
     for step in eom.steps:
         c = step.coordinate
         q, q_dot = latex_name(c.name), latex_name(c.q_dot.name)
-        rows.append(rf"\frac{{\partial L}}{{\partial {q_dot}}} &= {show(step.momentum)}")
-        rows.append(
-            rf"\frac{{d}}{{dt}}\frac{{\partial L}}{{\partial {q_dot}}} &= {show(step.momentum_rate)}"
-        )
+        d_dq_dot = rf"\frac{{\partial L}}{{\partial {q_dot}}}"
+        rows.append(rf"{d_dq_dot} &= {show(step.momentum)}")
+        rows.append(rf"\frac{{d}}{{dt}}{d_dq_dot} &= {show(step.momentum_rate)}")
         rows.append(rf"\frac{{\partial L}}{{\partial {q}}} &= {show(step.force_gradient)}")
         if step.generalized_force != 0:
             rows.append(rf"Q_{{{q}}} &= {show(step.generalized_force)}")
         if step.dissipation_force != 0:
-            rows.append(
-                rf"\frac{{\partial \mathcal{{F}}}}{{\partial {q_dot}}} &= {show(step.dissipation_force)}"
-            )
+            d_f = rf"\frac{{\partial \mathcal{{F}}}}{{\partial {q_dot}}}"
+            rows.append(rf"{d_f} &= {show(step.dissipation_force)}")
+        if step.constraint_force != 0:
+            rows.append(rf"\sum_j \lambda_j a_{{j {q}}} &= {show(step.constraint_force)}")
         rows.append(rf"0 &= {show(step.equation)}")
         if eom.accelerations is not None:
             rows.append(rf"{latex_name(c.q_ddot.name)} &= {show(eom.accelerations[c.name])}")

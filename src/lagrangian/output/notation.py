@@ -64,7 +64,7 @@ def _dot_rank(term: sympy.Expr) -> int:
 
 
 class _TextbookOrder:
-    """Sums print as a textbook writes them: acceleration terms, then velocity terms, then the rest."""
+    """Sums print as a textbook writes them: accelerations, then velocities, then the rest."""
 
     def _as_ordered_terms(self, expr, order=None):
         terms = super()._as_ordered_terms(expr, order=order)
@@ -113,8 +113,10 @@ class UnicodePrinter(_TextbookOrder, StrPrinter):
             return f"√{self._atom(base)}"
         if exponent.is_Integer and exponent > 1:
             sup = str(exponent).translate(SUPERSCRIPT)
-            if isinstance(base, sympy.Function) and len(base.args) == 1 and not isinstance(
-                base, AppliedUndef
+            if (
+                isinstance(base, sympy.Function)
+                and len(base.args) == 1
+                and not isinstance(base, AppliedUndef)
             ):
                 return f"{base.func.__name__}{sup}{self._atom(base.args[0])}"  # sin²(θ)
             return f"{self._atom(base)}{sup}"

@@ -32,7 +32,14 @@ def format_equations(eom: EquationsOfMotion) -> str:
         lines.append("")
         lines.append("Accelerations:")
         for c in eom.coordinates:
-            lines.append("  " + _equality(unicode_name(c.q_ddot.name), eom.accelerations[c.name], system))
+            lines.append(
+                "  " + _equality(unicode_name(c.q_ddot.name), eom.accelerations[c.name], system)
+            )
+    if eom.multipliers is not None:
+        lines.append("")
+        lines.append("Lagrange multipliers (constraint forces):")
+        for name, value in eom.multipliers.items():
+            lines.append("  " + _equality(unicode_name(name), value, system))
     return "\n".join(lines)
 
 
@@ -48,7 +55,8 @@ def format_steps(eom: EquationsOfMotion) -> str:
     if system.dissipation != 0:
         lines.append(f"  F = {show(system.dissipation)}   (Rayleigh dissipation function)")
     lines.append("")
-    lines.append("Lagrange's equation for each coordinate q: d/dt(∂L/∂q̇) − ∂L/∂q = Q − ∂F/∂q̇")
+    law = "d/dt(∂L/∂q̇) − ∂L/∂q = Q − ∂F/∂q̇" + (" + Σ λ a_q" if eom.constraints else "")
+    lines.append(f"Lagrange's equation for each coordinate q: {law}")
     for step in eom.steps:
         c = step.coordinate
         q, q_dot = unicode_name(c.name), unicode_name(c.q_dot.name)
@@ -61,9 +69,13 @@ def format_steps(eom: EquationsOfMotion) -> str:
             lines.append(f"  Q_{q} = {show(step.generalized_force)}")
         if step.dissipation_force != 0:
             lines.append(f"  ∂F/∂{q_dot} = {show(step.dissipation_force)}")
+        if step.constraint_force != 0:
+            lines.append(f"  Σ λ a_{q} = {show(step.constraint_force)}   (constraint force)")
         lines.append(f"  equation: {show(step.equation)} = 0")
         if eom.accelerations is not None:
-            lines.append("  " + _equality(unicode_name(c.q_ddot.name), eom.accelerations[c.name], system))
+            lines.append(
+                "  " + _equality(unicode_name(c.q_ddot.name), eom.accelerations[c.name], system)
+            )
     return "\n".join(lines)
 
 

@@ -1,0 +1,207 @@
+"""Conserved quantities: cyclic momenta, the energy function (Jacobi integral), Noether charges.
+
+With p_i = dL/dq_i' and Lagrange's equations d/dt p_i = dL/dq_i + Q_i - dF/dq_i',
+
+- a coordinate is *cyclic* when dL/dq = 0, Q_q = 0 and dF/dq' = 0: then p_q is constant;
+- the energy function h = sum_i q_i' p_i - L changes at the rate
+  dh/dt = -dL/dt + sum_i q_i' (Q_i - dF/dq_i'): it is conserved when L has no
+  explicit t and neither the forces nor dissipation do work.  h = T + V when T is
+  a quadratic form in the velocities and V is velocity-free; otherwise (moving
+  constraints, as the bead on a rotating wire) h is only the Jacobi integral and
+  T + V is not conserved.
+- Noether: if L is invariant under q -> q + eps xi(q, t) (dL = 0 to first order),
+  then sum_i p_i xi_i is conserved.
+
+Every quantity reported conserved is also checked numerically (its time
+derivative along the motion vanishes at random states), and every quantity not
+conserved carries the reason.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import sympy
+
+from ..algebra import is_zero, tidy
+from ..derive import EquationsOfMotion
+from ..errors import ModelError
+from ..model import System
+from .motion import total_derivative, vanishes_along_motion
+
+
+@dataclass(frozen=True)
+class ConservedQuantity:
+    """A function of (q, q', t) constant along every motion."""
+
+    name: str
+    expression: sympy.Expr
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class NotConserved:
+    """A quantity one might expect to be conserved, with why it is not."""
+
+    name: str
+    expression: sympy.Expr
+    reason: str
+
+
+@dataclass(frozen=True)
+class Conservation:
+    """The result of :func:`conserved_quantities`."""
+
+    cyclic_coordinates: tuple[str, ...]
+    conserved: tuple[ConservedQuantity, ...]
+    not_conserved: tuple[NotConserved, ...]
+
+    def __getitem__(self, name: str) -> ConservedQuantity:
+        for quantity in self.conserved:
+            if quantity.name == name:
+                return quantity
+        raise KeyError(f"'{name}' is not conserved (conserved: {self.names})")
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        return tuple(q.name for q in self.conserved)
+
+
+def conserved_quantities(eom: EquationsOfMotion) -> Conservation:
+    """Cyclic momenta and the energy function of a system, with reasons for what is not."""
+    system = eom.system
+    state = system.state_symbols
+    cyclic, conserved, not_conserved = [], [], []
+    for step in eom.steps:
+        c = step.coordinate
+        if not is_zero(step.force_gradient):
+            continue
+        if step.generalized_force != 0 or step.dissipation_force != 0:
+            reason = (
+                f"the generalized force Q_{c.name} acts on it"
+                if step.generalized_force != 0
+                else f"dissipation acts on {c.name}"
+            )
+            not_conserved.append(NotConserved(c.momentum_name, step.momentum, reason))
+            continue
+        cyclic.append(c.name)
+        conserved.append(
+            ConservedQuantity(
+                c.momentum_name,
+                step.momentum,
+                f"{c.name} is cyclic: the Lagrangian does not depend on it",
+            )
+        )
+
+    energy = energy_function(system)
+    reasons = _energy_leaks(system)
+    kinetic_plus_potential = _mechanical_energy(system)
+    equals_t_plus_v = kinetic_plus_potential is not None and is_zero(
+        energy - kinetic_plus_potential
+    )
+    if reasons:
+        not_conserved.append(NotConserved("energy", energy, "; ".join(reasons)))
+    else:
+        if equals_t_plus_v:
+            description = "h = T + V, the total energy"
+        elif kinetic_plus_potential is not None:
+            description = "the Jacobi integral h = Σ q̇ ∂L/∂q̇ - L, not T + V"
+        else:
+            description = "the energy function h = Σ q̇ ∂L/∂q̇ - L (T + V when L = T - V)"
+        conserved.append(ConservedQuantity("energy", tidy(energy, state), description))
+    if kinetic_plus_potential is not None and not equals_t_plus_v:
+        not_conserved.append(
+            NotConserved(
+                "mechanical_energy",
+                tidy(kinetic_plus_potential, state),
+                "T + V differs from the energy function h: the constraints move "
+                "(positions depend on t), so their forces do work",
+            )
+        )
+    for quantity in conserved:
+        if not vanishes_along_motion(quantity.expression, eom):
+            raise AssertionError(f"bug: {quantity.name} reported conserved but is not")
+    return Conservation(tuple(cyclic), tuple(conserved), tuple(not_conserved))
+
+
+def energy_function(system: System) -> sympy.Expr:
+    """h = sum_i q_i' dL/dq_i' - L."""
+    lagrangian = system.lagrangian
+    return tidy(
+        sum((c.q_dot * sympy.diff(lagrangian, c.q_dot) for c in system.coordinates), -lagrangian),
+        system.state_symbols,
+    )
+
+
+def _energy_leaks(system: System) -> list[str]:
+    """Why h is not conserved (empty when it is): the terms of dh/dt."""
+    reasons = []
+    if not is_zero(sympy.diff(system.lagrangian, system.time)):
+        reasons.append("L depends on t")
+    power = sum(
+        (c.q_dot * system.forces.get(c.name, 0) for c in system.coordinates), sympy.Integer(0)
+    )
+    if not is_zero(power):
+        doing_work = [name for name, q in system.forces.items() if q != 0]
+        verb = "does" if len(doing_work) == 1 else "do"
+        reasons.append(", ".join(f"Q_{name}" for name in doing_work) + f" {verb} work")
+    dissipated = sum(
+        (c.q_dot * sympy.diff(system.dissipation, c.q_dot) for c in system.coordinates),
+        sympy.Integer(0),
+    )
+    if not is_zero(dissipated):
+        reasons.append("dissipation")
+    return reasons
+
+
+def _mechanical_energy(system: System) -> sympy.Expr | None:
+    if system.kinetic is None or system.potential is None:
+        return None
+    return system.kinetic + system.potential
+
+
+def noether_charge(
+    eom: EquationsOfMotion, generator: Mapping[str, sympy.Expr], name: str = "noether"
+) -> ConservedQuantity:
+    """The conserved charge sum_i p_i xi_i of an infinitesimal point symmetry q -> q + eps xi.
+
+    ``generator`` maps coordinate names to xi_i(q, t) (SymPy expressions in the
+    system's symbols; missing coordinates have xi = 0).  Raises ModelError when
+    L is not invariant: dL = sum_i (dL/dq_i xi_i + dL/dq_i' dxi_i/dt) must vanish
+    and the generalized forces must do no work along xi.
+    """
+    system = eom.system
+    unknown = set(generator) - set(system.coordinate_names)
+    if unknown:
+        raise ModelError(f"not coordinates: {sorted(unknown)}", field="generator")
+    xi = {c.name: generator.get(c.name, sympy.Integer(0)) for c in system.coordinates}
+    variation = sum(
+        (
+            sympy.diff(system.lagrangian, c.q) * xi[c.name]
+            + sympy.diff(system.lagrangian, c.q_dot) * total_derivative(xi[c.name], eom)
+            for c in system.coordinates
+        ),
+        sympy.Integer(0),
+    )
+    if not is_zero(variation):
+        raise ModelError(
+            "not a symmetry: the Lagrangian changes by " + str(tidy(variation)), field="generator"
+        )
+    virtual_work = sum(
+        (
+            (system.forces.get(c.name, 0) - sympy.diff(system.dissipation, c.q_dot)) * xi[c.name]
+            for c in system.coordinates
+        ),
+        sympy.Integer(0),
+    )
+    if not is_zero(virtual_work):
+        raise ModelError("not a symmetry of the forces: they do work along it", field="generator")
+    charge = tidy(
+        sum(
+            (step.momentum * xi[step.coordinate.name] for step in eom.steps),
+            sympy.Integer(0),
+        ),
+        system.state_symbols,
+    )
+    return ConservedQuantity(name, charge, "Noether charge of the symmetry " + str(generator))

@@ -1,0 +1,110 @@
+"""Constraints by Lagrange multipliers.
+
+A constraint c_j(q, q', t) = 0 is either holonomic, f_j(q, t) = 0, or linear in
+the velocities, sum_k a_jk(q, t) q_k' + a_j0(q, t) = 0 (a holonomic one is used
+through its time derivative).  With A_jk = dc_j/dq_k', Lagrange's equations gain
+the constraint forces A^T lambda and the constraints, differentiated once, close
+the system:
+
+    M q'' = f + A^T lambda,
+    A q'' = beta,   beta_j = -(sum_k dc_j/dq_k q_k' + dc_j/dt).
+
+The multipliers lambda_j measure the constraint forces (for a pendulum in
+Cartesian coordinates with x^2 + y^2 - l^2 = 0, the tension is -2 l lambda).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import sympy
+
+from ..algebra import tidy, tidy_fraction
+from ..errors import ModelError
+from ..model import System
+from .solve import solve_linear
+
+
+@dataclass(frozen=True)
+class ConstraintForms:
+    """The constraints as A q' + a0 = 0 and their differentiated form A q'' = beta."""
+
+    multipliers: tuple[sympy.Symbol, ...]  # lambda1, lambda2, ...
+    holonomic: tuple[bool, ...]
+    matrix: sympy.ImmutableMatrix  # A, one row per constraint
+    bias: sympy.ImmutableMatrix  # beta
+
+
+def multiplier_symbol(index: int) -> sympy.Symbol:
+    return sympy.Symbol(f"lambda{index + 1}", real=True)
+
+
+def constraint_forms(system: System) -> ConstraintForms:
+    """A and beta of the system's constraints; checks they are linear in the velocities."""
+    velocities = [c.q_dot for c in system.coordinates]
+    rows, bias, holonomic = [], [], []
+    for j, constraint in enumerate(system.constraints):
+        where = f"constraints[{j}]"
+        is_holonomic = not constraint.has(*velocities)
+        velocity_form = _time_derivative(constraint, system) if is_holonomic else constraint
+        row = [tidy(sympy.diff(velocity_form, v), system.state_symbols) for v in velocities]
+        if any(entry.has(*velocities) for entry in row):
+            raise ModelError("a constraint must be linear in the velocities", field=where)
+        if all(entry == 0 for entry in row):
+            raise ModelError("the constraint involves no coordinate", field=where)
+        rows.append(row)
+        rate_without_accelerations = _time_derivative(velocity_form, system, skip_velocities=True)
+        bias.append(tidy(-rate_without_accelerations, system.state_symbols))
+        holonomic.append(is_holonomic)
+    return ConstraintForms(
+        multipliers=tuple(multiplier_symbol(j) for j in range(len(rows))),
+        holonomic=tuple(holonomic),
+        matrix=sympy.ImmutableMatrix(rows),
+        bias=sympy.ImmutableMatrix(len(bias), 1, bias),
+    )
+
+
+def _time_derivative(expr: sympy.Expr, system: System, *, skip_velocities: bool = False):
+    """d/dt by the chain rule; with ``skip_velocities`` the q'' terms are left out."""
+    rate = sympy.diff(expr, system.time)
+    for c in system.coordinates:
+        rate += sympy.diff(expr, c.q) * c.q_dot
+        if not skip_velocities:
+            rate += sympy.diff(expr, c.q_dot) * c.q_ddot
+    return rate
+
+
+def solve_constrained(
+    mass_matrix: sympy.Matrix,
+    forcing: sympy.Matrix,
+    forms: ConstraintForms,
+    state: Sequence[sympy.Symbol],
+) -> tuple[list[sympy.Expr], list[sympy.Expr]] | None:
+    """(q'', lambda) of M q'' = f + A^T lambda, A q'' = beta; None if too large.
+
+    By the Schur complement, which keeps the small systems small:
+    x_f = M^-1 f, X = M^-1 A^T, (A X) lambda = beta - A x_f, q'' = x_f + X lambda.
+    """
+    columns = [sympy.Matrix(forcing)] + [
+        sympy.Matrix(forms.matrix.row(j)).T for j in range(forms.matrix.rows)
+    ]
+    solved = []
+    for column in columns:
+        x = solve_linear(mass_matrix, column, state)
+        if x is None:
+            return None
+        solved.append(sympy.Matrix(x))
+    free, response = solved[0], sympy.Matrix.hstack(*solved[1:])
+    schur = (forms.matrix * response).applyfunc(lambda e: tidy(e, state, trig=True))
+    residual = (sympy.Matrix(forms.bias) - forms.matrix * free).applyfunc(
+        lambda e: tidy(e, state, trig=True)
+    )
+    multipliers = solve_linear(schur, residual, state)
+    if multipliers is None:
+        return None
+    accelerations = free + response * sympy.Matrix(multipliers)
+    return (
+        [tidy_fraction(a, state, trig=True) for a in accelerations],
+        [tidy_fraction(lam, state, trig=True) for lam in multipliers],
+    )

@@ -1,0 +1,70 @@
+"""Lagrangians whose mass matrix d^2 L / dq' dq' is singular are refused, naming the coordinates."""
+
+from __future__ import annotations
+
+import re
+
+import pytest
+import sympy
+
+import lagrangian as lg
+
+
+def named(message: str, name: str) -> bool:
+    return re.search(rf"(?<![\w]){re.escape(name)}(?![\w])", message) is not None
+
+
+def derive_error(lagrangian, coordinates, **options) -> str:
+    with pytest.raises(lg.SingularMassMatrixError) as caught:
+        lg.System.from_lagrangian(lagrangian, coordinates=coordinates, **options).equations_of_motion()
+    message = str(caught.value)
+    assert "\n" not in message
+    return message
+
+
+def test_singular_is_a_user_error():
+    assert issubclass(lg.SingularMassMatrixError, lg.LagrangianError)
+
+
+def test_lagrangian_linear_in_the_velocities():
+    """L = x_dot y - V(x, y): no kinetic term at all (a first-order, Hamiltonian-like system)."""
+    message = derive_error("x_dot*y - V(x, y)", ["x", "y"], functions={"V": ["x", "y"]})
+    assert named(message, "x") and named(message, "y"), message
+    assert "singular" in message
+
+
+def test_lagrangian_linear_in_the_velocities_from_sympy():
+    x, y, x_dot = sympy.symbols("x y x_dot")
+    V = sympy.Function("V")
+    message = derive_error(x_dot * y - V(x, y), ["x", "y"], functions={"V": ["x", "y"]})
+    assert named(message, "x") and named(message, "y"), message
+
+
+def test_velocities_only_in_a_combination():
+    """L = (x_dot + y_dot)^2 / 2: rank 1, both velocities involved."""
+    message = derive_error("(x_dot + y_dot)**2/2", ["x", "y"])
+    assert named(message, "x") and named(message, "y"), message
+    assert "singular" in message
+
+
+def test_only_the_coordinates_at_fault_are_named():
+    message = derive_error("u_dot**2/2 + (x_dot + y_dot)**2/2 - u**2", ["u", "x", "y"])
+    assert named(message, "x") and named(message, "y"), message
+    assert not named(message, "u"), message
+
+
+def test_a_coordinate_without_kinetic_term_is_named():
+    message = derive_error("x_dot**2/2 + x*y_dot - y**2/2", ["x", "y"])
+    assert named(message, "y"), message
+    # the offending coordinate is y; x has a kinetic term
+    assert not re.search(r"no kinetic term for [^(]*\bx\b", message), message
+
+
+def test_singular_only_at_isolated_points_is_accepted():
+    """The spherical pendulum's M is singular at theta = 0 only: a regular system."""
+    system = lg.System.from_lagrangian(
+        "m*l**2*(theta_dot**2 + sin(theta)**2*phi_dot**2)/2 + m*g*l*cos(theta)",
+        coordinates=["theta", "phi"],
+    )
+    eom = system.equations_of_motion()
+    assert eom.accelerations is not None
