@@ -97,6 +97,28 @@ def with_positive_content_outside(expr: sympy.Expr, state: Iterable[sympy.Symbol
     return content * tidy(expr / content, state)
 
 
+def tidy_in_velocities(
+    expr: sympy.Expr, velocities: Iterable[sympy.Symbol], state: Iterable[sympy.Symbol]
+) -> sympy.Expr:
+    """``tidy`` of each coefficient of ``expr`` as a polynomial in the velocities.
+
+    After a change of coordinates L is a long sum; simplifying the coefficient of
+    each velocity monomial on its own (with trigonometric identities) is cheap
+    and recovers m (r'^2 + r^2 theta'^2)/2.  Non-polynomial dependence on the
+    velocities falls back to :func:`tidy`.
+    """
+    velocities, state = tuple(velocities), tuple(state)
+    try:
+        polynomial = sympy.Poly(expand_products(expr), *velocities)
+    except sympy.PolynomialError:
+        return tidy(expr, state, trig=True)
+    terms = []
+    for powers, coefficient in polynomial.terms():
+        monomial = sympy.Mul(*(v**k for v, k in zip(velocities, powers, strict=True)))
+        terms.append(tidy(coefficient, state, trig=True) * monomial)
+    return sympy.Add(*terms)
+
+
 def tidy_fraction(
     expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = False
 ) -> sympy.Expr:
@@ -108,12 +130,18 @@ def tidy_fraction(
     if sympy.count_ops(expr) > EXPAND_MAX_OPS:
         return expr
     numerator, denominator = sympy.fraction(sympy.together(expr))
-    if not any(factor.as_base_exp()[0].is_Add for factor in sympy.Mul.make_args(denominator)):
-        return tidy(expr, state, trig=trig)  # a monomial denominator: r theta'^2 - mu/r^2
+    if not any(_is_polynomial_factor(f) for f in sympy.Mul.make_args(denominator)):
+        # a monomial denominator, or a root like (x^2 + y^2)^(3/2): keep a sum of terms
+        return tidy(expr, state, trig=trig)
     common = sympy.gcd(positive_content(numerator, state), positive_content(denominator, state))
     numerator = tidy(numerator / common, state, trig=trig)
     denominator = with_positive_content_outside(tidy(denominator / common, state, trig=trig), state)
     return numerator / denominator
+
+
+def _is_polynomial_factor(factor: sympy.Expr) -> bool:
+    base, exponent = factor.as_base_exp()
+    return base.is_Add and exponent.is_Integer
 
 
 def is_zero(expr: sympy.Expr) -> bool:

@@ -138,6 +138,15 @@ class System:
 
         return derive(self)
 
+    def change_coordinates(
+        self, coordinates: Sequence[str], substitution: Mapping[str, ExprLike], **options: object
+    ) -> System:
+        """The same system in new coordinates: ``substitution`` gives each old coordinate
+        as a function of the new ones and t (see :mod:`lagrangian.model.transform`)."""
+        from .transform import change_coordinates
+
+        return change_coordinates(self, coordinates, substitution, **options)
+
     def _repr_latex_(self) -> str:
         from ..output.latex import latex_expression
 
