@@ -123,3 +123,24 @@ def test_noether_charge_of_a_rotation():
     )
     with pytest.raises(lg.ModelError, match="not a symmetry"):
         noether_charge(eom, {"x": sympy.Integer(1)})
+
+
+def test_constraint_forces_break_cyclic_momenta_but_not_energy():
+    system = lg.load("rolling_disc")
+    result = conservation(system)
+    assert "energy" in result.names  # rolling constraints do no work
+    assert "p_theta" not in result.names  # theta is absent from L but the constraint acts on it
+    assert {q.name for q in result.not_conserved} >= {"p_x", "p_y", "p_theta"}
+    assert result.cyclic_coordinates == ("phi",)
+
+
+def test_moving_constraint_does_work():
+    # bead on a rod whose length is prescribed: x^2 + y^2 = (l + a t)^2 (a reeled-in pendulum)
+    system = lg.System.from_particles(
+        ["x", "y"],
+        [lg.Particle("bob", "m", ("x", "y"))],
+        gravity=lg.Gravity("g"),
+        constraints=["x^2 + y^2 - (l + a*t)^2"],
+    )
+    (energy,) = [q for q in conservation(system).not_conserved if q.name == "energy"]
+    assert "constraints move" in energy.reason

@@ -77,12 +77,15 @@ def conserved_quantities(eom: EquationsOfMotion) -> Conservation:
         c = step.coordinate
         if not is_zero(step.force_gradient):
             continue
-        if step.generalized_force != 0 or step.dissipation_force != 0:
-            reason = (
-                f"the generalized force Q_{c.name} acts on it"
-                if step.generalized_force != 0
-                else f"dissipation acts on {c.name}"
-            )
+        if step.generalized_force != 0:
+            reason = f"the generalized force Q_{c.name} acts on it"
+        elif step.dissipation_force != 0:
+            reason = f"dissipation acts on {c.name}"
+        elif step.constraint_force != 0:
+            reason = f"a constraint force acts on {c.name}"
+        else:
+            reason = ""
+        if reason:
             not_conserved.append(NotConserved(c.momentum_name, step.momentum, reason))
             continue
         cyclic.append(c.name)
@@ -95,7 +98,7 @@ def conserved_quantities(eom: EquationsOfMotion) -> Conservation:
         )
 
     energy = energy_function(system)
-    reasons = _energy_leaks(system)
+    reasons = _energy_leaks(system) + _constraint_work(eom)
     kinetic_plus_potential = _mechanical_energy(system)
     equals_t_plus_v = kinetic_plus_potential is not None and is_zero(
         energy - kinetic_plus_potential
@@ -153,6 +156,27 @@ def _energy_leaks(system: System) -> list[str]:
     if not is_zero(dissipated):
         reasons.append("dissipation")
     return reasons
+
+
+def _constraint_work(eom: EquationsOfMotion) -> list[str]:
+    """Constraint forces A^T lambda do work -lambda . a0 when A q' + a0 = 0 has a0 != 0."""
+    system = eom.system
+    at_rest = {c.q_dot: 0 for c in system.coordinates}
+    for constraint in system.constraints:
+        if not is_zero(_velocity_form(constraint, system).xreplace(at_rest)):
+            return ["the constraints move, so their forces do work"]
+    return []
+
+
+def _velocity_form(constraint: sympy.Expr, system: System) -> sympy.Expr:
+    """A q' + a0 of one constraint (holonomic ones differentiated)."""
+    velocities = [c.q_dot for c in system.coordinates]
+    if constraint.has(*velocities):
+        return constraint
+    return sum(
+        (sympy.diff(constraint, c.q) * c.q_dot for c in system.coordinates),
+        sympy.diff(constraint, system.time),
+    )
 
 
 def _mechanical_energy(system: System) -> sympy.Expr | None:

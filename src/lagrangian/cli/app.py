@@ -49,3 +49,24 @@ def derive(model: str, as_json: bool, as_latex: bool, steps: bool) -> None:
         click.echo(output.latex_steps(eom) if steps else output.latex_equations(eom))
     else:
         click.echo(output.format_steps(eom) if steps else output.format_equations(eom))
+
+
+@app.command(epilog=MODEL_HELP)
+@click.argument("model")
+@click.option("--json", "as_json", is_flag=True, help="Print the JSON document.")
+@click.option("--latex", "as_latex", is_flag=True, help="Print LaTeX.")
+def analyze(model: str, as_json: bool, as_latex: bool) -> None:
+    """Conserved quantities, Hamiltonian, equilibria and small oscillations of MODEL."""
+    from ..analysis import analyze as run_analysis
+    from ..model import load
+    from ..output.analysis import analysis_document, format_analysis, latex_analysis
+
+    if as_json and as_latex:
+        raise click.UsageError("choose one of --json and --latex")
+    analysis = run_analysis(load(model).equations_of_motion())
+    if as_json:
+        click.echo(json.dumps(analysis_document(analysis), indent=2, ensure_ascii=False))
+    elif as_latex:
+        click.echo(latex_analysis(analysis))
+    else:
+        click.echo(format_analysis(analysis))

@@ -138,6 +138,37 @@ class System:
 
         return derive(self)
 
+    # -- analysis (DESIGN section 6) ------------------------------------------------
+    def conserved_quantities(self):
+        """Cyclic momenta and the energy function, with reasons for what is not conserved."""
+        from ..analysis import conserved_quantities
+
+        return conserved_quantities(self.equations_of_motion())
+
+    def hamiltonian(self):
+        """H(q, p, t) by Legendre transform, with Hamilton's equations."""
+        from ..analysis import hamiltonian
+
+        return hamiltonian(self.equations_of_motion())
+
+    def equilibria(self):
+        """Points at rest that stay at rest, each with its normal modes."""
+        from ..analysis import equilibria
+
+        return equilibria(self.equations_of_motion())
+
+    def linearize(self, at: Mapping[str, object]):
+        """M0 x'' + C0 x' + K0 x = 0 about the equilibrium ``at``; ``.normal_modes()``."""
+        from ..analysis import linearize
+
+        return linearize(self.equations_of_motion(), at)
+
+    def analyze(self):
+        """Every analysis that applies (see :func:`lagrangian.analysis.analyze`)."""
+        from ..analysis import analyze
+
+        return analyze(self.equations_of_motion())
+
     def change_coordinates(
         self, coordinates: Sequence[str], substitution: Mapping[str, ExprLike], **options: object
     ) -> System:

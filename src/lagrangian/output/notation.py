@@ -37,7 +37,12 @@ def _split_dots(name: str) -> tuple[str, int]:
 def unicode_name(name: str) -> str:
     """θ̇₁ for 'theta1_dot': the pretty symbol with a combining dot on its head."""
     base, dots = _split_dots(name)
-    shown = pretty_symbol(base)
+    head, _, tail = base.partition("_")
+    if len(tail) > 1 and not tail.isdigit():
+        # p_theta: a word as subscript reads better as p_θ than as p with tiny letters
+        shown = f"{pretty_symbol(head)}_{pretty_symbol(tail)}"
+    else:
+        shown = pretty_symbol(base)
     if dots == 0:
         return shown
     head = len(shown)

@@ -1,10 +1,36 @@
-"""The safe expression parser: text (or LaTeX) -> SymPy, never through ``eval``.
+"""The safe expression parser: text (or LaTeX) -> SymPy, never through Python evaluation.
 
-Public interface used by the rest of the package (implementation in the
-modules of this subpackage):
+User text (model files, the command line) is tokenized and parsed by hand; the
+parser builds SymPy objects itself and refuses everything outside the
+expression language (see ``DESIGN.md`` section 3) with a
+:class:`~lagrangian.errors.ParseError` that gives the position.  Sizes are
+bounded by :class:`ParseLimits`, so no input can hang or exhaust the machine.
 
     Namespace(symbols={name: sympy.Expr}, functions={name: DeclaredFunction})
     parse_expression(text, namespace, limits=DEFAULT_LIMITS) -> sympy.Expr
     referenced_names(text, limits=DEFAULT_LIMITS) -> ReferencedNames
-    BUILTIN_FUNCTIONS, BUILTIN_CONSTANTS, ParseLimits, DEFAULT_LIMITS
+    BUILTIN_FUNCTIONS, BUILTIN_CONSTANTS, RESERVED_NAMES, ParseLimits, DEFAULT_LIMITS
 """
+
+from lagrangian.parsing.expression import ReferencedNames, parse_expression, referenced_names
+from lagrangian.parsing.limits import DEFAULT_LIMITS, ParseLimits
+from lagrangian.parsing.names import (
+    BUILTIN_CONSTANTS,
+    BUILTIN_FUNCTIONS,
+    RESERVED_NAMES,
+    DeclaredFunction,
+    Namespace,
+)
+
+__all__ = [
+    "BUILTIN_CONSTANTS",
+    "BUILTIN_FUNCTIONS",
+    "DEFAULT_LIMITS",
+    "RESERVED_NAMES",
+    "DeclaredFunction",
+    "Namespace",
+    "ParseLimits",
+    "ReferencedNames",
+    "parse_expression",
+    "referenced_names",
+]

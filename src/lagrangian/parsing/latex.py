@@ -8,11 +8,11 @@ A subscript of digits is appended directly, any other with ``_``; an unbraced
 subscript takes the whole run of letters and digits (``x_dot`` -> ``x_dot``).
 A run of letters without a backslash is one name: ``ml`` is the name ``ml``.
 
-Commands: Greek letters, ``\sin`` ... ``\ln`` (:data:`~.names.LATEX_FUNCTIONS`),
-``\frac`` (``\dfrac``, ``\tfrac``), ``\sqrt``, ``\cdot``, ``\times``, ``\div``,
-``\left`` / ``\right`` before ``( ) [ ]``, and the spacing commands
-``\, \; \: \! \quad \qquad``, which are skipped.  Any other command is an error
-that names it.
+Commands: Greek letters (and ``\ell``, the name ``l``), ``\sin`` ... ``\ln``
+(:data:`~.names.LATEX_FUNCTIONS`), ``\frac`` (``\dfrac``, ``\tfrac``), ``\sqrt``,
+``\cdot``, ``\times``, ``\div``, ``\left`` / ``\right`` before ``( ) [ ]``, and the
+spacing commands ``\, \; \: \! \quad \qquad``, which are skipped.  Any other
+command is an error that names it.
 """
 
 from __future__ import annotations
@@ -152,7 +152,7 @@ class _Scanner:
         return i + 1
 
     def accent(self, start: int, i: int, command: str) -> int:
-        """``\\dot{x}``, ``\\dot x``, ``\\ddot{\\theta_1}``, ``\\dot{\\theta}_1``: one name token."""
+        r"""One name token: ``\dot{x}``, ``\dot x``, ``\ddot{\theta_1}``, ``\dot{\theta}_1``."""
         text = self.text
         i = self.skip_space(i)
         if i < len(text) and text[i] == "{":
@@ -208,7 +208,7 @@ class _Scanner:
             if not parts:
                 raise ParseError("empty subscript", text, underscore)
             return "".join(parts), i + 1
-        if i < len(text) and (text[i] == "\\" or text[i].isascii() and text[i].isalnum()):
+        if i < len(text) and (text[i] == "\\" or (text[i].isascii() and text[i].isalnum())):
             return self.subscript_part(i)
         raise ParseError("expected a subscript after '_'", text, underscore)
 
@@ -226,4 +226,3 @@ class _Scanner:
         if end == i:
             raise ParseError(f"unexpected {describe_char(text[i])} in a subscript", text, i)
         return text[i:end], end
-

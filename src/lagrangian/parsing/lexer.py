@@ -36,6 +36,8 @@ _SHOWN_NAME = 40  # characters of a long name quoted in an error
 
 def describe_char(char: str) -> str:
     """A character as an error message shows it: ``'['`` or ``U+0000``."""
+    if char == "'":
+        return '"\'"'
     if char.isprintable() and not char.isspace():
         return f"'{char}'"
     return f"U+{ord(char):04X}"
@@ -173,11 +175,7 @@ def with_dots(name: str, dots: int, text: str, position: int) -> str:
 
 
 def check_name(name: str, text: str, position: int) -> str:
-    """``name`` if it is allowed: never starting with ``_`` and never containing ``__``."""
-    if name.startswith("_"):
-        raise ParseError(
-            f"invalid name '{shorten(name)}': names may not start with '_'", text, position
-        )
+    """``name`` if it is allowed: never containing ``__`` (it cannot start with ``_``)."""
     if "__" in name:
         raise ParseError(
             f"invalid name '{shorten(name)}': names may not contain '__'", text, position
@@ -255,7 +253,9 @@ def tokenize(text: str, limits: ParseLimits) -> list[Token]:
             i = j
         elif char == "_":
             name, _ = scan_name(text, i, underscores=True)
-            check_name(name, text, i)
+            raise ParseError(
+                f"invalid name '{shorten(name)}': names may not start with '_'", text, i
+            )
         elif char in _PLAIN_PUNCTUATION:
             out.add(_PLAIN_PUNCTUATION[char], i, i + 1)
             i += 1

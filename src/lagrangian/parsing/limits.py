@@ -6,19 +6,23 @@ before SymPy is asked to build it.  An exact power ``b**e`` has about
 ``|e| * log10|b|`` digits, so ``9**9**9`` is refused from that estimate, not after
 a long computation.
 
-Two costs are bounded by internal constants rather than by :class:`ParseLimits`:
+Three costs are bounded by internal constants rather than by :class:`ParseLimits`:
 
 * SymPy extracts roots of numbers by trial factoring, which costs about a second
   for a 2,000-digit number (measured: 1 ms at 100 digits, 5 ms at 200).  Roots of
   numbers longer than :data:`ROOT_DIGITS_LIMIT` are refused, and the estimated
   time of all root extractions in one expression is capped by
   :data:`ROOT_WORK_BUDGET_US`.
+* SymPy asks every argument of ``sin``, ``exp``, ``Abs``... (and every symbolic
+  exponent) about its sign, parity and reality, at up to 0.8 ms a compound node,
+  so those arguments are limited to :data:`ARGUMENT_NODE_BUDGET` nodes in all.
 * Python refuses to print an integer of more than 4,300 digits, so
   ``max_result_digits`` may not exceed :data:`PRINTABLE_DIGITS`.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, fields
 
 import sympy
@@ -29,14 +33,20 @@ LITERAL_EXPONENT_LIMIT = 400
 ROOT_DIGITS_LIMIT = 200
 """Largest number (digits) whose non-integer power SymPy is asked to evaluate."""
 
-ROOT_WORK_BUDGET_US = 300_000
+ROOT_WORK_BUDGET_US = 150_000
 """Estimated microseconds of root extraction allowed in one expression."""
+
+ARGUMENT_NODE_BUDGET = 400
+"""Compound nodes of SymPy expressions given, in all, as arguments of built-in functions
+and as symbolic exponents: SymPy queries their assumptions at 0.1 to 0.8 ms a node."""
 
 PRINTABLE_DIGITS = 4_000
 """Upper bound of ``max_result_digits``: Python cannot print longer integers."""
 
-_MAX_DEPTH_CAP = 200  # deeper nesting would approach Python's recursion limit
+_MAX_DEPTH_CAP = 64  # the parser takes up to 8 Python frames a level
 _MAX_NUMBER_DIGITS_CAP = 4_000  # int() refuses strings over 4,300 digits
+_HUGE = 1e300
+_HUGE_DIGITS = 290
 
 
 @dataclass(frozen=True)
@@ -76,74 +86,104 @@ class ParseLimits:
 DEFAULT_LIMITS = ParseLimits()
 
 
-def int_digits(value: int) -> int:
-    """Decimal digits of ``value`` (an upper bound, exact to within one)."""
-    return abs(value).bit_length() * 30103 // 100000 + 1
+def log_size(value: int) -> float:
+    """``log10|value|`` (0 for 0): a number has ``floor(log_size) + 1`` digits."""
+    return math.log10(abs(value)) if value else 0.0
 
 
-def rational_digits(value: sympy.Rational) -> int:
-    """Digits of the numerator plus those of the denominator (if not 1)."""
-    digits = int_digits(value.p)
-    if value.q != 1:
-        digits += int_digits(value.q)
-    return digits
+def rational_size(value: sympy.Rational) -> float:
+    """The size of an exact rational: ``log10|p| + log10(q)``."""
+    return log_size(value.p) + log_size(value.q)
+
+
+def magnitude(expr: sympy.Expr) -> float:
+    """An upper bound of how much ``expr`` scales an exponent it appears in.
+
+    The absolute value of a rational; sums add and products multiply the bounds
+    of their arguments; anything else counts 1.  SymPy merges ``b**e1 * b**e2``
+    into ``b**(e1 + e2)``, so ``2**(10**300*x)`` must be refused although it is
+    not yet a number.
+    """
+    if expr.is_Rational:
+        if log_size(expr.p) - log_size(expr.q) > _HUGE_DIGITS:
+            return _HUGE
+        return abs(expr.p) / expr.q
+    if expr.is_Add:
+        return min(sum(magnitude(arg) for arg in expr.args), _HUGE)
+    if expr.is_Mul:
+        bound = 1.0
+        for arg in expr.args:
+            bound = min(bound * magnitude(arg), _HUGE)
+        return bound
+    return 1.0
 
 
 def numeric_size(expr: sympy.Expr) -> float:
     """Estimated digits of the exact numbers SymPy would carry along with ``expr``.
 
-    A rational counts its digits; ``b**r`` (both rational) counts
-    ``digits(b) * |r|``; a product counts the sum over its factors; a sum its
-    largest term (SymPy may pull a common numeric factor out of it).  Anything
-    else (symbols, functions) counts 0.  Looks only one level into products
-    and sums, which is where SymPy combines numbers.
+    A rational counts its digits; ``b**e`` counts ``size(b) * magnitude(e)``
+    (also for a symbolic ``e``, which a product may merge into a number);
+    ``exp(c*log(b))`` counts as ``b**c``; a product counts the sum over its
+    factors and a sum its largest term (SymPy may pull a common numeric factor
+    out of it).  Symbols and other functions count 0.
     """
     if expr.is_Rational:
-        return rational_digits(expr)
+        return rational_size(expr)
     if expr.is_Pow:
-        return _power_size(expr)
+        size = numeric_size(expr.base)
+        return size * magnitude(expr.exp) if size else 0
+    if isinstance(expr, sympy.exp):
+        return exp_size(expr.args[0])
     if expr.is_Mul:
-        return sum(_factor_size(arg) for arg in expr.args)
+        return sum(numeric_size(arg) for arg in expr.args if not arg.is_Add)
     if expr.is_Add:
-        return max((_term_size(arg) for arg in expr.args), default=0)
+        return max(numeric_size(arg) for arg in expr.args)
     return 0
 
 
-def root_base_digits(expr: sympy.Expr) -> int:
-    """Digits of the numbers under non-integer powers in ``expr`` (one level deep).
+def root_sizes(expr: sympy.Expr) -> list[float]:
+    """Sizes of the numbers that the factors of ``expr`` may take roots of.
 
-    SymPy merges ``sqrt(a)*sqrt(b)`` into ``sqrt(a*b)``, so the roots in one
-    product count together.
+    SymPy merges ``sqrt(a)*sqrt(b)`` into ``sqrt(a*b)``, and ``2**(x + 1/2)*2**(-x)``
+    into ``sqrt(2)``, so the roots in one product count together.
     """
-    args = expr.args if expr.is_Mul else (expr,)
-    total = 0
-    for arg in args:
-        if arg.is_Pow and arg.base.is_Rational and arg.exp.is_Rational and arg.exp.q != 1:
-            total += rational_digits(arg.base)
-    return total
+    sizes = []
+    for arg in sympy.Mul.make_args(expr):
+        if arg.is_Pow and not arg.exp.is_Integer:
+            sizes.append(numeric_size(arg.base))
+        elif isinstance(arg, sympy.exp):
+            sizes.append(exp_size(arg.args[0]))
+    return [size for size in sizes if size]
 
 
-def root_work_us(digits: float) -> float:
-    """Estimated microseconds SymPy takes for a root of a number with ``digits`` digits."""
-    return 200 + digits * digits / 10
+def count_new_nodes(expr: sympy.Basic, seen: set[sympy.Basic], limit: int) -> int:
+    """The number of compound nodes of ``expr`` not in ``seen`` (which they are added to).
+
+    Atoms (symbols, numbers) cost SymPy next to nothing and are not counted.
+    Counting stops a little past ``limit``.  SymPy remembers what it learnt
+    about an expression, so a subexpression seen before costs nothing again.
+    """
+    count = 0
+    stack = [expr]
+    while stack and count <= limit:
+        node = stack.pop()
+        if not node.args or node in seen:
+            continue
+        seen.add(node)
+        count += 1
+        stack.extend(node.args)
+    return count
 
 
-def _power_size(expr: sympy.Pow) -> float:
-    base, exp = expr.args
-    if base.is_Rational and exp.is_Rational:
-        return rational_digits(base) * abs(float(exp))
-    return 0
+def root_work_us(size: float) -> float:
+    """Estimated microseconds SymPy takes for a root of a number of ``size`` digits."""
+    return 300 + size * size / 8
 
 
-def _factor_size(expr: sympy.Expr) -> float:
-    if expr.is_Rational:
-        return rational_digits(expr)
-    if expr.is_Pow:
-        return _power_size(expr)
-    return 0
-
-
-def _term_size(expr: sympy.Expr) -> float:
-    if expr.is_Mul:
-        return sum(_factor_size(arg) for arg in expr.args)
-    return _factor_size(expr)
+def exp_size(argument: sympy.Expr) -> float:
+    size = 0.0
+    for term in sympy.Add.make_args(argument):
+        for factor in sympy.Mul.make_args(term):
+            if isinstance(factor, sympy.log):
+                size += numeric_size(factor.args[0]) * magnitude(term)
+    return size

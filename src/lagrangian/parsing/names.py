@@ -52,11 +52,14 @@ def name_problem(name: str) -> str | None:
     """Why ``name`` cannot be a declared name, or None when it can."""
     if not _NAME.match(name):
         return f"'{name}' is not a valid name (letters, digits and '_', starting with a letter)"
-    if "__" in name:
-        return f"'{name}' is not a valid name (it contains '__')"
     if name in RESERVED_NAMES:
         return f"'{name}' is a built-in name"
     return None
+
+
+def arity_message(name: str, expected: int, given: int) -> str:
+    plural = "" if expected == 1 else "s"
+    return f"{name}() takes {expected} argument{plural} ({given} given)"
 
 
 @dataclass(frozen=True)
@@ -81,7 +84,11 @@ class DeclaredFunction:
 
 @dataclass(frozen=True)
 class Namespace:
-    """The names an expression may use: ``symbols`` (values) and declared ``functions``."""
+    """The names an expression may use: ``symbols`` (values) and declared ``functions``.
+
+    A name in both is a declared function: bare, it means the function applied
+    to its declared arguments; called, it takes exactly that many arguments.
+    """
 
     symbols: Mapping[str, sympy.Expr]
     functions: Mapping[str, DeclaredFunction] = field(default_factory=dict)
@@ -93,9 +100,6 @@ class Namespace:
             problem = name_problem(name) if isinstance(name, str) else f"{name!r} is not a str"
             if problem is not None:
                 raise ValueError(f"invalid namespace entry: {problem}")
-        both = sorted(set(symbols) & set(functions))
-        if both:
-            raise ValueError(f"'{both[0]}' is both a symbol and a function")
         for name, value in symbols.items():
             if not isinstance(value, sympy.Expr):
                 raise TypeError(f"symbol '{name}' must be a SymPy expression: {value!r}")

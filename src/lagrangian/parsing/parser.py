@@ -31,7 +31,7 @@ import sympy
 from lagrangian.errors import ParseError
 from lagrangian.parsing.lexer import shorten
 from lagrangian.parsing.limits import ParseLimits
-from lagrangian.parsing.names import BUILTIN_CONSTANTS, BUILTIN_FUNCTIONS
+from lagrangian.parsing.names import BUILTIN_CONSTANTS, BUILTIN_FUNCTIONS, arity_message
 from lagrangian.parsing.nodes import (
     Call,
     Kind,
@@ -64,11 +64,6 @@ _CLOSERS = {Kind.LPAREN: Kind.RPAREN, Kind.LBRACKET: Kind.RBRACKET, Kind.LBRACE:
 def parse_tokens(tokens: list[Token], text: str, limits: ParseLimits, *, latex: bool) -> Node:
     """The syntax tree of ``tokens`` (which end with an END token)."""
     return _Parser(tokens, text, limits, latex).parse()
-
-
-def _arity_message(name: str, expected: int, given: int) -> str:
-    plural = "" if expected == 1 else "s"
-    return f"{name}() takes {expected} argument{plural} ({given} given)"
 
 
 class _Parser:
@@ -274,7 +269,7 @@ class _Parser:
     def check_arity(self, name: str, given: int, token: Token) -> None:
         expected = BUILTIN_FUNCTIONS[name][1]
         if given != expected:
-            raise self.error(_arity_message(name, expected, given), token)
+            raise self.error(arity_message(name, expected, given), token)
 
     # -- LaTeX constructs --------------------------------------------------------
 

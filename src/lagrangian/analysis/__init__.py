@@ -1,0 +1,41 @@
+"""Stage 3: what a physicist does after writing the equations.
+
+Conserved quantities (cyclic momenta, energy / Jacobi integral, Noether
+charges), the Hamiltonian, equilibria and their normal modes, Routh's reduction.
+"""
+
+from .conserved import (
+    Conservation,
+    ConservedQuantity,
+    NotConserved,
+    conserved_quantities,
+    energy_function,
+    noether_charge,
+)
+from .equilibria import Equilibrium, equilibria
+from .hamiltonian import Hamiltonian, hamiltonian
+from .linear import LinearizedSystem, NormalModes, Stability, linearize
+from .report import Analysis, analyze
+from .routh import Reduction, reduce, steady_motions
+
+__all__ = [
+    "Analysis",
+    "Conservation",
+    "ConservedQuantity",
+    "Equilibrium",
+    "Hamiltonian",
+    "LinearizedSystem",
+    "NormalModes",
+    "NotConserved",
+    "Reduction",
+    "Stability",
+    "analyze",
+    "conserved_quantities",
+    "energy_function",
+    "equilibria",
+    "hamiltonian",
+    "linearize",
+    "noether_charge",
+    "reduce",
+    "steady_motions",
+]

@@ -1,0 +1,126 @@
+"""Text, LaTeX and JSON (DESIGN section 5, ``analyze --json``) of an `Analysis`."""
+
+from __future__ import annotations
+
+from ..analysis import Analysis
+from .latex import latex_expression
+from .notation import latex_name, unicode_name
+from .text import unicode_expression
+
+
+def analysis_document(analysis: Analysis) -> dict:
+    """The ``analyze --json`` document; expressions are SymPy ``str()`` text."""
+    conservation = analysis.conservation
+    document: dict = {
+        "name": analysis.equations.system.name,
+        "cyclic_coordinates": list(conservation.cyclic_coordinates),
+        "conserved": [
+            {"name": q.name, "expression": str(q.expression), "description": q.description}
+            for q in conservation.conserved
+        ],
+        "not_conserved": [
+            {"name": q.name, "expression": str(q.expression), "reason": q.reason}
+            for q in conservation.not_conserved
+        ],
+        "hamiltonian": None
+        if analysis.hamiltonian is None
+        else str(analysis.hamiltonian.expression),
+        "equilibria": [
+            {
+                "point": {name: str(value) for name, value in e.point.items()},
+                "stable": e.stable,
+                "stability": e.modes.stability.value,
+                "omega_squared": [str(w2) for w2 in e.modes.omega_squared],
+                "periods": [str(p) for p in e.modes.periods],
+                "numeric": e.numeric,
+                "closed_form": e.modes.closed_form,
+            }
+            for e in analysis.equilibria
+        ],
+        "notes": list(analysis.notes),
+    }
+    if analysis.reduction is not None:
+        reduction = analysis.reduction
+        document["reduction"] = {
+            "cyclic": list(reduction.cyclic),
+            "momenta": {name: str(p) for name, p in reduction.momenta.items()},
+            "routhian": str(reduction.routhian),
+            "effective_potential": str(reduction.effective_potential),
+        }
+    return document
+
+
+def format_analysis(analysis: Analysis) -> str:
+    """The analysis as readable Unicode text."""
+    system = analysis.equations.system
+    show = lambda expr: unicode_expression(expr, system)  # noqa: E731
+    conservation = analysis.conservation
+    lines = [
+        f"{system.name}   (coordinates: {', '.join(map(unicode_name, system.coordinate_names))})"
+    ]
+    cyclic = ", ".join(map(unicode_name, conservation.cyclic_coordinates)) or "none"
+    lines += ["", f"Cyclic coordinates: {cyclic}", "", "Conserved:"]
+    for q in conservation.conserved:
+        lines.append(f"  {_name(q.name)} = {show(q.expression)}   ({q.description})")
+    if not conservation.conserved:
+        lines.append("  nothing")
+    if conservation.not_conserved:
+        lines += ["", "Not conserved:"]
+        for q in conservation.not_conserved:
+            lines.append(f"  {_name(q.name)} = {show(q.expression)}   because {q.reason}")
+    if analysis.hamiltonian is not None:
+        lines += ["", f"Hamiltonian:  H = {show(analysis.hamiltonian.expression)}"]
+    lines += ["", "Equilibria (at rest, staying at rest):"]
+    for e in analysis.equilibria:
+        point = ", ".join(f"{unicode_name(k)} = {show(v)}" for k, v in e.point.items()) or (
+            "every configuration"
+        )
+        numeric = "  [numeric, at the default parameter values]" if e.numeric else ""
+        lines.append(f"  {point}: {e.modes.stability.value}{numeric}")
+        if e.modes.omega_squared:
+            lines.append("    ω² = " + ", ".join(show(w2) for w2 in e.modes.omega_squared))
+        if e.modes.periods:
+            lines.append("    periods: " + ", ".join(show(p) for p in e.modes.periods))
+        if e.modes.note:
+            lines.append(f"    ({e.modes.note})")
+    if not analysis.equilibria:
+        lines.append("  none found")
+    if analysis.reduction is not None:
+        reduction = analysis.reduction
+        lines += ["", f"Routh reduction of {', '.join(map(unicode_name, reduction.cyclic))}:"]
+        lines.append(f"  R = {show(reduction.routhian)}")
+        lines.append(f"  V_eff = {show(reduction.effective_potential)}")
+    if analysis.notes:
+        lines += ["", "Notes:"] + [f"  {note}" for note in analysis.notes]
+    return "\n".join(lines)
+
+
+def latex_analysis(analysis: Analysis) -> str:
+    """The conserved quantities, H, equilibria and V_eff as one ``align*`` block."""
+    system = analysis.equations.system
+    show = lambda expr: latex_expression(expr, system)  # noqa: E731
+    rows = [
+        rf"{_latex_quantity(q.name)} &= {show(q.expression)}"
+        for q in analysis.conservation.conserved
+    ]
+    if analysis.hamiltonian is not None:
+        rows.append(rf"H &= {show(analysis.hamiltonian.expression)}")
+    for e in analysis.equilibria:
+        point = ", ".join(f"{latex_name(k)} = {show(v)}" for k, v in e.point.items())
+        squares = ", ".join(show(w2) for w2 in e.modes.omega_squared)
+        rows.append(
+            rf"&{point}: \ \omega^2 \in \{{{squares}\}}\ \text{{({e.modes.stability.value})}}"
+        )
+    if analysis.reduction is not None:
+        rows.append(rf"V_{{\mathrm{{eff}}}} &= {show(analysis.reduction.effective_potential)}")
+    return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
+
+
+def _name(name: str) -> str:
+    return unicode_name(name) if name.startswith("p_") else name
+
+
+def _latex_quantity(name: str) -> str:
+    if name.startswith("p_"):
+        return f"p_{{{latex_name(name[2:])}}}"
+    return {"energy": "h"}.get(name, rf"\mathrm{{{name}}}")

@@ -1,0 +1,293 @@
+"""From the syntax tree to SymPy objects: names looked up, numbers guarded.
+
+SymPy evaluates numbers eagerly: ``Pow(9, 10**9)`` computes a billion-digit
+integer, ``sqrt`` of a long number factors it by trial division, and a product
+merges ``2**(x + c) * 2**(-x)`` into ``2**c``.  So before each power, product,
+sum and function call the size of the exact numbers it could create is
+estimated (:mod:`.limits`) and refused above the limits.  Division by zero and
+other infinite or undefined results are refused where they arise.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+
+import sympy
+
+from lagrangian.errors import ParseError, UnknownNameError
+from lagrangian.parsing.limits import (
+    ARGUMENT_NODE_BUDGET,
+    ROOT_DIGITS_LIMIT,
+    ROOT_WORK_BUDGET_US,
+    ParseLimits,
+    count_new_nodes,
+    exp_size,
+    log_size,
+    magnitude,
+    numeric_size,
+    rational_size,
+    root_sizes,
+    root_work_us,
+)
+from lagrangian.parsing.names import (
+    BUILTIN_CONSTANTS,
+    BUILTIN_FUNCTIONS,
+    Namespace,
+    arity_message,
+)
+from lagrangian.parsing.nodes import Call, Name, Negate, Node, Number, Power, Product, Sum
+
+_NON_FINITE = (sympy.S.ComplexInfinity, sympy.S.NaN, sympy.S.Infinity, sympy.S.NegativeInfinity)
+_TRIGONOMETRIC = frozenset({"sin", "cos", "tan", "cot", "sec", "csc"})
+_INVERSE_TRIGONOMETRIC = (sympy.asin, sympy.acos, sympy.atan, sympy.atan2)
+_HALF = sympy.Rational(1, 2)
+
+
+def build_expression(
+    node: Node, text: str, namespace: Namespace, limits: ParseLimits
+) -> sympy.Expr:
+    """The SymPy expression of ``node``, with names from ``namespace``."""
+    return _Builder(text, namespace, limits).build(node)
+
+
+def is_non_finite(value: sympy.Expr) -> bool:
+    return any(value is special for special in _NON_FINITE)
+
+
+class _Builder:
+    def __init__(self, text: str, namespace: Namespace, limits: ParseLimits):
+        self.text = text
+        self.namespace = namespace
+        self.limits = limits
+        self.root_work_us = 0.0
+        self.argument_nodes = 0
+        self.charged: set[sympy.Basic] = set()
+
+    def error(self, message: str, position: int | None) -> ParseError:
+        return ParseError(message, self.text, position)
+
+    def build(self, node: Node) -> sympy.Expr:
+        match node:
+            case Number():
+                return node.value
+            case Name():
+                return self.name(node.name, node.position)
+            case Call():
+                return self.call(node)
+            case Negate():
+                operand = self.build(node.operand)
+                return self.evaluate(lambda: -operand, "the negation", node.position)
+            case Sum():
+                return self.sum(node)
+            case Product():
+                return self.product(node)
+            case Power():
+                base = self.build(node.base)
+                return self.power(base, self.build(node.exponent), node.position)
+        raise TypeError(f"not a syntax tree node: {node!r}")
+
+    def evaluate(self, compute: Callable[[], sympy.Expr], what: str, position: int) -> sympy.Expr:
+        """``compute()``, with SymPy's own failures reported as parse errors.
+
+        SymPy's automatic evaluation can fail in many ways on odd input (for
+        example ``atan(tan(7**300))`` raises AttributeError inside SymPy 1.14),
+        so any exception from the computation itself is the user's input refused.
+        """
+        try:
+            return compute()
+        except Exception as error:
+            detail = " ".join(str(error).split())
+            if len(detail) > 80:
+                detail = detail[:77] + "..."
+            raise self.error(f"cannot evaluate {what}: {detail}", position) from None
+
+    # -- names and calls ---------------------------------------------------------
+
+    def name(self, name: str, position: int) -> sympy.Expr:
+        if name in BUILTIN_CONSTANTS:
+            return BUILTIN_CONSTANTS[name]
+        declared = self.namespace.functions.get(name)
+        if declared is not None:
+            return self.evaluate(
+                lambda: declared.function(*declared.arguments), f"{name}()", position
+            )
+        value = self.namespace.symbols.get(name)
+        if value is None:
+            raise UnknownNameError(name, self.text, position)
+        return value
+
+    def call(self, node: Call) -> sympy.Expr:
+        name = node.name
+        if name in BUILTIN_FUNCTIONS:
+            return self.builtin(name, [self.build(arg) for arg in node.args], node.position)
+        declared = self.namespace.functions.get(name)
+        if declared is not None:
+            expected = len(declared.arguments)
+            if len(node.args) != expected:
+                raise self.error(arity_message(name, expected, len(node.args)), node.position)
+            args = [self.build(arg) for arg in node.args]
+            return self.evaluate(lambda: declared.function(*args), f"{name}()", node.position)
+        if node.juxtaposed:  # LaTeX m(a + b)
+            left = self.name(name, node.position)
+            return self.multiply([left, self.build(node.args[0])], node.position)
+        if name in self.namespace.symbols:
+            raise self.error(f"'{name}' is not a function", node.position)
+        raise self.error(f"unknown function '{name}'", node.position)
+
+    def builtin(self, name: str, args: list[sympy.Expr], position: int) -> sympy.Expr:
+        self.charge_arguments(args, position)
+        if name == "sqrt":
+            return self.power(args[0], _HALF, position)
+        if name == "exp":
+            self.check_exp(args[0], position)
+        elif name in _TRIGONOMETRIC and isinstance(args[0], _INVERSE_TRIGONOMETRIC):
+            # cos(asin(r)) is sqrt(1 - r**2): a root of a number twice as long as r.
+            self.check_root(2 * sum(numeric_size(arg) for arg in args[0].args), position)
+        function = BUILTIN_FUNCTIONS[name][0]
+        result = self.evaluate(lambda: function(*args), f"{name}()", position)
+        if is_non_finite(result):
+            raise self.error(f"{name}() is infinite or undefined here", position)
+        return result
+
+    # -- arithmetic ----------------------------------------------------------------
+
+    def sum(self, node: Sum) -> sympy.Expr:
+        terms = []
+        for operand in node.terms:
+            value = self.build(operand.node)
+            terms.append(-value if operand.inverted else value)
+        self.check_digits(_sum_size(terms, self.limits.max_result_digits), node.position)
+        return self.evaluate(lambda: sympy.Add(*terms), "the sum", node.position)
+
+    def product(self, node: Product) -> sympy.Expr:
+        factors = []
+        for operand in node.factors:
+            value = self.build(operand.node)
+            if operand.inverted:
+                if value == 0:
+                    raise self.error("division by zero", operand.position)
+                if value.is_Rational:  # much faster than Pow(value, -1)
+                    value = sympy.Rational(value.q, value.p)
+                else:
+                    value = self.power(value, sympy.S.NegativeOne, operand.position)
+            factors.append(value)
+        return self.multiply(factors, node.position)
+
+    def multiply(self, factors: Sequence[sympy.Expr], position: int) -> sympy.Expr:
+        self.check_digits(sum(numeric_size(factor) for factor in factors), position)
+        roots = [size for factor in factors for size in root_sizes(factor)]
+        if len(roots) > 1:
+            self.check_root(sum(roots), position)
+        result = self.evaluate(lambda: sympy.Mul(*factors), "the product", position)
+        if is_non_finite(result):
+            raise self.error("division by zero", position)
+        return result
+
+    def power(self, base: sympy.Expr, exponent: sympy.Expr, position: int) -> sympy.Expr:
+        if exponent.is_Rational:
+            self.check_power(base, exponent, position)
+            if base == 0 and exponent < 0:
+                raise self.error("division by zero", position)
+        else:
+            if not exponent.is_number:
+                self.charge_arguments([exponent], position)
+            size = numeric_size(base)
+            if base is sympy.E:
+                self.check_exp(exponent, position)
+            elif size:  # b**(x + c) times b**(-x) is the number b**c
+                self.check_root(size, position)
+                self.check_digits(size * magnitude(exponent), position)
+        result = self.evaluate(lambda: sympy.Pow(base, exponent), "the power", position)
+        if is_non_finite(result):
+            raise self.error("division by zero", position)
+        return result
+
+    # -- guards ----------------------------------------------------------------------
+
+    def check_power(self, base: sympy.Expr, exponent: sympy.Rational, position: int) -> None:
+        """Refuse ``base**exponent`` if the exponent or the number it makes is too large."""
+        limit = self.limits.max_exponent
+        if abs(exponent) > limit:
+            raise self.error(f"exponent {_show(exponent)} too large (limit {limit})", position)
+        size = numeric_size(base)
+        if size == 0:
+            return
+        self.check_digits(size * abs(float(exponent)), position)
+        if exponent.q != 1:
+            if exponent.q > limit:
+                raise self.error(
+                    f"exponent {_show(exponent)} has too large a denominator (limit {limit})",
+                    position,
+                )
+            self.check_root(size, position)
+
+    def check_exp(self, argument: sympy.Expr, position: int) -> None:
+        """``exp(c*log(b))`` is ``b**c``: guard it as that power (one per term of a sum)."""
+        roots = 0.0
+        for term in sympy.Add.make_args(argument):
+            coefficient, rest = term.as_coeff_Mul()
+            if isinstance(rest, sympy.log) and coefficient.is_Rational:
+                self.check_power(rest.args[0], coefficient, position)
+                if coefficient.q != 1:
+                    roots += numeric_size(rest.args[0])
+        self.check_digits(exp_size(argument), position)
+        if roots > ROOT_DIGITS_LIMIT:
+            self.check_root(roots, position)
+
+    def check_digits(self, size: float, position: int) -> None:
+        """Refuse a number of ``size`` (``log10``) with more than ``max_result_digits`` digits."""
+        limit = self.limits.max_result_digits
+        if size >= limit:
+            raise self.error(f"number too large ({_digits(size)}, limit {limit})", position)
+
+    def charge_arguments(self, args: Sequence[sympy.Expr], position: int) -> None:
+        """Count ``args`` against the budget of nodes SymPy queries assumptions of."""
+        for arg in args:
+            remaining = ARGUMENT_NODE_BUDGET - self.argument_nodes
+            self.argument_nodes += count_new_nodes(arg, self.charged, remaining)
+            if self.argument_nodes > ARGUMENT_NODE_BUDGET:
+                raise self.error(
+                    "expression too costly: arguments of functions and exponents too large "
+                    f"(limit {ARGUMENT_NODE_BUDGET} compound nodes in all)",
+                    position,
+                )
+
+    def check_root(self, digits: float, position: int) -> None:
+        """Refuse a root of a number too long to factor, or too many roots in all."""
+        if digits > ROOT_DIGITS_LIMIT:
+            raise self.error(
+                f"number too large for a root ({_digits(digits)}, limit {ROOT_DIGITS_LIMIT})",
+                position,
+            )
+        self.root_work_us += root_work_us(digits)
+        if self.root_work_us > ROOT_WORK_BUDGET_US:
+            raise self.error("expression too costly: too many roots of numbers", position)
+
+
+def _sum_size(terms: Sequence[sympy.Expr], limit: int) -> float:
+    """Estimated size of the numbers in a sum: a common denominator makes them grow.
+
+    ``log10`` of the least common multiple of the denominators (computed until
+    it passes ``limit`` digits) plus the size of the largest term.
+    """
+    largest = 0.0
+    common = 1
+    for term in terms:
+        for part in sympy.Add.make_args(term):
+            largest = max(largest, numeric_size(part))
+            coefficient = part.as_coeff_Mul()[0]
+            if coefficient.is_Rational and coefficient.q != 1 and log_size(common) <= limit:
+                common = math.lcm(common, coefficient.q)
+    return largest + log_size(common) + log_size(len(terms))
+
+
+def _show(value: sympy.Rational) -> str:
+    if rational_size(value) > 18:
+        return f"of {_digits(rational_size(value))}"
+    return str(value.p) if value.q == 1 else f"{value.p}/{value.q}"
+
+
+def _digits(size: float) -> str:
+    """How many digits a number of ``size`` (``log10``) has, for a message."""
+    return f"about {int(size) + 1} digits" if size < 1e15 else "more than 10^15 digits"

@@ -1,0 +1,134 @@
+"""The two entry points: ``parse_expression`` (text -> SymPy) and ``referenced_names``.
+
+Text goes through a tokenizer (plain or LaTeX, chosen by
+:func:`~.latex.looks_like_latex`), the parser (tokens -> syntax tree) and the
+builder (tree -> SymPy).  No step evaluates Python: names are looked up in the
+namespace, numbers are built from checked digits, and SymPy objects are made
+by calling ``Add``, ``Mul``, ``Pow`` and the function classes directly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy
+
+from lagrangian.errors import ParseError
+from lagrangian.parsing.builder import build_expression, is_non_finite
+from lagrangian.parsing.latex import looks_like_latex, tokenize_latex
+from lagrangian.parsing.lexer import tokenize
+from lagrangian.parsing.limits import DEFAULT_LIMITS, ParseLimits, log_size
+from lagrangian.parsing.names import BUILTIN_CONSTANTS, BUILTIN_FUNCTIONS, Namespace
+from lagrangian.parsing.nodes import Call, Kind, Name, Negate, Node, Number, Power, Product, Sum
+from lagrangian.parsing.parser import parse_tokens
+
+
+@dataclass(frozen=True)
+class ReferencedNames:
+    """The names an expression uses, other than the built-in ones.
+
+    ``symbols``: names used as values (a declared function written bare counts
+    here).  ``functions``: names called with arguments.  In LaTeX, ``m(a + b)``
+    with one argument is a product, so ``m`` counts as a symbol.
+    """
+
+    symbols: frozenset[str]
+    functions: frozenset[str]
+
+
+def parse_expression(
+    text: str, namespace: Namespace, limits: ParseLimits = DEFAULT_LIMITS
+) -> sympy.Expr:
+    """The SymPy expression written in ``text`` (plain or LaTeX).
+
+    Raises :class:`~lagrangian.errors.ParseError` (with the 0-based
+    ``position``) for anything that is not a valid expression, and
+    :class:`~lagrangian.errors.UnknownNameError` for a name that is neither in
+    ``namespace`` nor built in.
+
+    >>> x = sympy.Symbol("x")
+    >>> parse_expression("x**2/2 + 0.5", Namespace({"x": x}))
+    x**2/2 + 1/2
+    """
+    if not isinstance(namespace, Namespace):
+        raise TypeError(f"namespace must be a Namespace, not {type(namespace).__name__}")
+    tree = _parse_tree(text, limits)
+    result = build_expression(tree, text, namespace, limits)
+    if not isinstance(result, sympy.Expr):
+        raise ParseError("not an expression", text, None)
+    if is_non_finite(result) or result.has(*_NON_FINITE):
+        raise ParseError("division by zero", text, None)
+    _check_numbers(result, text, limits)
+    return result
+
+
+def referenced_names(text: str, limits: ParseLimits = DEFAULT_LIMITS) -> ReferencedNames:
+    """The names ``text`` uses, found without a namespace.
+
+    Raises :class:`~lagrangian.errors.ParseError` for invalid syntax, at the
+    same place as :func:`parse_expression`.  Nothing is evaluated, so unknown
+    names and numeric limits (``9**9**9``) are not errors here.
+
+    >>> names = referenced_names("m*g*y + V(x)")
+    >>> sorted(names.symbols), sorted(names.functions)
+    (['g', 'm', 'x', 'y'], ['V'])
+    >>> sorted(referenced_names(r"\\frac{1}{2} m \\dot{\\theta}^2").symbols)
+    ['m', 'theta_dot']
+    """
+    symbols: set[str] = set()
+    functions: set[str] = set()
+    stack: list[Node] = [_parse_tree(text, limits)]
+    while stack:
+        node = stack.pop()
+        match node:
+            case Name(name=name) if name not in BUILTIN_CONSTANTS:
+                symbols.add(name)
+            case Call(name=name, args=args, juxtaposed=juxtaposed):
+                if juxtaposed:
+                    if name not in BUILTIN_CONSTANTS:
+                        symbols.add(name)
+                elif name not in BUILTIN_FUNCTIONS:
+                    functions.add(name)
+                stack.extend(args)
+            case Negate(operand=operand):
+                stack.append(operand)
+            case Sum(terms=operands) | Product(factors=operands):
+                stack.extend(operand.node for operand in operands)
+            case Power(base=base, exponent=exponent):
+                stack.extend((base, exponent))
+            case Name() | Number():
+                pass
+    return ReferencedNames(frozenset(symbols), frozenset(functions))
+
+
+_NON_FINITE = (sympy.zoo, sympy.nan, sympy.oo, -sympy.oo)
+
+
+def _check_numbers(result: sympy.Expr, text: str, limits: ParseLimits) -> None:
+    """A last check that no number in the result is longer than the limit allows.
+
+    The estimates made before each operation should already have refused such
+    a number; this guards the printing of the result (Python cannot print an
+    integer of more than 4,300 digits) against anything they missed.
+    """
+    for number in result.atoms(sympy.Rational):
+        if max(log_size(number.p), log_size(number.q)) >= limits.max_result_digits:
+            raise ParseError(
+                f"number too large (limit {limits.max_result_digits} digits)", text, None
+            )
+
+
+def _parse_tree(text: str, limits: ParseLimits) -> Node:
+    if not isinstance(text, str):
+        raise TypeError(f"expression text must be a str, not {type(text).__name__}")
+    if not isinstance(limits, ParseLimits):
+        raise TypeError(f"limits must be ParseLimits, not {type(limits).__name__}")
+    if len(text) > limits.max_length:
+        raise ParseError(
+            f"expression too long ({len(text)} characters, limit {limits.max_length})", text, None
+        )
+    latex = looks_like_latex(text)
+    tokens = tokenize_latex(text, limits) if latex else tokenize(text, limits)
+    if tokens[0].kind is Kind.END:
+        raise ParseError("empty expression", text, 0)
+    return parse_tokens(tokens, text, limits, latex=latex)
