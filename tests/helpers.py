@@ -14,7 +14,7 @@ arguments, e.g. ``{"A": lambda x, y, z: sympy.sin(x) * y}``.
 from __future__ import annotations
 
 import random
-from collections.abc import Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 
 import mpmath
 import sympy

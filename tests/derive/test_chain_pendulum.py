@@ -18,9 +18,9 @@ import random
 from functools import cache
 
 import pytest
-from helpers import assert_close, evaluate, random_point, solve_linear
 
 import lagrangian as lg
+from helpers import assert_close, evaluate, random_point, solve_linear
 
 
 def chain_pendulum(n: int):
@@ -46,7 +46,7 @@ def derived(n: int):
 def closed_form(n: int, point: dict[str, float]) -> tuple[list[list[float]], list[float]]:
     """M and f of M theta'' = f for the n-link pendulum at ``point``."""
     m = [point[f"m{k}"] for k in range(1, n + 1)]
-    l = [point[f"l{k}"] for k in range(1, n + 1)]  # noqa: E741
+    l = [point[f"l{k}"] for k in range(1, n + 1)]
     th = [point[f"theta{k}"] for k in range(1, n + 1)]
     w = [point[f"theta{k}_dot"] for k in range(1, n + 1)]
     g = point["g"]
@@ -54,7 +54,9 @@ def closed_form(n: int, point: dict[str, float]) -> tuple[list[list[float]], lis
     def mu(i, j):
         return sum(m[max(i, j) :])
 
-    matrix = [[mu(i, j) * l[i] * l[j] * math.cos(th[i] - th[j]) for j in range(n)] for i in range(n)]
+    matrix = [
+        [mu(i, j) * l[i] * l[j] * math.cos(th[i] - th[j]) for j in range(n)] for i in range(n)
+    ]
     forcing = [
         -sum(mu(i, j) * l[i] * l[j] * math.sin(th[i] - th[j]) * w[j] ** 2 for j in range(n))
         - mu(i, i) * g * l[i] * math.sin(th[i])
@@ -74,7 +76,10 @@ def check_chain(n: int, rng: random.Random, count: int) -> None:
         for i in range(n):
             for j in range(n):
                 assert_close(
-                    evaluate(eom.mass_matrix[i, j], point), matrix[i][j], scale=1.0, what=f"M[{i},{j}]"
+                    evaluate(eom.mass_matrix[i, j], point),
+                    matrix[i][j],
+                    scale=1.0,
+                    what=f"M[{i},{j}]",
                 )
         ours = solve_linear(
             [[evaluate(eom.mass_matrix[i, j], point) for j in range(n)] for i in range(n)],

@@ -16,7 +16,6 @@ from collections.abc import Callable, Mapping, Sequence
 
 import pytest
 import sympy
-from helpers import assert_close, evaluate, random_point, solve_linear
 from sympy.physics.mechanics import (
     LagrangesMethod,
     Lagrangian,
@@ -29,6 +28,7 @@ from sympy.physics.mechanics import (
 from sympy.physics.mechanics import Particle as OracleParticle
 
 import lagrangian as lg
+from helpers import assert_close, evaluate, random_point, solve_linear
 
 N_POINTS = 5
 T = dynamicsymbols._t
@@ -105,7 +105,9 @@ def height(point: Point, origin: Point, up) -> sympy.Expr:
 def test_pendulum_with_vertically_oscillating_pivot(rng):
     system = lg.System.from_particles(
         coordinates=["theta"],
-        particles=[lg.Particle("bob", mass="m", position=["l*sin(theta)", "a*cos(w*t) - l*cos(theta)"])],
+        particles=[
+            lg.Particle("bob", mass="m", position=["l*sin(theta)", "a*cos(w*t) - l*cos(theta)"])
+        ],
         gravity=lg.Gravity(g="g", direction=(0, -1)),
     )
     assert not system.is_autonomous
@@ -297,7 +299,10 @@ def test_two_masses_between_walls_on_a_line(rng):
     method = LagrangesMethod(kinetic - potential, coordinates)
 
     def degenerate(point):
-        return min(abs(point["x1"]), abs(point["x2"] - point["x1"]), abs(point["D"] - point["x2"])) < 0.2
+        return (
+            min(abs(point["x1"]), abs(point["x2"] - point["x1"]), abs(point["D"] - point["x2"]))
+            < 0.2
+        )
 
     compare(system, method, coordinates, rng, avoid=degenerate)
 

@@ -23,12 +23,12 @@ from dataclasses import dataclass
 
 import pytest
 import sympy
-from helpers import assert_close, evaluate, plain, random_point
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from sympy.calculus.euler import euler_equations
 
 import lagrangian as lg
+from helpers import assert_close, evaluate, plain, random_point
 
 NAMES = ("x", "y", "z")
 t = sympy.Symbol("t")
@@ -115,7 +115,7 @@ def random_lagrangians(draw, with_time: bool | None = None) -> RandomLagrangian:
         lambda: some_q() * some_q(),
         lambda: sympy.sin(some_q()),
         lambda: a * sympy.cos(some_q() - some_q()),
-        lambda: sympy.exp(-some_q() ** 2),
+        lambda: sympy.exp(-(some_q() ** 2)),
     ]
     if with_time:
         potential_choices += [lambda: some_q() * sympy.cos(t), lambda: t**2 * some_q() ** 2]
@@ -154,14 +154,10 @@ def euler_equations_accelerations(
     numeric = []
     for equation in equations:
         expr = (equation.lhs - equation.rhs).xreplace(back)
-        values = {
-            s: sympy.Float(point[s.name], 30) for s in expr.free_symbols if s not in unknowns
-        }
+        values = {s: sympy.Float(point[s.name], 30) for s in expr.free_symbols if s not in unknowns}
         numeric.append(sympy.expand(expr.xreplace(values)))
     (solution,) = sympy.linsolve(numeric, unknowns)
-    return {
-        name: float(value) for name, value in zip(coordinates, solution, strict=True)
-    }
+    return {name: float(value) for name, value in zip(coordinates, solution, strict=True)}
 
 
 @pytest.mark.parametrize("with_time", [False, True], ids=["autonomous", "explicit_t"])
@@ -176,9 +172,7 @@ def test_accelerations_agree_with_euler_equations(with_time: bool, data):
     point = random_point(system, random.Random(case.seed))
     expected = euler_equations_accelerations(case.lagrangian, case.coordinates, point)
     for name in case.coordinates:
-        assert_close(
-            evaluate(eom.accelerations[name], point), expected[name], scale=1.0, what=name
-        )
+        assert_close(evaluate(eom.accelerations[name], point), expected[name], scale=1.0, what=name)
 
     if case.as_text or with_time:
         text = str(case.lagrangian)
@@ -212,9 +206,7 @@ def test_energies_route_gives_the_same_equations(case: RandomLagrangian):
     expected = euler_equations_accelerations(case.lagrangian, case.coordinates, point)
     eom = via_energies.equations_of_motion()
     for name in case.coordinates:
-        assert_close(
-            evaluate(eom.accelerations[name], point), expected[name], scale=1.0, what=name
-        )
+        assert_close(evaluate(eom.accelerations[name], point), expected[name], scale=1.0, what=name)
 
 
 @SETTINGS

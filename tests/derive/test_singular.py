@@ -16,7 +16,9 @@ def named(message: str, name: str) -> bool:
 
 def derive_error(lagrangian, coordinates, **options) -> str:
     with pytest.raises(lg.SingularMassMatrixError) as caught:
-        lg.System.from_lagrangian(lagrangian, coordinates=coordinates, **options).equations_of_motion()
+        lg.System.from_lagrangian(
+            lagrangian, coordinates=coordinates, **options
+        ).equations_of_motion()
     message = str(caught.value)
     assert "\n" not in message
     return message
@@ -67,4 +69,29 @@ def test_singular_only_at_isolated_points_is_accepted():
         coordinates=["theta", "phi"],
     )
     eom = system.equations_of_motion()
+    assert eom.accelerations is not None
+
+
+# -- regular Lagrangians must not be called singular because of their units -----------------
+x, y, x_dot, y_dot, k = sympy.symbols("x y x_dot y_dot k")
+
+
+@pytest.mark.parametrize(
+    "mass",
+    [sympy.Float("9.109e-31"), sympy.Rational(1, 10**10), sympy.Float("5.97e24")],
+    ids=["electron_mass_in_kg", "1e-10", "earth_mass_in_kg"],
+)
+def test_a_numeric_mass_of_any_magnitude_is_regular(mass):
+    """L = mass x_dot^2/2 - k x^2/2 with a literal mass: x'' = -k x / mass, never 'singular'."""
+    system = lg.System.from_lagrangian(mass * x_dot**2 / 2 - k * x**2 / 2, coordinates=["x"])
+    eom = system.equations_of_motion()
+    expected = -system.symbol("k") * system.symbol("x") / mass
+    assert sympy.simplify(eom.accelerations["x"] - expected) == 0
+
+
+def test_masses_of_very_different_magnitude_are_regular():
+    """A planet (5.97e24) and a satellite (1) on a spring: M = diag(5.97e24, 1) is regular."""
+    big = sympy.Float("5.97e24")
+    lagrangian = big * x_dot**2 / 2 + y_dot**2 / 2 - k * (x - y) ** 2 / 2
+    eom = lg.System.from_lagrangian(lagrangian, coordinates=["x", "y"]).equations_of_motion()
     assert eom.accelerations is not None

@@ -36,8 +36,15 @@ class ConstraintForms:
     bias: sympy.ImmutableMatrix  # beta
 
 
-def multiplier_symbol(index: int) -> sympy.Symbol:
-    return sympy.Symbol(f"lambda{index + 1}", real=True)
+def multiplier_symbols(count: int, taken: set[str]) -> tuple[sympy.Symbol, ...]:
+    """lambda1, lambda2, ... (with a suffix where the model already uses the name)."""
+    symbols = []
+    for index in range(count):
+        name = f"lambda{index + 1}"
+        while name in taken:
+            name += "_c"
+        symbols.append(sympy.Symbol(name, real=True))
+    return tuple(symbols)
 
 
 def constraint_forms(system: System) -> ConstraintForms:
@@ -58,7 +65,7 @@ def constraint_forms(system: System) -> ConstraintForms:
         bias.append(tidy(-rate_without_accelerations, system.state_symbols))
         holonomic.append(is_holonomic)
     return ConstraintForms(
-        multipliers=tuple(multiplier_symbol(j) for j in range(len(rows))),
+        multipliers=multiplier_symbols(len(rows), set(system.symbols)),
         holonomic=tuple(holonomic),
         matrix=sympy.ImmutableMatrix(rows),
         bias=sympy.ImmutableMatrix(len(bias), 1, bias),

@@ -51,10 +51,11 @@ def check_regular(mass_matrix: sympy.Matrix, coordinates: Sequence[Coordinate]) 
         numeric = _at_random_point(mass_matrix, rng)
         if numeric is None:
             return  # could not evaluate: let the symbolic solve decide
-        ranks.append(np.linalg.matrix_rank(numeric, tol=1e-9 * max(1.0, np.abs(numeric).max())))
+        scaled = _equilibrated(numeric)
+        ranks.append(np.linalg.matrix_rank(scaled, tol=1e-9 * np.abs(scaled).max()))
     rank = max(ranks)
     if rank < len(names):
-        null = np.linalg.svd(_at_random_point(mass_matrix, rng))[2][-1]
+        null = np.linalg.svd(_equilibrated(_at_random_point(mass_matrix, rng)))[2][-1]
         involved = [name for name, weight in zip(names, null, strict=True) if abs(weight) > 1e-6]
         raise SingularMassMatrixError(
             f"singular mass matrix (rank {rank} of {len(names)}): the velocities of "
@@ -71,6 +72,14 @@ def check_independent(matrix: sympy.Matrix, names: Sequence[str]) -> None:
         raise ModelError(
             "the constraints are not independent: " + ", ".join(names), field="constraints"
         )
+
+
+def _equilibrated(matrix: np.ndarray) -> np.ndarray:
+    """D^-1/2 M D^-1/2 with D = |diag M|: the rank no longer depends on the units
+    (an electron's mass in kg beside a planet's)."""
+    diagonal = np.abs(np.diag(matrix))
+    scale = np.where(diagonal > 0, 1 / np.sqrt(np.where(diagonal > 0, diagonal, 1)), 1.0)
+    return matrix * scale[:, None] * scale[None, :]
 
 
 def _at_random_point(matrix: sympy.Matrix, rng: random.Random) -> np.ndarray | None:
