@@ -142,22 +142,6 @@ def test_relativistic_particle_mass_matrix_depends_on_velocity():
     assert same(acc(system, "x"), expected, system)
 
 
-def test_ten_link_pendulum_derives():
-    n = 10
-    names = [f"q{i}" for i in range(n)]
-    particles = []
-    x, y = "0", "0"
-    for i, q in enumerate(names):
-        x, y = f"{x} + l*sin({q})", f"{y} - l*cos({q})"
-        particles.append(lg.Particle(f"p{i}", "m", (x, y)))
-    system = lg.System.from_particles(names, particles, gravity=lg.Gravity("g"))
-    eom = system.equations_of_motion()
-    assert eom.mass_matrix.shape == (n, n)
-    l, m = s(system, "l m")
-    assert eom.mass_matrix[0, 0] == n * m * l**2
-    assert eom.accelerations is None  # a dense 10 x 10 block is not solved symbolically
-
-
 @pytest.mark.parametrize("name", ["double_pendulum", "spherical_pendulum"])
 def test_particle_examples_have_textbook_energies(name):
     system = lg.load(name)

@@ -25,6 +25,7 @@ class Analysis:
     hamiltonian: Hamiltonian | None
     equilibria: tuple[Equilibrium, ...]
     reduction: Reduction | None
+    steady_motions: tuple[Equilibrium, ...] = ()  # equilibria of the reduced system
     notes: tuple[str, ...] = ()
 
     def _repr_latex_(self) -> str:
@@ -50,13 +51,23 @@ def analyze(eom: EquationsOfMotion) -> Analysis:
     if constrained:
         notes.append("equilibria: not computed for systems with constraints")
     else:
-        points = equilibria(eom)
+        try:
+            points = equilibria(eom)
+        except ModelError as error:
+            notes.append(f"equilibria: {error.message}")
         if not points and not eom.system.is_autonomous:
             notes.append("equilibria: none in general, the system depends explicitly on t")
-    reduction = None
+    reduction, steady = None, ()
     if not constrained and cyclic_coordinates(eom):
         try:
             reduction = reduce(eom)
+            steady = equilibria(reduction.system.equations_of_motion())
+            if not steady:
+                momenta = ", ".join(str(p) for p in reduction.momenta.values())
+                notes.append(
+                    f"steady motions: none found symbolically; for a numeric search give {momenta}"
+                    " values: lagrangian.analysis.steady_motions(eom, momenta={...})"
+                )
         except ModelError as error:
             notes.append(f"Routh reduction: {error.message}")
-    return Analysis(eom, conservation, h, points, reduction, tuple(notes))
+    return Analysis(eom, conservation, h, points, reduction, steady, tuple(notes))

@@ -25,18 +25,8 @@ def analysis_document(analysis: Analysis) -> dict:
         "hamiltonian": None
         if analysis.hamiltonian is None
         else str(analysis.hamiltonian.expression),
-        "equilibria": [
-            {
-                "point": {name: str(value) for name, value in e.point.items()},
-                "stable": e.stable,
-                "stability": e.modes.stability.value,
-                "omega_squared": [str(w2) for w2 in e.modes.omega_squared],
-                "periods": [str(p) for p in e.modes.periods],
-                "numeric": e.numeric,
-                "closed_form": e.modes.closed_form,
-            }
-            for e in analysis.equilibria
-        ],
+        "equilibria": [_equilibrium_document(e) for e in analysis.equilibria],
+        "steady_motions": [_equilibrium_document(e) for e in analysis.steady_motions],
         "notes": list(analysis.notes),
     }
     if analysis.reduction is not None:
@@ -48,6 +38,18 @@ def analysis_document(analysis: Analysis) -> dict:
             "effective_potential": str(reduction.effective_potential),
         }
     return document
+
+
+def _equilibrium_document(e) -> dict:
+    return {
+        "point": {name: str(value) for name, value in e.point.items()},
+        "stable": e.stable,
+        "stability": e.modes.stability.value,
+        "omega_squared": [str(w2) for w2 in e.modes.omega_squared],
+        "periods": [str(p) for p in e.modes.periods],
+        "numeric": e.numeric,
+        "closed_form": e.modes.closed_form,
+    }
 
 
 def format_analysis(analysis: Analysis) -> str:
@@ -71,28 +73,35 @@ def format_analysis(analysis: Analysis) -> str:
     if analysis.hamiltonian is not None:
         lines += ["", f"Hamiltonian:  H = {show(analysis.hamiltonian.expression)}"]
     lines += ["", "Equilibria (at rest, staying at rest):"]
-    for e in analysis.equilibria:
+    lines += _equilibrium_lines(analysis.equilibria, show)
+    if analysis.reduction is not None:
+        reduction = analysis.reduction
+        lines += ["", f"Routh reduction of {', '.join(map(unicode_name, reduction.cyclic))}:"]
+        lines.append(f"  R = {show(reduction.routhian)}")
+        lines.append(f"  V_eff = {show(reduction.effective_potential)}")
+        lines += ["", "Steady motions (cyclic momenta fixed, the other coordinates at rest):"]
+        lines += _equilibrium_lines(analysis.steady_motions, show)
+    if analysis.notes:
+        lines += ["", "Notes:"] + [f"  {note}" for note in analysis.notes]
+    return "\n".join(lines)
+
+
+def _equilibrium_lines(points, show) -> list[str]:
+    lines = []
+    for e in points:
         point = ", ".join(f"{unicode_name(k)} = {show(v)}" for k, v in e.point.items()) or (
             "every configuration"
         )
         numeric = "  [numeric, at the default parameter values]" if e.numeric else ""
         lines.append(f"  {point}: {e.modes.stability.value}{numeric}")
         if e.modes.omega_squared:
-            lines.append("    ω² = " + ", ".join(show(w2) for w2 in e.modes.omega_squared))
+            squares = ", ".join(show(w2) for w2 in e.modes.omega_squared)
+            lines.append(f"    squared angular frequencies: {squares}")
         if e.modes.periods:
             lines.append("    periods: " + ", ".join(show(p) for p in e.modes.periods))
         if e.modes.note:
             lines.append(f"    ({e.modes.note})")
-    if not analysis.equilibria:
-        lines.append("  none found")
-    if analysis.reduction is not None:
-        reduction = analysis.reduction
-        lines += ["", f"Routh reduction of {', '.join(map(unicode_name, reduction.cyclic))}:"]
-        lines.append(f"  R = {show(reduction.routhian)}")
-        lines.append(f"  V_eff = {show(reduction.effective_potential)}")
-    if analysis.notes:
-        lines += ["", "Notes:"] + [f"  {note}" for note in analysis.notes]
-    return "\n".join(lines)
+    return lines or ["  none found"]
 
 
 def latex_analysis(analysis: Analysis) -> str:

@@ -1,0 +1,173 @@
+"""Routhian reduction: eliminate the cyclic coordinates, keep their momenta as constants.
+
+A coordinate c is cyclic when dL/dq_c = 0, Q_c = 0 and dF/dq_c' = 0; then
+p_c = dL/dq_c' is constant.  Solving p_c = dL/dq_c' for the cyclic velocities
+(linear in them when L is quadratic in the velocities) and forming Routh's function
+
+    R(q, q', p, t) = L - sum_c p_c q_c'
+
+gives, for the remaining coordinates j, Lagrange's equations with R in place
+of L: d/dt (dR/dq_j') - dR/dq_j = Q_j - dF/dq_j'.  The reduced system has the
+p_c as (real) parameters; its equilibria are the *steady motions* of the full
+system (q_j constant, q_c turning uniformly): circular Kepler orbits, the conical
+pendulum.  At rest in the reduced coordinates R reduces to minus the effective
+potential,
+
+    V_eff(q, p) = -R(q, q_j' = 0, p),
+
+e.g. p_theta^2/(2 r^2) - mu/r for the central force and
+p_phi^2/(2 m l^2 sin^2 theta) - m g l cos(theta) for the spherical pendulum
+[Landau & Lifshitz, Mechanics, section 41; Goldstein, Classical Mechanics, 8.3].
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from types import MappingProxyType
+
+import sympy
+
+from ..algebra import is_zero, tidy
+from ..derive import EquationsOfMotion
+from ..derive.solve import solve_linear
+from ..errors import ModelError
+from ..model import System
+from .equilibria import Equilibrium, equilibria
+
+
+@dataclass(frozen=True, eq=False)
+class Reduction:
+    """The result of :func:`reduce`.
+
+    ``cyclic``: the eliminated coordinates; ``momenta``: their constant momenta
+    p_c (parameters of ``system``); ``velocities``: q_c' in terms of the rest and
+    the p_c; ``routhian`` R; ``effective_potential`` V_eff; ``system``: the
+    reduced :class:`~lagrangian.model.System` with Lagrangian R.
+    """
+
+    cyclic: tuple[str, ...]
+    momenta: Mapping[str, sympy.Symbol]
+    velocities: Mapping[str, sympy.Expr]
+    routhian: sympy.Expr
+    effective_potential: sympy.Expr
+    system: System
+
+    def __post_init__(self) -> None:
+        for name in ("momenta", "velocities"):
+            object.__setattr__(self, name, MappingProxyType(dict(getattr(self, name))))
+
+
+def cyclic_coordinates(eom: EquationsOfMotion) -> tuple[str, ...]:
+    """Coordinates with dL/dq = 0, Q_q = 0, dF/dq' = 0 that appear nowhere else
+    (forces, dissipation, constraints), so that they can be eliminated."""
+    system = eom.system
+    others = [*system.forces.values(), system.dissipation, *system.constraints]
+    return tuple(
+        step.coordinate.name
+        for step in eom.steps
+        if is_zero(step.force_gradient)
+        and step.generalized_force == 0
+        and is_zero(step.dissipation_force)
+        and not any(part.has(step.coordinate.q) for part in others)
+    )
+
+
+def reduce(eom: EquationsOfMotion, *, momenta: Mapping[str, float] | None = None) -> Reduction:
+    """Routh's reduction of every cyclic coordinate of ``eom`` (see the module docstring).
+
+    ``momenta`` optionally gives default values to the p_c (the reduced system's
+    parameters), so that numerical steps (equilibria, modes) can use them.
+
+    >>> import lagrangian as lg
+    >>> reduce(lg.load("central_force").equations_of_motion()).effective_potential
+    -mu/r + p_theta**2/(2*r**2)
+    """
+    system = eom.system
+    momenta = dict(momenta or {})
+    cyclic = cyclic_coordinates(eom)
+    if not cyclic:
+        raise ModelError("no cyclic coordinate: nothing to reduce")
+    if len(cyclic) == len(system.coordinates):
+        raise ModelError("every coordinate is cyclic: nothing would remain after reduction")
+    if eom.mass_matrix.has(*(c.q_dot for c in system.coordinates)):
+        raise ModelError("Routh's reduction needs a Lagrangian quadratic in the velocities")
+    coordinates = system.coordinates
+    index = {c.name: i for i, c in enumerate(coordinates)}
+    kept = [c for c in coordinates if c.name not in cyclic]
+    eliminated = [coordinates[index[name]] for name in cyclic]
+    clash = {c.momentum_name for c in eliminated} & set(system.parameter_names)
+    if clash:
+        raise ModelError(f"parameter names {sorted(clash)} are needed for the momenta")
+    unknown = set(momenta) - {c.momentum_name for c in eliminated}
+    if unknown:
+        raise ModelError(f"not momenta of cyclic coordinates: {sorted(unknown)}", field="momenta")
+
+    # p_c = A q_c' + b with b the momentum at q_c' = 0: solve A q_c' = p_c - b.
+    no_cyclic_velocity = {c.q_dot: 0 for c in eliminated}
+    rows = [index[c.name] for c in eliminated]
+    block = eom.mass_matrix.extract(rows, rows)
+    rhs = sympy.Matrix(
+        [
+            c.p - eom.steps[i].momentum.xreplace(no_cyclic_velocity)
+            for c, i in zip(eliminated, rows, strict=True)
+        ]
+    )
+    state = (system.time, *(x for c in kept for x in (c.q, c.q_dot)), *(c.p for c in eliminated))
+    solved = solve_linear(block, rhs, state)
+    if solved is None:
+        raise ModelError("too many coupled cyclic coordinates for a symbolic reduction")
+    velocities = {c.q_dot: v for c, v in zip(eliminated, solved, strict=True)}
+    positions = {c.q: 0 for c in eliminated}  # L does not depend on them (checked above)
+
+    def reduced(expr: sympy.Expr) -> sympy.Expr:
+        return tidy(expr.xreplace(velocities).xreplace(positions), state, trig=True)
+
+    routhian = reduced(
+        system.lagrangian - sum((c.p * c.q_dot for c in eliminated), sympy.Integer(0))
+    )
+    effective = tidy(-routhian.xreplace({c.q_dot: 0 for c in kept}), state, trig=True)
+    parameters: dict[str, object] = {
+        p.name: {"value": p.default, "sign": p.sign} for p in system.parameters
+    }
+    for c in eliminated:
+        parameters[c.momentum_name] = {"value": momenta.get(c.momentum_name), "sign": "real"}
+    functions = {
+        f.name: [str(a) for a in f.arguments]
+        for f in system.functions
+        if not any(a in {*positions, *velocities} for a in f.arguments)
+    }
+    reduced_system = System.from_lagrangian(
+        routhian,
+        coordinates=[c.name for c in kept],
+        parameters=parameters,
+        forces={name: reduced(q) for name, q in system.forces.items() if name not in cyclic},
+        dissipation=reduced(system.dissipation),
+        functions=functions,
+        name=f"{system.name} (reduced)",
+        description=f"Routh's reduction of {', '.join(cyclic)}",
+    )
+    return Reduction(
+        cyclic=cyclic,
+        momenta={c.name: c.p for c in eliminated},
+        velocities={c.name: velocities[c.q_dot] for c in eliminated},
+        routhian=routhian,
+        effective_potential=effective,
+        system=reduced_system,
+    )
+
+
+def steady_motions(
+    eom: EquationsOfMotion,
+    *,
+    momenta: Mapping[str, float] | None = None,
+    timeout: float = 10.0,
+) -> tuple[Equilibrium, ...]:
+    """The equilibria of the reduced system: motions with constant non-cyclic coordinates.
+
+    >>> import lagrangian as lg
+    >>> [dict(e.point) for e in steady_motions(lg.load("central_force").equations_of_motion())]
+    [{'r': p_theta**2/mu}]
+    """
+    reduction = reduce(eom, momenta=momenta)
+    return equilibria(reduction.system.equations_of_motion(), timeout=timeout)
