@@ -121,3 +121,18 @@ def test_missing_file_and_unknown_example():
         lg.load("definitely_not_an_example")
     with pytest.raises(ModelError, match="no such model file"):
         lg.load("missing.toml")
+
+
+def test_huge_powers_of_velocities_derive_without_overflow(tmp_path):
+    # (x_dot + 1)**999 overflows floats at the rank check; the symbolic answer stays exact
+    system = load_text(tmp_path, 'coordinates = ["x"]\nlagrangian = "(x_dot + 1)**999*(x + 1)**999"')
+    acceleration = system.equations_of_motion().accelerations["x"]
+    x, x_dot = system.symbol("x"), system.symbol("x_dot")
+    expected = (1 - 998 * x_dot) * (x_dot + 1) / (998 * (x + 1))
+    assert (acceleration - expected).equals(0)
+
+
+def test_singular_error_names_the_file(tmp_path):
+    system = load_text(tmp_path, 'coordinates = ["x"]\nlagrangian = "3*x_dot - x**2"')
+    with pytest.raises(lg.SingularMassMatrixError, match=r"model\.toml: singular mass matrix"):
+        system.equations_of_motion()

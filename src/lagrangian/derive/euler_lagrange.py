@@ -14,7 +14,7 @@ from __future__ import annotations
 import sympy
 
 from ..algebra import positive_content, tidy
-from ..errors import ModelError
+from ..errors import ModelError, SingularMassMatrixError
 from ..model import System
 from .constraints import constraint_forms, solve_constrained
 from .equations import CoordinateDerivation, EquationsOfMotion
@@ -71,7 +71,11 @@ def derive(system: System) -> EquationsOfMotion:
             )
         )
     mass_matrix = sympy.ImmutableMatrix(n, n, [m for row in mass_rows for m in row])
-    check_regular(mass_matrix, coordinates)
+    try:
+        check_regular(mass_matrix, coordinates)
+    except SingularMassMatrixError as error:
+        located = f"{system.source}: {error}" if system.source else str(error)
+        raise SingularMassMatrixError(located) from None
     forcing_vector = sympy.ImmutableMatrix(n, 1, forcing)
     if forms is None:
         accelerations = solve_accelerations(mass_matrix, forcing_vector, coordinates, state)

@@ -55,7 +55,7 @@ def check_regular(mass_matrix: sympy.Matrix, coordinates: Sequence[Coordinate]) 
         ranks.append(np.linalg.matrix_rank(scaled, tol=1e-9 * np.abs(scaled).max()))
     rank = max(ranks)
     if rank < len(names):
-        null = np.linalg.svd(_equilibrated(_at_random_point(mass_matrix, rng)))[2][-1]
+        null = np.linalg.svd(_equilibrated(numeric))[2][-1]
         involved = [name for name, weight in zip(names, null, strict=True) if abs(weight) > 1e-6]
         raise SingularMassMatrixError(
             f"singular mass matrix (rank {rank} of {len(names)}): the velocities of "
@@ -88,9 +88,10 @@ def _at_random_point(matrix: sympy.Matrix, rng: random.Random) -> np.ndarray | N
     numeric = matrix.xreplace(values)
     values = {s: sympy.Float(rng.uniform(0.5, 2.5)) for s in numeric.free_symbols}
     try:
-        return np.array(numeric.xreplace(values).evalf(), dtype=float)
+        array = np.array(numeric.xreplace(values).evalf(), dtype=float)
     except (TypeError, ValueError):
         return None
+    return array if np.all(np.isfinite(array)) else None  # overflow: no verdict from here
 
 
 def solve_accelerations(
