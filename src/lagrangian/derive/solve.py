@@ -137,7 +137,7 @@ def _cramer(
     """x_i = (adj(M) f)_i / det M, each as one readable fraction."""
     determinant = sympy.expand(matrix.det(method="berkowitz"))
     return [
-        tidy_fraction(numerator / determinant, state, trig=True)
+        tidy_fraction(numerator / determinant, state)
         for numerator in matrix.adjugate(method="berkowitz") * rhs
     ]
 
