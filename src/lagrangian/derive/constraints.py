@@ -107,7 +107,7 @@ def solve_constrained(
     residual = (sympy.Matrix(forms.bias) - forms.matrix * free).applyfunc(
         lambda e: tidy(e, state, trig=True)
     )
-    multipliers = solve_linear(schur, residual, state)
+    multipliers = solve_linear(schur, residual, state, trig=True)
     if multipliers is None:
         return None
     accelerations = free + response * sympy.Matrix(multipliers)

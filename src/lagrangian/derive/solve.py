@@ -108,11 +108,17 @@ def solve_accelerations(
 
 
 def solve_linear(
-    matrix: sympy.Matrix, rhs: sympy.Matrix, state: Sequence[sympy.Symbol]
+    matrix: sympy.Matrix,
+    rhs: sympy.Matrix,
+    state: Sequence[sympy.Symbol],
+    *,
+    trig: bool = False,
 ) -> list[sympy.Expr] | None:
     """x with ``matrix x = rhs``, block by block; None when a block is too large.
 
-    ``state``: the symbols that vary along a motion (terms are grouped by them).
+    ``state``: the symbols that vary along a motion (terms are grouped by them);
+    ``trig``: also try trigonometric identities on the solution of coupled
+    blocks (costly; worth it where sin^2 + cos^2 cancels, as in constraint forces).
     """
     solution: list[sympy.Expr | None] = [None] * matrix.rows
     for block in diagonal_blocks(matrix):
@@ -123,7 +129,7 @@ def solve_linear(
         if len(block) == 1:
             values = [tidy_fraction(sub_f[0] / sub_m[0, 0], state, trig=True)]
         elif len(block) <= CRAMER_MAX_SIZE:
-            values = _cramer(sub_m, sub_f, state)
+            values = _cramer(sub_m, sub_f, state, trig)
         else:
             values = list(sub_m.LUsolve(sub_f))
         for index, value in zip(block, values, strict=True):
@@ -132,12 +138,12 @@ def solve_linear(
 
 
 def _cramer(
-    matrix: sympy.Matrix, rhs: sympy.Matrix, state: Sequence[sympy.Symbol]
+    matrix: sympy.Matrix, rhs: sympy.Matrix, state: Sequence[sympy.Symbol], trig: bool
 ) -> list[sympy.Expr]:
     """x_i = (adj(M) f)_i / det M, each as one readable fraction."""
     determinant = sympy.expand(matrix.det(method="berkowitz"))
     return [
-        tidy_fraction(numerator / determinant, state)
+        tidy_fraction(numerator / determinant, state, trig=trig)
         for numerator in matrix.adjugate(method="berkowitz") * rhs
     ]
 
