@@ -8,11 +8,16 @@
 
 from .derive import CoordinateDerivation, EquationsOfMotion, derive
 from .errors import LagrangianError, ModelError, ParseError, SingularMassMatrixError
+from .integrate import Event, simulate
 from .model import Gravity, Parameter, Particle, RigidBody2D, Spring, System, load, loads
+from .numeric import CompiledSystem, compile_equations
+from .trajectory import Trajectory
 
 __all__ = [
+    "CompiledSystem",
     "CoordinateDerivation",
     "EquationsOfMotion",
+    "Event",
     "Gravity",
     "LagrangianError",
     "ModelError",
@@ -23,8 +28,11 @@ __all__ = [
     "SingularMassMatrixError",
     "Spring",
     "System",
+    "Trajectory",
+    "compile_equations",
     "derive",
     "load",
     "loads",
+    "simulate",
 ]
 __version__ = "0.1.0"

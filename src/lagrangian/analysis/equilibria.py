@@ -36,7 +36,6 @@ from dataclasses import dataclass
 from types import MappingProxyType
 
 import numpy as np
-import scipy.optimize
 import sympy
 from sympy.core.function import AppliedUndef
 
@@ -238,6 +237,8 @@ class _Search:
         return values
 
     def _roots(self, values: Mapping[str, float]) -> list[np.ndarray]:
+        import scipy.optimize  # lazily: `lagrangian derive` never needs SciPy
+
         """Distinct roots of G from starts on a grid and at random in [-pi, pi]^n."""
         q = [c.q for c in self.unknowns]
         table = {

@@ -13,7 +13,6 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
-import scipy.linalg
 import sympy
 from sympy.core.function import AppliedUndef
 
@@ -263,6 +262,8 @@ class ModeAnalysis:
     def _numeric_roots(self) -> list[tuple[sympy.Expr, int]]:
         m, k, g, _ = self.numbers
         if self.plain:
+            import scipy.linalg  # lazily: `lagrangian derive` never needs SciPy
+
             values = scipy.linalg.eigvals(k, m)
         else:  # s = -lambda^2 of the undamped system; the exponents come as +-lambda
             n = self.n
@@ -282,6 +283,8 @@ class ModeAnalysis:
         if self.numbers is None:
             return ()
         try:
+            import scipy.linalg
+
             vectors = scipy.linalg.eigh(self.numbers[1], self.numbers[0])[1]
         except np.linalg.LinAlgError:  # M0 not positive definite at the defaults
             return ()

@@ -70,3 +70,83 @@ def analyze(model: str, as_json: bool, as_latex: bool) -> None:
         click.echo(latex_analysis(analysis))
     else:
         click.echo(format_analysis(analysis))
+
+
+def _assignments(values: tuple[str, ...]) -> dict[str, float]:
+    """NAME=VALUE pairs of --set as numbers (a bad one is a usage error naming it)."""
+    result = {}
+    for item in values:
+        name, sep, text = item.partition("=")
+        try:
+            if not sep or not name.strip():
+                raise ValueError
+            result[name.strip()] = float(text)
+        except ValueError:
+            raise click.BadParameter(
+                f"expected NAME=NUMBER, got {item!r}", param_hint="--set"
+            ) from None
+    return result
+
+
+@app.command(epilog=MODEL_HELP)
+@click.argument("model")
+@click.option("--t-end", type=float, help="End time (default: the model's [simulate] t_end).")
+@click.option(
+    "--method",
+    type=click.Choice(["dop853", "radau", "rk4", "variational"]),
+    help="Integrator (default: the model's, else dop853).",
+)
+@click.option("--dt", type=float, help="Step of the fixed-step methods (rk4, variational).")
+@click.option("--rtol", type=float, help="Relative tolerance of the adaptive methods.")
+@click.option("--atol", type=float, help="Absolute tolerance of the adaptive methods.")
+@click.option(
+    "--set",
+    "assignments",
+    multiple=True,
+    metavar="NAME=VALUE",
+    help="A parameter value or an initial coordinate / velocity (repeatable).",
+)
+@click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.csv or FILE.nc.")
+@click.option("--json", "as_json", is_flag=True, help="Print the JSON summary.")
+def simulate(model, t_end, method, dt, rtol, atol, assignments, out, as_json) -> None:
+    """Integrate the equations of motion of MODEL and report the final state and drifts."""
+    from ..errors import LagrangianError
+    from ..model import load
+    from ..simulation import simulate_system
+
+    system = load(model)
+    if out is not None and not out.endswith((".csv", ".nc")):
+        raise click.BadParameter("the output file must end in .csv or .nc", param_hint="--out")
+    trajectory = simulate_system(
+        system,
+        t_end=t_end,
+        method=method,
+        dt=dt,
+        rtol=rtol,
+        atol=atol,
+        assignments=_assignments(assignments),
+    )
+    if trajectory.status == "failed":
+        message = trajectory.dataset.attrs.get("message", "")
+        raise LagrangianError(f"the integration failed: {message}; nothing was written")
+    if out is not None:
+        trajectory.save(out)
+    summary = trajectory.summary()
+    if out is not None:
+        summary["out"] = out
+    if as_json:
+        click.echo(json.dumps(summary, indent=2))
+        return
+    click.echo(
+        f"{system.name}: {summary['method']}, {summary['steps']} steps, "
+        f"{summary['wall_time']:.3f} s, {summary['status']}"
+    )
+    click.echo("final state:")
+    for name, value in summary["final_state"].items():
+        click.echo(f"  {name} = {value:.12g}")
+    click.echo("drift along the run (max |X(t) - X(0)|, relative where X(0) != 0):")
+    for name, value in summary["invariants"].items():
+        click.echo(f"  {name}: {value:.3e}")
+    if out is not None:
+        click.echo(f"wrote {out}")
+

@@ -169,6 +169,16 @@ class System:
 
         return analyze(self.equations_of_motion())
 
+    def simulate(self, **options: object):
+        """Integrate the equations of motion -> :class:`~lagrangian.trajectory.Trajectory`.
+
+        Options: t_end, method ("dop853", "radau", "rk4", "variational"), dt,
+        rtol, atol, initial ({q: value, q_dot: value}), params, events, n_out.
+        """
+        from ..simulation import simulate_system
+
+        return simulate_system(self, **options)
+
     def change_coordinates(
         self, coordinates: Sequence[str], substitution: Mapping[str, ExprLike], **options: object
     ) -> System:

@@ -1,0 +1,191 @@
+"""The driver shared by fixed-step methods: step grid, projection, events, dense output.
+
+A fixed-step method advances from t0 to t_end on the grid t_k = t0 + k dt,
+k = 0..N-1, then one last (possibly shorter) step lands exactly on t_end
+(N = ceil((t_end - t0)/dt), with a relative slack of 1e-9 so that a span that
+is a whole number of steps up to rounding gets no sliver step).  Subclasses
+implement ``init`` (their internal state, e.g. momenta) and ``step``.
+
+After every step the state of a constrained system is projected back onto
+the constraint manifold (``compiled.project``), so the constraint drift stays
+at the projection's accuracy instead of growing.  Outputs are the step points,
+or, with ``t_eval``, the cubic Hermite interpolant between them (values and
+y' = rhs at both ends; error O(dt^4), below the error of the methods here).
+The default step is (t_end - t0) / 1000 (``DEFAULT_STEPS``).
+"""
+
+from __future__ import annotations
+
+import abc
+import itertools
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+
+from ..errors import ModelError
+from .base import (
+    AbstractIntegrator,
+    IntegrationResult,
+    Status,
+    Work,
+    check_time_span,
+    positive_setting,
+    reject_settings,
+)
+from .events import Event, EventWatcher, hermite, named
+
+if TYPE_CHECKING:
+    from ..numeric.compiled import CompiledSystem
+
+
+class StepFailure(Exception):
+    """Raised by ``step`` when it cannot take the step (e.g. Newton did not converge)."""
+
+
+def step_grid(t0: float, t_end: float, dt: float) -> np.ndarray:
+    """t0, t0 + dt, ..., t_end: N = ceil((t_end - t0)/dt) steps, the last one ending at t_end."""
+    count = max(1, int(np.ceil((t_end - t0) / dt - 1e-9)))
+    grid = t0 + dt * np.arange(count + 1, dtype=float)
+    grid[-1] = t_end
+    return grid
+
+
+@dataclass(frozen=True)
+class AbstractFixedStepIntegrator(AbstractIntegrator):
+    """A method taking steps of a fixed size ``dt`` (see the module docstring)."""
+
+    dt: float
+    adaptive: ClassVar[bool] = False
+    batched: ClassVar[bool] = True
+    DEFAULT_STEPS: ClassVar[int] = 1000
+
+    def __post_init__(self) -> None:
+        positive_setting("dt", self.dt)
+
+    @classmethod
+    def configure(cls, *, t_span, dt=None, rtol=None, atol=None):
+        reject_settings(cls.name, "a fixed-step method: give --dt", rtol=rtol, atol=atol)
+        t0, t1 = check_time_span(t_span)
+        return cls(dt=(t1 - t0) / cls.DEFAULT_STEPS if dt is None else positive_setting("dt", dt))
+
+    def settings(self) -> dict[str, object]:
+        return {"method": self.name, "dt": self.dt}
+
+    @abc.abstractmethod
+    def init(
+        self, compiled: CompiledSystem, t: float, y: np.ndarray, params: np.ndarray, work: Work
+    ) -> object:
+        """The method's own state at the start (None when it needs none)."""
+
+    @abc.abstractmethod
+    def step(
+        self,
+        compiled: CompiledSystem,
+        t: float,
+        h: float,
+        y: np.ndarray,
+        state: object,
+        params: np.ndarray,
+        work: Work,
+    ) -> tuple[np.ndarray, object]:
+        """(y, state) at t + h from (y, state) at t; raise StepFailure when impossible."""
+
+    def solve(
+        self,
+        compiled: CompiledSystem,
+        t_span: tuple[float, float],
+        y0: np.ndarray,
+        params: np.ndarray,
+        *,
+        t_eval: np.ndarray | None = None,
+        events: Sequence[Event] = (),
+    ) -> IntegrationResult:
+        self.check(compiled)
+        t0, t1 = check_time_span(t_span)
+        y = np.array(y0, dtype=float)
+        events = named(events)
+        if events and y.ndim != 1:
+            raise ModelError("events are watched on a single trajectory, not on a batch")
+        work = Work()
+        project = compiled.project if compiled.has_constraints else None
+
+        def derivative(t: float, state: np.ndarray) -> np.ndarray:
+            work.rhs_evaluations += 1
+            return compiled.rhs(t, state, params)
+
+        watcher = EventWatcher(events, params, t0, y) if events else None
+        grid = step_grid(t0, t1, self.dt)
+        times, states = [t0], [y]
+        solver_state = self.init(compiled, t0, y, params, work)
+        status, message = Status.SUCCESS, "reached the end time"
+        for ta, tb in itertools.pairwise(grid):
+            try:
+                y_new, solver_state = self.step(
+                    compiled, ta, tb - ta, y, solver_state, params, work
+                )
+            except StepFailure as failure:
+                status, message = Status.FAILED, f"{failure} at t = {ta:.17g}"
+                break
+            if not np.all(np.isfinite(y_new)):
+                status, message = Status.FAILED, f"the state is not finite at t = {tb:.17g}"
+                break
+            if project is not None:
+                y_new = project(tb, y_new, params)
+            work.steps += 1
+            if watcher is not None:
+                hit = watcher.step(ta, y, tb, y_new, derivative)
+                if hit is not None:
+                    times.append(hit[0])
+                    states.append(hit[1] if project is None else project(hit[0], hit[1], params))
+                    status = Status.EVENT
+                    message = f"stopped by a terminal event at t = {hit[0]:.17g}"
+                    break
+            times.append(tb)
+            states.append(y_new)
+            y = y_new
+        t_out, y_out = np.array(times), np.stack(states, axis=-1)
+        if t_eval is not None:
+            t_out, y_out = _dense(t_out, y_out, np.asarray(t_eval, float), status, derivative)
+            if project is not None:
+                columns = [project(t, y_out[..., k], params) for k, t in enumerate(t_out)]
+                y_out = np.stack(columns, axis=-1) if columns else y_out
+        return IntegrationResult(
+            t=t_out,
+            y=y_out,
+            status=status,
+            message=message,
+            steps=work.steps,
+            rhs_evaluations=work.rhs_evaluations,
+            jacobian_evaluations=work.jacobian_evaluations,
+            events=watcher.records(y.shape[0]) if watcher is not None else (),
+            settings=self.settings_for(compiled),
+        )
+
+
+def _dense(times, states, t_eval, status, derivative):
+    """States at ``t_eval`` (up to the last step reached) by cubic Hermite interpolation."""
+    inside = t_eval[t_eval <= times[-1]]
+    slopes: dict[int, np.ndarray] = {}
+
+    def slope(k: int) -> np.ndarray:
+        if k not in slopes:
+            slopes[k] = derivative(times[k], states[..., k])
+        return slopes[k]
+
+    columns = []
+    for t in inside:
+        k = int(np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2))
+        if len(times) == 1 or t == times[k]:
+            columns.append(states[..., k])
+        elif t == times[k + 1]:
+            columns.append(states[..., k + 1])
+        else:
+            ya, yb = states[..., k], states[..., k + 1]
+            columns.append(hermite(times[k], ya, slope(k), times[k + 1], yb, slope(k + 1), t))
+    if status is not Status.SUCCESS and (not inside.size or inside[-1] < times[-1]):
+        inside = np.append(inside, times[-1])  # where it stopped: the last output
+        columns.append(states[..., -1])
+    empty = np.empty((*states.shape[:-1], 0))
+    return inside, (np.stack(columns, axis=-1) if columns else empty)

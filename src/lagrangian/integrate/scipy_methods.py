@@ -1,0 +1,177 @@
+"""SciPy's adaptive methods behind the integrator protocol: DOP853 and Radau IIA.
+
+- ``dop853``: the explicit Runge-Kutta pair of order 8(5,3) of Dormand and
+  Prince with 7th-order dense output (Hairer, Norsett & Wanner, *Solving ODEs I*,
+  II.10).  The default for non-stiff motion.  Defaults rtol = 1e-10,
+  atol = 1e-12.
+- ``radau``: the implicit Radau IIA method of order 5 with the analytic
+  Jacobian ``compiled.rhs_jacobian`` (Hairer & Wanner, *Solving ODEs II*,
+  IV.8): for stiff systems (stiff springs, strong damping).  Defaults
+  rtol = 1e-8, atol = 1e-10 (each step solves a nonlinear system, so tighter
+  tolerances cost more there).
+
+Neither is symplectic: the energy error of a conservative system drifts,
+slowly at these tolerances.  Outputs are SciPy's steps, or with ``t_eval`` the
+method's dense output there; events are located by ``solve_ivp`` on the dense
+output (see :func:`~lagrangian.integrate.events.scipy_event`).  A run stopped
+by a terminal event or a failure ends with the state where it stopped.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+
+from ..errors import ModelError
+from ..trajectory import EventRecord
+from .base import (
+    AbstractIntegrator,
+    IntegrationResult,
+    Status,
+    check_time_span,
+    positive_setting,
+    reject_settings,
+)
+from .events import Event, named, scipy_event
+
+if TYPE_CHECKING:
+    from ..numeric.compiled import CompiledSystem
+
+_STATUS = {0: Status.SUCCESS, 1: Status.EVENT, -1: Status.FAILED}
+
+
+@dataclass(frozen=True)
+class AbstractScipyIntegrator(AbstractIntegrator):
+    """An adaptive method of ``scipy.integrate.solve_ivp`` (single trajectories)."""
+
+    rtol: float
+    atol: float
+    scipy_method: ClassVar[str]
+    uses_jacobian: ClassVar[bool] = False
+    DEFAULT_RTOL: ClassVar[float]
+    DEFAULT_ATOL: ClassVar[float]
+    adaptive: ClassVar[bool] = True
+    batched: ClassVar[bool] = False
+    symplectic: ClassVar[bool] = False
+    needs: ClassVar[str] = "first_order"
+
+    def __post_init__(self) -> None:
+        positive_setting("rtol", self.rtol)
+        positive_setting("atol", self.atol)
+
+    @classmethod
+    def configure(cls, *, t_span, dt=None, rtol=None, atol=None):
+        reject_settings(cls.name, "an adaptive method: give --rtol/--atol", dt=dt)
+        check_time_span(t_span)
+        return cls(
+            rtol=cls.DEFAULT_RTOL if rtol is None else positive_setting("rtol", rtol),
+            atol=cls.DEFAULT_ATOL if atol is None else positive_setting("atol", atol),
+        )
+
+    def settings(self) -> dict[str, object]:
+        return {"method": self.name, "rtol": self.rtol, "atol": self.atol}
+
+    def solve(
+        self,
+        compiled: CompiledSystem,
+        t_span: tuple[float, float],
+        y0: np.ndarray,
+        params: np.ndarray,
+        *,
+        t_eval: np.ndarray | None = None,
+        events: Sequence[Event] = (),
+    ) -> IntegrationResult:
+        from scipy.integrate import solve_ivp
+
+        self.check(compiled)
+        t0, t1 = check_time_span(t_span)
+        y0 = np.array(y0, dtype=float)
+        if y0.ndim != 1:
+            raise ModelError(f"method '{self.name}' integrates one trajectory, not a batch")
+        events = named(events)
+
+        def fun(t: float, y: np.ndarray) -> np.ndarray:
+            return compiled.rhs(t, y, params)
+
+        options: dict[str, object] = {}
+        if self.uses_jacobian:
+            options["jac"] = lambda t, y: compiled.rhs_jacobian(t, y, params)
+        if events:
+            f0 = fun(t0, y0)
+            options["events"] = [scipy_event(e, params, t0, y0, f0) for e in events]
+        solution = solve_ivp(
+            fun,
+            (t0, t1),
+            y0,
+            method=self.scipy_method,
+            rtol=self.rtol,
+            atol=self.atol,
+            dense_output=t_eval is not None,
+            **options,
+        )
+        status = _STATUS.get(solution.status, Status.FAILED)
+        t_out, y_out = solution.t, solution.y
+        if t_eval is not None:
+            t_out, y_out = _at(np.asarray(t_eval, float), solution, status)
+        records = tuple(
+            EventRecord(event.name, np.asarray(times, float), np.asarray(states, float).T)
+            if len(times)
+            else EventRecord(event.name, np.empty(0), np.empty((y0.shape[0], 0)))
+            for event, times, states in zip(
+                events, solution.t_events or [], solution.y_events or [], strict=False
+            )
+        )
+        return IntegrationResult(
+            t=t_out,
+            y=y_out,
+            status=status,
+            message=str(solution.message),
+            steps=max(0, len(solution.t) - 1),
+            rhs_evaluations=int(solution.nfev),
+            jacobian_evaluations=int(solution.njev),
+            events=records,
+            settings=self.settings_for(compiled),
+        )
+
+
+def _at(t_eval: np.ndarray, solution, status: Status) -> tuple[np.ndarray, np.ndarray]:
+    """The dense output at ``t_eval`` up to where the run stopped, then the stopping state."""
+    inside = t_eval[t_eval <= solution.t[-1]]
+    if solution.sol is None or not inside.size:
+        states = np.empty((solution.y.shape[0], 0))
+    else:
+        states = solution.sol(inside).reshape(solution.y.shape[0], inside.size)
+    if status is not Status.SUCCESS and (not inside.size or inside[-1] < solution.t[-1]):
+        inside = np.append(inside, solution.t[-1])
+        states = np.concatenate([states, solution.y[:, -1:]], axis=1)
+    return inside, states
+
+
+@dataclass(frozen=True)
+class Dop853(AbstractScipyIntegrator):
+    """Dormand-Prince 8(5,3), explicit, adaptive; rtol 1e-10, atol 1e-12 by default."""
+
+    rtol: float = 1e-10
+    atol: float = 1e-12
+    name: ClassVar[str] = "dop853"
+    order: ClassVar[int] = 8
+    scipy_method: ClassVar[str] = "DOP853"
+    DEFAULT_RTOL: ClassVar[float] = 1e-10
+    DEFAULT_ATOL: ClassVar[float] = 1e-12
+
+
+@dataclass(frozen=True)
+class Radau(AbstractScipyIntegrator):
+    """Radau IIA of order 5, implicit, adaptive, for stiff systems; rtol 1e-8, atol 1e-10."""
+
+    rtol: float = 1e-8
+    atol: float = 1e-10
+    name: ClassVar[str] = "radau"
+    order: ClassVar[int] = 5
+    scipy_method: ClassVar[str] = "Radau"
+    uses_jacobian: ClassVar[bool] = True
+    DEFAULT_RTOL: ClassVar[float] = 1e-8
+    DEFAULT_ATOL: ClassVar[float] = 1e-10

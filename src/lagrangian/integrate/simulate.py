@@ -1,0 +1,159 @@
+"""`simulate`: one motion of a compiled system, from the initial state to a `Trajectory`.
+
+The driver reads the method's declared capabilities before running: the
+settings that apply (``dt`` for fixed-step methods, ``rtol``/``atol`` for
+adaptive ones; one that does not apply is an error, a missing one takes the
+method's documented default), and ``check(compiled)`` (a variational method
+refuses constraints).  It then builds y0 and params
+(``compiled.state_vector`` / ``parameter_vector``: a missing parameter value
+is an error), projects y0 of a constrained system onto its constraints, runs
+the method, and evaluates the energy, the conserved quantities and the
+multipliers at the output times.
+
+Defaults (all echoed in the trajectory's attributes): method ``dop853``
+(rtol 1e-10, atol 1e-12); ``radau`` rtol 1e-8, atol 1e-10; ``rk4`` and
+``variational`` dt = t_end / 1000.  Outputs: ``t_eval`` if given, else
+``n_out`` equally spaced times from 0 to t_end, else every step of the
+method; the last output is the state at ``t_end`` (or where a terminal event
+or a failure stopped the run).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Mapping, Sequence
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import ModelError
+from ..trajectory import Trajectory
+from .base import AbstractIntegrator, IntegrationResult, check_time_span
+from .events import Event
+from .registry import method_class
+
+if TYPE_CHECKING:
+    from ..numeric.compiled import CompiledSystem
+
+DEFAULT_METHOD = "dop853"
+
+
+def simulate(
+    compiled: CompiledSystem,
+    *,
+    t_end: float,
+    initial: Mapping[str, float] | None = None,
+    params: Mapping[str, float] | None = None,
+    method: str | AbstractIntegrator = DEFAULT_METHOD,
+    dt: float | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    events: Sequence[Event] = (),
+    n_out: int | None = None,
+    t_eval: Sequence[float] | np.ndarray | None = None,
+) -> Trajectory:
+    """Integrate ``compiled`` from t = 0 to ``t_end``; see the module docstring.
+
+    ``initial`` maps names ``q`` / ``q_dot`` to values (missing: the model's
+    ``[initial]`` table, else 0); ``params`` overrides parameter defaults;
+    ``method`` is a registered name or a configured integrator instance (then
+    ``dt``/``rtol``/``atol`` must be left out).
+    """
+    t_span = check_time_span((0.0, t_end))
+    if isinstance(method, AbstractIntegrator):
+        if any(value is not None for value in (dt, rtol, atol)):
+            raise ModelError("give dt/rtol/atol to the integrator instance, not to simulate")
+        integrator = method
+    else:
+        integrator = method_class(method).configure(t_span=t_span, dt=dt, rtol=rtol, atol=atol)
+    integrator.check(compiled)
+    y0 = compiled.state_vector(initial)
+    p = compiled.parameter_vector(params)
+    if compiled.has_constraints and compiled.project is not None:
+        y0 = np.asarray(compiled.project(t_span[0], y0, p), dtype=float)
+    outputs = output_times(t_span, n_out=n_out, t_eval=t_eval)
+    start = time.perf_counter()
+    result = integrator.solve(compiled, t_span, y0, p, t_eval=outputs, events=events)
+    wall_time = time.perf_counter() - start
+    values = dict(zip(compiled.parameter_names, p.tolist(), strict=True))
+    return trajectory_of(compiled, result, p, parameters=values, wall_time=wall_time)
+
+
+def output_times(
+    t_span: tuple[float, float], *, n_out: int | None = None, t_eval=None
+) -> np.ndarray | None:
+    """The requested output times (None: the method's steps); checked to lie in ``t_span``."""
+    if n_out is not None and t_eval is not None:
+        raise ModelError("give n_out or t_eval, not both")
+    if n_out is not None:
+        if int(n_out) != n_out or n_out < 2:
+            raise ModelError(f"n_out must be a whole number >= 2, not {n_out!r}")
+        return np.linspace(t_span[0], t_span[1], int(n_out))
+    if t_eval is None:
+        return None
+    times = np.asarray(t_eval, dtype=float)
+    if times.ndim != 1 or times.size == 0 or np.any(np.diff(times) < 0):
+        raise ModelError("t_eval must be a non-empty increasing sequence of times")
+    if times[0] < t_span[0] or times[-1] > t_span[1] or not np.all(np.isfinite(times)):
+        raise ModelError(f"t_eval must lie between {t_span[0]:g} and t_end = {t_span[1]:g}")
+    return times
+
+
+def trajectory_of(
+    compiled: CompiledSystem,
+    result: IntegrationResult,
+    params: np.ndarray,
+    *,
+    parameters: Mapping[str, float] | None = None,
+    wall_time: float = 0.0,
+) -> Trajectory:
+    """A Trajectory of one result (y (2n, T)): energy, invariants and multipliers added."""
+    t, y = result.t, result.y
+    invariants = {name: along(f, t, y, params) for name, f in compiled.invariants.items()}
+    multipliers = {}
+    if compiled.has_constraints and compiled.multipliers is not None:
+        values = along(compiled.multipliers, t, y, params).reshape(-1, t.shape[0])
+        multipliers = dict(zip(compiled.constraint_names, values, strict=True))
+    system = getattr(compiled.equations, "system", None)
+    attrs: dict[str, object] = {
+        "model": getattr(system, "name", ""),
+        **result.settings,
+        "status": result.status.value,
+        "message": result.message,
+        "steps": result.steps,
+        "rhs_evaluations": result.rhs_evaluations,
+        "jacobian_evaluations": result.jacobian_evaluations,
+        "wall_time": wall_time,
+        "parameters": dict(parameters or {}),
+    }
+    return Trajectory.build(
+        t=t,
+        coordinates=compiled.coordinate_names,
+        y=y,
+        energy=along(compiled.energy, t, y, params),
+        invariants=invariants,
+        multipliers=multipliers,
+        events=result.events,
+        attrs=attrs,
+    )
+
+
+def along(function: Callable, t: np.ndarray, y: np.ndarray, params: np.ndarray) -> np.ndarray:
+    """``function(t, y, params)`` at every output time: the times are the batch axis.
+
+    The compiled functions are vectorised over a trailing batch axis; the
+    output times are passed as that batch (t an array of shape (T,)).  A
+    function that cannot take t as an array (or gives another shape) is
+    evaluated time by time instead.
+    """
+    count = t.shape[0]
+    if count == 0:
+        return np.empty(0)
+    try:
+        values = np.asarray(function(t, y, params), dtype=float)
+        if values.shape and values.shape[-1] == count:
+            return values
+    except (TypeError, ValueError, IndexError):
+        pass
+    columns = [np.asarray(function(float(tk), y[:, k], params), float) for k, tk in enumerate(t)]
+    return np.stack(columns, axis=-1)

@@ -1,0 +1,254 @@
+r"""The variational integrator of the midpoint discrete Lagrangian (and Stormer-Verlet).
+
+Discrete mechanics replaces the action integral over one step by the
+discrete Lagrangian (Marsden & West, "Discrete mechanics and variational
+integrators", Acta Numerica 10 (2001) 357-514, section 2.2)
+
+    L_d(q0, q1) = h L(q_m, v, t + h/2),   q_m = (q0 + q1)/2,   v = (q1 - q0)/h,
+
+and forces by the discrete Lagrange-d'Alembert principle with the midpoint
+forces f_d^- = f_d^+ = (h/2) Q(q_m, v, t + h/2), Q = the non-conservative
+forces minus dF/dq' (``compiled.nonconservative_forces``; Marsden & West
+section 3.2).  In position-momentum form one step (q_k, p_k) -> (q_{k+1}, p_{k+1}) is
+
+    p_k     = -D1 L_d - f_d^- = L_q'(q_m, v) - (h/2) [L_q(q_m, v) + Q(q_m, v)],
+    p_{k+1} =  D2 L_d + f_d^+ = L_q'(q_m, v) + (h/2) [L_q(q_m, v) + Q(q_m, v)],
+    q_{k+1} = q_k + h v.
+
+The first line is solved for the midpoint velocity v by Newton's method with
+the Jacobian
+
+    J = M + (h/2)(P_q - P_q^T) - (h^2/4) L_qq - (h/2)[(h/2) Q_q + Q_q'],
+
+M = d^2L/dq'^2 (``mass_matrix``), P_q = d^2L/dq'dq (``momenta_jacobian_q``),
+L_qq (``lagrangian_hessian_q``), Q_q, Q_q' (``nonconservative_forces_jacobian_*``),
+until the residual is ``newton_tol`` (1e-14) relative to the momenta; then
+p_{k+1} = p_k + h [L_q + Q](q_m, v), which keeps the momentum of a cyclic
+coordinate (L_q = 0, Q = 0) constant to the last bit.  The velocity q'_{k+1}
+of the state comes from p_{k+1} by the Legendre transform, L_q'(q_{k+1}, q') = p_{k+1}
+(Newton with M).
+
+When ``compiled.separable`` (L = q'^T M q'/2 - V(q), M constant, no forces)
+the trapezoidal discrete Lagrangian (h/2)[L(q0, v) + L(q1, v)] gives the
+explicit Stormer-Verlet scheme instead, one gradient evaluation per step:
+
+    p_{k+1/2} = p_k + (h/2) L_q(q_k),   q_{k+1} = q_k + h M^{-1} p_{k+1/2},
+    p_{k+1}   = p_{k+1/2} + (h/2) L_q(q_{k+1}).
+
+Both are symplectic, symmetric and of order 2 (Hairer, Lubich & Wanner,
+*Geometric Numerical Integration*, 2nd ed. 2006, VI.6): the energy error
+stays bounded, O(h^2), over exponentially long times, and by the discrete
+Noether theorem momenta of symmetries (cyclic coordinates, rotations) are
+conserved.  Constraints are not handled (use rk4, dop853 or radau).  Both
+work on a batch of states y (2n, B): Newton per batch element with a stacked
+linear solve, an element stops iterating when it has converged.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+
+from ..errors import ModelError
+from .fixed_step import AbstractFixedStepIntegrator, StepFailure
+
+if TYPE_CHECKING:
+    from ..numeric.compiled import CompiledSystem
+
+#: A residual that stopped decreasing is accepted below this (relative) size:
+#: the rounding floor of badly conditioned mass matrices.
+ROUNDING_FLOOR = 1e-10
+
+
+@dataclass(frozen=True)
+class Variational(AbstractFixedStepIntegrator):
+    """Midpoint variational integrator (Stormer-Verlet when separable); see the module.
+
+    >>> Variational(dt=0.01).settings()
+    {'method': 'variational', 'dt': 0.01, 'newton_tol': 1e-14}
+    """
+
+    newton_tol: float = 1e-14
+    max_newton: int = 30
+    explicit_when_separable: bool = True
+    name: ClassVar[str] = "variational"
+    order: ClassVar[int] = 2
+    symplectic: ClassVar[bool] = True
+    needs: ClassVar[str] = "lagrangian"
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if not 0 < self.newton_tol < 1e-6:
+            raise ModelError(f"newton_tol must lie in (0, 1e-6), not {self.newton_tol!r}")
+        if int(self.max_newton) != self.max_newton or self.max_newton < 1:
+            raise ModelError(f"max_newton must be a whole number >= 1, not {self.max_newton!r}")
+
+    def check(self, compiled: CompiledSystem) -> None:
+        if compiled.has_constraints:
+            names = ", ".join(compiled.constraint_names) or "constraints"
+            raise ModelError(
+                f"the variational integrator does not handle constraints ({names}): "
+                "use rk4, dop853 or radau"
+            )
+
+    def settings(self) -> dict[str, object]:
+        return {"method": self.name, "dt": self.dt, "newton_tol": self.newton_tol}
+
+    def settings_for(self, compiled: CompiledSystem) -> dict[str, object]:
+        return {**self.settings(), "scheme": self.scheme(compiled)}
+
+    def scheme(self, compiled: CompiledSystem) -> str:
+        """``"stormer-verlet"`` for separable systems (unless disabled), else ``"midpoint"``."""
+        return (
+            "stormer-verlet" if compiled.separable and self.explicit_when_separable else "midpoint"
+        )
+
+    # -- the protocol of fixed-step methods ---------------------------------------
+    def init(self, compiled, t, y, params, work):
+        q, w = _split(_batch(y))
+        work.rhs_evaluations += 1
+        if self.scheme(compiled) == "midpoint":
+            return _MidpointState(compiled.momenta(t, q, w, params), None)
+        n, batch = q.shape
+        mass = np.broadcast_to(compiled.mass_matrix(t, q, w, params), (n, n, batch))
+        inverse = np.linalg.inv(np.moveaxis(mass, -1, 0))  # (B, n, n), M is constant
+        force = compiled.lagrangian_gradient(t, q, w, params)
+        return _VerletState(_mul(mass, w), force, inverse)
+
+    def step(self, compiled, t, h, y, state, params, work):
+        single = y.ndim == 1
+        q, w = _split(_batch(y))
+        if isinstance(state, _VerletState):
+            q_new, w_new, state = self._verlet(compiled, t, h, q, state, params, work)
+        else:
+            q_new, w_new, state = self._midpoint(compiled, t, h, q, w, state, params, work)
+        y_new = np.concatenate([q_new, w_new])
+        return (y_new[:, 0] if single else y_new), state
+
+    # -- the two schemes ----------------------------------------------------------
+    def _verlet(self, compiled, t, h, q, state, params, work):
+        p_half = state.momenta + (h / 2) * state.force
+        v_half = _apply(state.inverse, p_half)
+        q_new = q + h * v_half
+        force = compiled.lagrangian_gradient(t + h, q_new, v_half, params)
+        work.rhs_evaluations += 1
+        p_new = p_half + (h / 2) * force
+        return q_new, _apply(state.inverse, p_new), _VerletState(p_new, force, state.inverse)
+
+    def _midpoint(self, compiled, t, h, q, w, state, params, work):
+        p = state.momenta
+        v = w if state.velocity is None else 2 * w - state.velocity  # O(h^2) first guess
+        tm = t + h / 2
+        active = np.ones(q.shape[1], dtype=bool)
+        previous = np.full(q.shape[1], np.inf)
+        for iteration in range(self.max_newton + 1):
+            qm = q + (h / 2) * v
+            momenta = compiled.momenta(tm, qm, v, params)
+            force = compiled.lagrangian_gradient(
+                tm, qm, v, params
+            ) + compiled.nonconservative_forces(tm, qm, v, params)
+            work.rhs_evaluations += 1
+            residual = momenta - (h / 2) * force - p
+            size = np.max(np.abs(residual), axis=0)
+            scale = np.maximum(np.max(np.abs(p), axis=0), np.max(np.abs(momenta), axis=0))
+            active &= ~_converged(size, previous, scale, self.newton_tol)
+            if not active.any():
+                break
+            if iteration == self.max_newton:
+                raise StepFailure(
+                    "Newton's method for the midpoint velocity did not converge in "
+                    f"{self.max_newton} iterations (residual {np.max(size):.2e})"
+                )
+            previous = np.where(active, size, previous)
+            jacobian = self._jacobian(compiled, tm, qm, v, h, params)
+            work.jacobian_evaluations += 1
+            work.newton_iterations += 1
+            v = np.where(active, v - _solve(jacobian, residual), v)
+        p_new = p + h * force
+        q_new = q + h * v
+        w_new = self._velocity(compiled, t + h, q_new, p_new, v, params, work)
+        return q_new, w_new, _MidpointState(p_new, v)
+
+    def _jacobian(self, compiled, t, qm, v, h, params) -> np.ndarray:
+        """d(residual)/dv, shape (n, n, B); see the module docstring."""
+        mass = compiled.mass_matrix(t, qm, v, params)
+        p_q = compiled.momenta_jacobian_q(t, qm, v, params)
+        l_qq = compiled.lagrangian_hessian_q(t, qm, v, params)
+        f_q = compiled.nonconservative_forces_jacobian_q(t, qm, v, params)
+        f_v = compiled.nonconservative_forces_jacobian_v(t, qm, v, params)
+        skew = p_q - np.swapaxes(p_q, 0, 1)
+        return mass + (h / 2) * skew - (h * h / 4) * (l_qq + f_q) - (h / 2) * f_v
+
+    def _velocity(self, compiled, t, q, p, guess, params, work) -> np.ndarray:
+        """q' with L_q'(q, q', t) = p: Newton with M (one step is exact for quadratic L)."""
+        w = guess
+        active = np.ones(q.shape[1], dtype=bool)
+        previous = np.full(q.shape[1], np.inf)
+        for iteration in range(self.max_newton + 1):
+            momenta = compiled.momenta(t, q, w, params)
+            work.rhs_evaluations += 1
+            residual = momenta - p
+            size = np.max(np.abs(residual), axis=0)
+            scale = np.maximum(np.max(np.abs(p), axis=0), np.max(np.abs(momenta), axis=0))
+            active &= ~_converged(size, previous, scale, self.newton_tol)
+            if not active.any():
+                return w
+            if iteration == self.max_newton:
+                break
+            previous = np.where(active, size, previous)
+            mass = compiled.mass_matrix(t, q, w, params)
+            work.jacobian_evaluations += 1
+            w = np.where(active, w - _solve(mass, residual), w)
+        raise StepFailure(
+            f"the velocity for the momenta did not converge in {self.max_newton} iterations"
+        )
+
+
+def _converged(size, previous, scale, tolerance) -> np.ndarray:
+    """Per batch element: residual small, or no longer decreasing at the rounding floor."""
+    small = (size <= tolerance * scale) | (size == 0.0)
+    return small | ((size >= previous) & (size <= ROUNDING_FLOOR * scale))
+
+
+@dataclass(frozen=True)
+class _MidpointState:
+    momenta: np.ndarray  # p_k, (n, B)
+    velocity: np.ndarray | None  # the last midpoint velocity, for the first guess
+
+
+@dataclass(frozen=True)
+class _VerletState:
+    momenta: np.ndarray  # p_k, (n, B)
+    force: np.ndarray  # L_q(q_k), (n, B)
+    inverse: np.ndarray  # M^{-1}, (B, n, n)
+
+
+def _batch(y: np.ndarray) -> np.ndarray:
+    return y[:, None] if y.ndim == 1 else y
+
+
+def _split(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    n = y.shape[0] // 2
+    return y[:n], y[n:]
+
+
+def _solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """x (n, B) with matrix[:, :, b] x[:, b] = rhs[:, b] for every batch element."""
+    n, batch = rhs.shape
+    if matrix.shape != (n, n, batch):
+        matrix = np.broadcast_to(matrix, (n, n, batch))
+    if n == 1:
+        return rhs / matrix[0]
+    return np.linalg.solve(matrix.transpose(2, 0, 1), rhs.T[..., None])[..., 0].T
+
+
+def _apply(inverse: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """inverse (B, n, n) applied to x (n, B)."""
+    return np.einsum("bij,jb->ib", inverse, x)
+
+
+def _mul(matrix: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """matrix (n, n, B) applied to x (n, B)."""
+    return np.einsum("ijb,jb->ib", matrix, x)

@@ -1,0 +1,19 @@
+"""Stage 4: EquationsOfMotion -> CompiledSystem, pure numerical functions of (t, y, params).
+
+    compile_equations(eom, backend="numpy", definitions=None) -> CompiledSystem
+
+Backends (``BACKENDS``): ``numpy`` and ``jax`` (JAX imported only when asked for).
+"""
+
+from .backends import BACKENDS, ArrayBackend, array_backend
+from .compile import DEFAULT_BAUMGARTE, compile_equations
+from .compiled import CompiledSystem
+
+__all__ = [
+    "BACKENDS",
+    "DEFAULT_BAUMGARTE",
+    "ArrayBackend",
+    "CompiledSystem",
+    "array_backend",
+    "compile_equations",
+]

@@ -1,0 +1,134 @@
+"""`compile_equations`: EquationsOfMotion -> CompiledSystem (numerical functions).
+
+Every expression is turned into a function by :func:`sympy.lambdify` with common
+subexpressions eliminated; no text is generated or evaluated by us.  The
+mass-matrix solve is numerical (see :mod:`lagrangian.numeric.dynamics`), the
+Jacobian of the right-hand side is a compiled symbolic derivative, and the
+functions broadcast over a trailing batch axis (see
+:mod:`lagrangian.numeric.compiled` for the conventions).
+
+Each function is lambdified on its first call, so compiling is cheap and a run
+pays only for what it uses.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from types import MappingProxyType
+
+import sympy
+
+from ..derive import EquationsOfMotion
+from .backends import ArrayBackend, array_backend
+from .compiled import CompiledSystem
+from .definitions import Definition, function_definitions
+from .dynamics import Dynamics
+from .forms import SymbolicForms, symbolic_forms
+from .kernels import Kernel, LazyMapping, Signature
+from .projection import ConstraintFunctions
+
+#: Baumgarte's rate alpha (1 / time unit) for constrained systems: residuals decay
+#: like exp(-alpha t).  About 10 / (the shortest time scale of the motion) keeps
+#: the drift small without making the equations stiff; 0 turns it off.
+DEFAULT_BAUMGARTE = 10.0
+
+
+def compile_equations(
+    eom: EquationsOfMotion,
+    *,
+    backend: str = "numpy",
+    definitions: Mapping[str, Definition] | None = None,
+    baumgarte: float = DEFAULT_BAUMGARTE,
+) -> CompiledSystem:
+    """The equations of motion M q'' = f as numerical functions of (t, y, params).
+
+    ``backend``: a name in :data:`~lagrangian.numeric.backends.BACKENDS`
+    (``"numpy"``, or ``"jax"`` when JAX is installed).  ``definitions`` gives
+    the model's unspecified functions, each as text over its declared arguments,
+    the parameters and ``t``, or as a :class:`sympy.Lambda`; a function used but
+    not defined is a :class:`~lagrangian.errors.ModelError`.  ``baumgarte``: the
+    stabilisation rate alpha of constrained systems (see
+    :mod:`lagrangian.numeric.dynamics`).
+
+    >>> import lagrangian as lg
+    >>> compiled = compile_equations(lg.load("simple_pendulum").equations_of_motion())
+    >>> params = compiled.parameter_vector({"g": 9.81, "l": 1.0})
+    >>> compiled.rhs(0.0, [0.5, 0.0], params).round(4).tolist()
+    [0.0, -4.7032]
+    """
+    arrays = array_backend(backend)
+    system = eom.system
+    defined = function_definitions(system, definitions)
+    forms = symbolic_forms(eom, defined)
+    signature = Signature(arrays, system.coordinate_names, system.parameter_names)
+    dynamics = Dynamics(forms, signature, baumgarte)
+    constraint_functions = (
+        ConstraintFunctions(forms, signature) if forms.constraints is not None else None
+    )
+    functions = _lagrangian_functions(forms, signature)
+    return CompiledSystem(
+        equations=eom,
+        backend=arrays.name,
+        coordinate_names=system.coordinate_names,
+        parameter_names=system.parameter_names,
+        rhs=dynamics.rhs,
+        accelerations=dynamics.accelerations,
+        mass_matrix=dynamics.mass_matrix,
+        forcing=dynamics.forcing,
+        rhs_jacobian=dynamics.rhs_jacobian,
+        energy=_kernel(forms, arrays, lambda: [forms.energy]).state_function(signature, "energy"),
+        invariants=LazyMapping(
+            lambda: {
+                name: _kernel(forms, arrays, lambda e=expression: [e]).state_function(
+                    signature, name
+                )
+                for name, expression in forms.invariants.items()
+            }
+        ),
+        constant_mass_matrix=forms.constant_mass_matrix,
+        separable=forms.separable,
+        has_constraints=constraint_functions is not None,
+        constraint_names=tuple(
+            s.name for s in (forms.constraints.multipliers if forms.constraints else ())
+        ),
+        multipliers=dynamics.multipliers if constraint_functions else None,
+        constraint_residual=constraint_functions.residual if constraint_functions else None,
+        project=constraint_functions.project if constraint_functions else None,
+        default_parameters=MappingProxyType(dict(system.parameter_values)),
+        constraint_holonomic=forms.constraints.holonomic if forms.constraints else (),
+        constraint_velocity_residual=(
+            constraint_functions.velocity_residual if constraint_functions else None
+        ),
+        baumgarte=float(baumgarte) if constraint_functions else 0.0,
+        definitions=MappingProxyType({f.__name__: body for f, body in defined.items()}),
+        **functions,
+    )
+
+
+def _kernel(forms: SymbolicForms, arrays: ArrayBackend, build: Callable[[], list]) -> Kernel:
+    """A kernel of (t, q, q', params)."""
+    arguments = (forms.time, *forms.coordinates, *forms.velocities, *forms.parameters)
+    return Kernel(arrays, arguments, build)
+
+
+def _lagrangian_functions(forms: SymbolicForms, signature: Signature) -> dict[str, object]:
+    """L, its derivatives and the non-conservative forces, for variational integrators."""
+    arrays = signature.backend
+    q, v = forms.coordinates, forms.velocities
+    momenta = sympy.Matrix(forms.momenta)
+    forces = sympy.Matrix(forms.nonconservative_forces)
+    gradient = sympy.Matrix([sympy.diff(forms.lagrangian, coordinate) for coordinate in q])
+    builders = {
+        "lagrangian": lambda: [forms.lagrangian],
+        "momenta": lambda: [list(momenta)],
+        "lagrangian_gradient": lambda: [list(gradient)],
+        "momenta_jacobian_q": lambda: [momenta.jacobian(q)],
+        "lagrangian_hessian_q": lambda: [gradient.jacobian(q)],
+        "nonconservative_forces": lambda: [list(forces)],
+        "nonconservative_forces_jacobian_v": lambda: [forces.jacobian(v)],
+        "nonconservative_forces_jacobian_q": lambda: [forces.jacobian(q)],
+    }
+    return {
+        name: _kernel(forms, arrays, build).split_function(signature, name)
+        for name, build in builders.items()
+    }

@@ -1,0 +1,106 @@
+"""`CompiledSystem`: the equations of motion as pure numerical functions.
+
+Conventions (everywhere in numeric/, integrate/ and ensemble/):
+
+- the state is ``y = [q_1..q_n, q_1'..q_n']``; argument order is ``(t, y, params)``
+  or ``(t, q, v, params)``; ``params`` is a 1-D array in the order of
+  ``parameter_names`` (build it with :meth:`CompiledSystem.parameter_vector`);
+- every function is vectorised over a trailing batch axis: ``y`` of shape
+  ``(2n,)`` or ``(2n, B)`` (``params`` ``(P,)`` or ``(P, B)``) gives results
+  with the same trailing axis, so an ensemble is the single run applied to
+  arrays, never a second implementation;
+- ``rhs`` solves M(q, t) q'' = f(q, q', t) numerically (with constraints, the
+  augmented system with Baumgarte stabilisation; see ``constraint_*``).
+
+Build one with :func:`lagrangian.numeric.compile_equations`.  With constraints,
+``constraint_residual`` is position-level, c(q, t), for each holonomic
+constraint (``constraint_holonomic[j]`` true) and velocity-level, A q' + a0,
+for the others; ``constraint_velocity_residual`` is A q' + a0 for all;
+``multipliers`` are the lambda of M q'' = f + A^T lambda from the same
+stabilised solve as ``rhs`` (equal to the exact ones on the manifold);
+``project`` moves a state onto the manifold (see
+:mod:`lagrangian.numeric.projection`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy
+
+from ..derive import EquationsOfMotion
+from ..errors import ModelError
+
+StateFunction = Callable[[float, np.ndarray, np.ndarray], np.ndarray]  # (t, y, params)
+SplitFunction = Callable[[float, np.ndarray, np.ndarray, np.ndarray], np.ndarray]  # (t, q, v, p)
+
+
+@dataclass(frozen=True, eq=False)
+class CompiledSystem:
+    """Numerical functions of one system (see the module docstring for the conventions)."""
+
+    equations: EquationsOfMotion
+    backend: str
+    coordinate_names: tuple[str, ...]
+    parameter_names: tuple[str, ...]
+    rhs: StateFunction  # y' = [q', q'']
+    accelerations: SplitFunction  # q''
+    mass_matrix: SplitFunction  # M (n, n[, B])
+    forcing: SplitFunction  # f (n[, B])
+    rhs_jacobian: StateFunction  # d rhs / d y, (2n, 2n) for one state
+    energy: StateFunction  # the energy function h = q' . dL/dq' - L
+    lagrangian: SplitFunction  # L
+    momenta: SplitFunction  # p = dL/dq'
+    lagrangian_gradient: SplitFunction  # dL/dq
+    momenta_jacobian_q: SplitFunction  # dp/dq (n, n): d^2 L / dq' dq
+    lagrangian_hessian_q: SplitFunction  # d^2 L / dq^2 (n, n)
+    nonconservative_forces: SplitFunction  # Q - dF/dq'
+    nonconservative_forces_jacobian_v: SplitFunction  # d(Q - dF/dq')/dq' (n, n)
+    nonconservative_forces_jacobian_q: SplitFunction  # d(Q - dF/dq')/dq (n, n)
+    invariants: Mapping[str, StateFunction] = field(default_factory=dict)  # conserved quantities
+    constant_mass_matrix: bool = False  # M depends on no q, q', t: Stormer-Verlet applies
+    separable: bool = False  # L = q'^T M q' / 2 - V(q), M constant, no forces
+    has_constraints: bool = False
+    constraint_names: tuple[str, ...] = ()  # multiplier names (lambda1, ...)
+    multipliers: StateFunction | None = None  # lambda along a state
+    constraint_residual: StateFunction | None = None  # f(q, t) (holonomic) / A q' + a0 (others)
+    project: StateFunction | None = None  # y -> nearest state on the constraint manifold
+    default_parameters: Mapping[str, float] = field(default_factory=dict)
+    # -- added by compile_equations ---------------------------------------------------
+    constraint_holonomic: tuple[bool, ...] = ()  # per constraint: position-level residual?
+    constraint_velocity_residual: StateFunction | None = None  # A q' + a0 of every constraint
+    baumgarte: float = 0.0  # stabilisation rate alpha used in rhs (1 / time; 0: none)
+    definitions: Mapping[str, sympy.Lambda] = field(default_factory=dict)  # functions given
+
+    @property
+    def n(self) -> int:
+        return len(self.coordinate_names)
+
+    def parameter_vector(self, overrides: Mapping[str, float] | None = None) -> np.ndarray:
+        """The params array: defaults updated by ``overrides``; a missing value is an error."""
+        values = dict(self.default_parameters)
+        for name, value in (overrides or {}).items():
+            if name not in self.parameter_names:
+                known = ", ".join(self.parameter_names) or "none"
+                raise ModelError(f"unknown parameter '{name}' (parameters: {known})")
+            values[name] = float(value)
+        missing = [name for name in self.parameter_names if name not in values]
+        if missing:
+            raise ModelError(
+                "no value for parameter(s) "
+                + ", ".join(missing)
+                + " (give them with --set NAME=VALUE)"
+            )
+        return np.array([values[name] for name in self.parameter_names], dtype=float)
+
+    def state_vector(self, initial: Mapping[str, float] | None = None) -> np.ndarray:
+        """y0 from ``{q: value, q_dot: value}``; missing entries are 0 (DESIGN section 2)."""
+        names = list(self.coordinate_names) + [f"{c}_dot" for c in self.coordinate_names]
+        values = dict(self.equations.system.initial)
+        values.update(initial or {})
+        unknown = set(values) - set(names)
+        if unknown:
+            raise ModelError(f"not a coordinate or velocity: {', '.join(sorted(unknown))}")
+        return np.array([float(values.get(name, 0.0)) for name in names], dtype=float)

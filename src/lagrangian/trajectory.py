@@ -1,0 +1,326 @@
+"""`Trajectory`: one simulated motion, backed by an :class:`xarray.Dataset`.
+
+The dataset has one dimension ``t`` (the output times) and the data variables
+
+- every coordinate ``q`` and its velocity ``q_dot``,
+- ``energy``, the energy function h = q'.dL/dq' - L (the Jacobi integral),
+- every conserved quantity of the system (names from ``compiled.invariants``),
+- the Lagrange multipliers ``lambda1, ...`` of a constrained system,
+
+and the attributes ``model``, ``method``, ``status``, ``message``, ``steps``,
+``rhs_evaluations``, ``wall_time`` (seconds), the settings of the method
+(``rtol``/``atol`` or ``dt``, ...), ``parameters`` (a JSON object of the
+parameter values used) and the comma-separated name lists ``coordinate_names``
+(not ``coordinates``, which netCDF's CF conventions reserve), ``invariants``,
+``multipliers`` and ``events``.  Each event ``e`` adds the
+variables ``event__e__t`` (its times) and ``event__e__y`` (the states there)
+along their own dimension ``event__e`` (and ``state``: q..., q_dot...).
+
+Files (DESIGN section 5): ``to_csv`` writes the columns
+``t, <q...>, <q_dot...>, energy`` then the invariants and multipliers, one row
+per output time; ``to_netcdf`` writes the whole dataset (SciPy's netCDF-3
+writer, no extra dependency).  Both write atomically: a temporary file in the
+same directory, renamed over the target only when complete, so a failed write
+never leaves a truncated file.  A CSV file holds no metadata; NetCDF round
+trips everything.
+
+xarray is imported only when a trajectory is built or read.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import secrets
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from .errors import ModelError
+
+if TYPE_CHECKING:
+    import xarray
+
+#: Below this |X(0)| the drift of X is absolute, above it relative.
+DRIFT_RELATIVE_FLOOR = 1e-12
+
+
+@dataclass(frozen=True, eq=False)
+class EventRecord:
+    """The occurrences of one event: ``times`` (k,) and ``states`` (2n, k)."""
+
+    name: str
+    times: np.ndarray
+    states: np.ndarray
+
+    @property
+    def count(self) -> int:
+        return int(self.times.shape[0])
+
+
+@dataclass(frozen=True, eq=False)
+class Trajectory:
+    """A simulated motion; see the module docstring for the layout of ``dataset``."""
+
+    dataset: xarray.Dataset
+
+    # -- building ---------------------------------------------------------------
+    @classmethod
+    def build(
+        cls,
+        *,
+        t: np.ndarray,
+        coordinates: Sequence[str],
+        y: np.ndarray,
+        energy: np.ndarray,
+        invariants: Mapping[str, np.ndarray] | None = None,
+        multipliers: Mapping[str, np.ndarray] | None = None,
+        events: Sequence[EventRecord] = (),
+        attrs: Mapping[str, object] | None = None,
+    ) -> Trajectory:
+        """A trajectory from arrays: ``y`` (2n, T) holds q then q' at the times ``t`` (T,)."""
+        import xarray as xr
+
+        t = np.asarray(t, dtype=float)
+        y = np.asarray(y, dtype=float)
+        n = len(coordinates)
+        if y.shape != (2 * n, t.shape[0]):
+            raise ValueError(f"y must have shape {(2 * n, t.shape[0])}, not {y.shape}")
+        velocities = [f"{q}_dot" for q in coordinates]
+        columns: dict[str, np.ndarray] = dict(zip([*coordinates, *velocities], y, strict=True))
+        columns["energy"] = np.asarray(energy, dtype=float)
+        invariants = {k: v for k, v in (invariants or {}).items() if k not in columns}
+        multipliers = dict(multipliers or {})
+        for name, values in [*invariants.items(), *multipliers.items()]:
+            if name in columns:
+                raise ValueError(f"two data variables named '{name}'")
+            columns[name] = np.asarray(values, dtype=float)
+        data_vars: dict[str, object] = {name: ("t", values) for name, values in columns.items()}
+        coords: dict[str, object] = {"t": t}
+        if any(record.count for record in events):
+            coords["state"] = [*coordinates, *velocities]
+        for record in events:
+            if record.count == 0:  # netCDF-3 has no empty dimensions: the name list says it
+                continue
+            dim = f"event__{record.name}"
+            data_vars[f"{dim}__t"] = (dim, np.asarray(record.times, dtype=float))
+            data_vars[f"{dim}__y"] = (("state", dim), np.asarray(record.states, dtype=float))
+        meta = {
+            "coordinate_names": ",".join(coordinates),
+            "invariants": ",".join(invariants),
+            "multipliers": ",".join(multipliers),
+            "events": ",".join(record.name for record in events),
+        }
+        meta.update(_netcdf_attrs(attrs or {}))
+        return cls(xr.Dataset(data_vars, coords=coords, attrs=meta))
+
+    # -- reading ----------------------------------------------------------------
+    @property
+    def t(self) -> np.ndarray:
+        return self.dataset["t"].values
+
+    @property
+    def coordinates(self) -> tuple[str, ...]:
+        return _names(self.dataset.attrs.get("coordinate_names", ""))
+
+    @property
+    def velocities(self) -> tuple[str, ...]:
+        return tuple(f"{q}_dot" for q in self.coordinates)
+
+    @property
+    def invariants(self) -> tuple[str, ...]:
+        return _names(self.dataset.attrs.get("invariants", ""))
+
+    @property
+    def multipliers(self) -> tuple[str, ...]:
+        return _names(self.dataset.attrs.get("multipliers", ""))
+
+    @property
+    def status(self) -> str:
+        return str(self.dataset.attrs.get("status", ""))
+
+    @property
+    def parameters(self) -> dict[str, float]:
+        return json.loads(self.dataset.attrs.get("parameters", "{}"))
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """The values of one data variable along ``t``."""
+        return self.dataset[name].values
+
+    @property
+    def final_state(self) -> dict[str, float]:
+        """{q: value, q_dot: value} at the last output time."""
+        return {name: float(self[name][-1]) for name in (*self.coordinates, *self.velocities)}
+
+    @property
+    def events(self) -> dict[str, EventRecord]:
+        """{name: EventRecord} for every event watched, in order (empty records included)."""
+        records = {}
+        size = 2 * len(self.coordinates)
+        for name in _names(self.dataset.attrs.get("events", "")):
+            dim = f"event__{name}"
+            if f"{dim}__t" not in self.dataset:
+                records[name] = EventRecord(name, np.empty(0), np.empty((size, 0)))
+                continue
+            states = self.dataset[f"{dim}__y"].transpose("state", dim).values
+            records[name] = EventRecord(name, self[f"{dim}__t"], states)
+        return records
+
+    def drift(self, name: str) -> float:
+        """max_t |X(t) - X(0)| of the variable ``name``, divided by |X(0)| when |X(0)| > 1e-12.
+
+        The relative form makes drifts of differently scaled quantities
+        comparable; a quantity that starts at (nearly) zero gets the absolute one.
+        """
+        values = self[name]
+        deviation = float(np.max(np.abs(values - values[0]))) if values.size else 0.0
+        scale = abs(float(values[0])) if values.size else 0.0
+        return deviation / scale if scale > DRIFT_RELATIVE_FLOOR else deviation
+
+    def drifts(self) -> dict[str, float]:
+        """The drift of the energy and of every conserved quantity.
+
+        The energy's "drift" is physics, not error, for forced, dissipative or
+        time-dependent systems.
+        """
+        return {name: self.drift(name) for name in ("energy", *self.invariants)}
+
+    def summary(self) -> dict[str, object]:
+        """The ``simulate --json`` document (DESIGN section 5) as a dict."""
+        attrs = self.dataset.attrs
+        document: dict[str, object] = {
+            "final_state": self.final_state,
+            "invariants": self.drifts(),
+            "method": attrs.get("method"),
+        }
+        for key in ("rtol", "atol", "dt"):
+            if key in attrs:
+                document[key] = float(attrs[key])
+        document["steps"] = int(attrs.get("steps", 0))
+        document["wall_time"] = float(attrs.get("wall_time", 0.0))
+        document["status"] = self.status
+        document["events"] = {name: r.times.tolist() for name, r in self.events.items()}
+        return document
+
+    # -- files --------------------------------------------------------------------
+    def columns(self) -> list[str]:
+        """The CSV columns after ``t``: q..., q_dot..., energy, invariants, multipliers."""
+        return [
+            *self.coordinates,
+            *self.velocities,
+            "energy",
+            *self.invariants,
+            *self.multipliers,
+        ]
+
+    def to_csv(self, path: str | os.PathLike) -> Path:
+        """Write the time series as CSV (full float precision), atomically."""
+        names = self.columns()
+        table = np.column_stack([self.t, *(self[name] for name in names)])
+
+        def write(target: Path) -> None:
+            with open(target, "w", newline="", encoding="utf-8") as stream:
+                np.savetxt(
+                    stream, table, fmt="%.17g", delimiter=",", header=",".join(["t", *names]),
+                    comments="",
+                )  # fmt: skip
+
+        return write_atomically(path, write)
+
+    def to_netcdf(self, path: str | os.PathLike) -> Path:
+        """Write the dataset as netCDF-3 (``engine="scipy"``), atomically."""
+        dataset = self.dataset
+        return write_atomically(path, lambda target: dataset.to_netcdf(target, engine="scipy"))
+
+    def save(self, path: str | os.PathLike) -> Path:
+        """``to_csv`` or ``to_netcdf`` by the suffix of ``path`` (.csv, .nc)."""
+        return _by_suffix(path, {".csv": self.to_csv, ".nc": self.to_netcdf})(path)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike) -> Trajectory:
+        """A trajectory read from a .csv or .nc file written by this class."""
+        return _by_suffix(path, {".csv": _read_csv, ".nc": _read_netcdf})(path)
+
+
+def _read_netcdf(path: str | os.PathLike) -> Trajectory:
+    import xarray as xr
+
+    with xr.open_dataset(path, engine="scipy", mmap=False) as dataset:
+        return Trajectory(dataset.load())
+
+
+def _read_csv(path: str | os.PathLike) -> Trajectory:
+    import xarray as xr
+
+    with open(path, newline="", encoding="utf-8") as stream:
+        header = next(csv.reader(stream))
+        table = np.loadtxt(stream, delimiter=",", ndmin=2)
+    if not header or header[0] != "t" or table.shape[1] != len(header):
+        raise ModelError("not a trajectory CSV file (first column must be t)", source=str(path))
+    names = header[1:]
+    coordinates = [name for name in names if f"{name}_dot" in names]
+    known = {*coordinates, *(f"{q}_dot" for q in coordinates), "energy"}
+    extra = [name for name in names if name not in known]
+    data_vars = {name: ("t", table[:, i + 1]) for i, name in enumerate(names)}
+    attrs = {"coordinate_names": ",".join(coordinates), "invariants": ",".join(extra), "events": ""}
+    return Trajectory(xr.Dataset(data_vars, coords={"t": table[:, 0]}, attrs=attrs))
+
+
+def write_atomically(path: str | os.PathLike, write: Callable[[Path], object]) -> Path:
+    """Run ``write(temporary)`` on a new file beside ``path``, then rename it to ``path``.
+
+    The rename is atomic on POSIX and Windows (``os.replace``): readers see the
+    old file or the complete new one.  When ``write`` raises, the temporary
+    file is removed and ``path`` is untouched.
+    """
+    target = Path(path)
+    directory = target.parent if str(target.parent) else Path(".")
+    while True:
+        temporary = directory / f".{target.name}.{secrets.token_hex(6)}.tmp"
+        try:  # O_EXCL: never reuse a file; 0o666 & ~umask: the permissions of a plain open
+            os.close(os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+            break
+        except FileExistsError:  # pragma: no cover - 48 random bits collided
+            continue
+    try:
+        write(temporary)
+        with open(temporary, "rb+") as stream:
+            os.fsync(stream.fileno())
+        os.replace(temporary, target)
+    except BaseException:
+        temporary.unlink(missing_ok=True)
+        raise
+    return target
+
+
+def _by_suffix(path: str | os.PathLike, table: Mapping[str, Callable]) -> Callable:
+    suffix = Path(path).suffix.lower()
+    if suffix not in table:
+        known = ", ".join(table)
+        raise ModelError(f"unknown trajectory file type '{suffix or path}' (use {known})")
+    return table[suffix]
+
+
+def _names(text: str) -> tuple[str, ...]:
+    return tuple(name for name in str(text).split(",") if name)
+
+
+def _netcdf_attrs(attrs: Mapping[str, object]) -> dict[str, object]:
+    """Attributes netCDF-3 can hold: numbers and text; mappings become JSON; None is left out."""
+    result: dict[str, object] = {}
+    for key, value in attrs.items():
+        if value is None:
+            continue
+        if isinstance(value, Mapping):
+            result[key] = json.dumps({k: float(v) for k, v in value.items()}, sort_keys=True)
+        elif isinstance(value, bool | np.bool_ | int | np.integer):
+            result[key] = int(value)
+        elif isinstance(value, float | np.floating):
+            result[key] = float(value)
+        else:
+            result[key] = str(value)
+    return result

@@ -1,0 +1,88 @@
+"""`lagrangian simulate`: the summary, the files, and analytic truth through the CLI."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import pytest
+
+from lagrangian.cli import ExitStatus, main
+from lagrangian.trajectory import Trajectory
+
+
+def run(capsys, *argv):
+    status = main(list(argv))
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+def test_json_summary_has_the_contract_fields(capsys):
+    status, out, _ = run(capsys, "simulate", "double_pendulum", "--t-end", "2", "--json")
+    assert status == ExitStatus.SUCCESS
+    summary = json.loads(out)
+    assert set(summary["final_state"]) == {"theta1", "theta2", "theta1_dot", "theta2_dot"}
+    assert summary["method"] == "dop853"
+    assert summary["rtol"] > 0 and summary["atol"] > 0
+    assert summary["steps"] > 0 and summary["wall_time"] >= 0
+    assert summary["invariants"]["energy"] < 1e-7
+
+
+def test_set_changes_parameters_and_initial_state(capsys):
+    # x'' = -(k/m) x with k = 4, m = 1, x(0) = 0.5, x'(0) = 1: x = 0.5 cos 2t + 0.5 sin 2t
+    status, out, _ = run(
+        capsys, "simulate", "harmonic_oscillator", "--t-end", "3", "--set", "k=4",
+        "--set", "x=0.5", "--set", "x_dot=1", "--json",
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    final = json.loads(out)["final_state"]
+    assert final["x"] == pytest.approx(0.5 * math.cos(6) + 0.5 * math.sin(6), abs=1e-8)
+
+
+def test_rotating_wire_follows_cosh(capsys, tmp_path):
+    out_file = tmp_path / "bead.csv"
+    status, _, _ = run(
+        capsys, "simulate", "rotating_wire_bead", "--t-end", "2", "--set", "omega=1.5",
+        "--set", "r=0.2", "--set", "r_dot=0.1", "--out", str(out_file),
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    with out_file.open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert list(rows[0])[:4] == ["t", "r", "r_dot", "energy"]
+    assert float(rows[-1]["t"]) == pytest.approx(2.0)
+    for row in rows[:: max(1, len(rows) // 10)]:
+        t = float(row["t"])
+        exact = 0.2 * math.cosh(1.5 * t) + (0.1 / 1.5) * math.sinh(1.5 * t)
+        assert float(row["r"]) == pytest.approx(exact, rel=1e-8)
+
+
+def test_netcdf_round_trip(capsys, tmp_path):
+    out_file = tmp_path / "run.nc"
+    status, _, _ = run(
+        capsys, "simulate", "spherical_pendulum", "--t-end", "1", "--method", "variational",
+        "--dt", "0.001", "--out", str(out_file),
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    trajectory = Trajectory.load(out_file)
+    assert trajectory.dataset.attrs["method"] == "variational"
+    assert trajectory.drift("p_phi") < 1e-12
+
+
+@pytest.mark.parametrize(
+    "argv, fragment",
+    [
+        (["--set", "k"], "expected NAME=NUMBER"),
+        (["--set", "nope=1"], "'nope' is neither a parameter"),
+        (["--method", "euler"], "Invalid value for '--method'"),
+        (["--dt", "0.1"], "does not apply"),
+        (["--out", "result.txt"], "must end in .csv or .nc"),
+    ],
+)
+def test_bad_simulate_input(capsys, tmp_path, monkeypatch, argv, fragment):
+    monkeypatch.chdir(tmp_path)
+    status, out, err = run(capsys, "simulate", "harmonic_oscillator", "--t-end", "1", *argv)
+    assert out == ""
+    assert status == ExitStatus.BAD_INPUT
+    assert fragment in err and len(err.strip().splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []
