@@ -125,7 +125,9 @@ def test_missing_file_and_unknown_example():
 
 def test_huge_powers_of_velocities_derive_without_overflow(tmp_path):
     # (x_dot + 1)**999 overflows floats at the rank check; the symbolic answer stays exact
-    system = load_text(tmp_path, 'coordinates = ["x"]\nlagrangian = "(x_dot + 1)**999*(x + 1)**999"')
+    system = load_text(
+        tmp_path, 'coordinates = ["x"]\nlagrangian = "(x_dot + 1)**999*(x + 1)**999"'
+    )
     acceleration = system.equations_of_motion().accelerations["x"]
     x, x_dot = system.symbol("x"), system.symbol("x_dot")
     expected = (1 - 998 * x_dot) * (x_dot + 1) / (998 * (x + 1))
