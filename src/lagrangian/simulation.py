@@ -7,13 +7,16 @@ then the model's ``[simulate]`` table, then the integrator's documented default.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from dataclasses import replace
+
+import numpy as np
 
 from .errors import ModelError
 from .integrate import method_class, simulate
 from .integrate.simulate import DEFAULT_METHOD
 from .model import System
-from .numeric import compile_equations
+from .numeric import CompiledSystem, compile_equations
 from .trajectory import Trajectory
 
 #: Used when neither the caller nor the model gives an end time.
@@ -31,10 +34,12 @@ def simulate_system(
     initial: Mapping[str, float] | None = None,
     params: Mapping[str, float] | None = None,
     assignments: Mapping[str, float] | None = None,
+    progress: Callable[[float], None] | None = None,
     **options: object,
 ) -> Trajectory:
     """Simulate ``system``; ``assignments`` are NAME=VALUE pairs that may name a parameter
-    or an initial coordinate / velocity (the CLI's ``--set``)."""
+    or an initial coordinate / velocity (the CLI's ``--set``); ``progress`` is called with
+    the fraction of the time span done (often: throttle it)."""
     settings = dict(system.simulate_settings)
     initial = dict(initial or {})
     params = dict(params or {})
@@ -66,4 +71,28 @@ def simulate_system(
     }
     chosen = {key: value for key, value in chosen.items() if value is not None}
     compiled = compile_equations(system.equations_of_motion())
+    if progress is not None:
+        t_final = float(chosen["t_end"])
+        compiled = _reporting_time(compiled, lambda t: progress(min(1.0, t / t_final)))
     return simulate(compiled, initial=initial, params=params, **chosen, **options)
+
+
+def _reporting_time(compiled: CompiledSystem, progress: Callable[[float], None]) -> CompiledSystem:
+    """The same system, its step functions also telling ``progress`` the time reached.
+
+    Every integrator calls ``rhs`` (explicit and SciPy methods) or
+    ``lagrangian_gradient`` (variational) at least once per step.
+    """
+
+    def reporting(function):
+        def wrapped(t, *args):
+            progress(float(np.max(t)))
+            return function(t, *args)
+
+        return wrapped
+
+    return replace(
+        compiled,
+        rhs=reporting(compiled.rhs),
+        lagrangian_gradient=reporting(compiled.lagrangian_gradient),
+    )

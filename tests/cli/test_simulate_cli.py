@@ -86,3 +86,16 @@ def test_bad_simulate_input(capsys, tmp_path, monkeypatch, argv, fragment):
     assert status == ExitStatus.BAD_INPUT
     assert fragment in err and len(err.strip().splitlines()) == 1
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("method", ["dop853", "rk4", "variational"])
+def test_progress_reaches_the_end(method):
+    import lagrangian as lg
+    from lagrangian.simulation import simulate_system
+
+    seen = []
+    options = {"dt": 0.01} if method != "dop853" else {}
+    simulate_system(
+        lg.load("simple_pendulum"), t_end=2.0, method=method, progress=seen.append, **options
+    )
+    assert seen and max(seen) == pytest.approx(1.0) and min(seen) >= 0.0

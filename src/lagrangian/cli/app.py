@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import contextlib
 import json
+import time
 
 import click
 
@@ -72,6 +74,38 @@ def analyze(model: str, as_json: bool, as_latex: bool) -> None:
         click.echo(format_analysis(analysis))
 
 
+@contextlib.contextmanager
+def _progress_bar(*, enabled: bool):
+    """A progress bar on stderr for runs longer than a second, only on a terminal.
+
+    Yields the callback for :func:`~lagrangian.simulation.simulate_system`
+    (``None`` when piped, with ``--json``, or off a terminal).
+    """
+    stream = click.get_text_stream("stderr")
+    if not enabled or not stream.isatty():
+        yield None
+        return
+    start = time.monotonic()
+    state = {"bar": None, "shown": 0}
+
+    def progress(fraction: float) -> None:
+        if state["bar"] is None:
+            if time.monotonic() - start < 1.0:
+                return
+            state["bar"] = click.progressbar(length=1000, label="simulating", file=stream)
+            state["bar"].__enter__()
+        step = int(1000 * fraction) - state["shown"]
+        if step > 0:
+            state["bar"].update(step)
+            state["shown"] += step
+
+    try:
+        yield progress
+    finally:
+        if state["bar"] is not None:
+            state["bar"].__exit__(None, None, None)
+
+
 def _assignments(values: tuple[str, ...]) -> dict[str, float]:
     """NAME=VALUE pairs of --set as numbers (a bad one is a usage error naming it)."""
     result = {}
@@ -117,15 +151,17 @@ def simulate(model, t_end, method, dt, rtol, atol, assignments, out, as_json) ->
     system = load(model)
     if out is not None and not out.endswith((".csv", ".nc")):
         raise click.BadParameter("the output file must end in .csv or .nc", param_hint="--out")
-    trajectory = simulate_system(
-        system,
-        t_end=t_end,
-        method=method,
-        dt=dt,
-        rtol=rtol,
-        atol=atol,
-        assignments=_assignments(assignments),
-    )
+    with _progress_bar(enabled=not as_json) as progress:
+        trajectory = simulate_system(
+            system,
+            t_end=t_end,
+            method=method,
+            dt=dt,
+            rtol=rtol,
+            atol=atol,
+            assignments=_assignments(assignments),
+            progress=progress,
+        )
     if trajectory.status == "failed":
         message = trajectory.dataset.attrs.get("message", "")
         raise LagrangianError(f"the integration failed: {message}; nothing was written")
