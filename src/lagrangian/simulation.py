@@ -35,11 +35,13 @@ def simulate_system(
     params: Mapping[str, float] | None = None,
     assignments: Mapping[str, float] | None = None,
     progress: Callable[[float], None] | None = None,
+    definitions: Mapping[str, str] | None = None,
     **options: object,
 ) -> Trajectory:
     """Simulate ``system``; ``assignments`` are NAME=VALUE pairs that may name a parameter
     or an initial coordinate / velocity (the CLI's ``--set``); ``progress`` is called with
-    the fraction of the time span done (often: throttle it)."""
+    the fraction of the time span done (often: throttle it); ``definitions`` give the
+    unspecified functions as expressions of their arguments ({"V": "x^2 + y^2"})."""
     settings = dict(system.simulate_settings)
     initial = dict(initial or {})
     params = dict(params or {})
@@ -70,7 +72,7 @@ def simulate_system(
         "atol": atol,
     }
     chosen = {key: value for key, value in chosen.items() if value is not None}
-    compiled = compile_equations(system.equations_of_motion())
+    compiled = compile_equations(system.equations_of_motion(), definitions=definitions)
     if progress is not None:
         t_final = float(chosen["t_end"])
         compiled = _reporting_time(compiled, lambda t: progress(min(1.0, t / t_final)))

@@ -99,3 +99,19 @@ def test_progress_reaches_the_end(method):
         lg.load("simple_pendulum"), t_end=2.0, method=method, progress=seen.append, **options
     )
     assert seen and max(seen) == pytest.approx(1.0) and min(seen) >= 0.0
+
+
+def test_define_gives_unspecified_functions(capsys):
+    # a charge in a uniform field B = 1 along z (A = (-y/2, x/2, 0)) and a harmonic trap:
+    # the energy (x'^2 + y'^2 + z'^2)/2 + V is conserved and Lz-like motion stays planar
+    base = ["simulate", "velocity_dependent_potential", "--t-end", "3", "--set", "x=1"]
+    status, _, err = run(capsys, *base)
+    assert status == ExitStatus.BAD_INPUT and "--define" in err
+    status, out, _ = run(
+        capsys, *base, "--define", "V=(x^2 + y^2 + z^2)/2", "--define", "A=-y/2",
+        "--define", "B=x/2", "--define", "C=0", "--set", "y_dot=0.5", "--json",
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    summary = json.loads(out)
+    assert summary["invariants"]["energy"] < 1e-8
+    assert summary["final_state"]["z"] == 0.0

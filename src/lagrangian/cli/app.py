@@ -122,6 +122,17 @@ def _assignments(values: tuple[str, ...]) -> dict[str, float]:
     return result
 
 
+def _definitions(values: tuple[str, ...]) -> dict[str, str]:
+    """NAME=EXPR pairs of --define (the expression is parsed later by the safe parser)."""
+    result = {}
+    for item in values:
+        name, sep, text = item.partition("=")
+        if not sep or not name.strip() or not text.strip():
+            raise click.BadParameter(f"expected NAME=EXPR, got {item!r}", param_hint="--define")
+        result[name.strip()] = text
+    return result
+
+
 @app.command(epilog=MODEL_HELP)
 @click.argument("model")
 @click.option("--t-end", type=float, help="End time (default: the model's [simulate] t_end).")
@@ -140,9 +151,16 @@ def _assignments(values: tuple[str, ...]) -> dict[str, float]:
     metavar="NAME=VALUE",
     help="A parameter value or an initial coordinate / velocity (repeatable).",
 )
+@click.option(
+    "--define",
+    "definitions",
+    multiple=True,
+    metavar="NAME=EXPR",
+    help="Define an unspecified function of the model, e.g. V='x^2 + y^2' (repeatable).",
+)
 @click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.csv or FILE.nc.")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON summary.")
-def simulate(model, t_end, method, dt, rtol, atol, assignments, out, as_json) -> None:
+def simulate(model, t_end, method, dt, rtol, atol, assignments, definitions, out, as_json) -> None:
     """Integrate the equations of motion of MODEL and report the final state and drifts."""
     from ..errors import LagrangianError
     from ..model import load
@@ -161,6 +179,7 @@ def simulate(model, t_end, method, dt, rtol, atol, assignments, out, as_json) ->
             atol=atol,
             assignments=_assignments(assignments),
             progress=progress,
+            definitions=_definitions(definitions),
         )
     if trajectory.status == "failed":
         message = trajectory.dataset.attrs.get("message", "")

@@ -66,8 +66,13 @@ def check_specified(system: System, definitions: Definitions) -> None:
 def unspecified_error(names: list[str]) -> ModelError:
     """The error for functions without a definition, e.g. ``A(x, y, z)``."""
     if len(names) == 1:
-        return ModelError(f"function {names[0]} is unspecified: give a definition")
-    return ModelError(f"functions {', '.join(names)} are unspecified: give a definition of each")
+        return ModelError(
+            f"function {names[0]} is unspecified: give a definition (CLI: --define NAME=EXPR)"
+        )
+    return ModelError(
+        f"functions {', '.join(names)} are unspecified: give a definition of each"
+        " (CLI: --define NAME=EXPR)"
+    )
 
 
 def substitute(expr: sympy.Expr, definitions: Definitions) -> sympy.Expr:
