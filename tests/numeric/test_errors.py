@@ -23,7 +23,7 @@ def test_unspecified_functions_without_definitions():
         compile_equations(charge())
     assert str(error.value) == (
         "functions V(x, y, z), A(x, y, z), B(x, y, z), C(x, y, z) are unspecified: "
-        "give a definition of each"
+        "give a definition of each (CLI: --define NAME=EXPR)"
     )
 
 
@@ -31,7 +31,9 @@ def test_one_unspecified_function():
     definitions = {k: v for k, v in DEFINITIONS["velocity_dependent_potential"].items() if k != "A"}
     with pytest.raises(lg.ModelError) as error:
         compile_equations(charge(), definitions=definitions)
-    assert str(error.value) == "function A(x, y, z) is unspecified: give a definition"
+    assert str(error.value) == (
+        "function A(x, y, z) is unspecified: give a definition (CLI: --define NAME=EXPR)"
+    )
 
 
 def test_definitions_as_lambdas_equal_definitions_as_text():
