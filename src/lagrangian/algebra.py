@@ -32,6 +32,15 @@ def expand_products(expr: sympy.Expr) -> sympy.Expr:
     )
 
 
+def as_expression(value: sympy.Basic | int | float) -> sympy.Expr:
+    """A SymPy number for a Python number; SymPy objects pass through (never parses text)."""
+    if isinstance(value, sympy.Basic):
+        return value
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise TypeError(f"expected a SymPy expression or a number, got {type(value).__name__}")
+    return sympy.Integer(value) if isinstance(value, int) else sympy.Float(value)
+
+
 def tidy(expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = False) -> sympy.Expr:
     """A readable, equal form of ``expr`` computed in bounded time.
 

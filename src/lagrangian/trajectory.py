@@ -34,7 +34,7 @@ import json
 import os
 import secrets
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -44,6 +44,8 @@ from .errors import ModelError
 
 if TYPE_CHECKING:
     import xarray
+
+    from .model import System
 
 #: Below this |X(0)| the drift of X is absolute, above it relative.
 DRIFT_RELATIVE_FLOOR = 1e-12
@@ -64,9 +66,14 @@ class EventRecord:
 
 @dataclass(frozen=True, eq=False)
 class Trajectory:
-    """A simulated motion; see the module docstring for the layout of ``dataset``."""
+    """A simulated motion; see the module docstring for the layout of ``dataset``.
+
+    ``system`` is the model that was simulated (kept in memory for drawing; a
+    trajectory loaded from a file has none).
+    """
 
     dataset: xarray.Dataset
+    system: System | None = field(default=None, repr=False)
 
     # -- building ---------------------------------------------------------------
     @classmethod
@@ -81,6 +88,7 @@ class Trajectory:
         multipliers: Mapping[str, np.ndarray] | None = None,
         events: Sequence[EventRecord] = (),
         attrs: Mapping[str, object] | None = None,
+        system: System | None = None,
     ) -> Trajectory:
         """A trajectory from arrays: ``y`` (2n, T) holds q then q' at the times ``t`` (T,)."""
         import xarray as xr
@@ -116,7 +124,7 @@ class Trajectory:
             "events": ",".join(record.name for record in events),
         }
         meta.update(_netcdf_attrs(attrs or {}))
-        return cls(xr.Dataset(data_vars, coords=coords, attrs=meta))
+        return cls(xr.Dataset(data_vars, coords=coords, attrs=meta), system)
 
     # -- reading ----------------------------------------------------------------
     @property
@@ -205,6 +213,27 @@ class Trajectory:
         document["status"] = self.status
         document["events"] = {name: r.times.tolist() for name, r in self.events.items()}
         return document
+
+    # -- pictures (matplotlib is imported only here) ----------------------------------
+    def plot(self, kind: str = "timeseries"):
+        """A matplotlib Figure: ``kind`` is timeseries, phase, energy or poincare."""
+        from .output.plots import plot
+
+        return plot(self, kind, self.system)
+
+    def animate(self, path: str | os.PathLike | None = None, **options: object):
+        """The mechanism in motion; written to ``path`` (.gif, .html, .mp4) when given,
+        shown inline in Jupyter otherwise (see :func:`lagrangian.output.animation.animate`)."""
+        from .output.animation import animate
+
+        if self.system is None:
+            raise ModelError("this trajectory has no model to draw (loaded from a file?)")
+        return animate(self, self.system, path, **options)
+
+    def _repr_html_(self) -> str:
+        from .output.display import trajectory_html
+
+        return trajectory_html(self)
 
     # -- files --------------------------------------------------------------------
     def columns(self) -> list[str]:

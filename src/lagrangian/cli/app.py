@@ -205,3 +205,5 @@ def simulate(model, t_end, method, dt, rtol, atol, assignments, definitions, out
     if out is not None:
         click.echo(f"wrote {out}")
 
+
+from . import visual  # noqa: E402, F401  (registers plot, animate, demo)

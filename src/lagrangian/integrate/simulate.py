@@ -135,6 +135,7 @@ def trajectory_of(
         multipliers=multipliers,
         events=result.events,
         attrs=attrs,
+        system=compiled.equations.system,
     )
 
 

@@ -179,6 +179,14 @@ class System:
 
         return simulate_system(self, **options)
 
+    def animate(self, path=None, *, trajectory=None, **options: object):
+        """The mechanism in motion (default: a run with the model's simulate settings)."""
+        from ..output.animation import animate
+
+        return animate(
+            trajectory if trajectory is not None else self.simulate(), self, path, **options
+        )
+
     def change_coordinates(
         self, coordinates: Sequence[str], substitution: Mapping[str, ExprLike], **options: object
     ) -> System:

@@ -1,0 +1,209 @@
+"""Make the reference pictures of docs/tutorial.md (into docs/images/).
+
+    python docs/make_images.py            # every picture, about a minute
+    python docs/make_images.py double     # only those whose name contains "double"
+
+Every picture comes from the toolkit's own functions (the same ones the CLI
+uses), at the models' default parameters; each file is kept under 200 KB.
+"""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+from scipy.optimize import brentq
+
+import lagrangian as lg
+from lagrangian.integrate import simulate
+from lagrangian.numeric import compile_equations
+from lagrangian.output.animation import animate, mechanism_view
+from lagrangian.output.mode_shapes import plot_normal_modes
+from lagrangian.output.phase import phase_family, plot_phase_portrait
+from lagrangian.output.plots import new_figure, plot_energy_error, plot_timeseries, save_figure
+from lagrangian.output.poincare import plot_poincare, section_event
+
+IMAGES = Path(__file__).resolve().parent / "images"
+LIMIT = 200_000  # bytes per picture
+DPI = 80
+#: The energy of the double pendulum's Poincaré section (the lowest is -29.43).
+POINCARE_H = -22.0
+
+
+def save(figure, name: str) -> None:
+    path = save_figure(figure, IMAGES / name, dpi=DPI)
+    size = path.stat().st_size
+    print(f"  {name:34s} {size / 1000:6.1f} kB")
+    if size > LIMIT:
+        raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+
+
+def still(system, run, name: str, frame: int, **options) -> None:
+    """One frame of the animation, as a PNG."""
+    from PIL import Image
+
+    view, _ = mechanism_view(run, system, **options)
+    Image.fromarray(view.render(frame)).convert("RGB").save(IMAGES / name, optimize=True)
+    print(f"  {name:34s} {(IMAGES / name).stat().st_size / 1000:6.1f} kB")
+
+
+def orbit(run, x, y, title: str, name: str, *, origin: bool = True) -> None:
+    """The path of a particle in its plane, 1:1."""
+    figure, axes = new_figure(1, 1, width=5.2, height=5.0)
+    ax = axes[0, 0]
+    ax.plot(x, y, color="C0", lw=1.2)
+    ax.plot([x[0]], [y[0]], "o", color="C0", label="start")
+    if origin:
+        ax.plot([0], [0], "+", color="black", ms=10, label="origin")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("$x$")
+    ax.set_ylabel("$y$")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper right", fontsize=8)
+    figure.suptitle(title)
+    save(figure, name)
+
+
+def simple_pendulum() -> None:
+    system = lg.load("simple_pendulum")
+    save(plot_phase_portrait(phase_family(system, t_end=6.0), system), "simple_pendulum_phase.png")
+    save(
+        plot_timeseries(system.simulate(t_end=10.0, n_out=1001), system),
+        "simple_pendulum_timeseries.png",
+    )
+
+
+def velocity_dependent_potential() -> None:
+    """A charge in a uniform magnetic field B along z and an electric field E along y."""
+    system = lg.load("velocity_dependent_potential")
+    fields = {"A": "-y/2", "B": "x/2", "C": "0", "V": "-y/5"}  # B_z = 1, E_y = 1/5
+    compiled = compile_equations(system.equations_of_motion(), definitions=fields)
+    run = simulate(compiled, t_end=40.0, initial={"x_dot": 1.0}, n_out=4001)
+    orbit(
+        run,
+        run["x"],
+        run["y"],
+        "Charge in crossed fields: the E x B drift",
+        "charge_drift.png",
+        origin=False,
+    )
+
+
+def harmonic_oscillator() -> None:
+    system = lg.load("harmonic_oscillator")
+    save(
+        plot_phase_portrait(phase_family(system, t_end=7.0), system),
+        "harmonic_oscillator_phase.png",
+    )
+
+
+def central_force() -> None:
+    system = lg.load("central_force")
+    run = system.simulate(t_end=20.0, n_out=4001)
+    r, theta = run["r"], run["theta"]
+    orbit(run, r * np.cos(theta), r * np.sin(theta), "Inverse-square force: a Kepler ellipse",
+          "central_force_orbit.png")  # fmt: skip
+    save(plot_energy_error(run, system), "central_force_drift.png")
+    crossings = system.simulate(t_end=100.0, events=[section_event(system)], n_out=2)
+    save(plot_poincare(crossings, system), "central_force_poincare.png")
+
+
+def spherical_pendulum() -> None:
+    system = lg.load("spherical_pendulum")
+    run = system.simulate(t_end=10.0, n_out=2001)
+    still(system, run, "spherical_pendulum_frame.png", 60, trail=2.0)
+    save(plot_energy_error(run, system), "spherical_pendulum_drift.png")
+
+
+def double_pendulum() -> None:
+    system = lg.load("double_pendulum")
+    run = system.simulate(t_end=10.0, method="variational", dt=0.005)
+    reference = system.simulate(t_end=10.0)
+    still(system, run, "double_pendulum_frame.png", 140)
+    first = system.simulate(t_end=4.0, method="variational", dt=0.005)  # 100 frames, real time
+    result = animate(first, system, IMAGES / "double_pendulum.gif", size=3.0, dpi=60)
+    print(f"  {'double_pendulum.gif':34s} {result.path.stat().st_size / 1000:6.1f} kB"
+          f"  ({result.plan.description})")  # fmt: skip
+    if result.path.stat().st_size > LIMIT:
+        raise SystemExit("double_pendulum.gif is larger than 200 kB")
+    save(plot_phase_portrait(run, system), "double_pendulum_phase.png")
+    save(plot_energy_error([run, reference], system), "double_pendulum_energy.png")
+    save(plot_normal_modes(system, {"theta1": 0, "theta2": 0}), "double_pendulum_modes.png")
+    # one energy, several motions through the section: invariant curves and islands
+    compiled = compile_equations(system.equations_of_motion())
+    params = compiled.parameter_vector()
+    runs, labels = [], []
+    for a in (0.0, 0.3, 0.6, 0.9, 1.1, 1.3):  # theta2 on the section theta1 = 0, theta2' = 0
+
+        def excess(v, a=a):
+            return float(compiled.energy(0.0, np.array([0.0, a, v, 0.0]), params)) - POINCARE_H
+
+        speed = brentq(excess, 0.0, 50.0)  # theta1' > 0 that gives the energy h
+        initial = {"theta1": 0.0, "theta2": a, "theta1_dot": speed, "theta2_dot": 0.0}
+        runs.append(simulate(compiled, t_end=100.0, initial=initial,
+                             events=[section_event(system)], n_out=2))  # fmt: skip
+        labels.append(f"$\\theta_2$ = {a:g}")
+    figure = plot_poincare(runs, system, labels=labels)
+    figure.suptitle(figure.get_suptitle() + f", all with $h$ = {POINCARE_H:g}")
+    save(figure, "double_pendulum_poincare.png")
+
+
+def vertical_spring() -> None:
+    system = lg.load("vertical_spring")
+    save(
+        plot_timeseries(system.simulate(t_end=5.0, n_out=1001), system),
+        "vertical_spring_timeseries.png",
+    )
+
+
+def free_particle_spherical() -> None:
+    system = lg.load("free_particle_spherical")
+    run = system.simulate(t_end=10.0, n_out=1001)
+    still(system, run, "free_particle_frame.png", 200, trail=5.0)
+    save(plot_energy_error(run, system), "free_particle_drift.png")
+
+
+def planar_particle_forces() -> None:
+    system = lg.load("planar_particle_forces")
+    save(
+        plot_timeseries(system.simulate(t_end=5.0, n_out=501), system),
+        "planar_forces_timeseries.png",
+    )
+
+
+def rotating_wire_bead() -> None:
+    system = lg.load("rotating_wire_bead")
+    run = system.simulate(t_end=3.0, n_out=601)
+    still(system, run, "rotating_wire_frame.png", 74, trail=3.0)
+    save(plot_energy_error(run, system), "rotating_wire_drift.png")
+
+
+PICTURES = (
+    simple_pendulum,
+    velocity_dependent_potential,
+    harmonic_oscillator,
+    central_force,
+    spherical_pendulum,
+    double_pendulum,
+    vertical_spring,
+    free_particle_spherical,
+    planar_particle_forces,
+    rotating_wire_bead,
+)
+
+
+def main(argv: list[str]) -> None:
+    IMAGES.mkdir(exist_ok=True)
+    for make in PICTURES:
+        if argv and not any(word in make.__name__ for word in argv):
+            continue
+        start = time.perf_counter()
+        print(make.__name__)
+        make()
+        print(f"  ({time.perf_counter() - start:.1f} s)")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])

@@ -1,0 +1,266 @@
+"""The commands that draw: ``plot``, ``animate`` and ``demo`` (registered on ``app``).
+
+Thin shells: the pictures come from :mod:`lagrangian.output` (plots, phase,
+mode_shapes, animation); matplotlib is imported only when one of these runs,
+with the Agg backend, so nothing needs a display.
+"""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import click
+
+from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app
+
+PLOT_KINDS = ("timeseries", "phase", "energy", "poincare", "modes")
+TRAJECTORY_SUFFIXES = (".csv", ".nc")
+METHODS = ("dop853", "radau", "rk4", "variational")
+#: The demo: the double pendulum released from theta1 = 2, theta2 = 0.5 (chaotic).
+DEMO_MODEL = "double_pendulum"
+DEMO_INITIAL = {"theta1": 2.0, "theta2": 0.5}
+DEMO_T_END, DEMO_DT = 10.0, 0.005
+
+
+def _headless() -> None:
+    """matplotlib with the Agg backend (no display needed) before anything draws."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+
+
+def _stem(source: str) -> str:
+    return Path(source).stem if source.endswith(".toml") else Path(source).name
+
+
+def _run_options(function):
+    """--t-end, --method, --set and --define, as ``simulate`` has them."""
+    options = [
+        click.option("--t-end", type=float, help="End time (default: the model's t_end)."),
+        click.option("--method", type=click.Choice(METHODS), help="Integrator."),
+        click.option(
+            "--set",
+            "assignments",
+            multiple=True,
+            metavar="NAME=VALUE",
+            help="A parameter value or an initial coordinate / velocity (repeatable).",
+        ),
+        click.option(
+            "--define",
+            "definitions",
+            multiple=True,
+            metavar="NAME=EXPR",
+            help="Define an unspecified function of the model (repeatable).",
+        ),
+    ]
+    for option in reversed(options):
+        function = option(function)
+    return function
+
+
+def _simulate(system, **options):
+    """simulate_system with a progress bar on a terminal; a failed run is an error."""
+    from ..errors import LagrangianError
+    from ..simulation import simulate_system
+
+    with _progress_bar(enabled=True) as progress:
+        run = simulate_system(system, progress=progress, **options)
+    if run.status == "failed":
+        message = run.dataset.attrs.get("message", "")
+        raise LagrangianError(f"the integration failed: {message}; nothing was written")
+    return run
+
+
+@app.command(epilog=MODEL_HELP + " TRAJECTORY is a .csv or .nc file written by simulate --out.")
+@click.argument("source", metavar="MODEL|TRAJECTORY")
+@click.option(
+    "--kind",
+    type=click.Choice(PLOT_KINDS),
+    default="timeseries",
+    show_default=True,
+    help="What to draw (modes: normal modes about a stable equilibrium; MODEL only).",
+)
+@click.option(
+    "--out",
+    type=click.Path(dir_okay=False),
+    help="Write F.png, F.pdf or F.svg (default: <name>-<kind>.png).",
+)
+@_run_options
+def plot(source, kind, out, t_end, method, assignments, definitions) -> None:
+    """Plot a run of MODEL (simulated with its defaults) or a saved TRAJECTORY.
+
+    The options of the run (--t-end, --method, --set, --define) apply to a MODEL.
+    """
+    from ..output.plots import FIGURE_FORMATS, PLOTS, save_figure
+
+    out = out or f"{_stem(source)}-{kind}.png"
+    if Path(out).suffix.lower() not in FIGURE_FORMATS:
+        raise click.BadParameter(
+            "the output file must end in .png, .pdf or .svg", param_hint="--out"
+        )
+    _headless()
+    if source.lower().endswith(TRAJECTORY_SUFFIXES):
+        if t_end is not None or method is not None or assignments or definitions:
+            raise click.UsageError(
+                "--t-end, --method, --set and --define apply to a MODEL, not a file"
+            )
+        if kind == "modes":
+            raise click.UsageError("--kind modes needs a MODEL, not a trajectory file")
+        if not Path(source).is_file():
+            raise click.BadParameter(f"no such file: {source}", param_hint="TRAJECTORY")
+        from ..trajectory import Trajectory
+
+        figure = PLOTS[kind](Trajectory.load(source))
+    else:
+        options = {
+            "t_end": t_end,
+            "method": method,
+            "assignments": _assignments(assignments),
+            "definitions": _definitions(definitions),
+        }
+        figure = _model_figure(source, kind, options)
+    save_figure(figure, out)
+    click.echo(f"wrote {out}")
+
+
+def _model_figure(model: str, kind: str, options: dict):
+    from ..model import load
+    from ..output.plots import PLOTS
+
+    system = load(model)
+    values = options["assignments"]
+    if kind == "modes":
+        from ..output.mode_shapes import plot_normal_modes
+
+        parameters = {k: v for k, v in values.items() if k in system.parameter_names}
+        return plot_normal_modes(system, parameters=parameters)
+    if kind == "poincare":
+        from ..output.poincare import plot_poincare, section_event
+
+        if len(system.coordinates) < 2:
+            raise click.UsageError("a Poincaré section needs a model with two or more coordinates")
+        return plot_poincare(_simulate(system, events=[section_event(system)], **options), system)
+    run = _simulate(system, **options)
+    if kind == "phase":
+        from ..output.phase import conservative_one_dof, phase_family, plot_phase_portrait
+
+        if conservative_one_dof(system) and not values and options["method"] is None:
+            family = phase_family(system, t_end=options["t_end"])
+            return plot_phase_portrait([*family, run], system)
+        return plot_phase_portrait(run, system)
+    return PLOTS[kind](run, system)
+
+
+@app.command(epilog=MODEL_HELP)
+@click.argument("model")
+@click.option(
+    "--out",
+    type=click.Path(dir_okay=False),
+    help="Write F.gif, F.html (plays in a browser) or F.mp4 (needs ffmpeg); default <name>.gif.",
+)
+@_run_options
+@click.option("--fps", type=float, default=25, show_default=True, help="Frames per second.")
+@click.option(
+    "--max-frames",
+    type=int,
+    default=500,
+    show_default=True,
+    help="At most this many frames; longer runs play faster than real time.",
+)
+def animate(model, out, t_end, method, assignments, definitions, fps, max_frames) -> None:
+    """Animate the mechanism of MODEL: a run played in real time."""
+    from ..errors import ModelError
+    from ..model import load
+    from ..output.animation import animate as write_animation
+    from ..output.animation import check_animation_path
+
+    out = out or f"{_stem(model)}.gif"
+    check_animation_path(out)
+    system = load(model)
+    if not system.particles and not system.bodies:
+        raise ModelError("nothing to animate: the model has no particles or bodies")
+    _headless()
+    run = _simulate(
+        system,
+        t_end=t_end,
+        method=method,
+        assignments=_assignments(assignments),
+        definitions=_definitions(definitions),
+    )
+    result = write_animation(run, system, out, fps=fps, max_frames=max_frames)
+    click.echo(f"wrote {out}: {result.plan.description}")
+
+
+@app.command()
+@click.option(
+    "--out-dir",
+    type=click.Path(file_okay=False),
+    default="lagrangian-demo",
+    show_default=True,
+    help="Folder for the animation and the plots.",
+)
+def demo(out_dir: str) -> None:
+    """Derive, analyse, simulate and animate the double pendulum; say where the files went."""
+    from ..analysis import linearize
+    from ..integrate import simulate
+    from ..model import load
+    from ..numeric import compile_equations
+    from ..output import format_equations
+    from ..output.animation import animate as write_animation
+    from ..output.mode_shapes import mode_numbers, plot_normal_modes
+    from ..output.phase import plot_phase_portrait
+    from ..output.plots import plot_energy_error, save_figure
+
+    start = time.perf_counter()
+    _headless()
+    folder = Path(out_dir)
+    folder.mkdir(parents=True, exist_ok=True)
+    system = load(DEMO_MODEL)
+    eom = system.equations_of_motion()
+    click.echo("1. Lagrange's equations, derived from the positions of the two bobs\n")
+    click.echo(format_equations(eom))
+
+    rest = {"theta1": 0, "theta2": 0}
+    modes = linearize(eom, rest).normal_modes()
+    _, omega_squared, shapes = mode_numbers(system, rest, modes=modes)
+    click.echo("\n2. Small oscillations about the lowest position (normal modes)\n")
+    for i, (w2, shape) in enumerate(zip(omega_squared, shapes, strict=True)):
+        phase = "in phase" if shape[0] * shape[1] > 0 else "in antiphase"
+        click.echo(
+            f"  mode {i + 1}: ω = {w2**0.5:.4f} rad/s, period {2 * 3.141592653589793 / w2**0.5:.4f}"
+            f" s, shape (θ₁, θ₂) = ({shape[0]:.4g}, {shape[1]:.4g}): the bobs swing {phase}"
+        )
+
+    compiled = compile_equations(eom)
+    click.echo(
+        f"\n3. A chaotic motion: θ₁ = {DEMO_INITIAL['theta1']}, θ₂ = {DEMO_INITIAL['theta2']},"
+        f" released at rest, {DEMO_T_END:g} s, variational integrator (dt = {DEMO_DT})"
+    )
+    run = simulate(
+        compiled, t_end=DEMO_T_END, initial=DEMO_INITIAL, method="variational", dt=DEMO_DT
+    )
+    reference = simulate(compiled, t_end=DEMO_T_END, initial=DEMO_INITIAL, method="dop853")
+    click.echo(
+        f"   {run.dataset.attrs['steps']} steps; largest relative energy error "
+        f"{run.drift('energy'):.2e} (bounded: the method is symplectic); "
+        f"dop853 at rtol 1e-10 for comparison: {reference.drift('energy'):.2e}"
+    )
+
+    written = []
+    animation = write_animation(run, system, folder / "double_pendulum.gif")
+    written.append((animation.path, f"the motion, {animation.plan.description}"))
+    written.append(
+        (
+            save_figure(plot_phase_portrait(run, system), folder / "phase.png"),
+            "phase portraits (angles wrapped into [-π, π))",
+        )
+    )
+    energy = plot_energy_error([run, reference], system)
+    written.append((save_figure(energy, folder / "energy.png"), "energy error, log scale"))
+    modes_figure = plot_normal_modes(system, rest, modes=modes)
+    written.append((save_figure(modes_figure, folder / "modes.png"), "the two normal modes"))
+    click.echo(f"\n4. Files in {folder.resolve()}:")
+    for path, what in written:
+        click.echo(f"   {path.name:20s} {what}")
+    click.echo(f"\ndone in {time.perf_counter() - start:.1f} s")

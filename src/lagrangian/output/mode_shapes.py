@@ -1,0 +1,165 @@
+"""The normal modes of a model about an equilibrium, drawn.
+
+For a model with particles each mode is a stroboscopic picture of the
+mechanism moving in that mode alone, q(φ) = q0 + A s cos φ for a few phases φ
+(s the mode shape), the equilibrium in grey; A is chosen so that the largest
+displacement of a particle is :data:`DISPLACEMENT` of the size of the
+mechanism (the shapes fix only ratios).  Without particles the shapes are bar
+charts, one bar per coordinate.  Titles give ω², ω and the period 2π/ω at the
+parameter values.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..algebra import as_expression
+from ..errors import ModelError
+from ..model import System
+from .geometry import ORIGIN, geometry, rods
+from .plots import math, new_figure
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from ..analysis import NormalModes
+
+#: Largest particle displacement in a mode picture, as a fraction of the mechanism's size.
+DISPLACEMENT = 0.25
+PHASES = np.linspace(0, np.pi, 5)
+
+
+def mode_numbers(
+    system: System,
+    at: Mapping[str, object] | None = None,
+    parameters=None,
+    modes: NormalModes | None = None,
+):
+    """(point, ω² (k,), shapes (k, n)) of the normal modes about ``at``, as numbers.
+
+    ``at`` None: the first stable equilibrium of :meth:`System.equilibria`;
+    ``modes``: the normal modes about ``at`` when already computed.
+    """
+    values = dict(system.parameter_values)
+    values.update(parameters or {})
+    substitution = {p.symbol: values[p.name] for p in system.parameters if p.name in values}
+    if at is None:
+        stable = [e for e in system.equilibria() if e.stable]
+        if not stable:
+            raise ModelError("the model has no stable equilibrium to show normal modes about")
+        at = stable[0].point
+    if modes is None:
+        modes = system.linearize(at).normal_modes()
+    if not modes.shapes:
+        raise ModelError(
+            f"no mode shapes about this point{': ' + modes.note if modes.note else ''}"
+        )
+    omega_squared = np.array(
+        [complex(as_expression(w).subs(substitution)) for w in modes.omega_squared]
+    ).real
+    shapes = np.array(
+        [[float(as_expression(x).subs(substitution)) for x in shape] for shape in modes.shapes]
+    )
+    point = {
+        name: float(as_expression(at.get(name, 0)).subs(substitution))
+        for name in system.coordinate_names
+    }
+    return point, omega_squared[: len(shapes)], shapes
+
+
+def _mode_title(i: int, omega_squared: float, shape: np.ndarray) -> str:
+    vector = "(" + ", ".join(f"{x:.3g}" for x in shape) + ")"
+    if omega_squared > 0:
+        omega = np.sqrt(omega_squared)
+        return (
+            f"mode {i + 1}: $\\omega$ = {omega:.4g}, $T$ = {2 * np.pi / omega:.4g}\nshape {vector}"
+        )
+    kind = "neutral" if omega_squared == 0 else "unstable"
+    return f"mode {i + 1}: $\\omega^2$ = {omega_squared:.4g} ({kind})\nshape {vector}"
+
+
+def plot_normal_modes(
+    system: System,
+    at: Mapping[str, object] | None = None,
+    *,
+    parameters=None,
+    modes: NormalModes | None = None,
+) -> Figure:
+    """One panel per normal mode about ``at`` (see the module docstring, :func:`mode_numbers`)."""
+    point, omega_squared, shapes = mode_numbers(system, at, parameters, modes)
+    names = system.coordinate_names
+    where = ", ".join(f"{math(n)} = {v:.3g}" for n, v in point.items())
+    if system.particles:
+        figure = _strobe(system, point, omega_squared, shapes, parameters)
+    else:
+        figure, axes = new_figure(1, len(shapes), height=3.6)
+        for i, (ax, shape) in enumerate(zip(axes[0], shapes, strict=True)):
+            ax.bar(range(len(names)), shape, color=f"C{i}")
+            ax.set_xticks(range(len(names)), [math(n) for n in names])
+            ax.axhline(0, color="0.3", lw=0.8)
+            ax.set_ylabel("relative amplitude")
+            ax.set_title(_mode_title(i, omega_squared[i], shape), fontsize=9)
+    figure.suptitle(f"{system.name}: normal modes about {where}")
+    return figure
+
+
+def _strobe(system, point, omega_squared, shapes, parameters) -> Figure:
+    scene = geometry(system, parameters)
+    q0 = np.array([point[n] for n in system.coordinate_names])
+    rest = scene.at(np.zeros(1), q0[:, None])
+    size = max(
+        float(
+            np.ptp(
+                np.concatenate([rest.particles[:, :, 0].T, [[0] * scene.dimension]]), axis=0
+            ).max()
+        ),
+        1e-9,
+    )
+    a, b = scene.views[0]
+    figure, axes = new_figure(1, len(shapes), height=4.4, width=3.6 * len(shapes) + 0.6)
+    for i, (ax, shape) in enumerate(zip(axes[0], shapes, strict=True)):
+        probe = scene.at(np.zeros(1), (q0 + 1e-6 * shape)[:, None])
+        moved = float(np.abs(probe.particles - rest.particles).max()) / 1e-6
+        amplitude = DISPLACEMENT * size / moved if moved > 0 else 0.0
+        q = q0[:, None] + amplitude * np.outer(shape, np.cos(PHASES))
+        snapshots = scene.at(np.zeros(PHASES.size), q)
+        links = rods(snapshots)
+        for k in range(PHASES.size):
+            alpha = 0.25 + 0.75 * (k in (0, PHASES.size - 1))
+            color = f"C{i}" if k in (0, PHASES.size - 1) else "0.6"
+            _draw(ax, snapshots, links, k, a, b, color, alpha)
+        _draw(ax, rest, rods(rest) or links, 0, a, b, "0.2", 1.0, dashed=True)
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.set_xlabel(f"${'xyz'[a]}$")
+        ax.set_ylabel(f"${'xyz'[b]}$")
+        ax.grid(True, alpha=0.3)
+        ax.set_title(_mode_title(i, omega_squared[i], shape), fontsize=9)
+    return figure
+
+
+def _draw(ax, positions, links, k, a, b, color, alpha, dashed=False) -> None:
+    for first, second in links:
+        p, r = positions.point(first)[:, k], positions.point(second)[:, k]
+        ax.plot(
+            [p[a], r[a]],
+            [p[b], r[b]],
+            "--" if dashed else "-",
+            color=color,
+            lw=1.0 if dashed else 1.8,
+            alpha=alpha,
+        )
+    if any(ORIGIN in link for link in links):
+        ax.plot([0], [0], "o", ms=5, mfc="white", mec="black", zorder=5)
+    ax.plot(
+        positions.particles[:, a, k],
+        positions.particles[:, b, k],
+        "o",
+        ls="none",
+        color=color,
+        alpha=alpha,
+        ms=4 if dashed else 8,
+        zorder=4,
+    )
