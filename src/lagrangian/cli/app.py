@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import sys
 import time
 
 import click
@@ -81,7 +82,7 @@ def _progress_bar(*, enabled: bool):
     Yields the callback for :func:`~lagrangian.simulation.simulate_system`
     (``None`` when piped, with ``--json``, or off a terminal).
     """
-    stream = click.get_text_stream("stderr")
+    stream = sys.stderr
     if not enabled or not stream.isatty():
         yield None
         return
