@@ -41,6 +41,7 @@ from sympy.core.function import AppliedUndef
 
 from ..algebra import is_zero, tidy
 from ..derive import EquationsOfMotion
+from ..distributions import without_distributions
 from ..errors import ModelError
 from ..model import System
 from ..symbols import Coordinate
@@ -247,9 +248,9 @@ class _Search:
             for s in g.free_symbols
             if s not in q
         }
-        system = sympy.Matrix(self.equations).xreplace(table)
+        system = without_distributions(sympy.Matrix(self.equations).xreplace(table))
         function = sympy.lambdify([q], list(system), "numpy")
-        jacobian = sympy.lambdify([q], system.jacobian(q).tolist(), "numpy")
+        jacobian = sympy.lambdify([q], without_distributions(system.jacobian(q)).tolist(), "numpy")
         n = len(q)
         per_axis = max(2, round(STARTS ** (1 / n)))
         grid = np.linspace(-math.pi, math.pi, per_axis + 1)[:-1] + math.pi / (2 * per_axis)

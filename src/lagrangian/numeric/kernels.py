@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 import sympy
 
+from ..distributions import without_distributions
 from ..errors import ModelError
 from .backends import Array, ArrayBackend
 
@@ -68,6 +69,7 @@ class Kernel:
                 shapes, entries = [], []
                 for block in self._build():
                     shape, flat = _flatten(block)
+                    flat = [without_distributions(entry) for entry in flat]
                     shapes.append(shape)
                     entries += flat
                 function = sympy.lambdify(

@@ -98,7 +98,8 @@ def _equilibrium_lines(points, show) -> list[str]:
             squares = ", ".join(show(w2) for w2 in e.modes.omega_squared)
             lines.append(f"    squared angular frequencies: {squares}")
         if e.modes.periods:
-            lines.append("    periods: " + ", ".join(show(p) for p in e.modes.periods))
+            periods = [p if e.modes.closed_form else p.evalf(6) for p in e.modes.periods]
+            lines.append("    periods: " + ", ".join(show(p) for p in periods))
         if e.modes.note:
             lines.append(f"    ({e.modes.note})")
     return lines or ["  none found"]
