@@ -207,4 +207,5 @@ def simulate(model, t_end, method, dt, rtol, atol, assignments, definitions, out
         click.echo(f"wrote {out}")
 
 
+from . import ensemble as _ensemble  # noqa: E402, F401
 from . import visual  # noqa: E402, F401  (registers plot, animate, demo)

@@ -179,6 +179,12 @@ class System:
 
         return simulate_system(self, **options)
 
+    def ensemble(self, **options: object):
+        """Many runs at once -> EnsembleTrajectory (options: lagrangian.ensemble.run_ensemble)."""
+        from ..ensemble import ensemble_of_system
+
+        return ensemble_of_system(self, **options)
+
     def animate(self, path=None, *, trajectory=None, **options: object):
         """The mechanism in motion (default: a run with the model's simulate settings)."""
         from ..output.animation import animate

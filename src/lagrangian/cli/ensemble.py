@@ -1,0 +1,166 @@
+"""The ``ensemble`` command: a grid of runs, an observable map (registered on ``app``)."""
+
+from __future__ import annotations
+
+import click
+import numpy as np
+
+from .app import MODEL_HELP, _assignments, _progress_bar, app
+
+
+def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """NAME=LO:HI:N of --grid as a linspace each, on its own axis (a bad one: usage error)."""
+    grids: dict[str, np.ndarray] = {}
+    for item in values:
+        name, sep, text = item.partition("=")
+        parts = text.split(":")
+        try:
+            if not sep or not name.strip() or len(parts) != 3:
+                raise ValueError
+            low, high, count = float(parts[0]), float(parts[1]), int(parts[2])
+            if count < 1 or not (np.isfinite(low) and np.isfinite(high)):
+                raise ValueError
+        except ValueError:
+            raise click.BadParameter(
+                f"expected NAME=LO:HI:N (N a whole number >= 1), got {item!r}", param_hint="--grid"
+            ) from None
+        if name.strip() in grids:
+            raise click.BadParameter(f"'{name.strip()}' is given twice", param_hint="--grid")
+        grids[name.strip()] = np.linspace(low, high, count)
+    ndim = len(grids)
+    return {
+        name: values.reshape([-1 if k == axis else 1 for k in range(ndim)])
+        for axis, (name, values) in enumerate(grids.items())
+    }
+
+
+@app.command(epilog=MODEL_HELP)
+@click.argument("model")
+@click.option(
+    "--grid",
+    "grids",
+    multiple=True,
+    required=True,
+    metavar="NAME=LO:HI:N",
+    help="N values from LO to HI of an initial coordinate / velocity or a parameter "
+    "(repeatable: one grid axis each).",
+)
+@click.option(
+    "--backend",
+    type=click.Choice(["numpy", "numba", "dask"]),
+    default="numpy",
+    show_default=True,
+    help="How the members are integrated.",
+)
+@click.option("--scheduler", metavar="tcp://HOST:PORT", help="A dask scheduler (backend dask).")
+@click.option(
+    "--observable",
+    "observables",
+    multiple=True,
+    metavar="NAME",
+    help="final_state, flip_time or energy_drift (repeatable; default final_state).",
+)
+@click.option("--t-end", type=float, help="End time (default: the model's t_end).")
+@click.option("--dt", type=float, help="Step (default: the model's dt, else t_end / 1000).")
+@click.option("--method", type=click.Choice(["rk4", "variational"]), help="Integrator.")
+@click.option(
+    "--set",
+    "assignments",
+    multiple=True,
+    metavar="NAME=VALUE",
+    help="A fixed parameter value or initial coordinate / velocity (repeatable).",
+)
+@click.option(
+    "--chunk-size", type=int, default=65_536, show_default=True, help="Members per chunk."
+)
+@click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.nc or a map FILE.png.")
+def ensemble(
+    model, grids, backend, scheduler, observables, t_end, dt, method, assignments, chunk_size, out
+) -> None:
+    """Integrate MODEL over a grid of initial values or parameters."""
+    from ..ensemble import ensemble_of_system, observable_names
+    from ..errors import ModelError
+    from ..model import load
+
+    if out is not None and not out.endswith((".nc", ".png")):
+        raise click.BadParameter("the output file must end in .nc or .png", param_hint="--out")
+    grid = _grids(grids)
+    fixed = _assignments(assignments)
+    names = observable_names(observables or ("final_state",))
+    system = load(model)
+    initial, params = {}, {}
+    for name, values in {**fixed, **grid}.items():
+        if name in system.parameter_names:
+            params[name] = values
+        elif name in system.coordinate_names or name.removesuffix("_dot") in (
+            system.coordinate_names
+        ):
+            initial[name] = values
+        else:
+            raise ModelError(f"'{name}' is neither a parameter nor a coordinate or velocity")
+    with _progress_bar(enabled=True) as progress:
+        result = ensemble_of_system(
+            system, t_end=t_end, dt=dt, method=method, initial=initial, params=params,
+            backend=backend, scheduler=scheduler, observables=names, chunk_size=chunk_size,
+            progress=progress,
+        )  # fmt: skip
+    if out is not None and out.endswith(".nc"):
+        result.to_netcdf(out)
+    elif out is not None:
+        _draw(result, names[0], out)
+    attrs = result.attrs
+    shape = " x ".join(f"{d} {s}" for d, s in zip(result.dims, result.shape, strict=True))
+    click.echo(
+        f"{system.name}: {shape} = {attrs['members']} members, {attrs['method']} "
+        f"dt={attrs['dt']:g}, {attrs['steps']} steps, backend {attrs['backend']}, "
+        f"{attrs['wall_time']:.3f} s, {attrs['trajectory_steps_per_second']:.3g} "
+        "trajectory-steps/s"
+    )
+    for name in names:
+        if name == "flip_time":
+            values = result["flip_time"]
+            click.echo(f"flip_time: {np.mean(np.isfinite(values)):.1%} of the members flip")
+        elif name == "energy_drift":
+            click.echo(f"energy_drift: max {np.nanmax(result['energy_drift']):.3g}")
+    if out is not None:
+        click.echo(f"wrote {out}")
+
+
+def _draw(result, observable: str, path: str) -> None:
+    """A map (2 grid axes) or a curve (1) of ``observable``, saved atomically."""
+    from ..errors import ModelError
+    from ..output.plots import math, new_figure, save_figure
+
+    dataset = result.dataset
+    variable = observable
+    if observable == "final_state":
+        variable = next(str(v) for v in dataset.data_vars if str(v).startswith("final_"))
+    values = dataset[variable]
+    dims = result.dims
+    if len(dims) > 2:
+        raise ModelError("a .png map needs one or two --grid axes (write .nc instead)")
+    figure, axes = new_figure(width=6.5 if len(dims) == 2 else 7.5, height=5.5)
+    axis = axes[0, 0]
+    label = variable.replace("_", " ")
+    if len(dims) == 2:
+        from matplotlib.colors import LogNorm
+
+        x, y = dataset[dims[1]].values, dataset[dims[0]].values
+        data = np.ma.masked_invalid(values.values)
+        norm = None
+        if variable == "flip_time" and data.count() and float(data.max()) > 0:
+            positive = data[data > 0]
+            low = float(positive.min()) if positive.count() else float(result.attrs["dt"])
+            norm = LogNorm(vmin=low, vmax=max(float(data.max()), low * 1.0001))
+            data = np.ma.masked_less_equal(data, 0) if positive.count() else data
+        image = axis.pcolormesh(x, y, data, shading="auto", norm=norm, cmap="viridis")
+        figure.colorbar(image, ax=axis, label=label)
+        axis.set_xlabel(math(dims[1]))
+        axis.set_ylabel(math(dims[0]))
+    else:
+        axis.plot(dataset[dims[0]].values, values.values)
+        axis.set_xlabel(math(dims[0]))
+        axis.set_ylabel(label)
+    attrs = result.attrs
+    axis.set_title(f"{attrs['model']}: {label}, {attrs['method']} dt={attrs['dt']:g}")
+    save_figure(figure, path, dpi=120)

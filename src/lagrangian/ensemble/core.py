@@ -1,0 +1,177 @@
+"""`run_ensemble`: many runs of one compiled system, the single run applied to a batch.
+
+The members (initial values and parameters, broadcast together; see
+:mod:`.members`) are split into chunks of ``chunk_size`` so memory stays
+bounded whatever the ensemble's size; each chunk is integrated by a backend:
+
+- ``numpy``: the single-run fixed-step integrator (rk4 or variational)
+  stepping the chunk's states (2n, B) (:mod:`.numpy_backend`);
+- ``numba``: a parallel (prange over members) RK4 loop around a scalar
+  right-hand side compiled by numba from the same symbolic equations
+  (:mod:`.numba_backend`; rk4 only, optional dependency);
+- ``dask``: the numpy path on the workers of a ``dask.distributed`` cluster
+  (:mod:`.dask_backend`; optional dependency).
+
+The step grid is the single run's (dt, the last step landing on t_end), so a
+member's result equals a single :func:`~lagrangian.integrate.simulate` run
+with the same method and dt.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Iterable, Mapping
+from typing import TYPE_CHECKING
+
+import numpy as np
+import xarray as xr
+
+from ..errors import ModelError
+from ..integrate import method_class
+from ..integrate.base import check_time_span
+from ..integrate.fixed_step import AbstractFixedStepIntegrator, step_grid
+from .members import Members, members
+from .numpy_backend import integrate_chunk
+from .observables import observable_names
+from .result import EnsembleTrajectory
+
+if TYPE_CHECKING:
+    from ..numeric.compiled import CompiledSystem
+
+BACKENDS = ("numpy", "numba", "dask")
+METHODS = ("rk4", "variational")
+#: Members integrated together; memory per chunk is a few dozen (2n)-vectors per member.
+DEFAULT_CHUNK_SIZE = 65_536
+
+
+def run_ensemble(
+    compiled: CompiledSystem,
+    *,
+    initial: Mapping[str, object] | None = None,
+    params: Mapping[str, object] | None = None,
+    t_end: float,
+    method: str = "rk4",
+    dt: float | None = None,
+    backend: str = "numpy",
+    observables: str | Iterable[str] = ("final_state",),
+    save_every: int | None = None,
+    chunk_size: int = DEFAULT_CHUNK_SIZE,
+    scheduler: str | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> EnsembleTrajectory:
+    """Integrate every member from t = 0 to ``t_end``; see the module docstring.
+
+    ``initial`` / ``params`` map names to values (scalars, lists, grids); the
+    rest come from the model.  ``dt`` defaults to t_end / 1000.
+    ``save_every``: also keep every k-th step's state (paths).  ``scheduler``:
+    the address of a dask scheduler (backend ``dask``; default a local cluster
+    of two worker processes).  ``progress`` is called with the fraction done.
+    """
+    t0, t1 = check_time_span((0.0, t_end))
+    if method not in METHODS:
+        raise ModelError(f"unknown ensemble method '{method}' (methods: {', '.join(METHODS)})")
+    if backend not in BACKENDS:
+        raise ModelError(f"unknown backend '{backend}' (backends: {', '.join(BACKENDS)})")
+    names = observable_names(observables)
+    integrator = method_class(method).configure(t_span=(t0, t1), dt=dt)
+    assert isinstance(integrator, AbstractFixedStepIntegrator)
+    integrator.check(compiled)
+    if save_every is not None and (int(save_every) != save_every or save_every < 1):
+        raise ModelError(f"save_every must be a whole number >= 1, not {save_every!r}")
+    if int(chunk_size) != chunk_size or chunk_size < 1:
+        raise ModelError(f"chunk_size must be a whole number >= 1, not {chunk_size!r}")
+    batch = members(compiled, initial, params)
+    if compiled.has_constraints and compiled.project is not None:
+        batch = _projected(compiled, batch)
+    options = {"save_every": save_every, "progress": progress}
+    start = time.perf_counter()
+    if backend == "numpy":
+        parts = _numpy_chunks(compiled, integrator, batch, t1, names, int(chunk_size), **options)
+    elif backend == "numba":
+        from .numba_backend import integrate_numba
+
+        if method != "rk4":
+            raise ModelError("backend 'numba' integrates with method rk4 only")
+        parts = [
+            integrate_numba(compiled, integrator, y0, p, t1, names, save_every=save_every)
+            for y0, p in _chunks(batch, int(chunk_size), progress)
+        ]
+    else:
+        from .dask_backend import integrate_dask
+
+        parts = integrate_dask(
+            compiled, integrator, list(_chunks(batch, int(chunk_size), None)), t1, names,
+            save_every=save_every, scheduler=scheduler, progress=progress,
+        )  # fmt: skip
+    wall_time = time.perf_counter() - start
+    return _assemble(compiled, integrator, batch, parts, names, t1, backend, wall_time, save_every)
+
+
+def _projected(compiled: CompiledSystem, batch: Members) -> Members:
+    y0 = np.asarray(compiled.project(0.0, batch.y0, batch.params), dtype=float)
+    return Members(y0, batch.params, batch.shape, batch.dims, batch.coords)
+
+
+def _chunks(batch: Members, size: int, progress):
+    count = batch.count
+    for start in range(0, count, size):
+        stop = min(count, start + size)
+        p = batch.params[:, start:stop] if batch.params.ndim == 2 else batch.params
+        yield batch.y0[:, start:stop], p
+        if progress is not None:
+            progress(stop / count)
+
+
+def _numpy_chunks(compiled, integrator, batch, t_end, names, size, *, save_every, progress):
+    parts = []
+    total = math.ceil(batch.count / size)
+    for index, (y0, p) in enumerate(_chunks(batch, size, None)):
+        report = None
+        if progress is not None:
+
+            def report(fraction, index=index):
+                progress((index + fraction) / total)
+
+        parts.append(
+            integrate_chunk(
+                compiled, integrator, y0, p, t_end, names, save_every=save_every, progress=report
+            )
+        )
+    return parts
+
+
+def _assemble(compiled, integrator, batch, parts, names, t_end, backend, wall_time, save_every):
+    steps = int(parts[0]["steps"])
+    data_vars = {}
+    keys = [key for key in parts[0] if key not in ("paths", "steps")]
+    for key in keys:
+        values = np.concatenate([part[key] for part in parts]).reshape(batch.shape)
+        data_vars[key] = (batch.dims, values)
+    coords: dict[str, object] = dict(batch.coords)
+    if "paths" in parts[0]:
+        paths = np.concatenate([part["paths"] for part in parts], axis=1)
+        state_names = [*compiled.coordinate_names]
+        state_names += [f"{q}_dot" for q in compiled.coordinate_names]
+        count = paths.shape[-1]
+        for i, name in enumerate(state_names):
+            data_vars[f"path_{name}"] = (
+                (*batch.dims, "t"),
+                paths[i].reshape(*batch.shape, count),
+            )
+        coords["t"] = ("t", step_grid(0.0, t_end, integrator.dt)[::save_every][:count])
+    system = getattr(compiled.equations, "system", None)
+    trajectory_steps = batch.count * steps
+    attrs = {
+        "model": getattr(system, "name", ""),
+        "method": integrator.name,
+        "dt": float(integrator.dt),
+        "t_end": float(t_end),
+        "backend": backend,
+        "members": batch.count,
+        "steps": steps,
+        "wall_time": float(wall_time),
+        "trajectory_steps_per_second": trajectory_steps / wall_time if wall_time > 0 else 0.0,
+        "observables": ",".join(names),
+    }
+    return EnsembleTrajectory(xr.Dataset(data_vars, coords=coords, attrs=attrs))

@@ -1,0 +1,104 @@
+"""The members of an ensemble: initial values and parameters broadcast together.
+
+``initial`` and ``params`` map names to array-likes; all are broadcast
+together (NumPy rules) to the member shape.  A 1-D (or scalar) shape gives the
+dimension ``member``; a grid (ndim >= 2) names each axis after the first
+input that varies along that axis only (``theta1`` x ``theta2``), else
+``axis<k>``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import ModelError
+
+if TYPE_CHECKING:
+    from ..numeric.compiled import CompiledSystem
+
+
+@dataclass(frozen=True)
+class Members:
+    """The batch: y0 (2n, B), params (P,) or (P, B), and the grid's dims and coordinates."""
+
+    y0: np.ndarray
+    params: np.ndarray
+    shape: tuple[int, ...]
+    dims: tuple[str, ...]
+    coords: dict[str, tuple[tuple[str, ...], np.ndarray]]
+
+    @property
+    def count(self) -> int:
+        return self.y0.shape[1]
+
+
+def members(
+    compiled: CompiledSystem,
+    initial: Mapping[str, object] | None,
+    params: Mapping[str, object] | None,
+) -> Members:
+    """The batch of ``compiled``'s states and parameters (see the module docstring)."""
+    initial, params = dict(initial or {}), dict(params or {})
+    state_names = [*compiled.coordinate_names, *(f"{q}_dot" for q in compiled.coordinate_names)]
+    for name in initial:
+        if name not in state_names:
+            raise ModelError(f"'{name}' is not a coordinate or velocity ({', '.join(state_names)})")
+    for name in params:
+        if name not in compiled.parameter_names:
+            known = ", ".join(compiled.parameter_names) or "none"
+            raise ModelError(f"unknown parameter '{name}' (parameters: {known})")
+    given = {**initial, **params}
+    if len(given) != len(initial) + len(params):
+        raise ModelError("a name is given both as an initial value and as a parameter")
+    try:
+        arrays = {name: np.asarray(value, dtype=float) for name, value in given.items()}
+        shape = np.broadcast_shapes(*(a.shape for a in arrays.values())) if arrays else ()
+    except (TypeError, ValueError) as error:
+        raise ModelError(f"the initial values and parameters do not broadcast: {error}") from None
+    shape = shape or (1,)
+    count = int(np.prod(shape))
+    if count == 0:
+        raise ModelError("the ensemble has no members")
+    y0 = np.repeat(compiled.state_vector({})[:, None], count, axis=1)
+    for name in initial:
+        y0[state_names.index(name)] = np.broadcast_to(arrays[name], shape).ravel()
+    base = compiled.parameter_vector({name: 0.0 for name in params})
+    if params:
+        p = np.repeat(base[:, None], count, axis=1)
+        for name in params:
+            p[compiled.parameter_names.index(name)] = np.broadcast_to(arrays[name], shape).ravel()
+    else:
+        p = base
+    dims, coords = _dims(shape, arrays)
+    return Members(y0=y0, params=p, shape=shape, dims=dims, coords=coords)
+
+
+def _dims(shape, arrays):
+    if len(shape) == 1:
+        dims = ("member",)
+        coords = {name: (dims, np.broadcast_to(a, shape).copy()) for name, a in arrays.items()}
+        return dims, coords
+    ndim = len(shape)
+    padded = {name: a.reshape((1,) * (ndim - a.ndim) + a.shape) for name, a in arrays.items()}
+    dims = [f"axis{k}" for k in range(ndim)]
+    along: dict[str, int] = {}
+    for name, a in padded.items():
+        varying = [k for k in range(ndim) if a.shape[k] > 1]
+        if len(varying) == 1:
+            along[name] = varying[0]
+    for k in range(ndim):
+        for name, axis in along.items():
+            if axis == k and shape[k] > 1:
+                dims[k] = name
+                break
+    coords = {}
+    for name, a in padded.items():
+        if name in along:
+            coords[name] = ((dims[along[name]],), a.ravel().copy())
+        else:
+            coords[name] = (tuple(dims), np.broadcast_to(a, shape).copy())
+    return tuple(dims), coords

@@ -1,0 +1,103 @@
+"""What an ensemble reports per member: a registry of observables.
+
+Each observable is computed from the batched stepping of the single-run
+integrator (the state of every member after every step), never from a second
+implementation of the physics:
+
+- ``final_state``: the state at t_end, one variable ``final_<name>`` per
+  coordinate and velocity;
+- ``energy_drift``: |E(t_end) - E(0)| / |E(0)| (absolute when |E(0)| <= 1e-12),
+  the energy function h = q' . dL/dq' - L at both ends;
+- ``flip_time``: the first step time at which some coordinate's |q| exceeds pi
+  (0 when the initial state already does; NaN when it never happens).  For the
+  double pendulum that is the time the first arm flips over.  It needs no
+  state at t_end, so a run asking only for it stops each member when it has
+  flipped.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import ModelError
+
+if TYPE_CHECKING:
+    from ..numeric.compiled import CompiledSystem
+
+#: Below this |E(0)| the energy drift is absolute, as in Trajectory.drift.
+DRIFT_RELATIVE_FLOOR = 1e-12
+
+
+@dataclass(frozen=True)
+class Observable:
+    """One registered observable: its name, what it is, and whether it needs t_end."""
+
+    name: str
+    description: str
+    needs_end: bool  # False: a member may stop as soon as its value is known
+
+
+OBSERVABLES: dict[str, Observable] = {
+    o.name: o
+    for o in (
+        Observable("final_state", "the state at t_end (final_<q>, final_<q>_dot)", True),
+        Observable("energy_drift", "|E(t_end) - E(0)| / |E(0)|", True),
+        Observable("flip_time", "first time some |q| exceeds pi (NaN: never)", False),
+    )
+}
+
+
+def observable_names(names: str | Iterable[str]) -> tuple[str, ...]:
+    """``names`` checked against the registry (one ModelError listing the valid names)."""
+    chosen = (names,) if isinstance(names, str) else tuple(names)
+    if not chosen:
+        raise ModelError("give at least one observable (" + ", ".join(OBSERVABLES) + ")")
+    for name in chosen:
+        if name not in OBSERVABLES:
+            valid = ", ".join(OBSERVABLES)
+            raise ModelError(f"unknown observable '{name}' (observables: {valid})")
+    return tuple(dict.fromkeys(chosen))
+
+
+def stops_early(names: tuple[str, ...]) -> bool:
+    """Whether members may stop once flipped: no observable needs the state at t_end."""
+    return "flip_time" in names and not any(OBSERVABLES[n].needs_end for n in names)
+
+
+def flipped(y: np.ndarray, n: int) -> np.ndarray:
+    """Per member: does some coordinate's |q| exceed pi?  (y (2n, B))."""
+    return np.any(np.abs(y[:n]) > np.pi, axis=0)
+
+
+def finish(
+    compiled: CompiledSystem,
+    names: tuple[str, ...],
+    *,
+    t0: float,
+    y0: np.ndarray,
+    t1: float,
+    y1: np.ndarray,
+    params: np.ndarray,
+    flip_time: np.ndarray | None,
+) -> dict[str, np.ndarray]:
+    """The observables' values (each of shape (B,)) from the start, the end and the flips."""
+    values: dict[str, np.ndarray] = {}
+    state_names = (*compiled.coordinate_names, *(f"{q}_dot" for q in compiled.coordinate_names))
+    for name in names:
+        if name == "final_state":
+            for i, state in enumerate(state_names):
+                values[f"final_{state}"] = np.array(y1[i], dtype=float)
+        elif name == "energy_drift":
+            start = np.asarray(compiled.energy(t0, y0, params), dtype=float)
+            end = np.asarray(compiled.energy(t1, y1, params), dtype=float)
+            deviation = np.abs(end - start)
+            scale = np.abs(start)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                values[name] = np.where(scale > DRIFT_RELATIVE_FLOOR, deviation / scale, deviation)
+        elif name == "flip_time":
+            values[name] = np.array(flip_time, dtype=float)
+    return values
