@@ -156,3 +156,164 @@ def _is_polynomial_factor(factor: sympy.Expr) -> bool:
 def is_zero(expr: sympy.Expr) -> bool:
     """True when ``expr`` is identically zero after bounded simplification."""
     return tidy(expr, trig=True) == 0
+
+
+# -- large systems: SymEngine arithmetic, converted to and from SymPy exactly --------------
+
+#: Systems with more coordinates than this are assembled and derived with SymEngine
+#: (:mod:`lagrangian.derive.fast`); smaller ones keep the readable route above.
+FAST_MIN_COORDINATES = 7
+
+_FUNCTIONS = ("sin", "cos", "tan", "exp", "log", "sinh", "cosh", "tanh", "asin", "acos", "atan")
+
+
+def to_symengine(expr: sympy.Expr, cache: dict | None = None):
+    """``expr`` as a SymEngine expression, or None when it holds something SymEngine lacks.
+
+    Built node by node (symbols by name, exact numbers, the elementary functions),
+    so nothing is parsed; ``cache`` shares the work between calls.
+    """
+    import symengine as se
+
+    cache = {} if cache is None else cache
+
+    def convert(node):
+        if node in cache:
+            return cache[node]
+        if node.is_Symbol:
+            result = se.Symbol(node.name)
+        elif node.is_Integer:
+            result = se.Integer(int(node))
+        elif node.is_Rational:
+            result = se.Rational(int(node.p), int(node.q))
+        elif node.is_Add:
+            result = se.Add(*(convert(a) for a in node.args))
+        elif node.is_Mul:
+            result = se.Mul(*(convert(a) for a in node.args))
+        elif node.is_Pow:
+            result = se.Pow(convert(node.base), convert(node.exp))
+        elif node is sympy.pi:
+            result = se.pi
+        elif node.is_Function and node.func.__name__ in _FUNCTIONS and len(node.args) == 1:
+            result = getattr(se, node.func.__name__)(convert(node.args[0]))
+        else:
+            raise _Unsupported
+        cache[node] = result
+        return result
+
+    try:
+        return convert(expr)
+    except _Unsupported:
+        return None
+
+
+class _Unsupported(Exception):
+    pass
+
+
+def to_sympy(expr, symbols: dict[str, sympy.Symbol], cache: dict | None = None) -> sympy.Expr:
+    """The SymPy form of a SymEngine expression, with the model's own symbols (by name).
+
+    Shared subexpressions (the sum of the masses below a link) convert once per ``cache``.
+    SymEngine's sums and products are already flat, combined and coefficient-first, so
+    they are built without SymPy's re-evaluation (the costly part of the conversion).
+    """
+    import symengine as se
+
+    cache = {} if cache is None else cache
+    functions = {getattr(se, name): getattr(sympy, name) for name in _FUNCTIONS}
+
+    def convert(node):
+        found = cache.get(node)
+        if found is not None:
+            return found
+        kind = type(node)
+        if kind is se.Symbol:
+            result = symbols.get(node.name) or sympy.Symbol(node.name)
+        elif kind is se.Add:
+            result = sympy.Add._from_args([convert(a) for a in node.args])
+        elif kind is se.Mul:
+            result = sympy.Mul._from_args([convert(a) for a in node.args])
+        elif kind is se.Pow:
+            base, exponent = node.args
+            result = sympy.Pow(convert(base), convert(exponent), evaluate=False)
+        elif kind in functions:
+            # SymEngine's form is already canonical; SymPy's eval would redo it slowly
+            result = functions[kind](convert(node.args[0]), evaluate=False)
+        else:
+            result = node._sympy_()  # numbers and constants: no symbols inside
+        cache[node] = result
+        return result
+
+    return convert(expr)
+
+
+def combine_angles(expr):
+    """c cos a cos b + c sin a sin b -> c cos(a - b) and c cos^2 a + c sin^2 a -> c (SymEngine).
+
+    The targeted rule behind the mass matrix of a chain (M_ij ~ l_i l_j cos(theta_i -
+    theta_j)), linear in the number of terms where ``trigsimp`` searches; terms it does
+    not pair are kept as they are, so the result is always equal to ``expr``.
+    """
+    import symengine as se
+
+    pairs: dict[tuple, dict[type, object]] = {}
+    kept = []
+    for term in _args(se.expand(expr), se.Add):
+        rest, trig = [], []
+        for factor in _args(term, se.Mul):
+            if type(factor) in (se.sin, se.cos):
+                trig.append(factor)
+            elif (
+                type(factor) is se.Pow
+                and type(factor.args[0]) in (se.sin, se.cos)
+                and (factor.args[1] == 2)
+            ):
+                trig += [factor.args[0]] * 2
+            else:
+                rest.append(factor)
+        kind = type(trig[0]) if len(trig) == 2 and type(trig[0]) is type(trig[1]) else None
+        key = (se.Mul(*rest), frozenset(f.args[0] for f in trig)) if kind else None
+        if key is None or kind in pairs.setdefault(key, {}):
+            kept.append(term)
+        else:
+            pairs[key][kind] = term
+    for (coefficient, angles), found in pairs.items():
+        if len(found) == 2:
+            a, b = (*angles, *angles)[:2]
+            kept.append(coefficient * se.cos(a - b))
+        else:
+            kept += found.values()
+    return se.Add(*kept)
+
+
+def factor_common(terms):
+    """The sum of ``terms`` (SymEngine) with the factors common to every term pulled out.
+
+    g l1 m1 + g l1 m2 -> g l1 (m1 + m2): grouping a chain's masses keeps its equations
+    O(n^2) in size rather than O(n^3).
+    """
+    import symengine as se
+
+    total = se.Add(*terms)
+    if type(total) is not se.Add:
+        return total
+    common: dict | None = None
+    for term in total.args:
+        powers = {}
+        for factor in _args(term, se.Mul):
+            base, exponent = factor.args if type(factor) is se.Pow else (factor, se.Integer(1))
+            if not factor.is_Number and exponent.is_Integer and exponent > 0:
+                powers[base] = exponent
+        if common is None:
+            common = powers
+        else:
+            common = {b: min(e, powers[b]) for b, e in common.items() if b in powers}
+        if not common:
+            return total
+    factor = se.Mul(*(b**e for b, e in common.items()))
+    return factor * se.Add(*(term / factor for term in total.args))
+
+
+def _args(expr, kind) -> tuple:
+    return expr.args if type(expr) is kind else (expr,)

@@ -7,17 +7,20 @@ For each coordinate, with p_i = dL/dq_i',
 so the equation d/dt p_i - dL/dq_i - Q_i + dF/dq_i' = 0 is linear in the
 accelerations, with coefficients M_ij = dp_i/dq_j' (the Hessian of L in the
 velocities).  No symbolic inverse and no unbounded simplification is used.
+Systems with ``FAST_MIN_COORDINATES`` coordinates or more (and no constraints) are
+derived by :func:`lagrangian.derive.fast.derive_large`: the same equations, untidied.
 """
 
 from __future__ import annotations
 
 import sympy
 
-from ..algebra import positive_content, tidy
+from ..algebra import FAST_MIN_COORDINATES, positive_content, tidy
 from ..errors import ModelError, SingularMassMatrixError
 from ..model import System
 from .constraints import constraint_forms, solve_constrained
 from .equations import CoordinateDerivation, EquationsOfMotion
+from .fast import derive_large
 from .solve import check_independent, check_regular, solve_accelerations
 
 
@@ -33,6 +36,10 @@ def derive(system: System) -> EquationsOfMotion:
         if part.has(*accelerations):
             raise ModelError("accelerations (q_ddot) are not allowed", field=where)
 
+    if len(coordinates) >= FAST_MIN_COORDINATES and not system.constraints:
+        large = derive_large(system)
+        if large is not None:
+            return large
     forms = constraint_forms(system) if system.constraints else None
     n = len(coordinates)
     state = system.state_symbols

@@ -8,15 +8,29 @@ The kinetic energy of points r_k(q, t) is assembled in the quadratic form
 with J_k = dr_k/dq, so each (small) entry is simplified on its own: the double
 pendulum's T comes out as in the textbook, and the cost grows with the number
 of entries, not with the size of an expanded sum of squares.
+
+Above ``FAST_MIN_COORDINATES`` coordinates the same sums are formed with SymEngine:
+each distinct product J_k[:, i] . J_k[:, j] is simplified once by a targeted rule
+(:func:`~lagrangian.algebra.combine_angles`, sum of angles) and the masses sharing it
+are added, M_ij = (m_j + ... + m_n) l_i l_j cos(theta_i - theta_j) for a chain.
 """
 
 from __future__ import annotations
 
+from collections import defaultdict
 from collections.abc import Mapping, Sequence
 
 import sympy
 
-from ..algebra import is_zero, tidy
+from ..algebra import (
+    FAST_MIN_COORDINATES,
+    combine_angles,
+    factor_common,
+    is_zero,
+    tidy,
+    to_symengine,
+    to_sympy,
+)
 from ..errors import ModelError
 from ..symbols import Coordinate
 from .components import Gravity, Particle, RigidBody2D, Spring
@@ -31,6 +45,10 @@ def kinetic_energy(
     """T of the particles and planar rigid bodies (translation of the centre + rotation)."""
     q = [c.q for c in coordinates]
     n = len(q)
+    if n >= FAST_MIN_COORDINATES:
+        fast = _kinetic_energy_large(coordinates, time, particles, bodies)
+        if fast is not None:
+            return fast
     mass_matrix = [[sympy.Integer(0)] * n for _ in range(n)]
     linear = [sympy.Integer(0)] * n
     constant = sympy.Integer(0)
@@ -62,16 +80,73 @@ def kinetic_energy(
     return sympy.Add(*terms)
 
 
+def _kinetic_energy_large(
+    coordinates: Sequence[Coordinate],
+    time: sympy.Symbol,
+    particles: Sequence[Particle],
+    bodies: Sequence[RigidBody2D],
+) -> sympy.Expr | None:
+    """T as in :func:`kinetic_energy`, assembled with SymEngine (None: not expressible there)."""
+    import symengine as se
+
+    cache: dict = {}
+    points = [(p.mass, p.position) for p in particles]
+    points += [(b.mass, b.center) for b in bodies]
+    points += [(b.inertia, (b.angle,)) for b in bodies]
+    q = [to_symengine(c.q, cache) for c in coordinates]
+    t = to_symengine(time, cache)
+    products: dict = {}
+
+    def dot(u, v):
+        if (u, v) not in products:
+            products[u, v] = combine_angles(se.Add(*(a * b for a, b in zip(u, v, strict=True))))
+        return products[u, v]
+
+    quadratic: dict = defaultdict(lambda: defaultdict(list))  # (i, j) -> {J_i . J_j: masses}
+    linear: dict = defaultdict(lambda: defaultdict(list))
+    constant: dict = defaultdict(list)
+    symbols = {c.q.name: c.q for c in coordinates} | {time.name: time}
+    for mass, position in points:
+        m = to_symengine(mass, cache)
+        r = [to_symengine(x, cache) for x in position]
+        if m is None or any(x is None for x in r):
+            return None
+        for x in (mass, *position):
+            symbols |= {s.name: s for s in x.free_symbols}
+        columns = [tuple(se.diff(x, qi) for x in r) for qi in q]
+        explicit = tuple(se.diff(x, t) for x in r)
+        active = [i for i, column in enumerate(columns) if any(x != 0 for x in column)]
+        for a, i in enumerate(active):
+            for j in active[a:]:
+                quadratic[i, j][dot(columns[i], columns[j])].append(m)
+        if any(x != 0 for x in explicit):
+            for i in active:
+                linear[i][dot(columns[i], explicit)].append(m)
+            constant[dot(explicit, explicit)].append(m)
+
+    def total(groups):
+        return se.Add(*(factor_common(masses) * product for product, masses in groups.items()))
+
+    velocities = [to_symengine(c.q_dot, cache) for c in coordinates]
+    symbols |= {c.q_dot.name: c.q_dot for c in coordinates}
+    terms = [total(constant) / 2]
+    for (i, j), groups in quadratic.items():
+        weight = velocities[i] ** 2 / 2 if i == j else velocities[i] * velocities[j]
+        terms.append(total(groups) * weight)
+    terms += [total(groups) * velocities[i] for i, groups in linear.items()]
+    return to_sympy(se.Add(*terms), symbols)
+
+
 def gravity_potential(
     gravity: Gravity, particles: Sequence[Particle], bodies: Sequence[RigidBody2D]
 ) -> sympy.Expr:
     """V = -g sum_k m_k (direction . r_k): height measured against the direction of gravity."""
+    points = [(p.mass, p.position) for p in particles] + [(b.mass, b.center) for b in bodies]
+    large = len(points) >= FAST_MIN_COORDINATES  # tidy costs more than it gives there
     terms = []
-    for mass, position in [(p.mass, p.position) for p in particles] + [
-        (b.mass, b.center) for b in bodies
-    ]:
+    for mass, position in points:
         height = -sum(d * x for d, x in zip(gravity.direction, position, strict=True))
-        terms.append(mass * gravity.g * tidy(height))
+        terms.append(mass * gravity.g * (height if large else tidy(height)))
     return sympy.Add(*terms)
 
 

@@ -1,0 +1,210 @@
+"""Lagrange's equations of large systems: the chain rule on SymEngine term tables.
+
+The same equations as :mod:`lagrangian.derive.euler_lagrange` (the canonical form
+is on :class:`~lagrangian.derive.equations.EquationsOfMotion`),
+
+    p_i = dL/dq_i',  M_ij = dp_i/dq_j',
+    f_i = dL/dq_i - sum_j dp_i/dq_j q_j' - dp_i/dt + Q_i - dF/dq_i',
+
+but every expression is held as a table {state monomial: coefficient}, where the
+monomial depends on (q, q', t) and the coefficient only on parameters.  A derivative
+touches only the monomials that hold the symbol (an index finds them), equal
+monomials are added as they appear (the q_i' q_j' terms of a chain cancel there),
+and common factors of a coefficient are pulled out (g l_1 (m_1 + ... + m_n)), so an
+n-link chain costs O(n^2) terms and no simplification is searched for.  SymEngine
+does the arithmetic; the results are converted to SymPy once, at the end.
+
+Used above ``FAST_MIN_COORDINATES`` coordinates for systems without constraints
+whose expressions SymEngine can hold; the steps then hold the untidied terms.
+"""
+
+from __future__ import annotations
+
+import random
+from collections import defaultdict
+
+import numpy as np
+import sympy
+
+from ..algebra import factor_common, to_symengine, to_sympy
+from ..model import System
+from .equations import CoordinateDerivation, EquationsOfMotion
+from .solve import check_regular, solve_accelerations
+
+
+class _Tables:
+    """Splitting SymEngine expressions into {monomial: coefficient} over the state symbols."""
+
+    def __init__(self, state):
+        import symengine as se
+
+        self.se = se
+        self.state = frozenset(state)
+        self.symbols: dict = {}  # monomial -> its state symbols
+
+    def split(self, expr, into=None, scale=None) -> dict:
+        """Add ``scale * expr`` term by term to ``into`` ({monomial: [coefficients]})."""
+        se = self.se
+        into = defaultdict(list) if into is None else into
+        one = se.Integer(1) if scale is None else scale
+        state = self.state
+        for term in _args(expr, se.Add):
+            if not term.free_symbols & state:
+                into[se.Integer(1)].append(one * term)
+                continue
+            coefficient, dependent = [one], []
+            for factor in _args(term, se.Mul):
+                (dependent if factor.free_symbols & state else coefficient).append(factor)
+            outer = se.Mul(*coefficient)
+            if not any(_has_sum(factor) for factor in dependent):
+                into[se.Mul(*dependent)].append(outer)
+                continue
+            for part in _args(se.expand(se.Mul(*dependent)), se.Add):
+                inner, monomial = [outer], []
+                for factor in _args(part, se.Mul):
+                    (monomial if factor.free_symbols & state else inner).append(factor)
+                into[se.Mul(*monomial)].append(se.Mul(*inner))
+        return into
+
+    def table(self, lists: dict) -> dict:
+        """{monomial: coefficient} from {monomial: [coefficients]}, zeros dropped."""
+        result = {}
+        for monomial, coefficients in lists.items():
+            coefficient = factor_common(coefficients)
+            if coefficient != 0:
+                result[monomial] = coefficient
+                if monomial not in self.symbols:
+                    self.symbols[monomial] = monomial.free_symbols & self.state
+        return result
+
+    def diff(self, table: dict, symbol, weight=None, into=None) -> dict:
+        """``weight * d table / d symbol`` added to ``into`` ({monomial: [coefficients]})."""
+        into = defaultdict(list) if into is None else into
+        for monomial, coefficient in table.items():
+            if symbol in self.symbols[monomial]:
+                derivative = self.se.diff(monomial, symbol)
+                if weight is not None:
+                    derivative = derivative * weight
+                self.split(derivative, into, coefficient)
+        return into
+
+    def expr(self, table: dict):
+        return self.se.Add(*(c * m for m, c in table.items()))
+
+
+def derive_large(system: System) -> EquationsOfMotion | None:
+    """The equations of motion of ``system`` by term tables; None where SymEngine cannot hold it."""
+    coordinates = system.coordinates
+    cache: dict = {}
+    converted = {
+        "lagrangian": to_symengine(system.lagrangian, cache),
+        "dissipation": to_symengine(system.dissipation, cache),
+    }
+    forces = {name: to_symengine(q, cache) for name, q in system.forces.items()}
+    if any(x is None for x in (*converted.values(), *forces.values())):
+        return None
+    import symengine as se
+
+    q = [to_symengine(c.q, cache) for c in coordinates]
+    v = [to_symengine(c.q_dot, cache) for c in coordinates]
+    t = to_symengine(system.time, cache)
+    accelerations = [to_symengine(c.q_ddot, cache) for c in coordinates]
+    tables = _Tables([*q, *v, t])
+    lagrangian = tables.table(tables.split(converted["lagrangian"]))
+    dissipation = tables.table(tables.split(converted["dissipation"]))
+
+    symbols = {s.name: s for s in system.lagrangian.free_symbols | system.dissipation.free_symbols}
+    for force in system.forces.values():
+        symbols |= {s.name: s for s in force.free_symbols}
+    for c in coordinates:
+        symbols |= {c.q.name: c.q, c.q_dot.name: c.q_dot, c.q_ddot.name: c.q_ddot}
+    symbols[system.time.name] = system.time
+    back: dict = {}
+
+    def sympy_of(value) -> sympy.Expr:
+        return to_sympy(value, symbols, back)
+
+    mass_rows, forcing, steps, numeric_rows = [], [], [], []
+    for i, c in enumerate(coordinates):
+        momentum = tables.table(tables.diff(lagrangian, v[i]))
+        row = [tables.expr(tables.table(tables.diff(momentum, vj))) for vj in v]
+        rate = tables.diff(momentum, t)
+        for qj, vj in zip(q, v, strict=True):
+            tables.diff(momentum, qj, vj, rate)
+        velocity_terms = tables.table(rate)
+        gradient = tables.table(tables.diff(lagrangian, q[i]))
+        friction = tables.table(tables.diff(dissipation, v[i]))
+        total = defaultdict(list)
+        for table, sign in [(gradient, 1), (velocity_terms, -1), (friction, -1)]:
+            for monomial, coefficient in table.items():
+                total[monomial].append(sign * coefficient)
+        if c.name in forces:
+            tables.split(forces[c.name], total)
+        rest = tables.expr(tables.table(total))
+
+        numeric_rows.append(row)
+        inertia = se.Add(*(m * a for m, a in zip(row, accelerations, strict=True)))
+        mass_rows.append([sympy_of(m) for m in row])
+        forcing.append(sympy_of(rest))
+        steps.append(
+            CoordinateDerivation(
+                coordinate=c,
+                momentum=sympy_of(tables.expr(momentum)),
+                momentum_rate=sympy_of(inertia + tables.expr(velocity_terms)),
+                force_gradient=sympy_of(tables.expr(gradient)),
+                generalized_force=system.forces.get(c.name, sympy.Integer(0)),
+                dissipation_force=sympy_of(tables.expr(friction)),
+                constraint_force=sympy.Integer(0),
+                equation=sympy_of(inertia - rest),
+            )
+        )
+    n = len(coordinates)
+    mass_matrix = sympy.ImmutableMatrix(n, n, [m for row in mass_rows for m in row])
+    if not _regular_at_random_points(se.Matrix(numeric_rows)):
+        check_regular(mass_matrix, coordinates)  # raises with the diagnosis
+    forcing_vector = sympy.ImmutableMatrix(n, 1, forcing)
+    state = system.state_symbols
+    return EquationsOfMotion(
+        system=system,
+        equations=tuple(step.equation for step in steps),
+        mass_matrix=mass_matrix,
+        forcing=forcing_vector,
+        accelerations=solve_accelerations(mass_matrix, forcing_vector, coordinates, state),
+        steps=tuple(steps),
+    )
+
+
+def _regular_at_random_points(matrix) -> bool:
+    """Full numeric rank at one of three random points (as in ``check_regular``, compiled)."""
+    import symengine as se
+
+    arguments = sorted(matrix.free_symbols, key=str)
+    rng = random.Random(20261122)
+    n = matrix.rows
+    for _ in range(3):
+        values = {a: se.RealDouble(rng.uniform(0.5, 2.5)) for a in arguments}
+        try:
+            numeric = np.array(matrix.subs(values).tolist(), dtype=float)
+        except (TypeError, ValueError, RuntimeError):
+            return False
+        if not np.all(np.isfinite(numeric)):
+            return False
+        diagonal = np.abs(np.diag(numeric))
+        if np.any(diagonal == 0):
+            return False
+        scaled = numeric / np.sqrt(np.outer(diagonal, diagonal))
+        if np.linalg.matrix_rank(scaled, tol=1e-9 * np.abs(scaled).max()) == n:
+            return True
+    return False
+
+
+def _has_sum(factor) -> bool:
+    """A sum, or a power of one, that expansion would distribute (not inside a function)."""
+    import symengine as se
+
+    kind = type(factor)
+    return kind is se.Add or (kind is se.Pow and type(factor.args[0]) is se.Add)
+
+
+def _args(expr, kind) -> tuple:
+    return expr.args if type(expr) is kind else (expr,)

@@ -1,0 +1,107 @@
+"""The large-system route (SymEngine term tables) against the readable route and the closed form.
+
+Above ``FAST_MIN_COORDINATES`` coordinates, T is assembled and Lagrange's equations
+are derived by :mod:`lagrangian.derive.fast`.  Its M and f must equal the readable
+route's at random points (forced onto small systems, every worked example among
+them) and the closed-form n-link pendulum's; its size must grow like n^2.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+import pytest
+import sympy
+
+import lagrangian as lg
+from helpers import assert_close, evaluate, random_point
+from lagrangian.examples import example_names, example_path
+
+from .test_chain_pendulum import chain_pendulum, check_chain
+
+
+def _derive(build, monkeypatch, threshold):
+    euler_lagrange = importlib.import_module("lagrangian.derive.euler_lagrange")
+    energy = importlib.import_module("lagrangian.model.energy")
+    with monkeypatch.context() as patch:
+        patch.setattr(euler_lagrange, "FAST_MIN_COORDINATES", threshold)
+        patch.setattr(energy, "FAST_MIN_COORDINATES", threshold)
+        system = build()
+        return system, system.equations_of_motion()
+
+
+def _assert_same(readable, fast, rng, count=3):
+    (system, slow_eom), (_, fast_eom) = readable, fast
+    n = len(system.coordinates)
+    for _ in range(count):
+        point = random_point(system, rng)
+        for i in range(n):
+            for j in range(n):
+                assert_close(
+                    evaluate(fast_eom.mass_matrix[i, j], point),
+                    evaluate(slow_eom.mass_matrix[i, j], point),
+                    what=f"M[{i},{j}]",
+                )
+            assert_close(
+                evaluate(fast_eom.forcing[i], point),
+                evaluate(slow_eom.forcing[i], point),
+                what=f"f[{i}]",
+            )
+            inertia = sum(
+                evaluate(fast_eom.mass_matrix[i, j], point) * point[c.q_ddot.name]
+                for j, c in enumerate(system.coordinates)
+            )
+            assert_close(
+                evaluate(fast_eom.equations[i], point),
+                inertia - evaluate(fast_eom.forcing[i], point),
+                scale=1.0,
+                what=f"equation {i} = (M q'' - f)[{i}]",
+            )
+
+
+@pytest.mark.parametrize("name", [n for n in example_names()])
+def test_the_large_route_gives_the_worked_examples_equations(name, rng, monkeypatch):
+    def build():
+        return lg.load(example_path(name))
+
+    readable = _derive(build, monkeypatch, threshold=10_000)
+    if readable[0].constraints or readable[0].functions:
+        pytest.skip("constraints and unspecified functions keep the readable route")
+    _assert_same(readable, _derive(build, monkeypatch, threshold=1), rng)
+
+
+@pytest.mark.parametrize("n", [2, 3, 4])
+def test_the_large_route_gives_the_readable_chain(n, rng, monkeypatch):
+    def build():
+        return chain_pendulum(n)
+
+    readable = _derive(build, monkeypatch, threshold=10_000)
+    fast = _derive(build, monkeypatch, threshold=1)
+    _assert_same(readable, fast, rng)
+
+
+@pytest.mark.parametrize("n", [8, 12, 20])
+def test_chain_matches_the_closed_form(n, rng):
+    check_chain(n, rng, count=2)
+
+
+def test_the_mass_matrix_of_a_chain_is_grouped():
+    """M_ij = (m_j + ... + m_n) l_i l_j cos(theta_i - theta_j): one term per entry."""
+    system = chain_pendulum(8)
+    entry = system.equations_of_motion().mass_matrix[2, 5]
+    assert any(factor.func is sympy.cos for factor in sympy.Mul.make_args(entry))
+    assert len(sympy.Add.make_args(sympy.expand(entry))) == 3  # m6 + m7 + m8
+
+
+def _cse_size(n: int) -> int:
+    eom = chain_pendulum(n).equations_of_motion()
+    replacements, reduced = sympy.cse([*eom.mass_matrix, *eom.forcing], order="none")
+    return sum(sympy.count_ops(e) for _, e in replacements) + sum(
+        sympy.count_ops(e) for e in reduced
+    )
+
+
+def test_size_grows_like_n_squared():
+    """Doubling the links multiplies the operation count after CSE by about 4, not 8."""
+    ratio = _cse_size(16) / _cse_size(8)
+    assert ratio < 5.5
