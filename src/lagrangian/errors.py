@@ -61,7 +61,7 @@ class ModelError(LagrangianError):
         quoted = ""
         if self.text is not None:
             shown = self.text if len(self.text) <= 60 else self.text[:57] + "..."
-            quoted = f" in {_single_line(repr(shown))}"
+            quoted = f" in '{_visible(shown)}'"
         prefix = f"{where}: " if where else ""
         return _single_line(f"{prefix}{self.message}{quoted}")
 
@@ -77,6 +77,11 @@ class ModelError(LagrangianError):
 
 class SingularMassMatrixError(LagrangianError):
     """The equations cannot be solved for the accelerations."""
+
+
+def _visible(text: str) -> str:
+    """The text as typed (LaTeX backslashes intact), control characters escaped."""
+    return "".join(ch if ch.isprintable() else ascii(ch)[1:-1] for ch in text)
 
 
 def _single_line(message: str) -> str:
