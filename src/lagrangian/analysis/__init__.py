@@ -12,6 +12,7 @@ from .conserved import (
     energy_function,
     noether_charge,
 )
+from .constrained import ConstrainedEquilibrium, constrained_equilibria
 from .equilibria import Equilibrium, equilibria
 from .hamiltonian import Hamiltonian, hamiltonian
 from .linear import LinearizedSystem, NormalModes, Stability, linearize
@@ -22,6 +23,7 @@ __all__ = [
     "Analysis",
     "Conservation",
     "ConservedQuantity",
+    "ConstrainedEquilibrium",
     "Equilibrium",
     "Hamiltonian",
     "LinearizedSystem",
@@ -31,6 +33,7 @@ __all__ = [
     "Stability",
     "analyze",
     "conserved_quantities",
+    "constrained_equilibria",
     "energy_function",
     "equilibria",
     "hamiltonian",

@@ -205,6 +205,7 @@ class ModeAnalysis:
         if any(k % 2 and tidy(c, trig=True) != 0 for (k,), c in terms):
             return None  # not even in w (circulatory and gyroscopic forces together)
         in_s = sum((c * s ** (k // 2) for (k,), c in terms if k % 2 == 0), sympy.Integer(0))
+        in_s = sympy.fraction(sympy.together(in_s))[0]  # parameters in denominators: same roots
         factors = [(in_s, 1)]
         if sympy.degree(in_s, s) > 2:
             if sympy.count_ops(in_s) > FACTOR_MAX_OPS:

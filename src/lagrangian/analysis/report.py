@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from .conserved import Conservation, conserved_quantities
+from .constrained import constrained_equilibria
 from .equilibria import Equilibrium, equilibria
 from .hamiltonian import Hamiltonian, hamiltonian
 from .routh import Reduction, cyclic_coordinates, reduce
@@ -49,7 +50,10 @@ def analyze(eom: EquationsOfMotion) -> Analysis:
             notes.append(f"Hamiltonian: {error.message}")
     points: tuple[Equilibrium, ...] = ()
     if constrained:
-        notes.append("equilibria: not computed for systems with constraints")
+        try:
+            points = constrained_equilibria(eom)
+        except ModelError as error:
+            notes.append(f"equilibria: {error.message}")
     else:
         try:
             points = equilibria(eom)

@@ -41,7 +41,9 @@ def analysis_document(analysis: Analysis) -> dict:
 
 
 def _equilibrium_document(e) -> dict:
-    return {
+    multipliers = getattr(e, "multipliers", None)
+    extra = {"multipliers": {k: str(v) for k, v in multipliers.items()}} if multipliers else {}
+    return extra | {
         "point": {name: str(value) for name, value in e.point.items()},
         "stable": e.stable,
         "stability": e.modes.stability.value,
@@ -94,6 +96,10 @@ def _equilibrium_lines(points, show) -> list[str]:
         )
         numeric = "  [numeric, at the default parameter values]" if e.numeric else ""
         lines.append(f"  {point}: {e.modes.stability.value}{numeric}")
+        multipliers = getattr(e, "multipliers", None)
+        if multipliers:
+            forces = ", ".join(f"{unicode_name(k)} = {show(v)}" for k, v in multipliers.items())
+            lines.append(f"    constraint forces at rest: {forces}")
         if e.modes.omega_squared:
             squares = ", ".join(show(w2) for w2 in e.modes.omega_squared)
             lines.append(f"    squared angular frequencies: {squares}")
