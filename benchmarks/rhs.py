@@ -6,7 +6,8 @@ Systems: the double pendulum (built-in example) and an N-link pendulum built
 from particles.  References, written by hand in the same run: the textbook
 double-pendulum rhs (explicit 2x2 formulas), and the N-link closed form
 M theta'' = f (mu_ij l_i l_j cos(theta_i - theta_j), vectorised) solved with
-``np.linalg.solve``.  Printed: the median over ``--repeat`` timings of
+``np.linalg.solve``, and the same closed form as a ``numba.njit`` kernel for
+the numba backend row (when numba is installed).  Printed: the median over ``--repeat`` timings of
 µs/call for one state, per state for a batch of 1000, and the ratio
 compiled / hand-written.  This is not a test: nothing is asserted.
 """
@@ -77,6 +78,58 @@ def chain_by_hand(n: int):
         return np.concatenate([w, np.linalg.solve(matrix, forcing)])
 
     return rhs
+
+
+def chain_by_hand_numba(n: int):
+    """``chain_by_hand(n)`` as a numba kernel (loops, ``np.linalg.solve``); None without numba."""
+    try:
+        import numba
+    except ImportError:
+        return None
+
+    @numba.njit
+    def rhs(t, y, params):
+        m, l, g = params[:n], params[n : 2 * n], params[2 * n]
+        th, w = y[:n], y[n:]
+        tail = np.empty(n)
+        total = 0.0
+        for i in range(n - 1, -1, -1):
+            total += m[i]
+            tail[i] = total
+        matrix = np.empty((n, n))
+        forcing = np.empty(n)
+        for i in range(n):
+            forcing[i] = -tail[i] * g * l[i] * np.sin(th[i])
+            for j in range(n):
+                mu_ll = tail[max(i, j)] * l[i] * l[j]
+                matrix[i, j] = mu_ll * np.cos(th[i] - th[j])
+                forcing[i] -= mu_ll * np.sin(th[i] - th[j]) * w[j] ** 2
+        out = np.empty(2 * n)
+        out[:n] = w
+        out[n:] = np.linalg.solve(matrix, forcing)
+        return out
+
+    return rhs
+
+
+def numba_row(system, params, y, hand, hand_params, repeat: int, label: str) -> None:
+    """µs per call of the numba backend's rhs against a hand-written numba kernel."""
+    if hand is None:
+        print(f"\nnumba backend, {label}: numba not installed, skipped")
+        return
+    start = time.perf_counter()
+    compiled = compile_equations(system.equations_of_motion(), backend="numba")
+    compiled.rhs(0.0, y, params)
+    setup = time.perf_counter() - start
+    hand(0.0, y, hand_params)  # jit before timing
+    error = agreement(compiled, params, hand, hand_params, y)
+    ours = microseconds(compiled.rhs, 0.0, y, params, repeat=repeat)
+    reference = microseconds(hand, 0.0, y, hand_params, repeat=repeat)
+    print(f"\nnumba backend, {label} (derive + generate + jit {setup:.1f} s; agree {error:.1e})")
+    print(f"  hand-written numba kernel                {reference:9.2f} µs")
+    print(
+        f"  numba backend rhs                        {ours:9.2f} µs   ratio {ours / reference:.2f}"
+    )
 
 
 def microseconds(function, *args, repeat: int) -> float:
@@ -152,6 +205,10 @@ def main() -> None:
     print(f"\nbatch of {BATCH} states, µs per state")
     print(f"  compiled, double pendulum                {double_batch:9.3f}")
     print(f"  compiled, {n}-link pendulum               {chain_batch:9.3f}")
+    numba_row(
+        chain_pendulum(n), chain_params, yn, chain_by_hand_numba(n), hand_chain_params, repeat,
+        f"{n}-link pendulum",
+    )  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -6,7 +6,9 @@ For the double pendulum and an N-link pendulum built from particles: µs per
 ``rhs`` call (ours vs hand-written, same run), and the wall time of a complete
 DOP853 run (rtol 1e-10, atol 1e-12) through ``lagrangian``'s ``simulate``
 against ``scipy.integrate.solve_ivp`` driving the hand-written rhs with the
-same settings.  PyDy is timed too when it is installed.  Medians of
+same settings; for the N-link pendulum also the numba backend against
+``solve_ivp`` driving the hand-written numba kernel (``rhs.chain_by_hand_numba``),
+with the first-call (generate + jit) time.  PyDy is timed too when it is installed.  Medians of
 ``--repeat`` runs; ratios > 1 mean we are slower.  Not a test: nothing is
 asserted.
 """
@@ -23,7 +25,13 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from rhs import chain_by_hand, chain_pendulum, double_pendulum_by_hand, microseconds
+from rhs import (
+    chain_by_hand,
+    chain_by_hand_numba,
+    chain_pendulum,
+    double_pendulum_by_hand,
+    microseconds,
+)
 
 import lagrangian as lg
 from lagrangian.integrate import simulate
@@ -41,19 +49,22 @@ def median_seconds(function, repeat: int) -> float:
     return statistics.median(times)
 
 
-def compare(label, system, hand_rhs, hand_params, y0, t_end, repeat) -> None:
+def compare(label, system, hand_rhs, hand_params, y0, t_end, repeat, backend="numpy") -> None:
     start = time.perf_counter()
-    compiled = compile_equations(system.equations_of_motion())
+    compiled = compile_equations(system.equations_of_motion(), backend=backend)
     params = compiled.parameter_vector()
     compiled.rhs(0.0, y0, params)  # generate the code before timing
     setup = time.perf_counter() - start
+    hand_rhs(0.0, y0, hand_params)  # a jitted reference compiles before timing
     ours_call = microseconds(compiled.rhs, 0.0, y0, params, repeat=repeat)
     hand_call = microseconds(hand_rhs, 0.0, y0, hand_params, repeat=repeat)
     names = list(compiled.coordinate_names) + [f"{c}_dot" for c in compiled.coordinate_names]
     initial = dict(zip(names, y0, strict=True))
 
     def ours():
-        return simulate(compiled, t_end=t_end, initial=initial, rtol=RTOL, atol=ATOL)
+        return simulate(
+            compiled, t_end=t_end, initial=initial, method="dop853", rtol=RTOL, atol=ATOL
+        )
 
     def hand():
         return solve_ivp(
@@ -65,7 +76,7 @@ def compare(label, system, hand_rhs, hand_params, y0, t_end, repeat) -> None:
     final_ours = ours().final_state
     final_hand = hand().y[:, -1]
     difference = max(abs(final_ours[n] - v) for n, v in zip(names, final_hand, strict=True))
-    print(f"\n{label}  (derive + compile {setup:.2f} s)")
+    print(f"\n{label}, backend {backend}  (derive + compile + first call {setup:.2f} s)")
     call_ratio, solve_ratio = ours_call / hand_call, ours_solve / hand_solve
     print(
         f"  rhs call      ours {ours_call:9.1f} µs   hand {hand_call:9.1f} µs   {call_ratio:5.2f}x"
@@ -112,6 +123,20 @@ def main() -> None:
         y0,
         args.t_end,
         args.repeat,
+    )
+    hand_numba = chain_by_hand_numba(n)
+    if hand_numba is None:
+        print("\nnumba backend: numba not installed, skipped")
+        return
+    compare(
+        f"{n}-link pendulum vs hand-written numba",
+        chain_pendulum(n),
+        hand_numba,
+        np.concatenate([np.ones(n), np.ones(n), [9.81]]),
+        y0,
+        args.t_end,
+        args.repeat,
+        backend="numba",
     )
 
 

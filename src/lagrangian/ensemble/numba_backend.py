@@ -2,11 +2,10 @@
 
 The right-hand side comes from the same symbolic equations as the numpy one
 (:func:`~lagrangian.numeric.forms.symbolic_forms` of ``compiled.equations``):
-the entries of the mass matrix M and the forcing f become one scalar
-function of ``(t, y, p)`` (``sympy.lambdify`` with common subexpressions
-eliminated, ``math`` functions, ``y[i]``/``p[j]`` for the state and the
-parameters), compiled by ``numba.njit``; q'' solves M q'' = f by Gaussian
-elimination with partial pivoting.  The RK4 loop uses the same tableau and
+M and f are filled by the generated kernel of the numba backend
+(:mod:`lagrangian.numeric.numba_source`, cached on disk) and q'' solves
+M q'' = f by Gaussian elimination with partial pivoting
+(:func:`lagrangian.numeric.numba_linalg.solve_into`).  The RK4 loop uses the same tableau and
 step grid as :class:`~lagrangian.integrate.explicit_rk.RK4`, so results agree
 with the numpy backend to rounding.  One member per ``prange`` iteration; a
 member asking only for ``flip_time`` stops when it has flipped.
@@ -22,7 +21,6 @@ import weakref
 from typing import TYPE_CHECKING
 
 import numpy as np
-import sympy
 
 from ..errors import ModelError
 from ..integrate import tableaus
@@ -44,45 +42,35 @@ def _numba():
     return numba
 
 
-def scalar_rhs_source(compiled: CompiledSystem):
-    """``f(t, y, p) -> (M_00, M_01, ..., f_0, ...)`` as a plain Python (math) function."""
+def fill_kernel(compiled: CompiledSystem):
+    """The jitted ``fill(t, y, p, M, f)`` of ``compiled`` (generated code, cached on disk)."""
     from ..numeric.definitions import function_definitions
     from ..numeric.forms import symbolic_forms
+    from ..numeric.numba_source import load_module
 
     if compiled.has_constraints:
         raise ModelError("backend 'numba' does not handle constraints (use backend numpy)")
+    _numba()
     system = compiled.equations.system
     forms = symbolic_forms(
         compiled.equations, function_definitions(system, dict(compiled.definitions))
     )
-    n = forms.n
-    y = sympy.IndexedBase("y")
-    p = sympy.IndexedBase("p")
-    replace = {q: y[i] for i, q in enumerate(forms.coordinates)}
-    replace.update({v: y[n + i] for i, v in enumerate(forms.velocities)})
-    replace.update({s: p[j] for j, s in enumerate(forms.parameters)})
-    entries = [forms.mass_matrix[i, j] for i in range(n) for j in range(n)]
-    entries += [forms.forcing[i, 0] for i in range(n)]
-    expressions = []
-    for entry in entries:
-        entry = entry.xreplace(replace)
-        expressions.append(sympy.Float(entry) if entry.is_number else entry)
-    return sympy.lambdify((forms.time, y, p), tuple(expressions), modules="math", cse=True)
+    return load_module(forms).fill
 
 
 def kernel(compiled: CompiledSystem):
     """The jitted ensemble loop of ``compiled`` (built once per compiled system)."""
     found = _KERNELS.get(compiled)
     if found is None:
-        found = _KERNELS[compiled] = _build(scalar_rhs_source(compiled), compiled.n)
+        found = _KERNELS[compiled] = _build(fill_kernel(compiled), compiled.n)
     return found
 
 
-def _build(function, n: int):
+def _build(fill, n: int):
+    from ..numeric.numba_linalg import solve_into
+
     numba = _numba()
     njit, prange = numba.njit, numba.prange
-    scalar = njit(function)
-    nn = n * n
     a21, a32, a43 = (float(tableaus.RK4.a[i, i - 1]) for i in (1, 2, 3))
     b1, b2, b3, b4 = (float(b) for b in tableaus.RK4.b)
     c2, c3, c4 = (float(c) for c in tableaus.RK4.c[1:])
@@ -90,30 +78,8 @@ def _build(function, n: int):
 
     @njit(inline="always")
     def derivative(t, y, p, matrix, force, out):
-        values = scalar(t, y, p)
-        for i in range(n):
-            for j in range(n):
-                matrix[i, j] = values[i * n + j]
-            force[i] = values[nn + i]
-        for k in range(n):  # Gaussian elimination, partial pivoting
-            pivot, largest = k, abs(matrix[k, k])
-            for i in range(k + 1, n):
-                if abs(matrix[i, k]) > largest:
-                    pivot, largest = i, abs(matrix[i, k])
-            if pivot != k:
-                for j in range(n):
-                    matrix[k, j], matrix[pivot, j] = matrix[pivot, j], matrix[k, j]
-                force[k], force[pivot] = force[pivot], force[k]
-            for i in range(k + 1, n):
-                factor = matrix[i, k] / matrix[k, k]
-                for j in range(k, n):
-                    matrix[i, j] -= factor * matrix[k, j]
-                force[i] -= factor * force[k]
-        for i in range(n - 1, -1, -1):
-            total = force[i]
-            for j in range(i + 1, n):
-                total -= matrix[i, j] * out[n + j]
-            out[n + i] = total / matrix[i, i]
+        fill(t, y, p, matrix, force)
+        solve_into(matrix, force, out, n)
         for i in range(n):
             out[i] = y[n + i]
 

@@ -2,7 +2,9 @@
 
     compile_equations(eom, backend="numpy", definitions=None) -> CompiledSystem
 
-Backends (``BACKENDS``): ``numpy`` and ``jax`` (JAX imported only when asked for).
+Backends (``BACKENDS``): ``numpy`` and ``jax`` (JAX imported only when asked for);
+``backend="numba"`` gives the NumPy functions with numba kernels for one state
+(``compile.JIT_BACKENDS``; numba imported only then).
 """
 
 from .backends import BACKENDS, ArrayBackend, array_backend

@@ -1,7 +1,10 @@
 """`compile_equations`: EquationsOfMotion -> CompiledSystem (numerical functions).
 
 Every expression is turned into a function by :func:`sympy.lambdify` with common
-subexpressions eliminated; no text is generated or evaluated by us.  The
+subexpressions eliminated; no text is generated or evaluated by us, except by
+the ``numba`` backend, which writes its kernels as Python source from SymPy's
+code printer over symbols it names itself (see
+:mod:`lagrangian.numeric.numba_source`).  The
 mass-matrix solve is numerical (see :mod:`lagrangian.numeric.dynamics`), the
 Jacobian of the right-hand side is a compiled symbolic derivative, and the
 functions broadcast over a trailing batch axis (see
@@ -13,24 +16,34 @@ pays only for what it uses.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Mapping
 from types import MappingProxyType
 
 import sympy
 
 from ..derive import EquationsOfMotion
-from .backends import ArrayBackend, array_backend
+from ..errors import ModelError
+from .backends import BACKENDS, ArrayBackend, array_backend
 from .compiled import CompiledSystem
 from .definitions import Definition, function_definitions
 from .dynamics import Dynamics
 from .forms import SymbolicForms, symbolic_forms
 from .kernels import Kernel, LazyMapping, Signature
+from .numba_functions import check_numba, with_numba_functions
 from .projection import ConstraintFunctions
 
 #: Baumgarte's rate alpha (1 / time unit) for constrained systems: residuals decay
 #: like exp(-alpha t).  About 10 / (the shortest time scale of the motion) keeps
 #: the drift small without making the equations stiff; 0 turns it off.
 DEFAULT_BAUMGARTE = 10.0
+
+#: Backends that replace functions of an array backend's compiled system with
+#: generated, jitted kernels: name -> (the array backend, a check that it can run
+#: (a ModelError naming what to install), (forms, compiled) -> compiled).
+JIT_BACKENDS: Mapping[
+    str, tuple[str, Callable[[], None], Callable[[SymbolicForms, CompiledSystem], CompiledSystem]]
+] = MappingProxyType({"numba": ("numpy", check_numba, with_numba_functions)})
 
 
 def compile_equations(
@@ -43,7 +56,11 @@ def compile_equations(
     """The equations of motion M q'' = f as numerical functions of (t, y, params).
 
     ``backend``: a name in :data:`~lagrangian.numeric.backends.BACKENDS`
-    (``"numpy"``, or ``"jax"`` when JAX is installed).  ``definitions`` gives
+    (``"numpy"``, or ``"jax"`` when JAX is installed) or in :data:`JIT_BACKENDS`
+    (``"numba"``: the NumPy functions, with rhs, accelerations, mass_matrix,
+    forcing and energy of one state as numba kernels, see
+    :mod:`lagrangian.numeric.numba_functions`; constrained systems keep the
+    NumPy functions, with a warning).  ``definitions`` gives
     the model's unspecified functions, each as text over its declared arguments,
     the parameters and ``t``, or as a :class:`sympy.Lambda`; a function used but
     not defined is a :class:`~lagrangian.errors.ModelError`.  ``baumgarte``: the
@@ -56,7 +73,13 @@ def compile_equations(
     >>> compiled.rhs(0.0, [0.5, 0.0], params).round(4).tolist()
     [0.0, -4.7032]
     """
-    arrays = array_backend(backend)
+    jit = JIT_BACKENDS.get(backend) if isinstance(backend, str) else None
+    if jit is not None:
+        jit[1]()  # a missing package is an error now, not at the first call
+    elif backend not in BACKENDS:
+        valid = ", ".join(sorted([*BACKENDS, *JIT_BACKENDS]))
+        raise ModelError(f"unknown backend {backend!r} (backends: {valid})")
+    arrays = array_backend(jit[0] if jit is not None else backend)
     system = eom.system
     defined = function_definitions(system, definitions)
     forms = symbolic_forms(eom, defined)
@@ -66,7 +89,7 @@ def compile_equations(
         ConstraintFunctions(forms, signature) if forms.constraints is not None else None
     )
     functions = _lagrangian_functions(forms, signature)
-    return CompiledSystem(
+    compiled = CompiledSystem(
         equations=eom,
         backend=arrays.name,
         coordinate_names=system.coordinate_names,
@@ -103,6 +126,7 @@ def compile_equations(
         definitions=MappingProxyType({f.__name__: body for f, body in defined.items()}),
         **functions,
     )
+    return compiled if jit is None else jit[2](forms, compiled)
 
 
 def _kernel(forms: SymbolicForms, arrays: ArrayBackend, build: Callable[[], list]) -> Kernel:
@@ -117,13 +141,17 @@ def _lagrangian_functions(forms: SymbolicForms, signature: Signature) -> dict[st
     q, v = forms.coordinates, forms.velocities
     momenta = sympy.Matrix(forms.momenta)
     forces = sympy.Matrix(forms.nonconservative_forces)
-    gradient = sympy.Matrix([sympy.diff(forms.lagrangian, coordinate) for coordinate in q])
+
+    @functools.cache
+    def gradient() -> sympy.Matrix:  # dL/dq, made when first needed
+        return sympy.Matrix([sympy.diff(forms.lagrangian, coordinate) for coordinate in q])
+
     builders = {
         "lagrangian": lambda: [forms.lagrangian],
         "momenta": lambda: [list(momenta)],
-        "lagrangian_gradient": lambda: [list(gradient)],
+        "lagrangian_gradient": lambda: [list(gradient())],
         "momenta_jacobian_q": lambda: [momenta.jacobian(q)],
-        "lagrangian_hessian_q": lambda: [gradient.jacobian(q)],
+        "lagrangian_hessian_q": lambda: [gradient().jacobian(q)],
         "nonconservative_forces": lambda: [list(forces)],
         "nonconservative_forces_jacobian_v": lambda: [forces.jacobian(v)],
         "nonconservative_forces_jacobian_q": lambda: [forces.jacobian(q)],

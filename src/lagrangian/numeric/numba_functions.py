@@ -1,0 +1,139 @@
+"""The ``numba`` backend: the single-state functions as numba-jitted generated code.
+
+``rhs``, ``accelerations``, ``mass_matrix``, ``forcing`` and ``energy`` of one
+state (``y`` of shape ``(2n,)``, ``params`` ``(P,)``, scalar ``t``) call the
+kernels of :mod:`lagrangian.numeric.numba_source`, generated from the same
+symbolic forms as the NumPy functions: M and f from common-subexpression-
+eliminated scalar code, q'' from M q'' = f by Gaussian elimination inside the
+kernel.  Everything else, and any batched call (a trailing batch axis), uses
+the NumPy backend's functions, so results agree to rounding either way.  The
+code is generated and jitted on the first call (then cached on disk).
+
+Constrained systems keep the NumPy functions for now (a warning says so).
+numba is imported only when a numba function is first called with one state,
+or by :func:`check_numba` (``pip install 'lagrangian[numba]'``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import threading
+import warnings
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from ..errors import ModelError
+from .compiled import CompiledSystem
+from .forms import SymbolicForms
+
+NUMBA_MISSING = "backend 'numba' needs numba: pip install 'lagrangian[numba]'"
+
+#: The CompiledSystem fields the numba kernels provide, with their argument form.
+STATE_FUNCTIONS = ("rhs", "energy")  # (t, y, params)
+SPLIT_FUNCTIONS = ("accelerations", "mass_matrix", "forcing")  # (t, q, v, params)
+SCALAR_FUNCTIONS = ("energy",)
+SCALARS = (
+    float,
+    int,
+    np.float64,
+)  # types of t taken without a look at np.ndim  # the kernel returns a float
+
+
+def check_numba() -> None:
+    """A ModelError naming the extra to install when numba is missing."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        raise ModelError(NUMBA_MISSING) from None
+
+
+def with_numba_functions(forms: SymbolicForms, compiled: CompiledSystem) -> CompiledSystem:
+    """``compiled`` (NumPy functions) with the numba kernels of ``forms`` put in.
+
+    A constrained system keeps the NumPy functions (a warning says so).
+    """
+    if compiled.has_constraints:
+        warnings.warn(
+            "backend 'numba' does not handle constraints yet: the NumPy functions are used",
+            stacklevel=3,
+        )
+        return dataclasses.replace(compiled, backend="numba")
+    names = (*STATE_FUNCTIONS, *SPLIT_FUNCTIONS)
+    fallbacks = {name: getattr(compiled, name) for name in names}
+    functions = NumbaFunctions(forms, fallbacks).functions()
+    return dataclasses.replace(compiled, backend="numba", **functions)
+
+
+class NumbaFunctions:
+    """The jitted functions of one system, built on first use, with NumPy fallbacks."""
+
+    def __init__(self, forms: SymbolicForms, fallbacks: dict[str, Callable[..., Any]]):
+        self._forms = forms
+        self._fallbacks = fallbacks
+        self._n = forms.n
+        self._p = len(forms.parameters)
+        self._module = None
+        self._lock = threading.Lock()
+
+    def module(self):
+        """The generated module (generated or read from the disk cache on first use)."""
+        if self._module is None:
+            with self._lock:
+                if self._module is None:
+                    check_numba()
+                    from .numba_source import load_module
+
+                    self._module = load_module(self._forms)
+        return self._module
+
+    def functions(self) -> dict[str, Callable[..., Any]]:
+        """CompiledSystem field name -> function."""
+        result = {name: self._state_function(name) for name in STATE_FUNCTIONS}
+        result.update({name: self._split_function(name) for name in SPLIT_FUNCTIONS})
+        return result
+
+    def _state_function(self, name: str) -> Callable[..., Any]:
+        fallback, state_shape, parameter_shape = self._fallbacks[name], (2 * self._n,), (self._p,)
+        kernel = None
+
+        def jitted(t: Any, y: Any, params: Any) -> Any:
+            nonlocal kernel
+            if type(y) is not np.ndarray or y.dtype != np.float64:  # the fast path: SciPy's y
+                y = np.asarray(y, dtype=float)
+            if type(params) is not np.ndarray or params.dtype != np.float64:
+                params = np.asarray(params, dtype=float)
+            if (
+                y.shape != state_shape
+                or params.shape != parameter_shape
+                or (type(t) not in SCALARS and np.ndim(t))
+            ):
+                return fallback(t, y, params)  # a batch, or an error to report
+            if kernel is None:
+                kernel = getattr(self.module(), name)
+            return kernel(float(t), y, params)
+
+        def scalar_function(t: Any, y: Any, params: Any) -> Any:
+            return np.asarray(jitted(t, y, params))  # a 0-d array, as the NumPy backend's
+
+        function = scalar_function if name in SCALAR_FUNCTIONS else jitted
+        function.__name__ = function.__qualname__ = name
+        return function
+
+    def _split_function(self, name: str) -> Callable[..., Any]:
+        fallback, shape, parameter_shape = self._fallbacks[name], (self._n,), (self._p,)
+        kernel = None
+
+        def function(t: Any, q: Any, v: Any, params: Any) -> Any:
+            nonlocal kernel
+            q, v = np.asarray(q, dtype=float), np.asarray(v, dtype=float)
+            p = np.asarray(params, dtype=float)
+            if q.shape != shape or v.shape != shape or p.shape != parameter_shape or np.ndim(t):
+                return fallback(t, q, v, p)
+            if kernel is None:
+                kernel = getattr(self.module(), name)
+            return kernel(float(t), np.concatenate((q, v)), p)
+
+        function.__name__ = function.__qualname__ = name
+        return function
