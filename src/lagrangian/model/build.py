@@ -16,25 +16,21 @@ from sympy.core.function import AppliedUndef
 
 from ..errors import ModelError, ParseError
 from ..parsing import (
-    BUILTIN_CONSTANTS,
-    BUILTIN_FUNCTIONS,
     DeclaredFunction,
     Namespace,
     parse_expression,
     referenced_names,
 )
 from ..symbols import (
-    ACCELERATION_SUFFIX,
     TIME_NAME,
-    VELOCITY_SUFFIX,
-    Coordinate,
     is_identifier,
     parameter_symbol,
     time_symbol,
 )
 from .components import ExprLike, Gravity, Particle, RigidBody2D, Spring
 from .energy import conservative_potential, gravity_potential, kinetic_energy, spring_potential
-from .system import PARAMETER_SIGNS, FunctionDeclaration, Parameter, System
+from .naming import RESERVED, coordinates_named, parameter_entry
+from .system import FunctionDeclaration, Parameter, System
 
 # What an expression field may depend on.
 COORDINATES, VELOCITIES, TIME, PARAMETERS = "coordinates", "velocities", "t", "parameters"
@@ -42,8 +38,6 @@ STATE_AND_TIME = frozenset({COORDINATES, VELOCITIES, TIME, PARAMETERS})
 CONFIGURATION = frozenset({COORDINATES, TIME, PARAMETERS})
 CONSTANT = frozenset({PARAMETERS})
 CONSTANT_OR_TIME = frozenset({PARAMETERS, TIME})
-
-RESERVED = frozenset({TIME_NAME, *BUILTIN_FUNCTIONS, *BUILTIN_CONSTANTS})
 
 
 @dataclass(frozen=True)
@@ -89,7 +83,7 @@ def build_system(spec: ModelSpec) -> System:
 class _Builder:
     def __init__(self, spec: ModelSpec):
         self.spec = spec
-        self.coordinates = _coordinates(spec.coordinates)
+        self.coordinates = coordinates_named(spec.coordinates)
         self.names = self._base_names()
         self.functions = self._functions()
         self.parameters = self._parameters()
@@ -139,7 +133,7 @@ class _Builder:
         for name, entry in entries.items():
             where = f"parameters.{name}"
             self._check_new_name(name, where)
-            value, sign = _parameter_entry(entry, where)
+            value, sign = parameter_entry(entry, where)
             symbol = parameter_symbol(name, positive=(sign == "positive"))
             if sign == "nonnegative":
                 symbol = sympy.Symbol(name, nonnegative=True)
@@ -433,64 +427,3 @@ class _Builder:
                 )
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise ModelError(f"expected a number, got {value!r}", field=f"initial.{name}")
-
-
-def _coordinates(names: Sequence[str]) -> tuple[Coordinate, ...]:
-    if isinstance(names, str) or not isinstance(names, Sequence) or not names:
-        raise ModelError("expected a non-empty list of coordinate names", field="coordinates")
-    seen: set[str] = set()
-    coordinates = []
-    for name in names:
-        if not isinstance(name, str) or not is_identifier(name):
-            raise ModelError(f"invalid coordinate name {name!r}", field="coordinates")
-        if name in RESERVED:
-            raise ModelError(
-                f"'{name}' is reserved and cannot be a coordinate", field="coordinates"
-            )
-        if name.endswith((VELOCITY_SUFFIX, ACCELERATION_SUFFIX)):
-            raise ModelError(
-                f"coordinate '{name}' must not end in {VELOCITY_SUFFIX} or {ACCELERATION_SUFFIX}",
-                field="coordinates",
-            )
-        if name in seen:
-            raise ModelError(f"coordinate '{name}' is listed twice", field="coordinates")
-        seen.add(name)
-        coordinates.append(Coordinate.named(name))
-    clashes = seen & {c.q_dot.name for c in coordinates} | seen & {
-        c.q_ddot.name for c in coordinates
-    }
-    if clashes:
-        raise ModelError(f"coordinate names clash: {sorted(clashes)}", field="coordinates")
-    return tuple(coordinates)
-
-
-def _parameter_entry(entry: object, where: str) -> tuple[float | None, str]:
-    """(default value, sign) of one parameter entry."""
-    sign = None
-    value = entry
-    if isinstance(entry, Mapping):
-        unknown = set(entry) - {"value", "sign"}
-        if unknown:
-            raise ModelError(f"unknown key(s) {sorted(unknown)}; expected value, sign", field=where)
-        value = entry.get("value")
-        sign = entry.get("sign")
-        if sign is not None and sign not in PARAMETER_SIGNS:
-            raise ModelError(
-                f"sign must be one of {', '.join(PARAMETER_SIGNS)}", field=where, text=str(sign)
-            )
-    if value is not None:
-        if isinstance(value, bool) or not isinstance(value, int | float):
-            raise ModelError(f"expected a number, got {value!r}", field=where)
-        if not math.isfinite(value):
-            raise ModelError(f"expected a finite number, got {value!r}", field=where)
-        value = float(value)
-    if sign is None:
-        sign = "positive" if value is None or value > 0 else "real"
-    violated = {
-        "positive": value is not None and value <= 0,
-        "nonnegative": value is not None and value < 0,
-        "negative": value is not None and value >= 0,
-    }.get(sign, False)
-    if violated:
-        raise ModelError(f"value {value} contradicts sign '{sign}'", field=where)
-    return value, sign

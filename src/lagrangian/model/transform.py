@@ -20,6 +20,7 @@ from ..errors import ModelError, ParseError
 from ..parsing import DeclaredFunction, Namespace, parse_expression, referenced_names
 from ..symbols import Coordinate, parameter_symbol
 from .components import ExprLike
+from .naming import coordinates_named
 from .system import Parameter, System
 
 
@@ -35,9 +36,7 @@ def change_coordinates(
     >>> polar = cartesian.change_coordinates(["r", "theta"],  # doctest: +SKIP
     ...     {"x": "r*cos(theta)", "y": "r*sin(theta)"})
     """
-    from .build import _coordinates  # the same name rules as a model file
-
-    new = _coordinates(tuple(coordinates))
+    new = coordinates_named(tuple(coordinates))
     old_names = set(system.coordinate_names)
     if set(substitution) != old_names:
         missing = sorted(old_names - set(substitution))
