@@ -26,6 +26,7 @@ import sympy
 
 from ..algebra import is_zero, tidy
 from ..derive import EquationsOfMotion
+from ..derive.constraints import constraint_velocity_form
 from ..errors import ModelError
 from ..model import System
 from .motion import total_derivative, vanishes_along_motion
@@ -163,20 +164,9 @@ def _constraint_work(eom: EquationsOfMotion) -> list[str]:
     system = eom.system
     at_rest = {c.q_dot: 0 for c in system.coordinates}
     for constraint in system.constraints:
-        if not is_zero(_velocity_form(constraint, system).xreplace(at_rest)):
+        if not is_zero(constraint_velocity_form(constraint, system).xreplace(at_rest)):
             return ["the constraints move, so their forces do work"]
     return []
-
-
-def _velocity_form(constraint: sympy.Expr, system: System) -> sympy.Expr:
-    """A q' + a0 of one constraint (holonomic ones differentiated)."""
-    velocities = [c.q_dot for c in system.coordinates]
-    if constraint.has(*velocities):
-        return constraint
-    return sum(
-        (sympy.diff(constraint, c.q) * c.q_dot for c in system.coordinates),
-        sympy.diff(constraint, system.time),
-    )
 
 
 def _mechanical_energy(system: System) -> sympy.Expr | None:

@@ -54,7 +54,7 @@ def constraint_forms(system: System) -> ConstraintForms:
     for j, constraint in enumerate(system.constraints):
         where = f"constraints[{j}]"
         is_holonomic = not constraint.has(*velocities)
-        velocity_form = _time_derivative(constraint, system) if is_holonomic else constraint
+        velocity_form = constraint_velocity_form(constraint, system)
         row = [tidy(sympy.diff(velocity_form, v), system.state_symbols) for v in velocities]
         if any(entry.has(*velocities) for entry in row):
             raise ModelError("a constraint must be linear in the velocities", field=where)
@@ -70,6 +70,13 @@ def constraint_forms(system: System) -> ConstraintForms:
         matrix=sympy.ImmutableMatrix(rows),
         bias=sympy.ImmutableMatrix(len(bias), 1, bias),
     )
+
+
+def constraint_velocity_form(constraint: sympy.Expr, system: System) -> sympy.Expr:
+    """A q' + a0 of one constraint: itself when it has velocities, else its time derivative."""
+    if constraint.has(*(c.q_dot for c in system.coordinates)):
+        return constraint
+    return _time_derivative(constraint, system)
 
 
 def _time_derivative(expr: sympy.Expr, system: System, *, skip_velocities: bool = False):
