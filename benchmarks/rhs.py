@@ -148,8 +148,7 @@ def measure(compiled, params, y, repeat) -> tuple[float, float]:
 
 
 def agreement(compiled, params, reference, reference_params, y) -> float:
-    expected = reference(0.0, y, reference_params)
-    return float(np.max(np.abs(compiled.rhs(0.0, y, params) - expected)) / np.max(np.abs(expected)))
+    return agreement_of(compiled.rhs, params, reference, reference_params, y)
 
 
 def main() -> None:
@@ -209,6 +208,38 @@ def main() -> None:
         chain_pendulum(n), chain_params, yn, chain_by_hand_numba(n), hand_chain_params, repeat,
         f"{n}-link pendulum",
     )  # fmt: skip
+    pydy_row(chain_pendulum(n), chain_params, yn, hand_chain_params, n, repeat)
+
+
+def pydy_row(system, params, y, pydy_params, n: int, repeat: int) -> None:
+    """µs per call of PyDy's Cython rhs against our numba backend (when both are installed)."""
+    from pydy_chain import chain_by_pydy
+
+    pydy_rhs, seconds = chain_by_pydy(n)
+    if pydy_rhs is None:
+        print("\nPyDy: not installed, skipped (pip install pydy cython)")
+        return
+    error = agreement_of(pydy_rhs, pydy_params, chain_by_hand(n), pydy_params, y)
+    peer = microseconds(pydy_rhs, 0.0, y, pydy_params, repeat=repeat)
+    print(
+        f"\nPyDy Cython, {n}-link pendulum "
+        f"(KanesMethod + codegen {seconds:.1f} s; agree {error:.1e})"
+    )
+    print(f"  PyDy Cython rhs                          {peer:9.2f} µs")
+    try:
+        compiled = compile_equations(system.equations_of_motion(), backend="numba")
+    except Exception as error:  # numba missing
+        print(f"  numba backend: {error}")
+        return
+    compiled.rhs(0.0, y, params)
+    ours = microseconds(compiled.rhs, 0.0, y, params, repeat=repeat)
+    print(f"  numba backend rhs                        {ours:9.2f} µs   ratio {ours / peer:.2f}")
+
+
+def agreement_of(function, params, reference, reference_params, y) -> float:
+    expected = reference(0.0, y, reference_params)
+    got = function(0.0, y, params)
+    return float(np.max(np.abs(got - expected)) / np.max(np.abs(expected)))
 
 
 if __name__ == "__main__":

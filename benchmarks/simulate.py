@@ -25,6 +25,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from pydy_chain import chain_by_pydy
 from rhs import (
     chain_by_hand,
     chain_by_hand_numba,
@@ -95,13 +96,6 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     args = parser.parse_args()
     print(f"python {sys.version.split()[0]}, numpy {np.__version__}")
-    try:
-        import pydy  # noqa: F401
-
-        print("pydy is installed but not wired in yet")
-    except ImportError:
-        print("pydy: not installed, skipped")
-
     y0 = np.array([2.0, 0.5, 0.0, 0.0])
     compare(
         "double pendulum",
@@ -124,19 +118,35 @@ def main() -> None:
         args.t_end,
         args.repeat,
     )
+    chain_params = np.concatenate([np.ones(n), np.ones(n), [9.81]])
     hand_numba = chain_by_hand_numba(n)
     if hand_numba is None:
         print("\nnumba backend: numba not installed, skipped")
+    else:
+        compare(
+            f"{n}-link pendulum vs hand-written numba",
+            chain_pendulum(n),
+            hand_numba,
+            chain_params,
+            y0,
+            args.t_end,
+            args.repeat,
+            backend="numba",
+        )
+    pydy_rhs, pydy_setup = chain_by_pydy(n)
+    if pydy_rhs is None:
+        print("\nPyDy: not installed, skipped (pip install pydy cython)")
         return
+    print(f"\nPyDy: KanesMethod + Cython code generation took {pydy_setup:.1f} s")
     compare(
-        f"{n}-link pendulum vs hand-written numba",
+        f"{n}-link pendulum vs PyDy Cython + solve_ivp",
         chain_pendulum(n),
-        hand_numba,
-        np.concatenate([np.ones(n), np.ones(n), [9.81]]),
+        pydy_rhs,
+        chain_params,
         y0,
         args.t_end,
         args.repeat,
-        backend="numba",
+        backend="numba" if hand_numba is not None else "numpy",
     )
 
 

@@ -36,12 +36,15 @@ def simulate_system(
     assignments: Mapping[str, float] | None = None,
     progress: Callable[[float], None] | None = None,
     definitions: Mapping[str, str] | None = None,
+    backend: str = "numpy",
     **options: object,
 ) -> Trajectory:
     """Simulate ``system``; ``assignments`` are NAME=VALUE pairs that may name a parameter
     or an initial coordinate / velocity (the CLI's ``--set``); ``progress`` is called with
     the fraction of the time span done (often: throttle it); ``definitions`` give the
-    unspecified functions as expressions of their arguments ({"V": "x^2 + y^2"})."""
+    unspecified functions as expressions of their arguments ({"V": "x^2 + y^2"});
+    ``backend`` is the compiled code's (:func:`~lagrangian.numeric.compile_equations`:
+    ``"numba"`` runs the right-hand side as generated machine code)."""
     settings = dict(system.simulate_settings)
     initial = dict(initial or {})
     params = dict(params or {})
@@ -72,7 +75,9 @@ def simulate_system(
         "atol": atol,
     }
     chosen = {key: value for key, value in chosen.items() if value is not None}
-    compiled = compile_equations(system.equations_of_motion(), definitions=definitions)
+    compiled = compile_equations(
+        system.equations_of_motion(), backend=backend, definitions=definitions
+    )
     if progress is not None:
         t_final = float(chosen["t_end"])
         compiled = _reporting_time(compiled, lambda t: progress(min(1.0, t / t_final)))

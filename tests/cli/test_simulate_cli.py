@@ -115,3 +115,18 @@ def test_define_gives_unspecified_functions(capsys):
     summary = json.loads(out)
     assert summary["invariants"]["energy"] < 1e-8
     assert summary["final_state"]["z"] == 0.0
+
+
+def test_numba_backend_gives_the_numpy_run(capsys, tmp_path, monkeypatch):
+    pytest.importorskip("numba")
+    monkeypatch.setenv("LAGRANGIAN_CACHE", str(tmp_path))
+    finals = {}
+    for backend in ("numpy", "numba"):
+        status, out, _ = run(
+            capsys, "simulate", "harmonic_oscillator", "--t-end", "3", "--set", "x=0.5",
+            "--backend", backend, "--json",
+        )  # fmt: skip
+        assert status == ExitStatus.SUCCESS
+        finals[backend] = json.loads(out)["final_state"]
+    for name, value in finals["numpy"].items():
+        assert finals["numba"][name] == pytest.approx(value, abs=1e-12)

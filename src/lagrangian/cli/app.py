@@ -159,9 +159,18 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
     metavar="NAME=EXPR",
     help="Define an unspecified function of the model, e.g. V='x^2 + y^2' (repeatable).",
 )
+@click.option(
+    "--backend",
+    type=click.Choice(["numpy", "numba"]),
+    default="numpy",
+    show_default=True,
+    help="Compiled code: numba generates machine code, cached on disk (pip install numba).",
+)
 @click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.csv or FILE.nc.")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON summary.")
-def simulate(model, t_end, method, dt, rtol, atol, assignments, definitions, out, as_json) -> None:
+def simulate(
+    model, t_end, method, dt, rtol, atol, assignments, definitions, backend, out, as_json
+) -> None:
     """Integrate the equations of motion of MODEL and report the final state and drifts."""
     from ..errors import LagrangianError
     from ..model import load
@@ -181,6 +190,7 @@ def simulate(model, t_end, method, dt, rtol, atol, assignments, definitions, out
             assignments=_assignments(assignments),
             progress=progress,
             definitions=_definitions(definitions),
+            backend=backend,
         )
     if trajectory.status == "failed":
         message = trajectory.dataset.attrs.get("message", "")

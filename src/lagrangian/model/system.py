@@ -173,7 +173,8 @@ class System:
         """Integrate the equations of motion -> :class:`~lagrangian.trajectory.Trajectory`.
 
         Options: t_end, method ("dop853", "radau", "rk4", "variational"), dt,
-        rtol, atol, initial ({q: value, q_dot: value}), params, events, n_out.
+        rtol, atol, initial ({q: value, q_dot: value}), params, events, n_out,
+        backend ("numpy", or "numba" for generated machine code).
         """
         from ..simulation import simulate_system
 
