@@ -57,6 +57,12 @@ def _assert_same(readable, fast, rng, count=3):
                 scale=1.0,
                 what=f"equation {i} = (M q'' - f)[{i}]",
             )
+            assert_close(
+                evaluate(fast_eom.steps[i].momentum, point),
+                evaluate(slow_eom.steps[i].momentum, point),
+                what=f"momentum {i}",
+            )
+            assert fast_eom.steps[i].equation == fast_eom.equations[i]
 
 
 @pytest.mark.parametrize("name", [n for n in example_names()])

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -32,6 +32,28 @@ class CoordinateDerivation:
     equation: sympy.Expr  # the left side minus the right side, = 0
 
 
+class Deferred(Sequence):
+    """A tuple made on first use, for parts of the equations that most callers never read."""
+
+    def __init__(self, make: Callable[[], tuple]):
+        self._make: Callable[[], tuple] | None = make
+        self._items: tuple = ()
+
+    def _made(self) -> tuple:
+        if self._make is not None:
+            self._items, self._make = tuple(self._make()), None
+        return self._items
+
+    def __getitem__(self, index):
+        return self._made()[index]
+
+    def __len__(self) -> int:
+        return len(self._made())
+
+    def __repr__(self) -> str:
+        return repr(self._made())
+
+
 @dataclass(frozen=True, eq=False)
 class EquationsOfMotion:
     """Lagrange's equations of a :class:`~lagrangian.model.System`.
@@ -55,11 +77,11 @@ class EquationsOfMotion:
     """
 
     system: System
-    equations: tuple[sympy.Expr, ...]
+    equations: Sequence[sympy.Expr]
     mass_matrix: sympy.ImmutableMatrix
     forcing: sympy.ImmutableMatrix
     accelerations: Mapping[str, sympy.Expr] | None
-    steps: tuple[CoordinateDerivation, ...]
+    steps: Sequence[CoordinateDerivation]
     constraints: ConstraintForms | None = None
     multipliers: Mapping[str, sympy.Expr] | None = None
 

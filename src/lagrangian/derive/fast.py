@@ -15,7 +15,9 @@ n-link chain costs O(n^2) terms and no simplification is searched for.  SymEngin
 does the arithmetic; the results are converted to SymPy once, at the end.
 
 Used above ``FAST_MIN_COORDINATES`` coordinates for systems without constraints
-whose expressions SymEngine can hold; the steps then hold the untidied terms.
+whose expressions SymEngine can hold; the steps then hold the untidied terms, and
+they and the equations are converted to SymPy only when first read (most uses
+need M and f alone).
 """
 
 from __future__ import annotations
@@ -28,7 +30,7 @@ import sympy
 
 from ..algebra import factor_common, to_symengine, to_sympy
 from ..model import System
-from .equations import CoordinateDerivation, EquationsOfMotion
+from .equations import CoordinateDerivation, Deferred, EquationsOfMotion
 from .solve import check_regular, solve_accelerations
 
 
@@ -41,20 +43,28 @@ class _Tables:
         self.se = se
         self.state = frozenset(state)
         self.symbols: dict = {}  # monomial -> its state symbols
+        self._depends: dict = {}  # factor -> whether it holds a state symbol
+
+    def depends(self, factor) -> bool:
+        """Whether ``factor`` holds a state symbol (cached: the same factors recur)."""
+        found = self._depends.get(factor)
+        if found is None:
+            found = self._depends[factor] = bool(factor.free_symbols & self.state)
+        return found
 
     def split(self, expr, into=None, scale=None) -> dict:
         """Add ``scale * expr`` term by term to ``into`` ({monomial: [coefficients]})."""
         se = self.se
         into = defaultdict(list) if into is None else into
         one = se.Integer(1) if scale is None else scale
-        state = self.state
+        depends = self.depends
         for term in _args(expr, se.Add):
-            if not term.free_symbols & state:
-                into[se.Integer(1)].append(one * term)
-                continue
             coefficient, dependent = [one], []
             for factor in _args(term, se.Mul):
-                (dependent if factor.free_symbols & state else coefficient).append(factor)
+                (dependent if depends(factor) else coefficient).append(factor)
+            if not dependent:
+                into[se.Integer(1)].append(one * term)
+                continue
             outer = se.Mul(*coefficient)
             if not any(_has_sum(factor) for factor in dependent):
                 into[se.Mul(*dependent)].append(outer)
@@ -62,7 +72,7 @@ class _Tables:
             for part in _args(se.expand(se.Mul(*dependent)), se.Add):
                 inner, monomial = [outer], []
                 for factor in _args(part, se.Mul):
-                    (monomial if factor.free_symbols & state else inner).append(factor)
+                    (monomial if depends(factor) else inner).append(factor)
                 into[se.Mul(*monomial)].append(se.Mul(*inner))
         return into
 
@@ -71,7 +81,7 @@ class _Tables:
         result = {}
         for monomial, coefficients in lists.items():
             coefficient = factor_common(coefficients)
-            if coefficient != 0:
+            if not coefficient.is_zero:
                 result[monomial] = coefficient
                 if monomial not in self.symbols:
                     self.symbols[monomial] = monomial.free_symbols & self.state
@@ -124,7 +134,7 @@ def derive_large(system: System) -> EquationsOfMotion | None:
     def sympy_of(value) -> sympy.Expr:
         return to_sympy(value, symbols, back)
 
-    mass_rows, forcing, steps, numeric_rows = [], [], [], []
+    mass_rows, forcing, numeric_rows, terms = [], [], [], []
     for i, c in enumerate(coordinates):
         momentum = tables.table(tables.diff(lagrangian, v[i]))
         row = [tables.expr(tables.table(tables.diff(momentum, vj))) for vj in v]
@@ -146,31 +156,46 @@ def derive_large(system: System) -> EquationsOfMotion | None:
         inertia = se.Add(*(m * a for m, a in zip(row, accelerations, strict=True)))
         mass_rows.append([sympy_of(m) for m in row])
         forcing.append(sympy_of(rest))
-        steps.append(
-            CoordinateDerivation(
-                coordinate=c,
-                momentum=sympy_of(tables.expr(momentum)),
-                momentum_rate=sympy_of(inertia + tables.expr(velocity_terms)),
-                force_gradient=sympy_of(tables.expr(gradient)),
-                generalized_force=system.forces.get(c.name, sympy.Integer(0)),
-                dissipation_force=sympy_of(tables.expr(friction)),
-                constraint_force=sympy.Integer(0),
-                equation=sympy_of(inertia - rest),
+        terms.append(
+            (
+                c,
+                tables.expr(momentum),
+                inertia + tables.expr(velocity_terms),
+                tables.expr(gradient),
+                tables.expr(friction),
+                inertia - rest,
             )
         )
+
+    def steps() -> tuple[CoordinateDerivation, ...]:
+        return tuple(
+            CoordinateDerivation(
+                coordinate=c,
+                momentum=sympy_of(momentum),
+                momentum_rate=sympy_of(rate),
+                force_gradient=sympy_of(gradient),
+                generalized_force=system.forces.get(c.name, sympy.Integer(0)),
+                dissipation_force=sympy_of(friction),
+                constraint_force=sympy.Integer(0),
+                equation=sympy_of(equation),
+            )
+            for c, momentum, rate, gradient, friction, equation in terms
+        )
+
     n = len(coordinates)
     mass_matrix = sympy.ImmutableMatrix(n, n, [m for row in mass_rows for m in row])
     if not _regular_at_random_points(se.Matrix(numeric_rows)):
         check_regular(mass_matrix, coordinates)  # raises with the diagnosis
     forcing_vector = sympy.ImmutableMatrix(n, 1, forcing)
     state = system.state_symbols
+    made = Deferred(steps)
     return EquationsOfMotion(
         system=system,
-        equations=tuple(step.equation for step in steps),
+        equations=Deferred(lambda: tuple(step.equation for step in made)),
         mass_matrix=mass_matrix,
         forcing=forcing_vector,
         accelerations=solve_accelerations(mass_matrix, forcing_vector, coordinates, state),
-        steps=tuple(steps),
+        steps=made,
     )
 
 

@@ -115,11 +115,11 @@ def _kinetic_energy_large(
             symbols |= {s.name: s for s in x.free_symbols}
         columns = [tuple(se.diff(x, qi) for x in r) for qi in q]
         explicit = tuple(se.diff(x, t) for x in r)
-        active = [i for i, column in enumerate(columns) if any(x != 0 for x in column)]
+        active = [i for i, column in enumerate(columns) if not all(x.is_zero for x in column)]
         for a, i in enumerate(active):
             for j in active[a:]:
                 quadratic[i, j][dot(columns[i], columns[j])].append(m)
-        if any(x != 0 for x in explicit):
+        if not all(x.is_zero for x in explicit):
             for i in active:
                 linear[i][dot(columns[i], explicit)].append(m)
             constant[dot(explicit, explicit)].append(m)
@@ -143,11 +143,33 @@ def gravity_potential(
     """V = -g sum_k m_k (direction . r_k): height measured against the direction of gravity."""
     points = [(p.mass, p.position) for p in particles] + [(b.mass, b.center) for b in bodies]
     large = len(points) >= FAST_MIN_COORDINATES  # tidy costs more than it gives there
+    if large:
+        fast = _gravity_potential_large(gravity, points)
+        if fast is not None:
+            return fast
     terms = []
     for mass, position in points:
         height = -sum(d * x for d, x in zip(gravity.direction, position, strict=True))
         terms.append(mass * gravity.g * (height if large else tidy(height)))
     return sympy.Add(*terms)
+
+
+def _gravity_potential_large(gravity: Gravity, points) -> sympy.Expr | None:
+    """The same sum in SymEngine, which does not re-sort each partial sum as SymPy does."""
+    import symengine as se
+
+    cache: dict = {}
+    given = [gravity.g, *gravity.direction] + [x for mass, r in points for x in (mass, *r)]
+    if any(to_symengine(x, cache) is None for x in given):
+        return None
+    g = cache[gravity.g]
+    direction = [cache[d] for d in gravity.direction]
+    terms = [
+        cache[mass] * g * se.Add(*(-d * cache[x] for d, x in zip(direction, r, strict=True)))
+        for mass, r in points
+    ]
+    symbols = {s.name: s for x in given for s in x.free_symbols}
+    return to_sympy(se.Add(*terms), symbols)
 
 
 def spring_potential(spring: Spring) -> sympy.Expr:
