@@ -52,8 +52,9 @@ def tidy(expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = F
         return expr
     expanded = expand_products(expr)
     if trig and expanded.has(sympy.sin, sympy.cos):
+        expanded = _angle_sums_combined(expanded)
         ops = sympy.count_ops(expanded)
-        if ops <= TRIGSIMP_MAX_OPS:
+        if ops <= TRIGSIMP_MAX_OPS and _has_trig_products(expanded):
             candidate = sympy.trigsimp(expanded)
             if sympy.count_ops(candidate) < ops:
                 expanded = expand_products(candidate)
@@ -61,6 +62,43 @@ def tidy(expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = F
     if state and isinstance(expanded, sympy.Add):
         return group_by_state(expanded, state)
     return sympy.factor_terms(expanded)
+
+
+def _angle_sums_combined(expr: sympy.Expr) -> sympy.Expr:
+    """``expr`` with cos a cos b + sin a sin b -> cos(a - b) and cos^2 + sin^2 -> 1 applied.
+
+    The one rule behind most of what ``trigsimp`` finds in mechanics (a chain's
+    mass matrix), linear in the number of terms; kept only when it is shorter.
+    """
+    converted = to_symengine(expr)
+    if converted is None:
+        return expr
+    symbols = {s.name: s for s in expr.free_symbols}
+    # doit: SymPy's own evaluation, so cos(-a + b) is written cos(a - b) as SymPy prints it
+    combined = expand_products(to_sympy(combine_angles(converted), symbols).doit())
+    return combined if sympy.count_ops(combined) < sympy.count_ops(expr) else expr
+
+
+_TRIG = (sympy.sin, sympy.cos, sympy.tan, sympy.cot, sympy.sec, sympy.csc)
+
+
+def _has_trig_products(expr: sympy.Expr) -> bool:
+    """Some term holds two trigonometric factors (or a power of one): what trigsimp works on.
+
+    With at most one simple trigonometric factor per term, no identity shortens the
+    sum, and ``trigsimp`` (tens of milliseconds per call) is skipped.
+    """
+    for term in sympy.Add.make_args(expr):
+        count = 0
+        for factor in sympy.Mul.make_args(term):
+            base, exponent = factor.as_base_exp()
+            if isinstance(base, _TRIG):
+                count += 1 if exponent == 1 else 2
+            elif factor.has(*_TRIG):
+                count += 2  # inside a sum or a function: let trigsimp look
+        if count >= 2:
+            return True
+    return False
 
 
 def group_by_state(expr: sympy.Expr, state: tuple[sympy.Symbol, ...]) -> sympy.Expr:
@@ -82,9 +120,21 @@ def group_by_state(expr: sympy.Expr, state: tuple[sympy.Symbol, ...]) -> sympy.E
     for key, coefficients in groups.items():
         coefficient = sympy.Add(*coefficients)
         if len(coefficients) > 1 and sympy.count_ops(coefficient) <= FACTOR_MAX_OPS:
-            coefficient = sympy.factor(coefficient)
+            coefficient = _factored(coefficient)
         terms.append(coefficient * key)
     return sympy.Add(*terms)
+
+
+def _factored(coefficient: sympy.Expr) -> sympy.Expr:
+    """``factor`` of a parameter coefficient; only the common factors when no symbol is squared.
+
+    g l1 m1 + g l1 m2 -> g l1 (m1 + m2) needs no polynomial factorisation (which costs
+    milliseconds a call); squares may hide (m1 + m2)^2 and get the full ``factor``.
+    """
+    for term in sympy.Add.make_args(coefficient):
+        if any(not (e == 1 or b.is_Number) for b, e in term.as_powers_dict().items()):
+            return sympy.factor(coefficient)
+    return sympy.factor_terms(coefficient)
 
 
 def positive_content(expr: sympy.Expr, state: Iterable[sympy.Symbol]) -> sympy.Expr:
