@@ -91,6 +91,27 @@ def test_unknown_observable_lists_the_valid_names(pendulum1):
         run_ensemble(pendulum1, initial={"theta": [0.1]}, t_end=1, observables="nope")
 
 
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"precision": "float32"}, r"^precision float32 needs backend jax or cuda \(not numpy\)$"),
+        ({"precision": "half"}, r"^unknown precision 'half' \(precisions: float64, float32\)$"),
+        ({"backend": "opencl"}, r"^unknown backend 'opencl' \(backends: numpy, numba, jax, cuda"),
+    ],
+)
+def test_bad_backend_options_are_one_line_errors(pendulum1, options, message):
+    with pytest.raises(ModelError, match=message):
+        run_ensemble(pendulum1, initial={"theta": [0.1]}, t_end=1, **options)
+
+
+def test_cuda_without_a_gpu_says_what_to_install(pendulum1, monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "cupy", None)  # as if CuPy were not installed
+    with pytest.raises(ModelError, match=r"^backend 'cuda' needs CuPy and an NVIDIA GPU"):
+        run_ensemble(pendulum1, initial={"theta": [0.1]}, t_end=1, backend="cuda")
+
+
 def test_numba_equals_numpy(pendulum2):
     pytest.importorskip("numba")
     options = dict(

@@ -47,10 +47,17 @@ def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
 )
 @click.option(
     "--backend",
-    type=click.Choice(["numpy", "numba", "dask"]),
+    type=click.Choice(["numpy", "numba", "jax", "cuda", "dask"]),
     default="numpy",
     show_default=True,
-    help="How the members are integrated.",
+    help="How the members are integrated (jax and cuda: on a GPU).",
+)
+@click.option(
+    "--precision",
+    type=click.Choice(["float64", "float32"]),
+    default="float64",
+    show_default=True,
+    help="Floating point of backends jax and cuda.",
 )
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="A dask scheduler (backend dask).")
 @click.option(
@@ -71,12 +78,13 @@ def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
     help="A fixed parameter value or initial coordinate / velocity (repeatable).",
 )
 @click.option(
-    "--chunk-size", type=int, default=65_536, show_default=True, help="Members per chunk."
+    "--chunk-size", type=int, help="Members per chunk (default 65536; 2^20 for jax and cuda)."
 )
 @click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.nc or a map FILE.png.")
 def ensemble(
-    model, grids, backend, scheduler, observables, t_end, dt, method, assignments, chunk_size, out
-) -> None:
+    model, grids, backend, precision, scheduler, observables, t_end, dt, method, assignments,
+    chunk_size, out,
+) -> None:  # fmt: skip
     """Integrate MODEL over a grid of initial values or parameters."""
     from ..ensemble import ensemble_of_system, observable_names
     from ..errors import ModelError
@@ -101,8 +109,8 @@ def ensemble(
     with _progress_bar(enabled=True) as progress:
         result = ensemble_of_system(
             system, t_end=t_end, dt=dt, method=method, initial=initial, params=params,
-            backend=backend, scheduler=scheduler, observables=names, chunk_size=chunk_size,
-            progress=progress,
+            backend=backend, precision=precision, scheduler=scheduler, observables=names,
+            chunk_size=chunk_size, progress=progress,
         )  # fmt: skip
     if out is not None and out.endswith(".nc"):
         result.to_netcdf(out)
@@ -112,7 +120,8 @@ def ensemble(
     shape = " x ".join(f"{d} {s}" for d, s in zip(result.dims, result.shape, strict=True))
     click.echo(
         f"{system.name}: {shape} = {attrs['members']} members, {attrs['method']} "
-        f"dt={attrs['dt']:g}, {attrs['steps']} steps, backend {attrs['backend']}, "
+        f"dt={attrs['dt']:g}, {attrs['steps']} steps, backend {attrs['backend']} "
+        f"({attrs['precision']}), "
         f"{attrs['wall_time']:.3f} s, {attrs['trajectory_steps_per_second']:.3g} "
         "trajectory-steps/s"
     )

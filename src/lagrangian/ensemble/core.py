@@ -9,8 +9,17 @@ bounded whatever the ensemble's size; each chunk is integrated by a backend:
 - ``numba``: a parallel (prange over members) RK4 loop around a scalar
   right-hand side compiled by numba from the same symbolic equations
   (:mod:`.numba_backend`; rk4 only, optional dependency);
+- ``jax``: the same fixed-step loop over the equations compiled by the JAX
+  array backend, one ``jax.jit`` per run shape, on JAX's default device (a GPU
+  when one is there; :mod:`.jax_backend`; optional dependency);
+- ``cuda``: generated CUDA C, one GPU thread per member with the whole
+  fixed-step loop in the kernel, compiled at run time by CuPy
+  (:mod:`.cuda_backend`; optional dependency, needs an NVIDIA GPU);
 - ``dask``: the numpy path on the workers of a ``dask.distributed`` cluster
   (:mod:`.dask_backend`; optional dependency).
+
+``precision`` is ``float64`` (every backend) or ``float32`` (jax and cuda, where
+GPUs are several times faster in single precision).
 
 The step grid is the single run's (dt, the last step landing on t_end), so a
 member's result equals a single :func:`~lagrangian.integrate.simulate` run
@@ -39,10 +48,13 @@ from .result import EnsembleTrajectory
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
 
-BACKENDS = ("numpy", "numba", "dask")
+BACKENDS = ("numpy", "numba", "jax", "cuda", "dask")
 METHODS = ("rk4", "variational")
+PRECISIONS = ("float64", "float32")
 #: Members integrated together; memory per chunk is a few dozen (2n)-vectors per member.
 DEFAULT_CHUNK_SIZE = 65_536
+#: A GPU needs far more members at once than a CPU to be busy.
+GPU_CHUNK_SIZE = 1_048_576
 
 
 def run_ensemble(
@@ -56,7 +68,8 @@ def run_ensemble(
     backend: str = "numpy",
     observables: str | Iterable[str] = ("final_state",),
     save_every: int | None = None,
-    chunk_size: int = DEFAULT_CHUNK_SIZE,
+    chunk_size: int | None = None,
+    precision: str = "float64",
     scheduler: str | None = None,
     progress: Callable[[float], None] | None = None,
 ) -> EnsembleTrajectory:
@@ -66,13 +79,20 @@ def run_ensemble(
     rest come from the model.  ``dt`` defaults to t_end / 1000.
     ``save_every``: also keep every k-th step's state (paths).  ``scheduler``:
     the address of a dask scheduler (backend ``dask``; default a local cluster
-    of two worker processes).  ``progress`` is called with the fraction done.
+    of two worker processes).  ``chunk_size``: members per chunk (default
+    65,536; 2^20 on the GPU backends).  ``progress`` is called with the fraction done.
     """
     t0, t1 = check_time_span((0.0, t_end))
     if method not in METHODS:
         raise ModelError(f"unknown ensemble method '{method}' (methods: {', '.join(METHODS)})")
     if backend not in BACKENDS:
         raise ModelError(f"unknown backend '{backend}' (backends: {', '.join(BACKENDS)})")
+    if precision not in PRECISIONS:
+        raise ModelError(f"unknown precision '{precision}' (precisions: {', '.join(PRECISIONS)})")
+    if precision != "float64" and backend not in ("jax", "cuda"):
+        raise ModelError(f"precision {precision} needs backend jax or cuda (not {backend})")
+    if chunk_size is None:
+        chunk_size = GPU_CHUNK_SIZE if backend in ("jax", "cuda") else DEFAULT_CHUNK_SIZE
     names = observable_names(observables)
     integrator = method_class(method).configure(t_span=(t0, t1), dt=dt)
     assert isinstance(integrator, AbstractFixedStepIntegrator)
@@ -88,13 +108,11 @@ def run_ensemble(
     start = time.perf_counter()
     if backend == "numpy":
         parts = _numpy_chunks(compiled, integrator, batch, t1, names, int(chunk_size), **options)
-    elif backend == "numba":
-        from .numba_backend import integrate_numba
-
-        if method != "rk4":
-            raise ModelError("backend 'numba' integrates with method rk4 only")
+    elif backend in ("numba", "jax", "cuda"):
+        integrate = _compiled_backend(backend, method)
+        extra = {} if backend == "numba" else {"precision": precision}
         parts = [
-            integrate_numba(compiled, integrator, y0, p, t1, names, save_every=save_every)
+            integrate(compiled, integrator, y0, p, t1, names, save_every=save_every, **extra)
             for y0, p in _chunks(batch, int(chunk_size), progress)
         ]
     else:
@@ -105,7 +123,26 @@ def run_ensemble(
             save_every=save_every, scheduler=scheduler, progress=progress,
         )  # fmt: skip
     wall_time = time.perf_counter() - start
-    return _assemble(compiled, integrator, batch, parts, names, t1, backend, wall_time, save_every)
+    return _assemble(
+        compiled, integrator, batch, parts, names, t1, backend, wall_time, save_every, precision
+    )
+
+
+def _compiled_backend(backend: str, method: str):
+    """The chunk integrator of a backend that compiles the whole loop (imported on use)."""
+    if backend == "numba":
+        from .numba_backend import integrate_numba
+
+        if method != "rk4":
+            raise ModelError("backend 'numba' integrates with method rk4 only")
+        return integrate_numba
+    if backend == "jax":
+        from .jax_backend import integrate_jax
+
+        return integrate_jax
+    from .cuda_backend import integrate_cuda
+
+    return integrate_cuda
 
 
 def _projected(compiled: CompiledSystem, batch: Members) -> Members:
@@ -141,7 +178,9 @@ def _numpy_chunks(compiled, integrator, batch, t_end, names, size, *, save_every
     return parts
 
 
-def _assemble(compiled, integrator, batch, parts, names, t_end, backend, wall_time, save_every):
+def _assemble(
+    compiled, integrator, batch, parts, names, t_end, backend, wall_time, save_every, precision
+):
     steps = int(parts[0]["steps"])
     data_vars = {}
     keys = [key for key in parts[0] if key not in ("paths", "steps")]
@@ -168,6 +207,7 @@ def _assemble(compiled, integrator, batch, parts, names, t_end, backend, wall_ti
         "dt": float(integrator.dt),
         "t_end": float(t_end),
         "backend": backend,
+        "precision": precision,
         "members": batch.count,
         "steps": steps,
         "wall_time": float(wall_time),
