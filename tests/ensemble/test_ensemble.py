@@ -112,6 +112,23 @@ def test_cuda_without_a_gpu_says_what_to_install(pendulum1, monkeypatch):
         run_ensemble(pendulum1, initial={"theta": [0.1]}, t_end=1, backend="cuda")
 
 
+@pytest.mark.parametrize("method", ["rk4", "variational"])
+def test_jax_through_run_ensemble_equals_numpy(pendulum2, method):
+    pytest.importorskip("jax")
+    options = dict(
+        initial={"theta1": THETA1, "theta2": THETA2}, t_end=0.5, dt=0.01, method=method,
+        observables=("final_state", "flip_time", "energy_drift"),
+    )  # fmt: skip
+    expected = run_ensemble(pendulum2, **options)
+    got = run_ensemble(pendulum2, backend="jax", chunk_size=3, **options)
+    assert got.attrs["backend"] == "jax" and got.attrs["precision"] == "float64"
+    for name in expected.dataset.data_vars:
+        np.testing.assert_allclose(got[name], expected[name], rtol=1e-10, atol=1e-12)
+    single = run_ensemble(pendulum2, backend="jax", precision="float32", **options)
+    assert single.attrs["precision"] == "float32"
+    np.testing.assert_allclose(single["final_theta1"], expected["final_theta1"], atol=1e-3)
+
+
 def test_numba_equals_numpy(pendulum2):
     pytest.importorskip("numba")
     options = dict(
