@@ -91,10 +91,12 @@ def integrate_jax(
     grid = step_grid(0.0, float(t_end), integrator.dt)
     y_start = np.asarray(y0, dtype=float)
     dtype = np.float64 if precision == "float64" else np.float32
+    count = y_start.shape[1]
     with jax.enable_x64(precision == "float64"):
         run = _loop(compiled, integrator, precision, every, track)
-        arrays = (y_start.astype(dtype), np.asarray(params, dtype=dtype), grid.astype(dtype))
-        final, flips, failed, paths = jax.device_get(run(*arrays))
+        arrays = (*_padded(y_start, np.asarray(params), count), grid)
+        results = run(*(array.astype(dtype) for array in arrays))
+        final, flips, failed, paths = (np.asarray(x)[..., :count] for x in jax.device_get(results))
     if np.any(failed >= 0):
         raise ModelError(
             "the ensemble integration failed: Newton's method of the variational step did "
@@ -110,6 +112,22 @@ def integrate_jax(
         values["paths"] = np.transpose(np.asarray(paths, dtype=float), (1, 2, 0))
     values["steps"] = np.array(len(grid) - 1)
     return values
+
+
+def _padded(y0: np.ndarray, params: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """The members repeated up to the next power of two (the last one padding).
+
+    JAX traces and compiles the loop once per batch size; the last, smaller chunk
+    of an ensemble would cost a second compilation.  With sizes rounded up there
+    are at most log2(chunk size) of them, for at most twice the work of a chunk.
+    """
+    size = 1 << max(count - 1, 0).bit_length()
+    if size == count:
+        return y0, params
+    y0 = np.pad(y0, ((0, 0), (0, size - count)), mode="edge")
+    if params.ndim == 2:
+        params = np.pad(params, ((0, 0), (0, size - count)), mode="edge")
+    return y0, params
 
 
 def traced_system(compiled: CompiledSystem) -> CompiledSystem:
