@@ -4,8 +4,10 @@
 
 Backends ``numpy`` and ``numba`` of :func:`lagrangian.ensemble.run_ensemble`
 against a hand-written numba kernel: the closed-form double-pendulum
-accelerations in the same parallel (prange over members) RK4 loop.  The
-numba runs are warmed up first (compile time excluded).  Medians of
+accelerations in the same parallel (prange over members) RK4 loop; with JAX
+installed, the ``jax`` backend (float64 and float32, on JAX's default device)
+against a hand-written ``jax.vmap`` RK4 (``gpu.hand_jax``).  Compiled runs
+are warmed up first (compile time excluded).  Medians of
 ``--repeat`` runs; ratio = hand kernel / ours (> 1: we are slower).  Not a
 test: nothing is asserted beyond the kernels agreeing.
 """
@@ -15,9 +17,14 @@ from __future__ import annotations
 import argparse
 import math
 import statistics
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from gpu import hand_jax
 
 import lagrangian as lg
 from lagrangian.ensemble import run_ensemble
@@ -125,6 +132,38 @@ def main() -> None:
     print(f"  ratio hand / numba backend: {hand_rate / numba_rate:.2f}")
     print(f"  numpy backend / hand: {numpy_rate / hand_rate:.3f}")
     print(f"  max |theta1 ours - hand| at the end: {agreement:.2e}")
+    jax_rows(compiled, initial, y0.T.copy(), p, dt, args)
+
+
+def jax_rows(compiled, initial, y0, p, dt, args) -> None:
+    """The jax backend against a hand-written jax.vmap RK4, same members and steps."""
+    try:
+        import jax
+    except ImportError:
+        print("  jax: not installed, skipped")
+        return
+    work = args.members * args.steps
+    with jax.enable_x64(True):
+        hand = hand_jax(jax, args.steps, dt)
+        states, params = jax.numpy.asarray(y0), jax.numpy.asarray(p)
+        hand(states, params).block_until_ready()
+        hand_rate = median_rate(lambda: hand(states, params).block_until_ready(), work, args.repeat)
+    device = jax.devices()[0].platform
+    print(f"  hand jax.vmap RK4 (float64, {device}) {hand_rate:10.3g} trajectory-steps/s")
+    for precision in ("float64", "float32"):
+
+        def ours(steps, precision=precision):
+            return run_ensemble(
+                compiled, initial=initial, t_end=steps * dt, dt=dt, backend="jax",
+                precision=precision, chunk_size=args.members,
+            )  # fmt: skip
+
+        ours(args.steps)  # compile
+        rate = median_rate(lambda run=ours: run(args.steps), work, args.repeat)
+        print(
+            f"  jax backend {precision}      {rate:12.3g} trajectory-steps/s   "
+            f"hand jax / ours {hand_rate / rate:.2f}"
+        )
 
 
 if __name__ == "__main__":
