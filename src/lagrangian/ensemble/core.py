@@ -6,9 +6,9 @@ bounded whatever the ensemble's size; each chunk is integrated by a backend:
 
 - ``numpy``: the single-run fixed-step integrator (rk4 or variational)
   stepping the chunk's states (2n, B) (:mod:`.numpy_backend`);
-- ``numba``: a parallel (prange over members) RK4 loop around a scalar
-  right-hand side compiled by numba from the same symbolic equations
-  (:mod:`.numba_backend`; rk4 only, optional dependency);
+- ``numba``: a parallel (prange over members) fixed-step loop (rk4 or
+  variational) around scalar expressions compiled by numba from the same
+  symbolic equations (:mod:`.numba_backend`; optional dependency);
 - ``jax``: the same fixed-step loop over the equations compiled by the JAX
   array backend, one ``jax.jit`` per run shape, on JAX's default device (a GPU
   when one is there; :mod:`.jax_backend`; optional dependency);
@@ -109,7 +109,7 @@ def run_ensemble(
     if backend == "numpy":
         parts = _numpy_chunks(compiled, integrator, batch, t1, names, int(chunk_size), **options)
     elif backend in ("numba", "jax", "cuda"):
-        integrate = _compiled_backend(backend, method)
+        integrate = _compiled_backend(backend)
         extra = {} if backend == "numba" else {"precision": precision}
         parts = [
             integrate(compiled, integrator, y0, p, t1, names, save_every=save_every, **extra)
@@ -128,13 +128,11 @@ def run_ensemble(
     )
 
 
-def _compiled_backend(backend: str, method: str):
+def _compiled_backend(backend: str):
     """The chunk integrator of a backend that compiles the whole loop (imported on use)."""
     if backend == "numba":
         from .numba_backend import integrate_numba
 
-        if method != "rk4":
-            raise ModelError("backend 'numba' integrates with method rk4 only")
         return integrate_numba
     if backend == "jax":
         from .jax_backend import integrate_jax

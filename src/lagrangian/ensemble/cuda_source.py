@@ -40,11 +40,11 @@ from ..errors import ModelError
 from ..integrate import tableaus
 from ..numeric.forms import SymbolicForms
 from ..numeric.numba_source import _fingerprint
+from .scheme_expressions import SCHEMES, STEP, scheme_expressions
 
 #: Bump when the generated text changes.
 GENERATOR_VERSION = "1"
 PRECISIONS = ("float64", "float32")
-SCHEMES = ("rk4", "midpoint", "stormer-verlet")
 
 #: The kernel's parameters in order, (C type, name); hosts pass arguments by these names.
 KERNEL_PARAMETERS = (
@@ -418,7 +418,7 @@ def kernel_source(forms: SymbolicForms, method: str, precision: str) -> tuple[st
         raise ModelError(f"backend 'cuda' integrates with rk4 or variational, not '{method}'")
     if forms.constraints is not None:
         raise ModelError("backend 'cuda' does not handle constraints (use backend numpy)")
-    arrays = _arrays(forms, method)
+    arrays = scheme_expressions(forms, method)
     digest = hashlib.sha256()
     for text in (GENERATOR_VERSION, sympy.__version__, method, precision, str(forms.n)):
         digest.update(text.encode() + b"\0")
@@ -429,34 +429,6 @@ def kernel_source(forms: SymbolicForms, method: str, precision: str) -> tuple[st
             for entry in entries:
                 _fingerprint(entry, digest)
     return digest.hexdigest(), _text(forms, method, precision, arrays)
-
-
-def _arrays(forms: SymbolicForms, method: str):
-    """[(function name, [(output array, entries)])] of the generated functions of ``method``."""
-    n = forms.n
-    q, v = sympy.Matrix(forms.coordinates), sympy.Matrix(forms.velocities)
-    mass = [forms.mass_matrix[i, j] for i in range(n) for j in range(n)]
-    if method == "rk4":
-        return [("lg_mass_force", [("M", mass), ("f", list(forms.forcing))])]
-    gradient = sympy.Matrix([sympy.diff(forms.lagrangian, coordinate) for coordinate in q])
-    if method == "stormer-verlet":
-        return [("lg_mass", [("M", mass)]), ("lg_gradient", [("out", list(gradient))])]
-    momenta = sympy.Matrix(forms.momenta)
-    forces = sympy.Matrix(forms.nonconservative_forces)
-    h = sympy.Symbol("_h")
-    p_q = momenta.jacobian(q)
-    jacobian = (
-        sympy.Matrix(forms.mass_matrix)
-        + (h / 2) * (p_q - p_q.T)
-        - (h * h / 4) * (gradient.jacobian(q) + forces.jacobian(q))
-        - (h / 2) * forces.jacobian(v)
-    )
-    return [
-        ("lg_momenta", [("out", list(momenta))]),
-        ("lg_momenta_force", [("momenta", list(momenta)), ("force", list(gradient + forces))]),
-        ("lg_mass", [("M", mass)]),
-        ("lg_jacobian", [("J", [jacobian[i, j] for i in range(n) for j in range(n)])]),
-    ]
 
 
 def _text(forms: SymbolicForms, method: str, precision: str, arrays) -> str:
@@ -475,7 +447,7 @@ def _text(forms: SymbolicForms, method: str, precision: str, arrays) -> str:
     functions = []
     for name, outputs in arrays:
         renamed = [(array, [rename(entry) for entry in entries]) for array, entries in outputs]
-        functions.append(_device_function(name, renamed, printer))
+        functions.append(_device_function(f"lg_{name}", renamed, printer))
     if method == "rk4":
         a, b, c = tableaus.RK4.a, tableaus.RK4.b, tableaus.RK4.c
         coefficients = {f"a{i + 1}{i}": literal(a[i, i - 1]) for i in (1, 2, 3)}
@@ -498,7 +470,7 @@ def _renaming(forms: SymbolicForms):
     replace.update({q: sympy.Symbol(f"_y{i}") for i, q in enumerate(forms.coordinates)})
     replace.update({v: sympy.Symbol(f"_y{n + i}") for i, v in enumerate(forms.velocities)})
     replace.update({s: sympy.Symbol(f"_p{j}") for j, s in enumerate(forms.parameters)})
-    known = {*replace.values(), sympy.Symbol("_h")}
+    known = {*replace.values(), STEP}
 
     def rename(expression: sympy.Expr) -> sympy.Expr:
         result = without_distributions(expression).xreplace(replace)

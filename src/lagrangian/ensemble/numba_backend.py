@@ -1,14 +1,15 @@
-"""The numba backend: a parallel fixed-step RK4 loop around a numba-compiled rhs.
+"""The numba backend: a parallel fixed-step loop around numba-compiled expressions.
 
-The right-hand side comes from the same symbolic equations as the numpy one
-(:func:`~lagrangian.numeric.forms.symbolic_forms` of ``compiled.equations``):
-M and f are filled by the generated kernel of the numba backend
-(:mod:`lagrangian.numeric.numba_source`, cached on disk) and q'' solves
-M q'' = f by Gaussian elimination with partial pivoting
-(:func:`lagrangian.numeric.numba_linalg.solve_into`).  The RK4 loop uses the same tableau and
-step grid as :class:`~lagrangian.integrate.explicit_rk.RK4`, so results agree
-with the numpy backend to rounding.  One member per ``prange`` iteration; a
-member asking only for ``flip_time`` stops when it has flipped.
+The expressions come from the same symbolic equations as the numpy backend
+(:func:`~lagrangian.numeric.forms.symbolic_forms` of ``compiled.equations``),
+printed as generated kernels cached on disk (:mod:`lagrangian.numeric.numba_source`):
+M and f of M q'' = f for ``rk4``; the momenta, forces, M and the Newton
+Jacobian of :mod:`.scheme_expressions` for ``variational`` (the midpoint
+scheme, or Stormer-Verlet when the system is separable, as
+:class:`~lagrangian.integrate.variational.Variational` picks).  The schemes
+(:mod:`.numba_schemes`) follow the numpy backend step for step on the same
+step grid, so results agree with it to rounding.  One member per ``prange``
+iteration; a member asking only for ``flip_time`` stops when it has flipped.
 
 numba is imported here only (``pip install 'lagrangian[numba]'``).
 Constrained systems are not handled (use the numpy backend).
@@ -23,14 +24,16 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError
-from ..integrate import tableaus
 from ..integrate.fixed_step import step_grid
+from ..integrate.variational import ROUNDING_FLOOR
 from .observables import finish, stops_early
 
 if TYPE_CHECKING:
     from ..integrate.fixed_step import AbstractFixedStepIntegrator
     from ..numeric.compiled import CompiledSystem
+    from ..numeric.forms import SymbolicForms
 
+#: The built loops, per compiled system and scheme (compiling one takes seconds).
 _KERNELS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
@@ -42,58 +45,66 @@ def _numba():
     return numba
 
 
-def fill_kernel(compiled: CompiledSystem):
-    """The jitted ``fill(t, y, p, M, f)`` of ``compiled`` (generated code, cached on disk)."""
+def _forms(compiled: CompiledSystem) -> SymbolicForms:
     from ..numeric.definitions import function_definitions
     from ..numeric.forms import symbolic_forms
-    from ..numeric.numba_source import load_module
 
     if compiled.has_constraints:
         raise ModelError("backend 'numba' does not handle constraints (use backend numpy)")
     _numba()
     system = compiled.equations.system
-    forms = symbolic_forms(
+    return symbolic_forms(
         compiled.equations, function_definitions(system, dict(compiled.definitions))
     )
-    return load_module(forms).fill
 
 
-def kernel(compiled: CompiledSystem):
-    """The jitted ensemble loop of ``compiled`` (built once per compiled system)."""
-    found = _KERNELS.get(compiled)
-    if found is None:
-        found = _KERNELS[compiled] = _build(fill_kernel(compiled), compiled.n)
-    return found
+def fill_kernel(compiled: CompiledSystem):
+    """The jitted ``fill(t, y, p, M, f)`` of ``compiled`` (generated code, cached on disk)."""
+    from ..numeric.numba_source import load_module
+
+    return load_module(_forms(compiled)).fill
 
 
-def _build(fill, n: int):
-    from ..numeric.numba_linalg import solve_into
+def scheme_functions(compiled: CompiledSystem, scheme: str):
+    """The module of jitted fillers of a variational ``scheme`` (generated, cached on disk)."""
+    from ..numeric.numba_source import load_functions
+    from .scheme_expressions import MATRICES, SCALARS, scheme_expressions
 
+    forms = _forms(compiled)
+    expressions = scheme_expressions(forms, scheme)
+    return load_functions(forms, scheme, expressions, scalars=SCALARS, matrices=MATRICES)
+
+
+def kernel(compiled: CompiledSystem, scheme: str = "rk4"):
+    """The jitted ensemble loop of ``compiled`` and ``scheme`` (built once per system)."""
+    built = _KERNELS.setdefault(compiled, {})
+    if scheme not in built:
+        from . import numba_schemes
+
+        generated = fill_kernel(compiled) if scheme == "rk4" else scheme_functions(compiled, scheme)
+        built[scheme] = _build(numba_schemes.SCHEMES[scheme](generated, compiled.n), compiled.n)
+    return built[scheme]
+
+
+def _build(scheme, n: int):
+    """The parallel loop over members around one member's ``scheme`` (numba_schemes.Scheme)."""
     numba = _numba()
-    njit, prange = numba.njit, numba.prange
-    a21, a32, a43 = (float(tableaus.RK4.a[i, i - 1]) for i in (1, 2, 3))
-    b1, b2, b3, b4 = (float(b) for b in tableaus.RK4.b)
-    c2, c3, c4 = (float(c) for c in tableaus.RK4.c[1:])
+    workspace, init, step = scheme
     limit = math.pi
 
-    @njit(inline="always")
-    def derivative(t, y, p, matrix, force, out):
-        fill(t, y, p, matrix, force)
-        solve_into(matrix, force, out, n)
-        for i in range(n):
-            out[i] = y[n + i]
-
-    @njit(parallel=True)
-    def run(y0, params, grid, track, stop, save_every, final, flips, paths):
+    @numba.njit(parallel=True)
+    def run(
+        y0, params, grid, track, stop, save_every, tol, floor, iterations,
+        final, flips, failures, paths,
+    ):  # pragma: no cover - compiled by numba  # fmt: skip
         count, m = y0.shape
         steps = grid.shape[0] - 1
-        for b in prange(count):
+        for b in numba.prange(count):
             y = y0[b].copy()
             p = params[b]
-            k1, k2, k3, k4 = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
-            stage = np.empty(m)
-            matrix, force = np.empty((n, n)), np.empty(n)
+            work = workspace()
             flip = np.nan
+            failure = -1
             if track:
                 for i in range(n):
                     if abs(y[i]) > limit:
@@ -102,21 +113,12 @@ def _build(fill, n: int):
                 for i in range(m):
                     paths[b, i, 0] = y[i]
             if not (stop and flip == flip):
+                init(grid[0], y, p, work)
                 for s in range(steps):
                     ta = grid[s]
-                    h = grid[s + 1] - ta
-                    derivative(ta, y, p, matrix, force, k1)
-                    for i in range(m):
-                        stage[i] = y[i] + (h * a21) * k1[i]
-                    derivative(ta + c2 * h, stage, p, matrix, force, k2)
-                    for i in range(m):
-                        stage[i] = y[i] + (h * a32) * k2[i]
-                    derivative(ta + c3 * h, stage, p, matrix, force, k3)
-                    for i in range(m):
-                        stage[i] = y[i] + (h * a43) * k3[i]
-                    derivative(ta + c4 * h, stage, p, matrix, force, k4)
-                    for i in range(m):
-                        y[i] = y[i] + h * (b1 * k1[i] + b2 * k2[i] + b3 * k3[i] + b4 * k4[i])
+                    if not step(ta, grid[s + 1] - ta, y, p, work, tol, floor, iterations):
+                        failure = s
+                        break
                     if save_every > 0 and (s + 1) % save_every == 0:
                         for i in range(m):
                             paths[b, i, (s + 1) // save_every] = y[i]
@@ -127,10 +129,19 @@ def _build(fill, n: int):
                         if stop and flip == flip:
                             break
             flips[b] = flip
+            failures[b] = failure
             for i in range(m):
                 final[b, i] = y[i]
 
     return run
+
+
+def _scheme(compiled: CompiledSystem, integrator: AbstractFixedStepIntegrator) -> str:
+    if integrator.name == "rk4":
+        return "rk4"
+    if integrator.name == "variational":
+        return integrator.scheme(compiled)
+    raise ModelError(f"backend 'numba' integrates with rk4 or variational, not {integrator.name}")
 
 
 def integrate_numba(
@@ -144,7 +155,7 @@ def integrate_numba(
     save_every: int | None = None,
 ) -> dict[str, np.ndarray]:
     """One chunk, as :func:`~lagrangian.ensemble.numpy_backend.integrate_chunk` returns it."""
-    run = kernel(compiled)
+    run = kernel(compiled, _scheme(compiled, integrator))
     grid = step_grid(0.0, float(t_end), integrator.dt)
     count = y0.shape[1]
     states = np.ascontiguousarray(np.asarray(y0, dtype=float).T)
@@ -154,10 +165,21 @@ def integrate_numba(
     saved = (len(grid) - 1) // every + 1 if every else 1
     final = np.empty_like(states)
     flips = np.empty(count)
+    failures = np.empty(count, dtype=np.int64)
     paths = np.empty((count, states.shape[1], saved) if every else (1, 1, 1))
     track = "flip_time" in names
     stop = stops_early(names) and not every
-    run(states, per_member, grid, track, stop, every, final, flips, paths)
+    newton = (
+        float(getattr(integrator, "newton_tol", 1e-14)), ROUNDING_FLOOR,
+        int(getattr(integrator, "max_newton", 30)),
+    )  # fmt: skip
+    run(states, per_member, grid, track, stop, every, *newton, final, flips, failures, paths)
+    if np.any(failures >= 0):
+        raise ModelError(
+            "the ensemble integration failed: Newton's method of the variational step did "
+            f"not converge in {newton[2]} iterations at t = "
+            f"{grid[failures[failures >= 0].min()]:.17g}"
+        )
     values = finish(
         compiled, names, t0=grid[0], y0=np.asarray(y0, float), t1=grid[-1], y1=final.T,
         params=params, flip_time=flips,

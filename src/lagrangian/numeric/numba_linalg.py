@@ -1,7 +1,7 @@
 """The in-kernel linear solve of the numba code: M q'' = f by Gaussian elimination.
 
 Shared by the generated right-hand sides (:mod:`lagrangian.numeric.numba_source`)
-and the ensemble's RK4 loop (:mod:`lagrangian.ensemble.numba_backend`).  Partial
+and the ensemble loops (:mod:`lagrangian.ensemble.numba_schemes`).  Partial
 pivoting keeps it stable for any nonsingular M (for unconstrained systems M is
 symmetric positive definite, where pivoting changes nothing but costs little at
 the sizes of mechanical models).  Importing this module imports numba.

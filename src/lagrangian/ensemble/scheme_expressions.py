@@ -1,0 +1,64 @@
+r"""The expressions a compiled ensemble loop evaluates, per fixed-step scheme.
+
+The backends that generate a whole loop (CUDA C in :mod:`.cuda_source`, numba
+in :mod:`.numba_backend`) print the same entries, built here once from the
+symbolic forms (:mod:`lagrangian.numeric.forms`).  Each scheme needs a few
+functions of (t, y = [q, q'], p), each filling named output arrays:
+
+- ``rk4``: ``mass_force`` (M, f of M q'' = f);
+- ``stormer-verlet``: ``mass`` (M) and ``gradient`` (L_q);
+- ``midpoint``: ``momenta`` (L_q'), ``momenta_force`` (L_q' and L_q + Q),
+  ``mass`` (M) and ``jacobian``, the Newton Jacobian of the midpoint step
+
+      J = M + (h/2)(P_q - P_q^T) - (h^2/4)(L_qq + Q_q) - (h/2) Q_q',
+
+  which depends on the step h as well (the symbol :data:`STEP`); see
+  :mod:`lagrangian.integrate.variational` for the schemes themselves.
+
+Matrices (the arrays named in :data:`MATRICES`) are listed row by row.
+"""
+
+from __future__ import annotations
+
+import sympy
+
+from ..numeric.forms import SymbolicForms
+
+#: The step width in the Jacobian of the midpoint scheme.
+STEP = sympy.Symbol("_h")
+#: Scalar arguments of a function beyond (t, y, p): the step of the Jacobian.
+SCALARS = {"jacobian": (STEP,)}
+#: Output arrays that hold an n x n matrix (entries row by row).
+MATRICES = ("M", "J")
+SCHEMES = ("rk4", "midpoint", "stormer-verlet")
+
+#: [(function name, [(output array, entries)])]
+Functions = list[tuple[str, list[tuple[str, list[sympy.Expr]]]]]
+
+
+def scheme_expressions(forms: SymbolicForms, method: str) -> Functions:
+    """The functions ``method`` (one of :data:`SCHEMES`) evaluates; see the module."""
+    n = forms.n
+    q, v = sympy.Matrix(forms.coordinates), sympy.Matrix(forms.velocities)
+    mass = [forms.mass_matrix[i, j] for i in range(n) for j in range(n)]
+    if method == "rk4":
+        return [("mass_force", [("M", mass), ("f", list(forms.forcing))])]
+    gradient = sympy.Matrix([sympy.diff(forms.lagrangian, coordinate) for coordinate in q])
+    if method == "stormer-verlet":
+        return [("mass", [("M", mass)]), ("gradient", [("out", list(gradient))])]
+    momenta = sympy.Matrix(forms.momenta)
+    forces = sympy.Matrix(forms.nonconservative_forces)
+    h = STEP
+    p_q = momenta.jacobian(q)
+    jacobian = (
+        sympy.Matrix(forms.mass_matrix)
+        + (h / 2) * (p_q - p_q.T)
+        - (h * h / 4) * (gradient.jacobian(q) + forces.jacobian(q))
+        - (h / 2) * forces.jacobian(v)
+    )
+    return [
+        ("momenta", [("out", list(momenta))]),
+        ("momenta_force", [("momenta", list(momenta)), ("force", list(gradient + forces))]),
+        ("mass", [("M", mass)]),
+        ("jacobian", [("J", [jacobian[i, j] for i in range(n) for j in range(n)])]),
+    ]
