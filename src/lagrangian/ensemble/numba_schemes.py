@@ -16,8 +16,8 @@ at each stage) and the two of :class:`~lagrangian.integrate.variational.Variatio
 ``midpoint`` (Newton on the midpoint velocity, first guess, convergence test
 and the velocity from the momenta as there) and ``stormer-verlet``.  The
 linear solves are Gaussian elimination with partial pivoting
-(:func:`lagrangian.numeric.numba_linalg.solve_into`), so results equal numpy's
-LAPACK solves to rounding.  The expressions come from generated fillers
+(:func:`lagrangian.numeric.numba_linalg.solver`, unrolled for the system's n),
+so results equal numpy's LAPACK solves to rounding.  The expressions come from generated fillers
 (:mod:`.scheme_expressions`, :func:`lagrangian.numeric.numba_source.load_functions`).
 """
 
@@ -29,7 +29,7 @@ import numba
 import numpy as np
 
 from ..integrate import tableaus
-from ..numeric.numba_linalg import solve_into
+from ..numeric.numba_linalg import solver
 
 
 class Scheme(NamedTuple):
@@ -53,6 +53,7 @@ def _converged(size, previous, scale, tol, floor):  # pragma: no cover - compile
 
 def rk4(fill, n: int) -> Scheme:
     """RK4 around ``fill(t, y, p, M, f)`` (the generated M and f of M q'' = f)."""
+    solve = solver(n)
     a21, a32, a43 = (float(tableaus.RK4.a[i, i - 1]) for i in (1, 2, 3))
     b1, b2, b3, b4 = (float(b) for b in tableaus.RK4.b)
     c2, c3, c4 = (float(c) for c in tableaus.RK4.c[1:])
@@ -66,7 +67,7 @@ def rk4(fill, n: int) -> Scheme:
     @numba.njit(inline="always")
     def derivative(t, y, p, matrix, force, out):  # pragma: no cover - compiled by numba
         fill(t, y, p, matrix, force)
-        solve_into(matrix, force, out, n)
+        solve(matrix, force, out, n)
         for i in range(n):
             out[i] = y[n + i]
 
@@ -96,6 +97,7 @@ def rk4(fill, n: int) -> Scheme:
 
 def midpoint(functions, n: int) -> Scheme:
     """The midpoint variational step; ``functions`` holds the generated fillers of the scheme."""
+    solve = solver(n)
     momenta_of, momenta_force = functions.momenta, functions.momenta_force
     mass, jacobian = functions.mass, functions.jacobian
 
@@ -134,7 +136,7 @@ def midpoint(functions, n: int) -> Scheme:
                 return False
             previous = size
             jacobian(tm, z, p, h, matrix)
-            solve_into(matrix, residual, change, 0)
+            solve(matrix, residual, change, 0)
             for i in range(n):
                 v[i] -= change[i]
         for i in range(n):
@@ -161,7 +163,7 @@ def midpoint(functions, n: int) -> Scheme:
                 return False
             previous = size
             mass(t + h, z, p, matrix)
-            solve_into(matrix, residual, change, 0)
+            solve(matrix, residual, change, 0)
             for i in range(n):
                 z[n + i] -= change[i]
         return False
@@ -171,6 +173,7 @@ def midpoint(functions, n: int) -> Scheme:
 
 def stormer_verlet(functions, n: int) -> Scheme:
     """The explicit Stormer-Verlet step of separable systems (M constant: its inverse kept)."""
+    solve = solver(n)
     mass, gradient = functions.mass, functions.gradient
 
     @numba.njit(inline="always")
@@ -196,7 +199,7 @@ def stormer_verlet(functions, n: int) -> Scheme:
                 unit[i] = 1.0 if i == j else 0.0
                 for k in range(n):
                     copy[i, k] = matrix[i, k]
-            solve_into(copy, unit, z, 0)
+            solve(copy, unit, z, 0)
             for i in range(n):
                 inverse[i, j] = z[i]
         apply(matrix, y[n:], momenta)
