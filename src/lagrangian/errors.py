@@ -78,6 +78,22 @@ class ModelError(LagrangianError):
 class SingularMassMatrixError(LagrangianError):
     """The equations cannot be solved for the accelerations."""
 
+    @classmethod
+    def at_state(
+        cls, t: float | None, names=(), values=(), *, constrained: bool = False
+    ) -> SingularMassMatrixError:
+        """M is singular at this state of a run (``t`` None: somewhere in a batch)."""
+        what = "the mass matrix with the constraints" if constrained else "the mass matrix"
+        if t is None:
+            where = "at one of the states of the batch"
+        else:
+            shown = ", ".join(f"{n} = {v:.6g}" for n, v in zip(names, values, strict=True))
+            where = f"at t = {t:.6g} ({shown})"
+        return cls(
+            f"{what} is singular {where}: the coordinates are degenerate there "
+            "(an angle at a pole, a collision); start the motion away from that state"
+        )
+
 
 def _visible(text: str) -> str:
     """The text as typed (LaTeX backslashes intact), control characters escaped."""

@@ -130,3 +130,43 @@ def test_numba_backend_gives_the_numpy_run(capsys, tmp_path, monkeypatch):
         finals[backend] = json.loads(out)["final_state"]
     for name, value in finals["numpy"].items():
         assert finals["numba"][name] == pytest.approx(value, abs=1e-12)
+
+
+SINGULAR_AT_START = """
+name = "Bead whose inertia vanishes at x = 0"
+coordinates = ["x"]
+kinetic = "m*x^2*x_dot^2/2"
+potential = "k*x^2/2"
+[parameters]
+m = 1.0
+k = 1.0
+[initial]
+x = 0
+x_dot = 1
+"""
+
+
+@pytest.mark.parametrize("method", ["dop853", "radau", "rk4", "variational"])
+@pytest.mark.parametrize(
+    ("model", "where"),
+    [("bead", "at t = 0 (x = 0)"), ("spherical_pendulum", "at t = 0 (theta = 0, phi = 0)")],
+)
+def test_a_singular_mass_matrix_on_the_way_is_one_line(capsys, tmp_path, method, model, where):
+    if model == "bead":
+        model = tmp_path / "bead.toml"
+        model.write_text(SINGULAR_AT_START, encoding="utf-8")
+        extra = []
+    else:
+        extra = ["--set", "theta=0", "--set", "phi=0"]
+    out_file = tmp_path / "run.csv"
+    status, out, err = run(
+        capsys, "simulate", str(model), "--t-end", "1", "--method", method, *extra,
+        "--out", str(out_file),
+    )  # fmt: skip
+    assert status == ExitStatus.BAD_INPUT and out == ""
+    assert err.strip().splitlines() == [
+        f"lagrangian: error: the mass matrix is singular {where}: the coordinates are "
+        "degenerate there (an angle at a pole, a collision); start the motion away from "
+        "that state"
+    ]
+    assert not out_file.exists()

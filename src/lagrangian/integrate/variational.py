@@ -51,7 +51,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, SingularMassMatrixError
 from .fixed_step import AbstractFixedStepIntegrator, StepFailure
 
 if TYPE_CHECKING:
@@ -109,10 +109,11 @@ class Variational(AbstractFixedStepIntegrator):
     def init(self, compiled, t, y, params, work):
         q, w = _split(_batch(y))
         work.rhs_evaluations += 1
-        if self.scheme(compiled) == "midpoint":
-            return _MidpointState(compiled.momenta(t, q, w, params), None)
         n, batch = q.shape
         mass = np.broadcast_to(compiled.mass_matrix(t, q, w, params), (n, n, batch))
+        _check_regular(compiled, t, q, np.moveaxis(mass, -1, 0))
+        if self.scheme(compiled) == "midpoint":
+            return _MidpointState(compiled.momenta(t, q, w, params), None)
         inverse = np.linalg.inv(np.moveaxis(mass, -1, 0))  # (B, n, n), M is constant
         force = compiled.lagrangian_gradient(t, q, w, params)
         return _VerletState(_mul(mass, w), force, inverse)
@@ -206,6 +207,23 @@ class Variational(AbstractFixedStepIntegrator):
         )
 
 
+def _check_regular(compiled, t, q: np.ndarray, mass: np.ndarray) -> None:
+    """Refuse a start where M (B, n, n) is singular: the momenta would not fix the velocity.
+
+    The explicit methods find this in their first solve; here the momenta of such
+    a state are computed without one, and the run would silently lose the velocity.
+    """
+    with np.errstate(all="ignore"):
+        condition = np.linalg.cond(mass)
+    bad = ~(condition < 1 / np.finfo(float).eps)
+    if not bad.any():
+        return
+    k = int(np.argmax(bad))
+    raise SingularMassMatrixError.at_state(
+        float(np.max(t)), compiled.coordinate_names, q[:, k].tolist()
+    )
+
+
 def _converged(size, previous, scale, tolerance) -> np.ndarray:
     """Per batch element: residual small, or no longer decreasing at the rounding floor."""
     small = (size <= tolerance * scale) | (size == 0.0)
@@ -240,8 +258,13 @@ def _solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     if matrix.shape != (n, n, batch):
         matrix = np.broadcast_to(matrix, (n, n, batch))
     if n == 1:
+        if np.any(matrix[0] == 0):
+            raise StepFailure("the Newton matrix (the mass matrix) is singular")
         return rhs / matrix[0]
-    return np.linalg.solve(matrix.transpose(2, 0, 1), rhs.T[..., None])[..., 0].T
+    try:
+        return np.linalg.solve(matrix.transpose(2, 0, 1), rhs.T[..., None])[..., 0].T
+    except np.linalg.LinAlgError:
+        raise StepFailure("the Newton matrix (the mass matrix) is singular") from None
 
 
 def _apply(inverse: np.ndarray, x: np.ndarray) -> np.ndarray:

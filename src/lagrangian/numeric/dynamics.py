@@ -26,8 +26,10 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
 import sympy
 
+from ..errors import SingularMassMatrixError
 from .backends import Array
 from .forms import SymbolicForms
 from .kernels import Kernel, Signature, to_trailing, with_batch
@@ -82,11 +84,23 @@ class Dynamics:
         batch, blocks = self._kernel(t, parts, params)
         mass, forcing = blocks[:2]
         if not self._m:
-            return batch, mass, self._backend.solve(mass, forcing), None
+            return batch, mass, self._solved(mass, forcing, t, parts), None
         matrix, bias = blocks[2:]
         system = self._augmented(mass, matrix)
-        solution = self._backend.solve(system, self._xp.concatenate([forcing, bias], axis=-1))
+        right = self._xp.concatenate([forcing, bias], axis=-1)
+        solution = self._solved(system, right, t, parts)
         return batch, system, solution[..., : self._n], solution[..., self._n :]
+
+    def _solved(self, matrix: Array, rhs: Array, t: Any, parts: tuple[Array, ...]) -> Array:
+        try:
+            return self._backend.solve(matrix, rhs)
+        except np.linalg.LinAlgError:
+            q = np.asarray(parts[0])[: self._n]
+            single = q.ndim == 1 and np.ndim(t) == 0
+            raise SingularMassMatrixError.at_state(
+                float(t) if single else None, self._signature.coordinate_names, q.tolist(),
+                constrained=bool(self._m),
+            ) from None  # fmt: skip
 
     def _state(self, y: Any, params: Any) -> tuple[Array, Array]:
         return self._signature.state(y), self._signature.parameters(params)
