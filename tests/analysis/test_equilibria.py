@@ -202,3 +202,11 @@ def test_equilibrium_is_frozen():
         rest.point["theta"] = 1
     with pytest.raises(AttributeError):
         rest.numeric = True
+
+
+@pytest.mark.filterwarnings("error::RuntimeWarning")
+def test_the_symbolic_solve_forks_quietly_after_jax_started_its_threads():
+    jnp = pytest.importorskip("jax.numpy")
+    jnp.ones(3).sum().block_until_ready()  # XLA's thread pools are running now
+    found = lg.load("simple_pendulum").equilibria()
+    assert sorted(round(float(e.point["theta"]), 9) for e in found) == [0.0, round(math.pi, 9)]

@@ -31,6 +31,7 @@ import math
 import multiprocessing
 import pickle
 import random
+import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType
@@ -370,7 +371,14 @@ def _in_child(function, arguments: tuple, timeout: float):
     context = multiprocessing.get_context("fork")
     receiver, sender = context.Pipe(duplex=False)
     process = context.Process(target=_child, args=(sender, function, arguments), daemon=True)
-    process.start()
+    with warnings.catch_warnings():
+        # JAX warns at every fork that its threads may hold locks.  The child runs only
+        # SymPy (pure Python), never XLA, and glibc's malloc is fork-safe; a fork server
+        # or spawn would re-run the user's __main__ script, which is worse.
+        warnings.filterwarnings(
+            "ignore", message=r"os\.fork\(\) was called", category=RuntimeWarning
+        )
+        process.start()
     sender.close()
     try:
         if receiver.poll(timeout):

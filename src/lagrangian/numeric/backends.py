@@ -42,6 +42,7 @@ class ArrayBackend:
     xp: ModuleType  # numpy or jax.numpy
     eager: bool
     stack: Callable[[Sequence[Any], tuple[int, ...]], Array]  # entries -> (*batch, k)
+    stack_leading: Callable[[Sequence[Any], tuple[int, ...]], Array]  # entries -> (k, *batch)
     asarray: Callable[[Any], Array]
     iterate: Callable[[Callable[[Array], tuple[Array, Array]], Array, int, float], Array]
 
@@ -109,6 +110,15 @@ def _numpy_stack(values: Sequence[Any], batch_shape: tuple[int, ...]) -> np.ndar
     return out
 
 
+def _numpy_stack_leading(values: Sequence[Any], batch_shape: tuple[int, ...]) -> np.ndarray:
+    if not batch_shape:
+        return np.array(values, dtype=float)
+    out = np.empty((len(values), *batch_shape))
+    for index, value in enumerate(values):
+        out[index] = value  # contiguous rows: cheaper than the strided batch-first writes
+    return out
+
+
 def _numpy_asarray(value: Any) -> np.ndarray:
     return np.asarray(value, dtype=float)
 
@@ -129,6 +139,7 @@ def numpy_backend() -> ArrayBackend:
         xp=np,
         eager=True,
         stack=_numpy_stack,
+        stack_leading=_numpy_stack_leading,
         asarray=_numpy_asarray,
         iterate=_numpy_iterate,
     )
@@ -154,6 +165,11 @@ def jax_backend() -> ArrayBackend:
         entries = [jnp.broadcast_to(jnp.asarray(v, dtype=dtype), batch_shape) for v in values]
         return jnp.stack(entries, axis=-1)
 
+    def stack_leading(values: Sequence[Any], batch_shape: tuple[int, ...]):
+        dtype = jnp.result_type(float)
+        entries = [jnp.broadcast_to(jnp.asarray(v, dtype=dtype), batch_shape) for v in values]
+        return jnp.stack(entries, axis=0)
+
     def iterate(step, x, count: int, tolerance: float):
         """A fixed number of steps (traceable), compiled once as a loop."""
         return jax.lax.fori_loop(0, count, lambda _, value: step(value)[0], x)
@@ -164,6 +180,7 @@ def jax_backend() -> ArrayBackend:
         xp=jnp,
         eager=False,
         stack=stack,
+        stack_leading=stack_leading,
         asarray=jnp.asarray,
         iterate=iterate,
     )

@@ -136,8 +136,7 @@ class Dynamics:
 
     def _block(self, index: int, t: Any, q: Any, v: Any, params: Any) -> Array:
         parts = (self._signature.coordinates(q), self._signature.coordinates(v, "q_dot"))
-        batch, blocks = self._kernel(t, parts, self._signature.parameters(params))
-        return to_trailing(blocks[index], batch, self._xp)
+        return self._kernel.trailing(t, parts, self._signature.parameters(params))[index]
 
     def rhs_jacobian(self, t: Any, y: Any, params: Any) -> Array:
         """d rhs / d y = [[0, I], [dq''/dq, dq''/dq']], (2n, 2n[, batch])."""

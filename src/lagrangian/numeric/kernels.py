@@ -86,12 +86,7 @@ class Kernel:
         ``parts`` hold the argument groups between t and the parameters, in
         order, stacked along their first axis (the state y gives q and q' at once).
         """
-        function, shapes = self._compiled or self._compile()
-        if len(parts) == 1:
-            values = function(t, *parts[0], *params)
-        else:
-            values = function(t, *itertools.chain.from_iterable(parts), *params)
-        batch = batch_shape(t, parts, params)
+        batch, values, shapes = self._values(t, parts, params)
         flat = self._backend.stack(values, batch)
         blocks, start = [], 0
         for shape in shapes:
@@ -100,27 +95,47 @@ class Kernel:
             start += size
         return batch, tuple(blocks)
 
+    def trailing(self, t: Any, parts: Sequence[Array], params: Array) -> tuple[Array, ...]:
+        """The blocks as :meth:`__call__` gives them, in the public layout (*block_shape, *batch).
+
+        Stacked that way directly: no axes to move afterwards, which JAX would
+        otherwise carry through its compiled loops as transposes.
+        """
+        batch, values, shapes = self._values(t, parts, params)
+        flat = self._backend.stack_leading(values, batch)
+        blocks, start = [], 0
+        for shape in shapes:
+            size = math.prod(shape)
+            blocks.append(flat[start : start + size].reshape(shape + batch))
+            start += size
+        return tuple(blocks)
+
+    def _values(self, t: Any, parts: Sequence[Array], params: Array):
+        """(batch shape, the entries as lambdify returns them, the block shapes)."""
+        function, shapes = self._compiled or self._compile()
+        if len(parts) == 1:
+            values = function(t, *parts[0], *params)
+        else:
+            values = function(t, *itertools.chain.from_iterable(parts), *params)
+        return batch_shape(t, parts, params), values, shapes
+
     def state_function(self, signature: Signature, name: str) -> StateFunction:
         """The first block as a function of (t, y, params), batch axes trailing."""
-        xp = self._backend.xp
 
         def function(t: Any, y: Any, params: Any) -> Array:
             y, params = signature.state(y), signature.parameters(params)
-            batch, blocks = self(t, (y,), params)
-            return to_trailing(blocks[0], batch, xp)
+            return self.trailing(t, (y,), params)[0]
 
         function.__name__ = function.__qualname__ = name
         return function
 
     def split_function(self, signature: Signature, name: str) -> SplitFunction:
         """The first block as a function of (t, q, q', params), batch axes trailing."""
-        xp = self._backend.xp
 
         def function(t: Any, q: Any, v: Any, params: Any) -> Array:
             q, v = signature.coordinates(q), signature.coordinates(v, "q_dot")
             params = signature.parameters(params)
-            batch, blocks = self(t, (q, v), params)
-            return to_trailing(blocks[0], batch, xp)
+            return self.trailing(t, (q, v), params)[0]
 
         function.__name__ = function.__qualname__ = name
         return function
