@@ -150,6 +150,30 @@ def double_pendulum() -> None:
     save(figure, "double_pendulum_poincare.png")
 
 
+def double_pendulum_flip_map() -> None:
+    """The flip-time map, 300 x 300 starts at rest, through the CLI (numba when installed)."""
+    from lagrangian.cli import ExitStatus
+    from lagrangian.cli import main as cli
+
+    try:
+        import numba  # noqa: F401
+
+        backend = "numba"
+    except ImportError:
+        backend = "numpy"
+    name = "double_pendulum_flip_map.png"
+    grids = ["--grid", "theta1=-3.14:3.14:300", "--grid", "theta2=-3.14:3.14:300"]
+    arguments = ["ensemble", "double_pendulum", *grids, "--observable", "flip_time",
+                 "--t-end", "10", "--dt", "0.01", "--backend", backend,
+                 "--out", str(IMAGES / name)]  # fmt: skip
+    if cli(arguments) != ExitStatus.SUCCESS:
+        raise SystemExit("the ensemble run failed")
+    size = (IMAGES / name).stat().st_size
+    print(f"  {name:34s} {size / 1000:6.1f} kB")
+    if size > LIMIT:
+        raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+
+
 def vertical_spring() -> None:
     system = lg.load("vertical_spring")
     save(
@@ -187,6 +211,7 @@ PICTURES = (
     central_force,
     spherical_pendulum,
     double_pendulum,
+    double_pendulum_flip_map,
     vertical_spring,
     free_particle_spherical,
     planar_particle_forces,

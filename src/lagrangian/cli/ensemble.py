@@ -171,5 +171,8 @@ def _draw(result, observable: str, path: str) -> None:
         axis.set_xlabel(math(dims[0]))
         axis.set_ylabel(label)
     attrs = result.attrs
-    axis.set_title(f"{attrs['model']}: {label}, {attrs['method']} dt={attrs['dt']:g}")
+    title = f"{attrs['model']}: {label}, {attrs['method']} dt={attrs['dt']:g}"
+    if variable == "flip_time" and len(dims) == 2:
+        title += f"\n(white: no flip by t = {attrs['t_end']:g})"
+    axis.set_title(title)
     save_figure(figure, path, dpi=120)
