@@ -280,10 +280,10 @@ def to_sympy(expr, symbols: dict[str, sympy.Symbol], cache: dict | None = None) 
         kind = type(node)
         if kind is se.Symbol:
             result = symbols.get(node.name) or sympy.Symbol(node.name)
-        elif kind is se.Add:
-            result = sympy.Add._from_args([convert(a) for a in node.args])
+        elif kind is se.Add:  # scalars commute: skip the assumption queries that would say so
+            result = sympy.Add._from_args([convert(a) for a in node.args], is_commutative=True)
         elif kind is se.Mul:
-            result = sympy.Mul._from_args([convert(a) for a in node.args])
+            result = sympy.Mul._from_args([convert(a) for a in node.args], is_commutative=True)
         elif kind is se.Pow:
             base, exponent = node.args
             result = sympy.Pow(convert(base), convert(exponent), evaluate=False)
