@@ -151,3 +151,30 @@ def test_constraints_are_refused():
     disc = compile_equations(lg.load("rolling_disc").equations_of_motion())
     with pytest.raises(ModelError, match=r"^backend 'numba' does not handle constraints"):
         run_ensemble(disc, t_end=0.1, method="rk4", backend="numba")
+
+
+def test_a_second_process_loads_the_compiled_loop_from_the_cache(tmp_path):
+    import os
+    import subprocess
+    import sys
+
+    script = (
+        "import lagrangian as lg\n"
+        "from lagrangian.ensemble import run_ensemble\n"
+        "from lagrangian.ensemble.numba_backend import kernel\n"
+        "from lagrangian.numeric import compile_equations\n"
+        "c = compile_equations(lg.load('double_pendulum').equations_of_motion())\n"
+        "run_ensemble(c, initial={'theta1': [0.1, 0.2]}, t_end=0.1, dt=0.01, backend='numba')\n"
+        "stats = kernel(c).stats\n"
+        "print(sum(stats.cache_hits.values()), sum(stats.cache_misses.values()))\n"
+    )
+    environment = {**os.environ, "LAGRANGIAN_CACHE": str(tmp_path)}
+    command = [sys.executable, "-c", script]
+    outputs = [
+        subprocess.run(
+            command, env=environment, capture_output=True, text=True, check=True
+        ).stdout.split()
+        for _ in range(2)
+    ]
+    assert outputs[0] == ["0", "1"]  # compiled and written
+    assert outputs[1] == ["1", "0"]  # read back, nothing compiled

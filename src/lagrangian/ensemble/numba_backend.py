@@ -7,8 +7,9 @@ M and f of M q'' = f for ``rk4``; the momenta, forces, M and the Newton
 Jacobian of :mod:`.scheme_expressions` for ``variational`` (the midpoint
 scheme, or Stormer-Verlet when the system is separable, as
 :class:`~lagrangian.integrate.variational.Variational` picks).  The schemes
-(:mod:`.numba_schemes`) follow the numpy backend step for step on the same
-step grid, so results agree with it to rounding.  One member per ``prange``
+(:mod:`.numba_loop`, a template written out per system and scheme so that
+numba caches the loop's machine code on disk too) follow the numpy backend step
+for step on the same step grid, so results agree with it to rounding.  One member per ``prange``
 iteration; a member asking only for ``flip_time`` stops when it has flipped.
 
 numba is imported here only (``pip install 'lagrangian[numba]'``).
@@ -17,8 +18,9 @@ Constrained systems are not handled (use the numpy backend).
 
 from __future__ import annotations
 
-import math
+import hashlib
 import weakref
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -58,13 +60,6 @@ def _forms(compiled: CompiledSystem) -> SymbolicForms:
     )
 
 
-def fill_kernel(compiled: CompiledSystem):
-    """The jitted ``fill(t, y, p, M, f)`` of ``compiled`` (generated code, cached on disk)."""
-    from ..numeric.numba_source import load_module
-
-    return load_module(_forms(compiled)).fill
-
-
 def scheme_functions(compiled: CompiledSystem, scheme: str):
     """The module of jitted fillers of a variational ``scheme`` (generated, cached on disk)."""
     from ..numeric.numba_source import load_functions
@@ -79,61 +74,51 @@ def kernel(compiled: CompiledSystem, scheme: str = "rk4"):
     """The jitted ensemble loop of ``compiled`` and ``scheme`` (built once per system)."""
     built = _KERNELS.setdefault(compiled, {})
     if scheme not in built:
-        from . import numba_schemes
-
-        generated = fill_kernel(compiled) if scheme == "rk4" else scheme_functions(compiled, scheme)
-        built[scheme] = _build(numba_schemes.SCHEMES[scheme](generated, compiled.n), compiled.n)
+        built[scheme] = _loop_module(compiled, scheme).run
     return built[scheme]
 
 
-def _build(scheme, n: int):
-    """The parallel loop over members around one member's ``scheme`` (numba_schemes.Scheme)."""
-    numba = _numba()
-    workspace, init, step = scheme
-    limit = math.pi
+#: The generated fillers each scheme's loop calls (see numba_loop's globals).
+_FILLERS = {
+    "rk4": ("fill",),
+    "midpoint": ("momenta", "momenta_force", "mass", "jacobian"),
+    "stormer-verlet": ("mass", "gradient"),
+}
+_SELECTED = {"rk4": "rk4", "midpoint": "midpoint", "stormer-verlet": "verlet"}
+_BEGIN, _END = "# -- generated: begin", "# -- generated: end"
+_SELECTION = "workspace, init, step = rk4_workspace, rk4_init, rk4_step"
 
-    @numba.njit(parallel=True)
-    def run(
-        y0, params, grid, track, stop, save_every, tol, floor, iterations,
-        final, flips, failures, paths,
-    ):  # pragma: no cover - compiled by numba  # fmt: skip
-        count, m = y0.shape
-        steps = grid.shape[0] - 1
-        for b in numba.prange(count):
-            y = y0[b].copy()
-            p = params[b]
-            work = workspace()
-            flip = np.nan
-            failure = -1
-            if track:
-                for i in range(n):
-                    if abs(y[i]) > limit:
-                        flip = grid[0]
-            if save_every > 0:
-                for i in range(m):
-                    paths[b, i, 0] = y[i]
-            if not (stop and flip == flip):
-                init(grid[0], y, p, work)
-                for s in range(steps):
-                    ta = grid[s]
-                    if not step(ta, grid[s + 1] - ta, y, p, work, tol, floor, iterations):
-                        failure = s
-                        break
-                    if save_every > 0 and (s + 1) % save_every == 0:
-                        for i in range(m):
-                            paths[b, i, (s + 1) // save_every] = y[i]
-                    if track and flip != flip:
-                        for i in range(n):
-                            if abs(y[i]) > limit:
-                                flip = grid[s + 1]
-                        if stop and flip == flip:
-                            break
-            flips[b] = flip
-            failures[b] = failure
-            for i in range(m):
-                final[b, i] = y[i]
 
-    return run
+def _loop_module(compiled: CompiledSystem, scheme: str):
+    """The loop of :mod:`.numba_loop` for this system and scheme, as a generated module.
+
+    The template's globals get the system's values, and the module is written to
+    the code cache under a hash of its text, so numba keeps its machine code there.
+    """
+    from ..integrate import tableaus
+    from ..numeric.numba_source import load_module, load_text
+
+    _numba()
+    if scheme == "rk4":
+        fillers = load_module(_forms(compiled))
+    else:
+        fillers = scheme_functions(compiled, scheme)
+    a, b, c = tableaus.RK4.a, tableaus.RK4.b, tableaus.RK4.c
+    constants = {f"A{i + 1}{i}": a[i, i - 1] for i in (1, 2, 3)}
+    constants |= {f"B{i + 1}": b[i] for i in range(4)} | {f"C{i + 1}": c[i] for i in (1, 2, 3)}
+    generated = [
+        f"N = {compiled.n}",
+        *(f"{name} = {float(value)!r}" for name, value in constants.items()),
+        f"from {fillers.__name__} import {', '.join(_FILLERS[scheme])}",
+    ]
+    template = Path(__file__).with_name("numba_loop.py").read_text(encoding="utf-8")
+    head, rest = template.split(_BEGIN, 1)
+    tail = rest.split(_END, 1)[1].split("\n", 1)[1]
+    chosen = _SELECTED[scheme]
+    selection = f"workspace, init, step = {chosen}_workspace, {chosen}_init, {chosen}_step"
+    tail = tail.replace(_SELECTION, selection)
+    text = "\n".join([head.rstrip("\n"), "", *generated, "", tail])
+    return load_text(hashlib.sha256(text.encode()).hexdigest(), text)
 
 
 def _scheme(compiled: CompiledSystem, integrator: AbstractFixedStepIntegrator) -> str:

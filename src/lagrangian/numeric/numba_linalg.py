@@ -1,21 +1,20 @@
 """The in-kernel linear solve of the numba code: M q'' = f by Gaussian elimination.
 
 Shared by the generated right-hand sides (:mod:`lagrangian.numeric.numba_source`)
-and the ensemble loops (:mod:`lagrangian.ensemble.numba_schemes`).  Partial
-pivoting keeps it stable for any nonsingular M (for unconstrained systems M is
-symmetric positive definite, where pivoting changes nothing but costs little at
-the sizes of mechanical models).  Importing this module imports numba.
+and the ensemble loops (:mod:`lagrangian.ensemble.numba_loop`, which call
+:func:`eliminate` with n a constant, so that the loops unroll).  Partial pivoting
+keeps it stable for any nonsingular M (for unconstrained systems M is symmetric
+positive definite, where pivoting changes nothing but costs little at the sizes
+of mechanical models).  Importing this module imports numba.
 """
 
 from __future__ import annotations
-
-import functools
 
 import numba
 
 
 @numba.njit(inline="always")
-def _eliminate(matrix, force, out, offset, n):  # pragma: no cover - compiled by numba
+def eliminate(matrix, force, out, offset, n):  # pragma: no cover - compiled by numba
     """Gaussian elimination with partial pivoting, then back substitution:
     about n^3 / 3 multiply-adds (G. H. Golub, C. F. Van Loan, Matrix
     Computations, 4th ed., algorithm 3.4.1)."""
@@ -43,20 +42,4 @@ def _eliminate(matrix, force, out, offset, n):  # pragma: no cover - compiled by
 @numba.njit(cache=True)
 def solve_into(matrix, force, out, offset):  # pragma: no cover - compiled by numba
     """``out[offset + i] = x_i`` with ``matrix x = force``; overwrites matrix and force."""
-    _eliminate(matrix, force, out, offset, force.shape[0])
-
-
-@functools.cache
-def solver(n: int):
-    """:func:`solve_into` for systems of size ``n`` only.
-
-    With ``n`` a constant the loop bounds are known when compiling, so LLVM
-    unrolls the loops: a quarter faster at n = 2, where the ensemble loops
-    spend a good part of each right-hand side solving.
-    """
-
-    @numba.njit(inline="always")
-    def solve(matrix, force, out, offset):  # pragma: no cover - compiled by numba
-        _eliminate(matrix, force, out, offset, n)
-
-    return solve
+    eliminate(matrix, force, out, offset, force.shape[0])

@@ -244,7 +244,7 @@ class _SourceText:
 
 def load_module(forms: SymbolicForms) -> ModuleType:
     """The generated module of ``forms``: from this process, from disk, or written now."""
-    return _load(*generated_source(forms))
+    return load_text(*generated_source(forms))
 
 
 def load_functions(
@@ -276,10 +276,10 @@ def load_functions(
             digest.update(f"{array} {array in matrices} {len(entries)}".encode() + b"\0")
             for entry in entries:
                 _fingerprint(entry, digest)
-    return _load(digest.hexdigest(), _FunctionsText(forms, label, functions, scalars, matrices))
+    return load_text(digest.hexdigest(), _FunctionsText(forms, label, functions, scalars, matrices))
 
 
-def _load(digest: str, source: object) -> ModuleType:
+def load_text(digest: str, source: object) -> ModuleType:
     """The module of ``digest``: from this process, from disk, or ``str(source)`` written now."""
     directory = cache_directory()
     path = directory / f"{digest}.py"
