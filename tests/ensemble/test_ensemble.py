@@ -177,6 +177,23 @@ def test_cli_writes_a_map_and_a_dataset(tmp_path, capsys):
     assert "wrote" in capsys.readouterr().out
 
 
+def test_cli_define_gives_the_unspecified_functions(tmp_path, capsys):
+    # V = k r^2 / 2 with A = -y/2, B = x/2: a charge in a uniform field B_z = 1 and a trap
+    nc = tmp_path / "run.nc"
+    common = ["ensemble", "velocity_dependent_potential", "--grid", "x=0.1:0.3:3", "--t-end", "1"]
+    assert main(common) == ExitStatus.BAD_INPUT
+    assert "--define NAME=EXPR" in capsys.readouterr().err
+    defines = ["--define", "V=(x^2 + y^2 + z^2)/2", "--define", "A=-y/2", "--define", "B=x/2"]
+    arguments = [*common, *defines, "--define", "C=0", "--out", str(nc)]
+    assert main(arguments) == ExitStatus.SUCCESS
+    system = lg.load("velocity_dependent_potential")
+    definitions = {"V": "(x^2 + y^2 + z^2)/2", "A": "-y/2", "B": "x/2", "C": "0"}
+    compiled = compile_equations(system.equations_of_motion(), definitions=definitions)
+    single = simulate(compiled, t_end=1, method="rk4", dt=0.001, initial={"x": 0.3})
+    with xr.open_dataset(nc) as dataset:
+        assert float(dataset["final_x"][-1]) == pytest.approx(single.final_state["x"], abs=1e-12)
+
+
 @pytest.mark.parametrize("bad", ["theta1", "theta1=0:1", "theta1=0:1:x", "=0:1:3", "theta1=0:1:0"])
 def test_bad_grid_is_exit_2_with_one_line(capsys, bad):
     status = main(["ensemble", "double_pendulum", "--grid", bad])

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 import numpy as np
 
-from .app import MODEL_HELP, _assignments, _progress_bar, app
+from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app
 
 
 def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
@@ -78,12 +78,19 @@ def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
     help="A fixed parameter value or initial coordinate / velocity (repeatable).",
 )
 @click.option(
+    "--define",
+    "definitions",
+    multiple=True,
+    metavar="NAME=EXPR",
+    help="Define an unspecified function of the model, e.g. V='x^2 + y^2' (repeatable).",
+)
+@click.option(
     "--chunk-size", type=int, help="Members per chunk (default 65536; 2^20 for jax and cuda)."
 )
 @click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.nc or a map FILE.png.")
 def ensemble(
     model, grids, backend, precision, scheduler, observables, t_end, dt, method, assignments,
-    chunk_size, out,
+    definitions, chunk_size, out,
 ) -> None:  # fmt: skip
     """Integrate MODEL over a grid of initial values or parameters."""
     from ..ensemble import ensemble_of_system, observable_names
@@ -110,7 +117,7 @@ def ensemble(
         result = ensemble_of_system(
             system, t_end=t_end, dt=dt, method=method, initial=initial, params=params,
             backend=backend, precision=precision, scheduler=scheduler, observables=names,
-            chunk_size=chunk_size, progress=progress,
+            chunk_size=chunk_size, progress=progress, definitions=_definitions(definitions),
         )  # fmt: skip
     if out is not None and out.endswith(".nc"):
         result.to_netcdf(out)
