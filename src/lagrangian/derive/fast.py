@@ -137,7 +137,9 @@ def derive_large(system: System) -> EquationsOfMotion | None:
     mass_rows, forcing, numeric_rows, terms = [], [], [], []
     for i, c in enumerate(coordinates):
         momentum = tables.table(tables.diff(lagrangian, v[i]))
-        row = [tables.expr(tables.table(tables.diff(momentum, vj))) for vj in v]
+        # M is symmetric (a Hessian): the entries left of the diagonal are known already
+        row = [numeric_rows[j][i] for j in range(i)]
+        row += [tables.expr(tables.table(tables.diff(momentum, vj))) for vj in v[i:]]
         rate = tables.diff(momentum, t)
         for qj, vj in zip(q, v, strict=True):
             tables.diff(momentum, qj, vj, rate)
