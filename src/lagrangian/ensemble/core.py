@@ -111,6 +111,8 @@ def run_ensemble(
     elif backend in ("numba", "jax", "cuda"):
         integrate = _compiled_backend(backend)
         extra = {} if backend == "numba" else {"precision": precision}
+        if backend == "jax" and batch.count > chunk_size:
+            extra["pad_to"] = int(chunk_size)  # one compiled loop for every chunk
         parts = [
             integrate(compiled, integrator, y0, p, t1, names, save_every=save_every, **extra)
             for y0, p in _chunks(batch, int(chunk_size), progress)

@@ -29,8 +29,8 @@ take their float type from it when traced: ``jnp.result_type(float)``).
 In float32 the Newton tolerances are raised to float32 rounding (see
 :func:`_tolerances`).  One jitted loop is kept per compiled system and
 integrator settings (and precision, saving, flip tracking); JAX retraces it
-only for a new chunk shape.  JAX is imported here only
-(``pip install 'lagrangian[jax]'``).
+only for a new chunk shape (the last chunk is padded to the others' size).
+JAX is imported here only (``pip install 'lagrangian[jax]'``).
 """
 
 from __future__ import annotations
@@ -80,8 +80,13 @@ def integrate_jax(
     *,
     save_every: int | None = None,
     precision: str = "float64",
+    pad_to: int | None = None,
 ) -> dict[str, np.ndarray]:
-    """One chunk, as :func:`~lagrangian.ensemble.numpy_backend.integrate_chunk` returns it."""
+    """One chunk, as :func:`~lagrangian.ensemble.numpy_backend.integrate_chunk` returns it.
+
+    ``pad_to``: run that many members, the last one repeated, so that a smaller
+    last chunk reuses the loop JAX compiled for the others (one per batch size).
+    """
     if precision not in PRECISIONS:
         raise ModelError(f"unknown precision '{precision}' (precisions: {', '.join(PRECISIONS)})")
     jax = _jax()
@@ -94,7 +99,7 @@ def integrate_jax(
     count = y_start.shape[1]
     with jax.enable_x64(precision == "float64"):
         run = _loop(compiled, integrator, precision, every, track)
-        arrays = (*_padded(y_start, np.asarray(params), count), grid)
+        arrays = (*_padded(y_start, np.asarray(params), max(count, pad_to or 0)), grid)
         results = run(*(array.astype(dtype) for array in arrays))
         final, flips, failed, paths = (np.asarray(x)[..., :count] for x in jax.device_get(results))
     if np.any(failed >= 0):
@@ -114,14 +119,9 @@ def integrate_jax(
     return values
 
 
-def _padded(y0: np.ndarray, params: np.ndarray, count: int) -> tuple[np.ndarray, np.ndarray]:
-    """The members repeated up to the next power of two (the last one padding).
-
-    JAX traces and compiles the loop once per batch size; the last, smaller chunk
-    of an ensemble would cost a second compilation.  With sizes rounded up there
-    are at most log2(chunk size) of them, for at most twice the work of a chunk.
-    """
-    size = 1 << max(count - 1, 0).bit_length()
+def _padded(y0: np.ndarray, params: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray]:
+    """The members, the last one repeated up to ``size``."""
+    count = y0.shape[1]
     if size == count:
         return y0, params
     y0 = np.pad(y0, ((0, 0), (0, size - count)), mode="edge")
