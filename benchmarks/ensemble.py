@@ -16,15 +16,13 @@ from __future__ import annotations
 
 import argparse
 import math
-import statistics
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from gpu import hand_jax
+from gpu import hand_jax, median_rate
 
 import lagrangian as lg
 from lagrangian.ensemble import run_ensemble
@@ -76,15 +74,6 @@ def hand_kernel():
             final[b] = y
 
     return run
-
-
-def median_rate(function, work: int, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return work / statistics.median(times)
 
 
 def main() -> None:

@@ -123,6 +123,16 @@ def _assignments(values: tuple[str, ...]) -> dict[str, float]:
     return result
 
 
+#: --define NAME=EXPR, read by :func:`_definitions` (simulate, ensemble).
+define_option = click.option(
+    "--define",
+    "definitions",
+    multiple=True,
+    metavar="NAME=EXPR",
+    help="Define an unspecified function of the model, e.g. V='x^2 + y^2' (repeatable).",
+)
+
+
 def _definitions(values: tuple[str, ...]) -> dict[str, str]:
     """NAME=EXPR pairs of --define (the expression is parsed later by the safe parser)."""
     result = {}
@@ -152,13 +162,7 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
     metavar="NAME=VALUE",
     help="A parameter value or an initial coordinate / velocity (repeatable).",
 )
-@click.option(
-    "--define",
-    "definitions",
-    multiple=True,
-    metavar="NAME=EXPR",
-    help="Define an unspecified function of the model, e.g. V='x^2 + y^2' (repeatable).",
-)
+@define_option
 @click.option(
     "--backend",
     type=click.Choice(["numpy", "numba"]),

@@ -5,7 +5,7 @@ from __future__ import annotations
 import click
 import numpy as np
 
-from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app
+from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app, define_option
 
 
 def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
@@ -77,13 +77,7 @@ def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
     metavar="NAME=VALUE",
     help="A fixed parameter value or initial coordinate / velocity (repeatable).",
 )
-@click.option(
-    "--define",
-    "definitions",
-    multiple=True,
-    metavar="NAME=EXPR",
-    help="Define an unspecified function of the model, e.g. V='x^2 + y^2' (repeatable).",
-)
+@define_option
 @click.option(
     "--chunk-size", type=int, help="Members per chunk (default 65536; 2^20 for jax and cuda)."
 )
