@@ -11,6 +11,7 @@ skipped above a fixed operation count, so the cost is bounded.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable
 
 import sympy
@@ -261,6 +262,31 @@ class _Unsupported(Exception):
     pass
 
 
+@functools.cache
+def _sympy_functions() -> dict:
+    """SymEngine's elementary function classes -> SymPy's."""
+    import symengine as se
+
+    return {getattr(se, name): getattr(sympy, name) for name in _FUNCTIONS}
+
+
+def _applied(function: sympy.FunctionClass, argument: sympy.Expr) -> sympy.Expr:
+    """``function(argument, evaluate=False)``, made as SymPy's ``Application.__new__`` does.
+
+    SymEngine's form is already canonical, so SymPy's eval would only redo it slowly;
+    and the unevaluated call still builds a new arity set ``FiniteSet(1)`` each time
+    (about 18 us, 40x the object itself), which is shared here instead.
+    """
+    result = sympy.Basic.__new__(function, argument)
+    result.nargs = _arity(function)
+    return result
+
+
+@functools.cache
+def _arity(function: sympy.FunctionClass):
+    return function(sympy.Dummy(), evaluate=False).nargs
+
+
 def to_sympy(expr, symbols: dict[str, sympy.Symbol], cache: dict | None = None) -> sympy.Expr:
     """The SymPy form of a SymEngine expression, with the model's own symbols (by name).
 
@@ -271,7 +297,7 @@ def to_sympy(expr, symbols: dict[str, sympy.Symbol], cache: dict | None = None) 
     import symengine as se
 
     cache = {} if cache is None else cache
-    functions = {getattr(se, name): getattr(sympy, name) for name in _FUNCTIONS}
+    functions = _sympy_functions()
 
     def convert(node):
         found = cache.get(node)
@@ -286,10 +312,12 @@ def to_sympy(expr, symbols: dict[str, sympy.Symbol], cache: dict | None = None) 
             result = sympy.Mul._from_args([convert(a) for a in node.args], is_commutative=True)
         elif kind is se.Pow:
             base, exponent = node.args
-            result = sympy.Pow(convert(base), convert(exponent), evaluate=False)
+            if base == se.E:  # SymEngine's exp(x) is E**x; SymPy's is exp(x)
+                result = _applied(sympy.exp, convert(exponent))
+            else:
+                result = sympy.Pow(convert(base), convert(exponent), evaluate=False)
         elif kind in functions:
-            # SymEngine's form is already canonical; SymPy's eval would redo it slowly
-            result = functions[kind](convert(node.args[0]), evaluate=False)
+            result = _applied(functions[kind], convert(node.args[0]))
         else:
             result = node._sympy_()  # numbers and constants: no symbols inside
         cache[node] = result

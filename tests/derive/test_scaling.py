@@ -111,3 +111,78 @@ def test_size_grows_like_n_squared():
     """Doubling the links multiplies the operation count after CSE by about 4, not 8."""
     ratio = _cse_size(16) / _cse_size(8)
     assert ratio < 5.5
+
+
+def _spring_chain_3d():
+    """Four beads in space on rest-length springs, the first driven along x (sqrt, t)."""
+    names = [f"{axis}{k}" for k in range(1, 5) for axis in "xyz"]
+    beads = [
+        lg.Particle(f"bead{k}", mass=f"m{k}", position=[f"x{k}", f"y{k}", f"z{k}"])
+        for k in range(1, 5)
+    ]
+    anchor = ("a*cos(w*t)", "0", "0")
+    ends = [anchor, "bead1", "bead2", "bead3", "bead4"]
+    springs = [
+        lg.Spring(stiffness=f"k{k}", ends=(ends[k - 1], ends[k]), rest_length="r0")
+        for k in range(1, 5)
+    ]
+    return lg.System.from_particles(
+        coordinates=names,
+        particles=beads,
+        springs=springs,
+        gravity=lg.Gravity(g="g"),
+        dissipation="b*(" + " + ".join(f"{n}_dot^2" for n in names) + ")/2",
+    )
+
+
+def _charged_chain():
+    """Seven charges in a plane, a magnetic field (velocity-dependent L), exp coupling, forces."""
+    n = 7
+    kinetic = " + ".join(f"m*(x{k}_dot^2 + y{k}_dot^2)/2" for k in range(1, n + 1))
+    magnetic = " + ".join(f"B*(x{k}*y{k}_dot - y{k}*x{k}_dot)/2" for k in range(1, n + 1))
+    coupling = " + ".join(
+        f"c*exp(-((x{k} - x{k + 1})^2 + (y{k} - y{k + 1})^2))" for k in range(1, n)
+    )
+    coordinates = [f"{axis}{k}" for k in range(1, n + 1) for axis in "xy"]
+    return lg.System.from_lagrangian(
+        f"{kinetic} + q*({magnetic}) - {coupling} - E0*x1*sin(w*t)",
+        coordinates=coordinates,
+        forces={"x3": "-b*x3_dot + F*cos(w*t)", "y7": "-b*y7_dot*x7^2"},
+    )
+
+
+def _rotating_frame_chain():
+    """A 7-link chain seen from a frame turning at rate W (moving constraint, Coriolis)."""
+    n = 7
+    particles = []
+    x_text, y_text = "0", "0"
+    for i in range(1, n + 1):
+        x_text += f" + l*sin(theta{i} + W*t)"
+        y_text += f" - l*cos(theta{i} + W*t)"
+        particles.append(lg.Particle(f"bob{i}", mass=f"m{i}", position=[x_text, y_text]))
+    return lg.System.from_particles(
+        coordinates=[f"theta{i}" for i in range(1, n + 1)],
+        particles=particles,
+        gravity=lg.Gravity(g="g", direction=(0, -1)),
+    )
+
+
+@pytest.mark.parametrize("build", [_spring_chain_3d, _charged_chain, _rotating_frame_chain])
+def test_the_large_route_gives_the_readable_equations_of_other_systems(build, rng, monkeypatch):
+    """Systems that are not examples: 3-D springs with rest length, time, damping, charges."""
+    readable = _derive(build, monkeypatch, threshold=10_000)
+    _assert_same(readable, _derive(build, monkeypatch, threshold=1), rng, count=2)
+
+
+def test_symengine_functions_come_back_as_sympy_builds_them():
+    import symengine as se
+
+    from lagrangian.algebra import to_sympy
+
+    x = sympy.Symbol("x", real=True)
+    for name in ["sin", "cos", "tan", "exp", "log", "sinh", "cosh", "tanh", "asin", "atan"]:
+        converted = to_sympy(getattr(se, name)(se.Symbol("x") + 1), {"x": x})
+        expected = getattr(sympy, name)(x + 1, evaluate=False)
+        assert converted == expected and hash(converted) == hash(expected), name
+        assert converted.func is expected.func and converted.nargs == expected.nargs
+        assert sympy.diff(converted, x) == sympy.diff(expected, x)

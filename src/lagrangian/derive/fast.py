@@ -87,15 +87,21 @@ class _Tables:
                     self.symbols[monomial] = monomial.free_symbols & self.state
         return result
 
-    def diff(self, table: dict, symbol, weight=None, into=None) -> dict:
-        """``weight * d table / d symbol`` added to ``into`` ({monomial: [coefficients]})."""
-        into = defaultdict(list) if into is None else into
-        for monomial, coefficient in table.items():
-            if symbol in self.symbols[monomial]:
-                derivative = self.se.diff(monomial, symbol)
-                if weight is not None:
-                    derivative = derivative * weight
-                self.split(derivative, into, coefficient)
+    def index(self, table: dict) -> dict:
+        """{state symbol: the monomials of ``table`` that hold it}."""
+        found = defaultdict(list)
+        for monomial in table:
+            for symbol in self.symbols[monomial]:
+                found[symbol].append(monomial)
+        return found
+
+    def diff(self, table: dict, symbol, index: dict | None = None) -> dict:
+        """``d table / d symbol`` as {monomial: [coefficients]} (``index``: of ``table``)."""
+        into = defaultdict(list)
+        if index is None:
+            index = {symbol: [m for m in table if symbol in self.symbols[m]]}
+        for monomial in index.get(symbol, ()):
+            self.split(self.se.diff(monomial, symbol), into, table[monomial])
         return into
 
     def expr(self, table: dict):
@@ -121,30 +127,44 @@ def derive_large(system: System) -> EquationsOfMotion | None:
     accelerations = [to_symengine(c.q_ddot, cache) for c in coordinates]
     tables = _Tables([*q, *v, t])
     lagrangian = tables.table(tables.split(converted["lagrangian"]))
+    lagrangian_index = tables.index(lagrangian)
     dissipation = tables.table(tables.split(converted["dissipation"]))
 
-    symbols = {s.name: s for s in system.lagrangian.free_symbols | system.dissipation.free_symbols}
-    for force in system.forces.values():
-        symbols |= {s.name: s for s in force.free_symbols}
-    for c in coordinates:
-        symbols |= {c.q.name: c.q, c.q_dot.name: c.q_dot, c.q_ddot.name: c.q_ddot}
-    symbols[system.time.name] = system.time
+    symbols = dict(system.symbols)  # the SymPy symbol of each name, with its assumptions
+    names = {s.name for x in (*converted.values(), *forces.values()) for s in x.free_symbols}
+    if not names <= symbols.keys():  # a name the model did not declare: take it from the text
+        given = (system.lagrangian, system.dissipation, *system.forces.values())
+        symbols |= {s.name: s for x in given for s in x.free_symbols}
     back: dict = {}
 
     def sympy_of(value) -> sympy.Expr:
         return to_sympy(value, symbols, back)
 
+    velocity_index = {vj: j for j, vj in enumerate(v)}
+    position_index = {qj: j for j, qj in enumerate(q)}
+    n = len(coordinates)
     mass_rows, forcing, numeric_rows, terms = [], [], [], []
     for i, c in enumerate(coordinates):
-        momentum = tables.table(tables.diff(lagrangian, v[i]))
-        # M is symmetric (a Hessian): the entries left of the diagonal are known already
+        momentum = tables.table(tables.diff(lagrangian, v[i], lagrangian_index))
+        # One pass over the momentum's terms gives row i of M = dp_i/dq' and the part
+        # sum_j dp_i/dq_j q_j' + dp_i/dt of dp_i/dt along the motion.  M is symmetric (a
+        # Hessian): the entries left of the diagonal are known already.
+        row_parts: dict = defaultdict(lambda: defaultdict(list))
+        rate: dict = defaultdict(list)
+        for monomial, coefficient in momentum.items():
+            for symbol in tables.symbols[monomial]:
+                j = velocity_index.get(symbol)
+                if j is not None:
+                    if j >= i:
+                        tables.split(se.diff(monomial, symbol), row_parts[j], coefficient)
+                    continue
+                j = position_index.get(symbol)
+                derivative = se.diff(monomial, symbol)
+                tables.split(derivative if j is None else derivative * v[j], rate, coefficient)
         row = [numeric_rows[j][i] for j in range(i)]
-        row += [tables.expr(tables.table(tables.diff(momentum, vj))) for vj in v[i:]]
-        rate = tables.diff(momentum, t)
-        for qj, vj in zip(q, v, strict=True):
-            tables.diff(momentum, qj, vj, rate)
+        row += [tables.expr(tables.table(row_parts.get(j, {}))) for j in range(i, n)]
         velocity_terms = tables.table(rate)
-        gradient = tables.table(tables.diff(lagrangian, q[i]))
+        gradient = tables.table(tables.diff(lagrangian, q[i], lagrangian_index))
         friction = tables.table(tables.diff(dissipation, v[i]))
         total = defaultdict(list)
         for table, sign in [(gradient, 1), (velocity_terms, -1), (friction, -1)]:
@@ -184,7 +204,6 @@ def derive_large(system: System) -> EquationsOfMotion | None:
             for c, momentum, rate, gradient, friction, equation in terms
         )
 
-    n = len(coordinates)
     mass_matrix = sympy.ImmutableMatrix(n, n, [m for row in mass_rows for m in row])
     if not _regular_at_random_points(se.Matrix(numeric_rows)):
         check_regular(mass_matrix, coordinates)  # raises with the diagnosis

@@ -95,14 +95,30 @@ def _kinetic_energy_large(
     points += [(b.inertia, (b.angle,)) for b in bodies]
     q = [to_symengine(c.q, cache) for c in coordinates]
     t = to_symengine(time, cache)
+    # Equal Jacobian columns recur from point to point (every bob of a chain moves with
+    # link 1 alike), so each distinct column gets a number once and the O(n^3) loop over
+    # pairs of columns below hashes pairs of numbers, not of expressions.
+    column_ids: dict = {}
+    columns_by_id: list = []
     products: dict = {}
 
-    def dot(u, v):
-        if (u, v) not in products:
-            products[u, v] = combine_angles(se.Add(*(a * b for a, b in zip(u, v, strict=True))))
-        return products[u, v]
+    def column_id(column) -> int:
+        found = column_ids.get(column)
+        if found is None:
+            found = column_ids[column] = len(columns_by_id)
+            columns_by_id.append(column)
+        return found
 
-    quadratic: dict = defaultdict(lambda: defaultdict(list))  # (i, j) -> {J_i . J_j: masses}
+    def dot(a: int, b: int):
+        found = products.get((a, b))
+        if found is None:
+            u, v = columns_by_id[a], columns_by_id[b]
+            found = combine_angles(se.Add(*(x * y for x, y in zip(u, v, strict=True))))
+            products[a, b] = found
+        return found
+
+    # (i, j) -> {(column id, column id): masses}
+    quadratic: dict = defaultdict(lambda: defaultdict(list))
     linear: dict = defaultdict(lambda: defaultdict(list))
     constant: dict = defaultdict(list)
     symbols = {c.q.name: c.q for c in coordinates} | {time.name: time}
@@ -113,19 +129,24 @@ def _kinetic_energy_large(
             return None
         for x in (mass, *position):
             symbols |= {s.name: s for s in x.free_symbols}
-        columns = [tuple(se.diff(x, qi) for x in r) for qi in q]
+        columns = _jacobian_columns(r, q)
+        active = [(i, column_id(column)) for i, column in columns.items()]
+        for a, (i, ci) in enumerate(active):
+            for j, cj in active[a:]:
+                quadratic[i, j][ci, cj].append(m)
         explicit = tuple(se.diff(x, t) for x in r)
-        active = [i for i, column in enumerate(columns) if not all(x.is_zero for x in column)]
-        for a, i in enumerate(active):
-            for j in active[a:]:
-                quadratic[i, j][dot(columns[i], columns[j])].append(m)
         if not all(x.is_zero for x in explicit):
-            for i in active:
-                linear[i][dot(columns[i], explicit)].append(m)
-            constant[dot(explicit, explicit)].append(m)
+            e = column_id(explicit)
+            for i, ci in active:
+                linear[i][ci, e].append(m)
+            constant[e, e].append(m)
 
     def total(groups):
-        return se.Add(*(factor_common(masses) * product for product, masses in groups.items()))
+        # the same product under several pairs of ids is added, not kept twice
+        by_product: dict = defaultdict(list)
+        for pair, masses in groups.items():
+            by_product[dot(*pair)].append(factor_common(masses))
+        return se.Add(*(factor_common(masses) * product for product, masses in by_product.items()))
 
     velocities = [to_symengine(c.q_dot, cache) for c in coordinates]
     symbols |= {c.q_dot.name: c.q_dot for c in coordinates}
@@ -135,6 +156,30 @@ def _kinetic_energy_large(
         terms.append(total(groups) * weight)
     terms += [total(groups) * velocities[i] for i, groups in linear.items()]
     return to_sympy(se.Add(*terms), symbols)
+
+
+def _jacobian_columns(position, q) -> dict:
+    """{i: dr/dq_i} for the q_i that r depends on (SymEngine).
+
+    Each term of r is differentiated by the coordinates it holds only: a chain's bob
+    at depth k costs O(k) derivatives, not O(k n).
+    """
+    import symengine as se
+
+    index = {qi: i for i, qi in enumerate(q)}
+    parts: dict = defaultdict(lambda: [[] for _ in position])
+    for k, x in enumerate(position):
+        for term in x.args if type(x) is se.Add else (x,):
+            for symbol in term.free_symbols:
+                i = index.get(symbol)
+                if i is not None:
+                    parts[i][k].append(se.diff(term, symbol))
+    columns = {}
+    for i in sorted(parts):
+        column = tuple(se.Add(*terms) for terms in parts[i])
+        if not all(x.is_zero for x in column):
+            columns[i] = column
+    return columns
 
 
 def gravity_potential(
