@@ -4,7 +4,8 @@
 
 Backends ``numpy`` and ``numba`` of :func:`lagrangian.ensemble.run_ensemble`
 against a hand-written numba kernel: the closed-form double-pendulum
-accelerations in the same parallel (prange over members) RK4 loop; with JAX
+accelerations in the same parallel (prange over members) RK4 loop; the
+variational method (midpoint, Newton per step) on both backends; with JAX
 installed, the ``jax`` backend (float64 and float32, on JAX's default device)
 against a hand-written ``jax.vmap`` RK4 (``gpu.hand_jax``).  Compiled runs
 are warmed up first (compile time excluded).  Medians of
@@ -91,10 +92,10 @@ def main() -> None:
     dt = 0.01
     initial = {"theta1": theta[0], "theta2": theta[1]}
 
-    def ours(backend: str, steps: int):
+    def ours(backend: str, steps: int, method: str = "rk4"):
         return run_ensemble(
             compiled, initial=initial, t_end=steps * dt, dt=dt, backend=backend,
-            chunk_size=args.members,
+            method=method, chunk_size=args.members,
         )  # fmt: skip
 
     ours("numba", 2)  # compile
@@ -121,6 +122,15 @@ def main() -> None:
     print(f"  ratio hand / numba backend: {hand_rate / numba_rate:.2f}")
     print(f"  numpy backend / hand: {numpy_rate / hand_rate:.3f}")
     print(f"  max |theta1 ours - hand| at the end: {agreement:.2e}")
+    ours("numba", 2, "variational")  # compile
+    numba_variational = median_rate(
+        lambda: ours("numba", args.steps, "variational"), work, args.repeat
+    )
+    numpy_variational = median_rate(
+        lambda: ours("numpy", args.numpy_steps, "variational"), numpy_work, args.repeat
+    )
+    print(f"  numba backend, variational (midpoint)  {numba_variational:12.3g} trajectory-steps/s")
+    print(f"  numpy backend, variational (midpoint)  {numpy_variational:12.3g} trajectory-steps/s")
     jax_rows(compiled, initial, y0.T.copy(), p, dt, args)
 
 

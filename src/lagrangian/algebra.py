@@ -373,7 +373,7 @@ def factor_common(terms):
     """
     import symengine as se
 
-    total = se.Add(*terms)
+    total = terms[0] if len(terms) == 1 else se.Add(*terms)
     if type(total) is not se.Add:
         return total
     common: dict | None = None

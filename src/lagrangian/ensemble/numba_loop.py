@@ -85,7 +85,7 @@ def rk4_init(t, y, p, work):  # pragma: no cover - compiled by numba
     pass
 
 
-@njit(cache=True)
+@njit(inline="always", cache=True)
 def rk4_step(t, h, y, p, work, tol, floor, iterations):  # pragma: no cover - compiled by numba
     k1, k2, k3, k4, stage, matrix, force = work
     derivative(t, y, p, matrix, force, k1)
@@ -118,7 +118,7 @@ def midpoint_init(t, y, p, work):  # pragma: no cover - compiled by numba
     work[2][0] = False
 
 
-@njit(cache=True)
+@njit(inline="always", cache=True)
 def midpoint_step(t, h, y, p, work, tol, floor, iterations):  # pragma: no cover - compiled by numba
     kept, last, started, v, z, momenta_now, force, residual, change, matrix = work
     tm = t + h / 2
@@ -207,7 +207,7 @@ def verlet_init(t, y, p, work):  # pragma: no cover - compiled by numba
     gradient(t, y, p, force)
 
 
-@njit(cache=True)
+@njit(inline="always", cache=True)
 def verlet_step(t, h, y, p, work, tol, floor, iterations):  # pragma: no cover - compiled by numba
     kept, force, inverse, half, z, _, _ = work
     for i in range(N):
