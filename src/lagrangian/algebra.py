@@ -216,6 +216,10 @@ def is_zero(expr: sympy.Expr) -> bool:
 FAST_MIN_COORDINATES = 7
 
 _FUNCTIONS = ("sin", "cos", "tan", "exp", "log", "sinh", "cosh", "tanh", "asin", "acos", "atan")
+#: Converted back with SymPy's evaluation, which knows the signs of the model's symbols
+#: (Abs(l) is l for a length); SymEngine leaves their derivatives unevaluated, so
+#: results that hold such a derivative are refused (:func:`holds_derivative`).
+_EVALUATED = {"Abs": 1, "sign": 1, "atan2": 2}
 
 
 def to_symengine(expr: sympy.Expr, cache: dict | None = None):
@@ -245,8 +249,10 @@ def to_symengine(expr: sympy.Expr, cache: dict | None = None):
             result = se.Pow(convert(node.base), convert(node.exp))
         elif node is sympy.pi:
             result = se.pi
-        elif node.is_Function and node.func.__name__ in _FUNCTIONS and len(node.args) == 1:
-            result = getattr(se, node.func.__name__)(convert(node.args[0]))
+        elif node is sympy.E:
+            result = se.E
+        elif node.is_Function and _argument_count(node.func.__name__) == len(node.args):
+            result = getattr(se, node.func.__name__)(*(convert(a) for a in node.args))
         else:
             raise _Unsupported
         cache[node] = result
@@ -262,12 +268,26 @@ class _Unsupported(Exception):
     pass
 
 
-@functools.cache
-def _sympy_functions() -> dict:
-    """SymEngine's elementary function classes -> SymPy's."""
+def _argument_count(name: str) -> int | None:
+    return 1 if name in _FUNCTIONS else _EVALUATED.get(name)
+
+
+def holds_derivative(expr) -> bool:
+    """Whether a SymEngine expression holds an unevaluated derivative (d|u|/dx, say)."""
     import symengine as se
 
-    return {getattr(se, name): getattr(sympy, name) for name in _FUNCTIONS}
+    return bool(expr.atoms(se.Derivative))
+
+
+@functools.cache
+def _sympy_functions() -> tuple[dict, dict]:
+    """SymEngine's function classes -> SymPy's: the elementary ones, the evaluated ones."""
+    import symengine as se
+
+    def classes(names):
+        return {getattr(se, name): getattr(sympy, name) for name in names}
+
+    return classes(_FUNCTIONS), classes(_EVALUATED)
 
 
 def _applied(function: sympy.FunctionClass, argument: sympy.Expr) -> sympy.Expr:
@@ -297,7 +317,7 @@ def to_sympy(expr, symbols: dict[str, sympy.Symbol], cache: dict | None = None) 
     import symengine as se
 
     cache = {} if cache is None else cache
-    functions = _sympy_functions()
+    functions, evaluated = _sympy_functions()
 
     def convert(node):
         found = cache.get(node)
@@ -318,6 +338,8 @@ def to_sympy(expr, symbols: dict[str, sympy.Symbol], cache: dict | None = None) 
                 result = sympy.Pow(convert(base), convert(exponent), evaluate=False)
         elif kind in functions:
             result = _applied(functions[kind], convert(node.args[0]))
+        elif kind in evaluated:
+            result = evaluated[kind](*(convert(a) for a in node.args))
         else:
             result = node._sympy_()  # numbers and constants: no symbols inside
         cache[node] = result

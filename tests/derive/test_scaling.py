@@ -167,11 +167,46 @@ def _rotating_frame_chain():
     )
 
 
-@pytest.mark.parametrize("build", [_spring_chain_3d, _charged_chain, _rotating_frame_chain])
+def _friction_chain():
+    """A 7-link chain with Coulomb friction, drag |v|^3, a V-shaped potential and atan2."""
+    n = 7
+    particles = []
+    x_text, y_text = "0", "0"
+    for i in range(1, n + 1):
+        x_text += f" + l*sin(theta{i})"
+        y_text += f" - l*cos(theta{i})"
+        particles.append(lg.Particle(f"bob{i}", mass="m", position=[x_text, y_text]))
+    return lg.System.from_particles(
+        coordinates=[f"theta{i}" for i in range(1, n + 1)],
+        particles=particles,
+        gravity=lg.Gravity(g="g", direction=(0, -1)),
+        potential="k*Abs(theta1 - theta2) + c*atan2(theta3, 2 + theta4^2) + E*theta5^2",
+        forces={f"theta{i}": f"-mu*sign(theta{i}_dot)" for i in range(1, n + 1)},
+        dissipation="b*Abs(theta6_dot)^3/3 + d*Abs(theta6_dot - theta7_dot)",
+    )
+
+
+OTHER_SYSTEMS = [_spring_chain_3d, _charged_chain, _rotating_frame_chain, _friction_chain]
+
+
+@pytest.mark.parametrize("build", OTHER_SYSTEMS)
 def test_the_large_route_gives_the_readable_equations_of_other_systems(build, rng, monkeypatch):
-    """Systems that are not examples: 3-D springs with rest length, time, damping, charges."""
+    """Systems that are not examples: 3-D springs with rest length, time, damping, charges,
+    friction (sign, |u|, atan2): each takes the large route and gives the readable equations."""
+    fast = importlib.import_module("lagrangian.derive.fast")
+    assert fast.derive_large(build()) is not None
     readable = _derive(build, monkeypatch, threshold=10_000)
     _assert_same(readable, _derive(build, monkeypatch, threshold=1), rng, count=2)
+
+
+def test_a_derivative_symengine_leaves_undone_keeps_the_readable_route():
+    """d sign(u)/dx is a Dirac delta in SymPy and undone in SymEngine: the readable route."""
+    fast = importlib.import_module("lagrangian.derive.fast")
+    coordinates = [f"x{i}" for i in range(1, 8)]
+    kinetic = " + ".join(f"{x}_dot^2/2" for x in coordinates)
+    system = lg.System.from_lagrangian(f"{kinetic} - sign(x1)*x2^2", coordinates=coordinates)
+    assert fast.derive_large(system) is None
+    assert system.equations_of_motion().forcing[0].has(sympy.DiracDelta)
 
 
 def test_symengine_functions_come_back_as_sympy_builds_them():

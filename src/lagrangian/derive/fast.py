@@ -28,7 +28,7 @@ from collections import defaultdict
 import numpy as np
 import sympy
 
-from ..algebra import factor_common, to_symengine, to_sympy
+from ..algebra import factor_common, holds_derivative, to_symengine, to_sympy
 from ..model import System
 from .equations import CoordinateDerivation, Deferred, EquationsOfMotion
 from .solve import check_regular, solve_accelerations
@@ -43,6 +43,7 @@ class _Tables:
         self.se = se
         self.state = frozenset(state)
         self.symbols: dict = {}  # monomial -> its state symbols
+        self.absolute: set = set()  # the monomials that hold an |u|
         self._depends: dict = {}  # factor -> whether it holds a state symbol
 
     def depends(self, factor) -> bool:
@@ -85,6 +86,21 @@ class _Tables:
                 result[monomial] = coefficient
                 if monomial not in self.symbols:
                     self.symbols[monomial] = monomial.free_symbols & self.state
+                    if monomial.atoms(self.se.Abs):
+                        self.absolute.add(monomial)
+        return result
+
+    def derivative(self, monomial, symbol):
+        """d monomial / d symbol; d|u|/dx = sign(u) du/dx, as SymPy has it for real u
+        (every symbol of a model is real), where SymEngine leaves Derivative(|u|, x)."""
+        se = self.se
+        result = se.diff(monomial, symbol)
+        if monomial in self.absolute:
+            undone = [d for d in result.atoms(se.Derivative) if type(d.args[0]) is se.Abs]
+            inner = [d.args[0].args[0] for d in undone]
+            result = result.subs(
+                {d: se.sign(u) * se.diff(u, symbol) for d, u in zip(undone, inner, strict=True)}
+            )
         return result
 
     def index(self, table: dict) -> dict:
@@ -101,7 +117,7 @@ class _Tables:
         if index is None:
             index = {symbol: [m for m in table if symbol in self.symbols[m]]}
         for monomial in index.get(symbol, ()):
-            self.split(self.se.diff(monomial, symbol), into, table[monomial])
+            self.split(self.derivative(monomial, symbol), into, table[monomial])
         return into
 
     def expr(self, table: dict):
@@ -156,10 +172,11 @@ def derive_large(system: System) -> EquationsOfMotion | None:
                 j = velocity_index.get(symbol)
                 if j is not None:
                     if j >= i:
-                        tables.split(se.diff(monomial, symbol), row_parts[j], coefficient)
+                        derivative = tables.derivative(monomial, symbol)
+                        tables.split(derivative, row_parts[j], coefficient)
                     continue
                 j = position_index.get(symbol)
-                derivative = se.diff(monomial, symbol)
+                derivative = tables.derivative(monomial, symbol)
                 tables.split(derivative if j is None else derivative * v[j], rate, coefficient)
         row = [numeric_rows[j][i] for j in range(i)]
         row += [tables.expr(tables.table(row_parts.get(j, {}))) for j in range(i, n)]
@@ -173,6 +190,8 @@ def derive_large(system: System) -> EquationsOfMotion | None:
         if c.name in forces:
             tables.split(forces[c.name], total)
         rest = tables.expr(tables.table(total))
+        if any(holds_derivative(x) for x in (tables.expr(momentum), *row[i:], rest)):
+            return None  # d|u|/dx or d sign(u)/dx, which SymEngine leaves undone
 
         numeric_rows.append(row)
         inertia = se.Add(*(m * a for m, a in zip(row, accelerations, strict=True)))

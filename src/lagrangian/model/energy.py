@@ -26,6 +26,7 @@ from ..algebra import (
     FAST_MIN_COORDINATES,
     combine_angles,
     factor_common,
+    holds_derivative,
     is_zero,
     tidy,
     to_symengine,
@@ -130,11 +131,15 @@ def _kinetic_energy_large(
         for x in (mass, *position):
             symbols |= {s.name: s for s in x.free_symbols}
         columns = _jacobian_columns(r, q)
+        if any(holds_derivative(x) for column in columns.values() for x in column):
+            return None
         active = [(i, column_id(column)) for i, column in columns.items()]
         for a, (i, ci) in enumerate(active):
             for j, cj in active[a:]:
                 quadratic[i, j][ci, cj].append(m)
         explicit = tuple(se.diff(x, t) for x in r)
+        if any(holds_derivative(x) for x in explicit):
+            return None
         if not all(x.is_zero for x in explicit):
             e = column_id(explicit)
             for i, ci in active:
