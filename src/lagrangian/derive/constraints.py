@@ -23,7 +23,7 @@ import sympy
 from ..algebra import tidy, tidy_fraction
 from ..errors import ModelError
 from ..model import System
-from .solve import solve_linear
+from .solve import CRAMER_MAX_SIZE, solve_linear
 
 
 @dataclass(frozen=True)
@@ -99,7 +99,12 @@ def solve_constrained(
 
     By the Schur complement, which keeps the small systems small:
     x_f = M^-1 f, X = M^-1 A^T, (A X) lambda = beta - A x_f, q'' = x_f + X lambda.
+    The Schur complement A X is dense and its entries are long, so more than
+    ``CRAMER_MAX_SIZE`` constraints are left to the numerical solve (a symbolic LU
+    of four took minutes for a chain of four particles).
     """
+    if forms.matrix.rows > CRAMER_MAX_SIZE:
+        return None
     columns = [sympy.Matrix(forcing)] + [
         sympy.Matrix(forms.matrix.row(j)).T for j in range(forms.matrix.rows)
     ]

@@ -7,8 +7,8 @@ For each coordinate, with p_i = dL/dq_i',
 so the equation d/dt p_i - dL/dq_i - Q_i + dF/dq_i' = 0 is linear in the
 accelerations, with coefficients M_ij = dp_i/dq_j' (the Hessian of L in the
 velocities).  No symbolic inverse and no unbounded simplification is used.
-Systems with ``FAST_MIN_COORDINATES`` coordinates or more (and no constraints) are
-derived by :func:`lagrangian.derive.fast.derive_large`: the same equations, untidied.
+Systems with ``FAST_MIN_COORDINATES`` coordinates or more are derived by
+:func:`lagrangian.derive.fast.derive_large`: the same equations, untidied.
 """
 
 from __future__ import annotations
@@ -36,11 +36,13 @@ def derive(system: System) -> EquationsOfMotion:
         if part.has(*accelerations):
             raise ModelError("accelerations (q_ddot) are not allowed", field=where)
 
-    if len(coordinates) >= FAST_MIN_COORDINATES and not system.constraints:
-        large = derive_large(system)
+    forms = constraint_forms(system) if system.constraints else None
+    if forms is not None:
+        check_independent(forms.matrix, [f"constraints[{j}]" for j in range(forms.matrix.rows)])
+    if len(coordinates) >= FAST_MIN_COORDINATES:
+        large = derive_large(system, forms)
         if large is not None:
             return large
-    forms = constraint_forms(system) if system.constraints else None
     n = len(coordinates)
     state = system.state_symbols
     mass_rows = []
@@ -88,7 +90,6 @@ def derive(system: System) -> EquationsOfMotion:
         accelerations = solve_accelerations(mass_matrix, forcing_vector, coordinates, state)
         multipliers = None
     else:
-        check_independent(forms.matrix, [f"constraints[{j}]" for j in range(forms.matrix.rows)])
         solved = solve_constrained(mass_matrix, forcing_vector, forms, state)
         accelerations = multipliers = None
         if solved is not None:

@@ -30,6 +30,7 @@ import sympy
 
 from ..algebra import factor_common, holds_derivative, to_symengine, to_sympy
 from ..model import System
+from .constraints import ConstraintForms
 from .equations import CoordinateDerivation, Deferred, EquationsOfMotion
 from .solve import check_regular, solve_accelerations
 
@@ -124,8 +125,15 @@ class _Tables:
         return self.se.Add(*(c * m for m, c in table.items()))
 
 
-def derive_large(system: System) -> EquationsOfMotion | None:
-    """The equations of motion of ``system`` by term tables; None where SymEngine cannot hold it."""
+def derive_large(
+    system: System, constraints: ConstraintForms | None = None
+) -> EquationsOfMotion | None:
+    """The equations of motion of ``system`` by term tables; None where SymEngine cannot hold it.
+
+    With ``constraints`` (the system's, as :func:`~.constraints.constraint_forms` gives
+    them), each equation holds its constraint force A^T lambda; q'' and lambda are left
+    to the numerical solve (their closed forms are out of reach at this size).
+    """
     coordinates = system.coordinates
     cache: dict = {}
     converted = {
@@ -208,20 +216,29 @@ def derive_large(system: System) -> EquationsOfMotion | None:
             )
         )
 
+    def constraint_force(i: int) -> sympy.Expr:
+        if constraints is None:
+            return sympy.Integer(0)
+        column = constraints.matrix.col(i)
+        return sympy.Add(*(lam * a for lam, a in zip(constraints.multipliers, column, strict=True)))
+
     def steps() -> tuple[CoordinateDerivation, ...]:
-        return tuple(
-            CoordinateDerivation(
-                coordinate=c,
-                momentum=sympy_of(momentum),
-                momentum_rate=sympy_of(rate),
-                force_gradient=sympy_of(gradient),
-                generalized_force=system.forces.get(c.name, sympy.Integer(0)),
-                dissipation_force=sympy_of(friction),
-                constraint_force=sympy.Integer(0),
-                equation=sympy_of(equation),
+        made = []
+        for i, (c, momentum, rate, gradient, friction, equation) in enumerate(terms):
+            force = constraint_force(i)
+            made.append(
+                CoordinateDerivation(
+                    coordinate=c,
+                    momentum=sympy_of(momentum),
+                    momentum_rate=sympy_of(rate),
+                    force_gradient=sympy_of(gradient),
+                    generalized_force=system.forces.get(c.name, sympy.Integer(0)),
+                    dissipation_force=sympy_of(friction),
+                    constraint_force=force,
+                    equation=sympy_of(equation) - force,
+                )
             )
-            for c, momentum, rate, gradient, friction, equation in terms
-        )
+        return tuple(made)
 
     mass_matrix = sympy.ImmutableMatrix(n, n, [m for row in mass_rows for m in row])
     if not _regular_at_random_points(se.Matrix(numeric_rows)):
@@ -234,8 +251,13 @@ def derive_large(system: System) -> EquationsOfMotion | None:
         equations=Deferred(lambda: tuple(step.equation for step in made)),
         mass_matrix=mass_matrix,
         forcing=forcing_vector,
-        accelerations=solve_accelerations(mass_matrix, forcing_vector, coordinates, state),
+        accelerations=(
+            None
+            if constraints
+            else solve_accelerations(mass_matrix, forcing_vector, coordinates, state)
+        ),
         steps=made,
+        constraints=constraints,
     )
 
 
