@@ -44,6 +44,7 @@ class _Tables:
         self.se = se
         self.state = frozenset(state)
         self.symbols: dict = {}  # monomial -> its state symbols
+        self.nonsmooth = False  # whether |u| or sign(u) is differentiated (set by the caller)
         self.absolute: set = set()  # the monomials that hold an |u|
         self._depends: dict = {}  # factor -> whether it holds a state symbol
 
@@ -87,7 +88,7 @@ class _Tables:
                 result[monomial] = coefficient
                 if monomial not in self.symbols:
                     self.symbols[monomial] = monomial.free_symbols & self.state
-                    if monomial.atoms(self.se.Abs):
+                    if self.nonsmooth and monomial.atoms(self.se.Abs):
                         self.absolute.add(monomial)
         return result
 
@@ -150,6 +151,8 @@ def derive_large(
     t = to_symengine(system.time, cache)
     accelerations = [to_symengine(c.q_ddot, cache) for c in coordinates]
     tables = _Tables([*q, *v, t])
+    differentiated = (converted["lagrangian"], converted["dissipation"])
+    tables.nonsmooth = any(x.atoms(se.Abs, se.sign) for x in differentiated)
     lagrangian = tables.table(tables.split(converted["lagrangian"]))
     lagrangian_index = tables.index(lagrangian)
     dissipation = tables.table(tables.split(converted["dissipation"]))
@@ -198,8 +201,10 @@ def derive_large(
         if c.name in forces:
             tables.split(forces[c.name], total)
         rest = tables.expr(tables.table(total))
-        if any(holds_derivative(x) for x in (tables.expr(momentum), *row[i:], rest)):
-            return None  # d|u|/dx or d sign(u)/dx, which SymEngine leaves undone
+        if tables.nonsmooth and any(
+            holds_derivative(x) for x in (tables.expr(momentum), *row[i:], rest)
+        ):
+            return None  # d sign(u)/dx (a Dirac delta), which SymEngine leaves undone
 
         numeric_rows.append(row)
         inertia = se.Add(*(m * a for m, a in zip(row, accelerations, strict=True)))

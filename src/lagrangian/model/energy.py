@@ -130,15 +130,16 @@ def _kinetic_energy_large(
             return None
         for x in (mass, *position):
             symbols |= {s.name: s for s in x.free_symbols}
+        nonsmooth = any(x.atoms(se.Abs, se.sign) for x in r)
         columns = _jacobian_columns(r, q)
-        if any(holds_derivative(x) for column in columns.values() for x in column):
+        if nonsmooth and any(holds_derivative(x) for column in columns.values() for x in column):
             return None
         active = [(i, column_id(column)) for i, column in columns.items()]
         for a, (i, ci) in enumerate(active):
             for j, cj in active[a:]:
                 quadratic[i, j][ci, cj].append(m)
         explicit = tuple(se.diff(x, t) for x in r)
-        if any(holds_derivative(x) for x in explicit):
+        if nonsmooth and any(holds_derivative(x) for x in explicit):
             return None
         if not all(x.is_zero for x in explicit):
             e = column_id(explicit)
