@@ -14,13 +14,25 @@ On a machine with CuPy and an NVIDIA GPU, against hand-written baselines:
 Everything is warmed up first (compile time excluded).  Medians of
 ``--repeat`` runs; ratio = ours / hand (< 1: we are slower).  Without a GPU it
 says so and exits 0.  Not a test: nothing is asserted.
+
+    python benchmarks/gpu.py --static [--arch sm_90]
+
+needs only ``nvcc`` (no GPU): the generated kernels and the hand-written one,
+compiled for ``--arch``, side by side: registers per thread, spilled bytes, and
+the PTX instructions of the whole kernel (all, double- or single-precision
+fused multiply-adds, divisions, branches), a proxy for the work per step.
 """
 
 from __future__ import annotations
 
 import argparse
+import re
+import shutil
 import statistics
+import subprocess
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -82,12 +94,8 @@ def gpu():
 
 def hand_cuda(cupy, precision: str):
     """run(y0 (4, B), params (5,), dt, steps) -> final (4, B) with the hand kernel."""
-    single = precision == "float32"
-    source = HAND_KERNEL.replace("REAL", "float" if single else "double")
-    source = source.replace("SIN", "sinf" if single else "sin")
-    source = source.replace("COS", "cosf" if single else "cos")
-    kernel = cupy.RawKernel(source, "run")
-    dtype = np.float32 if single else np.float64
+    kernel = cupy.RawKernel(hand_source(precision), "run")
+    dtype = np.float32 if precision == "float32" else np.float64
 
     def run(y0, params, dt, steps):
         states = cupy.asarray(y0, dtype=dtype)
@@ -151,12 +159,67 @@ def median_rate(function, work: int, repeat: int) -> float:
     return work / statistics.median(times)
 
 
+def hand_source(precision: str) -> str:
+    single = precision == "float32"
+    source = HAND_KERNEL.replace("REAL", "float" if single else "double")
+    source = source.replace("SIN", "sinf" if single else "sin")
+    return source.replace("COS", "cosf" if single else "cos")
+
+
+def static(arch: str) -> None:
+    """Registers, spills and PTX instruction counts of our kernels and the hand-written one."""
+    nvcc = shutil.which("nvcc")
+    if nvcc is None:
+        print("no nvcc on the path: nothing to compile")
+        return
+    from lagrangian.ensemble.cuda_source import kernel_source
+    from lagrangian.numeric.forms import symbolic_forms
+
+    forms = symbolic_forms(lg.load("double_pendulum").equations_of_motion(), {})
+    kernels = {}
+    for precision in ("float64", "float32"):
+        kernels[f"hand rk4 {precision}"] = hand_source(precision)
+        for method in ("rk4", "variational"):
+            kernels[f"ours {method} {precision}"] = kernel_source(forms, method, precision)[1]
+    counted = {
+        "all": r"^\s+[a-z]", "fma.f64": r"fma\.rn\.f64", "fma.f32": r"fma\.rn\.f32",
+        "div": r"\bdiv\.", "branch": r"\bbra\b",
+    }  # fmt: skip
+    print(f"double pendulum kernels, nvcc -arch={arch} -O3 (PTX instructions of the whole kernel)")
+    print(
+        f"  {'kernel':<26}{'registers':>10}{'spilled B':>10}" + "".join(f"{k:>9}" for k in counted)
+    )
+    with tempfile.TemporaryDirectory() as folder:
+        for label, text in kernels.items():
+            source = Path(folder) / "kernel.cu"
+            source.write_text(text)
+            built = subprocess.run(
+                [nvcc, f"-arch={arch}", "-O3", "-cubin", "-Xptxas", "-v", "-o",
+                 str(Path(folder) / "kernel.cubin"), str(source)],
+                capture_output=True, text=True, check=True,
+            )  # fmt: skip
+            registers = re.search(r"Used (\d+) registers", built.stderr).group(1)
+            spilled = sum(map(int, re.findall(r"(\d+) bytes spill", built.stderr)))
+            ptx = Path(folder) / "kernel.ptx"
+            subprocess.run(
+                [nvcc, f"-arch={arch}", "-O3", "-ptx", "-o", str(ptx), str(source)], check=True
+            )
+            lines = ptx.read_text().splitlines()
+            counts = [sum(bool(re.search(p, line)) for line in lines) for p in counted.values()]
+            print(f"  {label:<26}{registers:>10}{spilled:>10}" + "".join(f"{c:>9}" for c in counts))
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--members", type=int, default=1_000_000)
     parser.add_argument("--steps", type=int, default=10_000)
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--static", action="store_true", help="compile with nvcc only (no GPU)")
+    parser.add_argument("--arch", default="sm_90", help="GPU architecture for --static")
     args = parser.parse_args()
+    if args.static:
+        static(args.arch)
+        return
     cupy = gpu()
     if cupy is None:
         print("no NVIDIA GPU with CuPy here: nothing to measure (pip install 'lagrangian[cuda]')")
