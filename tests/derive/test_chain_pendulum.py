@@ -23,17 +23,23 @@ import lagrangian as lg
 from helpers import assert_close, evaluate, random_point, solve_linear
 
 
-def chain_pendulum(n: int):
+def chain_pendulum(
+    n: int, *, length: str = "l{i}", angle: str = "theta{i}", mass: str = "m{i}", **options
+):
+    """The n-link pendulum from its bobs; ``length``, ``angle`` (of link i from the
+    downward vertical) and ``mass`` are texts with ``{i}`` for the link's number."""
     particles = []
     x_text, y_text = "0", "0"
     for i in range(1, n + 1):
-        x_text += f" + l{i}*sin(theta{i})"
-        y_text += f" - l{i}*cos(theta{i})"
-        particles.append(lg.Particle(f"bob{i}", mass=f"m{i}", position=[x_text, y_text]))
+        arm, phi = length.format(i=i), angle.format(i=i)
+        x_text += f" + {arm}*sin({phi})"
+        y_text += f" - {arm}*cos({phi})"
+        particles.append(lg.Particle(f"bob{i}", mass=mass.format(i=i), position=[x_text, y_text]))
     return lg.System.from_particles(
         coordinates=[f"theta{i}" for i in range(1, n + 1)],
         particles=particles,
         gravity=lg.Gravity(g="g", direction=(0, -1)),
+        **options,
     )
 
 

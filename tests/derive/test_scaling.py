@@ -157,35 +157,17 @@ def _charged_chain():
 
 def _rotating_frame_chain():
     """A 7-link chain seen from a frame turning at rate W (moving constraint, Coriolis)."""
-    n = 7
-    particles = []
-    x_text, y_text = "0", "0"
-    for i in range(1, n + 1):
-        x_text += f" + l*sin(theta{i} + W*t)"
-        y_text += f" - l*cos(theta{i} + W*t)"
-        particles.append(lg.Particle(f"bob{i}", mass=f"m{i}", position=[x_text, y_text]))
-    return lg.System.from_particles(
-        coordinates=[f"theta{i}" for i in range(1, n + 1)],
-        particles=particles,
-        gravity=lg.Gravity(g="g", direction=(0, -1)),
-    )
+    return chain_pendulum(7, length="l", angle="theta{i} + W*t")
 
 
 def _friction_chain():
     """A 7-link chain with Coulomb friction, drag |v|^3, a V-shaped potential and atan2."""
-    n = 7
-    particles = []
-    x_text, y_text = "0", "0"
-    for i in range(1, n + 1):
-        x_text += f" + l*sin(theta{i})"
-        y_text += f" - l*cos(theta{i})"
-        particles.append(lg.Particle(f"bob{i}", mass="m", position=[x_text, y_text]))
-    return lg.System.from_particles(
-        coordinates=[f"theta{i}" for i in range(1, n + 1)],
-        particles=particles,
-        gravity=lg.Gravity(g="g", direction=(0, -1)),
+    return chain_pendulum(
+        7,
+        length="l",
+        mass="m",
         potential="k*Abs(theta1 - theta2) + c*atan2(theta3, 2 + theta4^2) + E*theta5^2",
-        forces={f"theta{i}": f"-mu*sign(theta{i}_dot)" for i in range(1, n + 1)},
+        forces={f"theta{i}": f"-mu*sign(theta{i}_dot)" for i in range(1, 8)},
         dissipation="b*Abs(theta6_dot)^3/3 + d*Abs(theta6_dot - theta7_dot)",
     )
 
