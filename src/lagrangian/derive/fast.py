@@ -38,13 +38,13 @@ from .solve import check_regular, solve_accelerations
 class _Tables:
     """Splitting SymEngine expressions into {monomial: coefficient} over the state symbols."""
 
-    def __init__(self, state):
+    def __init__(self, state, *, nonsmooth: bool = False):
         import symengine as se
 
         self.se = se
         self.state = frozenset(state)
         self.symbols: dict = {}  # monomial -> its state symbols
-        self.nonsmooth = False  # whether |u| or sign(u) is differentiated (set by the caller)
+        self.nonsmooth = nonsmooth  # whether an |u| or sign(u) may be differentiated
         self.absolute: set = set()  # the monomials that hold an |u|
         self._depends: dict = {}  # factor -> whether it holds a state symbol
 
@@ -150,9 +150,9 @@ def derive_large(
     v = [to_symengine(c.q_dot, cache) for c in coordinates]
     t = to_symengine(system.time, cache)
     accelerations = [to_symengine(c.q_ddot, cache) for c in coordinates]
-    tables = _Tables([*q, *v, t])
     differentiated = (converted["lagrangian"], converted["dissipation"])
-    tables.nonsmooth = any(x.atoms(se.Abs, se.sign) for x in differentiated)
+    nonsmooth = any(x.atoms(se.Abs, se.sign) for x in differentiated)
+    tables = _Tables([*q, *v, t], nonsmooth=nonsmooth)
     lagrangian = tables.table(tables.split(converted["lagrangian"]))
     lagrangian_index = tables.index(lagrangian)
     dissipation = tables.table(tables.split(converted["dissipation"]))
