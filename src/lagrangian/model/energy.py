@@ -122,14 +122,11 @@ def _kinetic_energy_large(
     quadratic: dict = defaultdict(lambda: defaultdict(list))
     linear: dict = defaultdict(lambda: defaultdict(list))
     constant: dict = defaultdict(list)
-    symbols = {c.q.name: c.q for c in coordinates} | {time.name: time}
     for mass, position in points:
         m = to_symengine(mass, cache)
         r = [to_symengine(x, cache) for x in position]
         if m is None or any(x is None for x in r):
             return None
-        for x in (mass, *position):
-            symbols |= {s.name: s for s in x.free_symbols}
         nonsmooth = any(x.atoms(se.Abs, se.sign) for x in r)
         columns = _jacobian_columns(r, q)
         if nonsmooth and any(holds_derivative(x) for column in columns.values() for x in column):
@@ -155,7 +152,7 @@ def _kinetic_energy_large(
         return se.Add(*(factor_common(masses) * product for product, masses in by_product.items()))
 
     velocities = [to_symengine(c.q_dot, cache) for c in coordinates]
-    symbols |= {c.q_dot.name: c.q_dot for c in coordinates}
+    symbols = _converted_symbols(cache) | {c.q_dot.name: c.q_dot for c in coordinates}
     terms = [total(constant) / 2]
     for (i, j), groups in quadratic.items():
         weight = velocities[i] ** 2 / 2 if i == j else velocities[i] * velocities[j]
@@ -219,8 +216,13 @@ def _gravity_potential_large(gravity: Gravity, points) -> sympy.Expr | None:
         cache[mass] * g * se.Add(*(-d * cache[x] for d, x in zip(direction, r, strict=True)))
         for mass, r in points
     ]
-    symbols = {s.name: s for x in given for s in x.free_symbols}
-    return to_sympy(se.Add(*terms), symbols)
+    return to_sympy(se.Add(*terms), _converted_symbols(cache))
+
+
+def _converted_symbols(cache: dict) -> dict:
+    """{name: SymPy symbol} of the symbols a ``to_symengine`` cache has met (their
+    assumptions kept), without walking the expressions again."""
+    return {node.name: node for node in cache if node.is_Symbol}
 
 
 def spring_potential(spring: Spring) -> sympy.Expr:
