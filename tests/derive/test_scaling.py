@@ -172,7 +172,29 @@ def _friction_chain():
     )
 
 
-OTHER_SYSTEMS = [_spring_chain_3d, _charged_chain, _rotating_frame_chain, _friction_chain]
+def _rod_chain():
+    """Seven uniform rods hinged end to end (a chain of physical pendulums), with a torsion
+    spring at the top hinge: rigid bodies on the large route."""
+    n = 7
+    bodies, x_end, y_end = [], "0", "0"
+    for i in range(1, n + 1):
+        center = [f"{x_end} + a{i}*sin(theta{i})/2", f"{y_end} - a{i}*cos(theta{i})/2"]
+        inertia = f"m{i}*a{i}^2/12"
+        bodies.append(lg.RigidBody2D(f"rod{i}", mass=f"m{i}", inertia=inertia, center=center,
+                                     angle=f"theta{i}"))  # fmt: skip
+        x_end += f" + a{i}*sin(theta{i})"
+        y_end += f" - a{i}*cos(theta{i})"
+    return lg.System.from_particles(
+        coordinates=[f"theta{i}" for i in range(1, n + 1)],
+        bodies=bodies,
+        gravity=lg.Gravity(g="g", direction=(0, -1)),
+        potential="kappa*theta1^2/2",
+    )
+
+
+OTHER_SYSTEMS = [
+    _spring_chain_3d, _charged_chain, _rotating_frame_chain, _friction_chain, _rod_chain
+]  # fmt: skip
 
 
 @pytest.mark.parametrize("build", OTHER_SYSTEMS)
