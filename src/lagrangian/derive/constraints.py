@@ -25,6 +25,9 @@ from ..errors import ModelError
 from ..model import System
 from .solve import CRAMER_MAX_SIZE, solve_linear
 
+#: Largest Schur complement A M^-1 A^T (in operations) whose system is solved symbolically.
+SCHUR_MAX_OPS = 120
+
 
 @dataclass(frozen=True)
 class ConstraintForms:
@@ -100,8 +103,10 @@ def solve_constrained(
     By the Schur complement, which keeps the small systems small:
     x_f = M^-1 f, X = M^-1 A^T, (A X) lambda = beta - A x_f, q'' = x_f + X lambda.
     The Schur complement A X is dense and its entries are long, so more than
-    ``CRAMER_MAX_SIZE`` constraints are left to the numerical solve (a symbolic LU
-    of four took minutes for a chain of four particles).
+    ``CRAMER_MAX_SIZE`` constraints, or a complement of more than ``SCHUR_MAX_OPS``
+    operations, are left to the numerical solve: a chain of three particles in
+    Cartesian coordinates (181 operations) took 5 s for multipliers of 11,000
+    characters, one of four particles a symbolic LU of minutes.
     """
     if forms.matrix.rows > CRAMER_MAX_SIZE:
         return None
@@ -119,6 +124,8 @@ def solve_constrained(
     residual = (sympy.Matrix(forms.bias) - forms.matrix * free).applyfunc(
         lambda e: tidy(e, state, trig=True)
     )
+    if sum(sympy.count_ops(entry) for entry in schur) > SCHUR_MAX_OPS:
+        return None
     multipliers = solve_linear(schur, residual, state, trig=True)
     if multipliers is None:
         return None
