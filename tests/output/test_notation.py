@@ -50,3 +50,20 @@ def test_jupyter_display():
     system = lg.load("simple_pendulum")
     assert system._repr_latex_().startswith("$L = ")
     assert r"\ddot{\theta}" in system.equations_of_motion()._repr_latex_()
+
+
+def test_closed_forms_too_long_to_read_are_named_not_printed():
+    """The 5-link chain's q''_1 runs to thousands of operations: text and LaTeX say so
+    (printing the 6-link's took 20 s and 2.8 MB); JSON keeps every closed form."""
+    import json
+
+    from derive.test_chain_pendulum import chain_pendulum
+    from lagrangian.output import derive_document, format_equations, latex_equations
+
+    eom = chain_pendulum(5).equations_of_motion()
+    text, latex = format_equations(eom), latex_equations(eom)
+    assert "θ̈₁: too long to print (more than 5,000 nodes); derive --json gives it" in text
+    assert "θ̈₅ = " in text  # the last link's is short enough
+    assert r"\ddot{\theta}_{1} &: \text{too long to print" in latex
+    document = json.loads(json.dumps(derive_document(eom)))
+    assert set(document["accelerations"]) == {f"theta{i}" for i in range(1, 6)}

@@ -6,11 +6,25 @@ import sympy
 
 from ..derive import EquationsOfMotion
 from ..model import System
-from .notation import DotLatexPrinter, declared_functions, latex_name
+from .notation import (
+    PRINT_MAX_NODES,
+    TOO_LONG,
+    DotLatexPrinter,
+    declared_functions,
+    latex_name,
+    too_long_to_print,
+)
 
 
 def latex_expression(expr: sympy.Expr, system: System | None = None) -> str:
     return DotLatexPrinter(declared_functions(system)).doprint(expr)
+
+
+def _solved(name: str, value: sympy.Expr, system: System) -> str:
+    """An ``align*`` row ``name &= value``; a closed form too long to read is named only."""
+    if too_long_to_print(value):
+        return rf"{name} &: \text{{{TOO_LONG.format(limit=PRINT_MAX_NODES)}}}"
+    return rf"{name} &= {latex_expression(value, system)}"
 
 
 def latex_equations(eom: EquationsOfMotion) -> str:
@@ -21,11 +35,11 @@ def latex_equations(eom: EquationsOfMotion) -> str:
     rows += [rf"0 &= {show(equation)}" for equation in eom.equations]
     if eom.accelerations is not None:
         rows += [
-            rf"{latex_name(c.q_ddot.name)} &= {show(eom.accelerations[c.name])}"
+            _solved(latex_name(c.q_ddot.name), eom.accelerations[c.name], system)
             for c in eom.coordinates
         ]
     if eom.multipliers is not None:
-        rows += [rf"{latex_name(n)} &= {show(v)}" for n, v in eom.multipliers.items()]
+        rows += [_solved(latex_name(n), v, system) for n, v in eom.multipliers.items()]
     return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
 
 
@@ -55,5 +69,5 @@ def latex_steps(eom: EquationsOfMotion) -> str:
             rows.append(rf"\sum_j \lambda_j a_{{j {q}}} &= {show(step.constraint_force)}")
         rows.append(rf"0 &= {show(step.equation)}")
         if eom.accelerations is not None:
-            rows.append(rf"{latex_name(c.q_ddot.name)} &= {show(eom.accelerations[c.name])}")
+            rows.append(_solved(latex_name(c.q_ddot.name), eom.accelerations[c.name], system))
     return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"

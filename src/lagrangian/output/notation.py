@@ -171,3 +171,18 @@ def declared_functions(system) -> frozenset:
     if system is None:
         return frozenset()
     return frozenset(f.applied for f in system.functions)
+
+
+#: Solved accelerations and multipliers longer than this (nodes of the expression tree)
+#: are not printed as text or LaTeX: the closed-form q'' of a 6-link chain runs to
+#: 200,000 operations (megabytes of text, minutes of printing); ``derive --json`` keeps them.
+PRINT_MAX_NODES = 5000
+TOO_LONG = "too long to print (more than {limit:,} nodes); derive --json gives it"
+
+
+def too_long_to_print(expr: sympy.Expr) -> bool:
+    """Whether ``expr`` has more than ``PRINT_MAX_NODES`` nodes (stops counting there)."""
+    for count, _ in enumerate(sympy.preorder_traversal(expr), start=1):
+        if count > PRINT_MAX_NODES:
+            return True
+    return False
