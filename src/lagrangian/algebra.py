@@ -298,12 +298,13 @@ def _applied(function: sympy.FunctionClass, argument: sympy.Expr) -> sympy.Expr:
     (about 18 us, 40x the object itself), which is shared here instead.
     """
     result = sympy.Basic.__new__(function, argument)
-    result.nargs = _arity(function)
+    result.nargs = _shared_nargs(function)
     return result
 
 
 @functools.cache
-def _arity(function: sympy.FunctionClass):
+def _shared_nargs(function: sympy.FunctionClass):
+    """The arity set SymPy gives every call of ``function`` (made once)."""
     return function(sympy.Dummy(), evaluate=False).nargs
 
 

@@ -127,17 +127,15 @@ def _kinetic_energy_large(
         r = [to_symengine(x, cache) for x in position]
         if m is None or any(x is None for x in r):
             return None
-        nonsmooth = any(x.atoms(se.Abs, se.sign) for x in r)
         columns = _jacobian_columns(r, q)
-        if nonsmooth and any(holds_derivative(x) for column in columns.values() for x in column):
-            return None
+        explicit = tuple(se.diff(x, t) for x in r)
+        derivatives = [*explicit, *(x for column in columns.values() for x in column)]
+        if any(x.atoms(se.Abs, se.sign) for x in r) and any(map(holds_derivative, derivatives)):
+            return None  # d|u|/dq or d sign(u)/dq, which SymEngine leaves undone
         active = [(i, column_id(column)) for i, column in columns.items()]
         for a, (i, ci) in enumerate(active):
             for j, cj in active[a:]:
                 quadratic[i, j][ci, cj].append(m)
-        explicit = tuple(se.diff(x, t) for x in r)
-        if nonsmooth and any(holds_derivative(x) for x in explicit):
-            return None
         if not all(x.is_zero for x in explicit):
             e = column_id(explicit)
             for i, ci in active:

@@ -7,7 +7,6 @@ import sympy
 from ..derive import EquationsOfMotion
 from ..model import System
 from .notation import (
-    PRINT_MAX_NODES,
     TOO_LONG,
     DotLatexPrinter,
     declared_functions,
@@ -23,7 +22,7 @@ def latex_expression(expr: sympy.Expr, system: System | None = None) -> str:
 def _solved(name: str, value: sympy.Expr, system: System) -> str:
     """An ``align*`` row ``name &= value``; a closed form too long to read is named only."""
     if too_long_to_print(value):
-        return rf"{name} &: \text{{{TOO_LONG.format(limit=PRINT_MAX_NODES)}}}"
+        return rf"{name} &: \text{{{TOO_LONG}}}"
     return rf"{name} &= {latex_expression(value, system)}"
 
 

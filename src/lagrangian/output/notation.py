@@ -177,7 +177,7 @@ def declared_functions(system) -> frozenset:
 #: are not printed as text or LaTeX: the closed-form q'' of a 6-link chain runs to
 #: 200,000 operations (megabytes of text, minutes of printing); ``derive --json`` keeps them.
 PRINT_MAX_NODES = 5000
-TOO_LONG = "too long to print (more than {limit:,} nodes); derive --json gives it"
+TOO_LONG = f"too long to print (more than {PRINT_MAX_NODES:,} nodes); derive --json gives it"
 
 
 def too_long_to_print(expr: sympy.Expr) -> bool:

@@ -7,7 +7,6 @@ import sympy
 from ..derive import EquationsOfMotion
 from ..model import System
 from .notation import (
-    PRINT_MAX_NODES,
     TOO_LONG,
     UnicodePrinter,
     declared_functions,
@@ -24,7 +23,7 @@ def unicode_expression(expr: sympy.Expr, system: System | None = None) -> str:
 def _equality(lhs: str, rhs: sympy.Expr, system: System) -> str:
     """``lhs = rhs``; a closed form too long to read is named, not printed."""
     if too_long_to_print(rhs):
-        return f"{lhs}: {TOO_LONG.format(limit=PRINT_MAX_NODES)}"
+        return f"{lhs}: {TOO_LONG}"
     return f"{lhs} = {unicode_expression(rhs, system)}"
 
 
