@@ -33,6 +33,7 @@ if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
 
 PRELUDE = """\
+#define _GNU_SOURCE /* sincos, sincosf */
 #include <math.h>
 #define __global__
 #define __device__ static inline

@@ -38,12 +38,13 @@ from sympy.printing.precedence import PRECEDENCE
 from ..distributions import without_distributions
 from ..errors import ModelError
 from ..integrate import tableaus
+from ..integrate.variational import STALL_RATIO
 from ..numeric.forms import SymbolicForms
 from ..numeric.numba_source import _fingerprint
 from .scheme_expressions import SCHEMES, STEP, scheme_expressions
 
 #: Bump when the generated text changes.
-GENERATOR_VERSION = "1"
+GENERATOR_VERSION = "3"
 PRECISIONS = ("float64", "float32")
 
 #: The kernel's parameters in order, (C type, name); hosts pass arguments by these names.
@@ -76,6 +77,7 @@ typedef {ctype} real;
 #define LG_P {p}
 #define LG_ABS {fabs}
 #define LG_PI {pi}
+#define LG_STALL {stall}
 /* the running maximum keeps a NaN, as numpy's max does, so a NaN never converges */
 #define LG_MAX(a, b) ((b) > (a) || (b) != (b) ? (b) : (a))
 
@@ -85,9 +87,12 @@ typedef struct {{ real tol; real floor; int iterations; }} lg_newton;
 _SOLVE = """
 /* x with A x = b (A, b overwritten): Gaussian elimination with partial pivoting.  Rows
    are swapped by value while scanning, so every index is a compile-time constant once
-   the loops are unrolled and the arrays stay in registers (pivot: the first largest). */
+   the loops are unrolled and the arrays stay in registers (pivot: the first largest).
+   Each pivot is inverted once (N divisions instead of N(N+1)/2: a float64 division is
+   a dozen dependent instructions on the GPU). */
 __device__ __forceinline__ void lg_solve(real *A, real *b, real *x)
 {
+    real inverse[LG_N];
 #pragma unroll
     for (int k = 0; k < LG_N; ++k) {
 #pragma unroll
@@ -104,9 +109,10 @@ __device__ __forceinline__ void lg_solve(real *A, real *b, real *x)
                 b[i] = swap;
             }
         }
+        inverse[k] = 1 / A[k * LG_N + k];
 #pragma unroll
         for (int i = k + 1; i < LG_N; ++i) {
-            real factor = A[i * LG_N + k] / A[k * LG_N + k];
+            real factor = A[i * LG_N + k] * inverse[k];
 #pragma unroll
             for (int j = k; j < LG_N; ++j) A[i * LG_N + j] -= factor * A[k * LG_N + j];
             b[i] -= factor * b[k];
@@ -117,16 +123,26 @@ __device__ __forceinline__ void lg_solve(real *A, real *b, real *x)
         real total = b[i];
 #pragma unroll
         for (int j = i + 1; j < LG_N; ++j) total -= A[i * LG_N + j] * x[j];
-        x[i] = total / A[i * LG_N + i];
+        x[i] = total * inverse[i];
     }
 }
 
-/* Variational.py's test: residual small, or no longer decreasing at the rounding floor. */
+/* Variational.py's test: residual small, or no longer shrinking at the rounding floor
+   (relative to the momenta and to max(1, max |q|), the extent). */
 __device__ __forceinline__ int lg_converged(real size, real previous, int have_previous,
-                                            real scale, const lg_newton *newton)
+                                            real scale, real extent, const lg_newton *newton)
 {
     int small = size <= newton->tol * scale || size == 0;
-    return small || (have_previous && size >= previous && size <= newton->floor * scale);
+    return small || (have_previous && size >= LG_STALL * previous
+                     && size <= newton->floor * scale * extent);
+}
+
+__device__ __forceinline__ real lg_extent(const real *y)
+{
+    real size = 1;
+#pragma unroll
+    for (int i = 0; i < LG_N; ++i) size = LG_MAX(size, LG_ABS(y[i]));
+    return size;
 }
 """
 
@@ -184,7 +200,7 @@ __device__ __forceinline__ int lg_velocity(real t, real *y, const real *p, const
                                            const real *guess, const lg_newton *newton)
 {
     real z[LG_S], momenta[LG_N], residual[LG_N], M[LG_N * LG_N], step[LG_N];
-    real previous = 0;
+    real previous = 0, extent = lg_extent(y);
     int have_previous = 0;
 #pragma unroll
     for (int i = 0; i < LG_N; ++i) {
@@ -200,7 +216,7 @@ __device__ __forceinline__ int lg_velocity(real t, real *y, const real *p, const
             size = LG_MAX(size, LG_ABS(residual[i]));
             scale = LG_MAX(scale, LG_MAX(LG_ABS(target[i]), LG_ABS(momenta[i])));
         }
-        if (lg_converged(size, previous, have_previous, scale, newton)) {
+        if (lg_converged(size, previous, have_previous, scale, extent, newton)) {
 #pragma unroll
             for (int i = 0; i < LG_N; ++i) y[LG_N + i] = z[LG_N + i];
             return 1;
@@ -223,7 +239,7 @@ __device__ __forceinline__ int lg_step(lg_state *state, real t, real h, real *y,
     real v[LG_N], z[LG_S], momenta[LG_N], force[LG_N], residual[LG_N], J[LG_N * LG_N];
     real step[LG_N];
     real tm = t + h / 2;
-    real previous = 0;
+    real previous = 0, extent = lg_extent(y);
     int have_previous = 0, converged = 0;
 #pragma unroll
     for (int i = 0; i < LG_N; ++i)
@@ -242,7 +258,7 @@ __device__ __forceinline__ int lg_step(lg_state *state, real t, real h, real *y,
             size = LG_MAX(size, LG_ABS(residual[i]));
             scale = LG_MAX(scale, LG_MAX(LG_ABS(state->momenta[i]), LG_ABS(momenta[i])));
         }
-        if (lg_converged(size, previous, have_previous, scale, newton)) {
+        if (lg_converged(size, previous, have_previous, scale, extent, newton)) {
             converged = 1;
             break;
         }
@@ -381,6 +397,7 @@ class _Printer(C99CodePrinter):
     """C99 in the kernel's precision, small integer powers as products (exact, fast)."""
 
     def __init__(self, precision: str):
+        self.precision = precision
         settings: dict[str, object] = {"strict": True}
         if precision == "float32":
             settings["type_aliases"] = {real: float32}
@@ -443,6 +460,7 @@ def _text(forms: SymbolicForms, method: str, precision: str, arrays) -> str:
         version=GENERATOR_VERSION, scheme=method, precision=precision,
         ctype="float" if precision == "float32" else "double", n=forms.n,
         p=len(forms.parameters), fabs="fabsf" if suffix else "fabs", pi=literal(sympy.pi),
+        stall=literal(STALL_RATIO),
     )  # fmt: skip
     functions = []
     for name, outputs in arrays:
@@ -489,15 +507,23 @@ def _device_function(name: str, outputs, printer: _Printer) -> str:
     """A ``__device__`` function filling each output array from (t, y, p[, h])."""
     expressions = [entry for _, entries in outputs for entry in entries]
     replacements, reduced = sympy.cse(expressions, symbols=sympy.numbered_symbols("_c"))
+    statements, reduced = _fuse_sine_cosine(replacements, reduced)
     used = set()
-    for expression in [*reduced, *(value for _, value in replacements)]:
+    for expression in [*reduced, *(value for _, value in statements)]:
         used |= {s.name for s in expression.free_symbols}
     loads = sorted(
         (s for s in used if s[:2] in ("_y", "_p")), key=lambda s: (s[:2] == "_p", int(s[2:]))
     )
     lines = [f"const real {s} = {'y' if s[1] == 'y' else 'p'}[{s[2:]}];" for s in loads]
+    sincos = "sincosf" if printer.precision == "float32" else "sincos"
     try:
-        lines += [f"const real {s} = {printer.doprint(value)};" for s, value in replacements]
+        for target, value in statements:
+            if isinstance(target, tuple):  # (sine, cosine) of one argument, by one call
+                sine, cosine = target
+                lines.append(f"real {sine}, {cosine};")
+                lines.append(f"{sincos}({printer.doprint(value)}, &{sine}, &{cosine});")
+            else:
+                lines.append(f"const real {target} = {printer.doprint(value)};")
         position = 0
         for array, entries in outputs:
             for k in range(len(entries)):
@@ -511,3 +537,35 @@ def _device_function(name: str, outputs, printer: _Printer) -> str:
     signature = f"(real _t, const real *y, const real *p{step}, {arrays})"
     body = "\n".join("    " + line for line in lines)
     return f"__device__ __forceinline__ void {name}{signature}\n{{\n{body}\n}}\n"
+
+
+def _fuse_sine_cosine(replacements, reduced):
+    """Statements [(symbol | (sine, cosine), value)] with sin(a) and cos(a) made by one call.
+
+    Where both the sine and the cosine of one argument are used, sincos(a) computes
+    them together (one range reduction instead of two; on the GPU, where float64
+    arithmetic is the bound, that is a tenth of a double pendulum's RK4 stage).  The
+    call goes right after the last statement its argument needs.
+    """
+    values = [value for _, value in replacements] + list(reduced)
+    sines, cosines = set(), set()
+    for value in values:
+        sines |= {f.args[0] for f in value.atoms(sympy.sin)}
+        cosines |= {f.args[0] for f in value.atoms(sympy.cos)}
+    shared = sorted(sines & cosines, key=sympy.default_sort_key)
+    if not shared:
+        return list(replacements), list(reduced)
+    defined_at = {symbol: index for index, (symbol, _) in enumerate(replacements)}
+    calls: dict[int, list] = {}
+    substitute = {}
+    for k, argument in enumerate(shared):
+        sine, cosine = sympy.Symbol(f"_sin{k}"), sympy.Symbol(f"_cos{k}")
+        after = max((defined_at.get(s, -1) for s in argument.free_symbols), default=-1)
+        calls.setdefault(after, []).append(((sine, cosine), argument))
+        substitute[sympy.sin(argument)] = sine
+        substitute[sympy.cos(argument)] = cosine
+    statements = list(calls.get(-1, []))
+    for index, (symbol, value) in enumerate(replacements):
+        statements.append((symbol, value.xreplace(substitute)))
+        statements.extend(calls.get(index, []))
+    return statements, [value.xreplace(substitute) for value in reduced]

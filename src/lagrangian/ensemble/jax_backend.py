@@ -45,7 +45,7 @@ import numpy as np
 from ..errors import ModelError
 from ..integrate.explicit_rk import AbstractExplicitRungeKutta
 from ..integrate.fixed_step import step_grid
-from ..integrate.variational import ROUNDING_FLOOR, Variational
+from ..integrate.variational import ROUNDING_FLOOR, STALL_RATIO, Variational
 from ..numeric.backends import JAX_MISSING
 from .observables import finish
 
@@ -326,7 +326,7 @@ def _midpoint(system: CompiledSystem, integrator: Variational, eps: float) -> St
             momenta = system.momenta(tm, qm, v, params)
             force = system.lagrangian_gradient(tm, qm, v, params)
             force = force + system.nonconservative_forces(tm, qm, v, params)
-            return momenta - (h / 2) * force - p, _scale(momenta, p), force
+            return momenta - (h / 2) * force - p, _scale(momenta, p), _extent(q), force
 
         def jacobian(v):
             qm = q + (h / 2) * v
@@ -344,7 +344,7 @@ def _midpoint(system: CompiledSystem, integrator: Variational, eps: float) -> St
 
         def legendre(u):  # L_q'(q_new, u) = p_new
             momenta = system.momenta(t + h, q_new, u, params)
-            return momenta - p_new, _scale(momenta, p_new), None
+            return momenta - p_new, _scale(momenta, p_new), _extent(q_new), None
 
         w_new, _, failed_velocity = newton(
             legendre, lambda u: system.mass_matrix(t + h, q_new, u, params), v
@@ -359,25 +359,31 @@ def _scale(momenta, p):
     return jnp.maximum(jnp.max(jnp.abs(p), axis=0), jnp.max(jnp.abs(momenta), axis=0))
 
 
+def _extent(q):
+    """Variational's max(1, max |q|): how the coordinates' rounding scales."""
+    jnp = _jax().numpy
+    return jnp.maximum(1.0, jnp.max(jnp.abs(q), axis=0))
+
+
 def _newton_solver(max_newton: int, tolerance: float, floor: float):
     """``solve(residual, jacobian, x0) -> (x, extra, failed)``: per-member Newton.
 
-    ``residual(x) -> (r, scale, extra)``.  As in Variational, a member stops
-    (its x frozen) when |r| <= tolerance * scale, or when |r| stopped
-    decreasing below floor * scale; the loop ends when all have stopped or
+    ``residual(x) -> (r, scale, extent, extra)``.  As in Variational, a member
+    stops (its x frozen) when |r| <= tolerance * scale, or when |r| stopped
+    shrinking below floor * scale * extent; the loop ends when all have stopped or
     after ``max_newton`` updates; members still iterating have failed.
     """
     jax = _jax()
     jnp, lax = jax.numpy, jax.lax
 
-    def converged(size, previous, scale):
+    def converged(size, previous, scale, reach):
         small = (size <= tolerance * scale) | (size == 0.0)
-        return small | ((size >= previous) & (size <= floor * scale))
+        return small | ((size >= STALL_RATIO * previous) & (size <= floor * scale * reach))
 
     def solve(residual, jacobian, x):
-        r, scale, extra = residual(x)
+        r, scale, reach, extra = residual(x)
         size = jnp.max(jnp.abs(r), axis=0)
-        active = ~converged(size, jnp.inf, scale)
+        active = ~converged(size, jnp.inf, scale, reach)
 
         def more(carry):
             count, _, active, *_ = carry
@@ -386,9 +392,9 @@ def _newton_solver(max_newton: int, tolerance: float, floor: float):
         def update(carry):
             count, x, active, r, previous, _ = carry
             x = jnp.where(active, x - _solve(jacobian(x), r), x)
-            r, scale, extra = residual(x)
+            r, scale, reach, extra = residual(x)
             size = jnp.max(jnp.abs(r), axis=0)
-            return count + 1, x, active & ~converged(size, previous, scale), r, size, extra
+            return count + 1, x, active & ~converged(size, previous, scale, reach), r, size, extra
 
         carry = lax.while_loop(more, update, (0, x, active, r, size, extra))
         return carry[1], carry[5], carry[2]

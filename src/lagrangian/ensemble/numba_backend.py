@@ -96,6 +96,7 @@ def _loop_module(compiled: CompiledSystem, scheme: str):
     the code cache under a hash of its text, so numba keeps its machine code there.
     """
     from ..integrate import tableaus
+    from ..integrate.variational import STALL_RATIO
     from ..numeric.numba_source import load_module, load_text
 
     _numba()
@@ -108,6 +109,7 @@ def _loop_module(compiled: CompiledSystem, scheme: str):
     constants |= {f"B{i + 1}": b[i] for i in range(4)} | {f"C{i + 1}": c[i] for i in (1, 2, 3)}
     generated = [
         f"N = {compiled.n}",
+        f"STALL_RATIO = {STALL_RATIO!r}",
         *(f"{name} = {float(value)!r}" for name, value in constants.items()),
         f"from {fillers.__name__} import {', '.join(_FILLERS[scheme])}",
     ]

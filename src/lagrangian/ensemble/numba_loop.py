@@ -9,9 +9,10 @@ scheme, a copy of this text with the globals filled in (the block between the
 ``@njit(cache=True)`` keeps the machine code, so a second process starts the
 loop without compiling it.
 
-The globals: ``N`` (coordinates), the generated fillers of the scheme's
-expressions (:mod:`.scheme_expressions`: ``fill`` for rk4; ``momenta``,
-``momenta_force``, ``mass``, ``jacobian`` for midpoint; ``mass`` and
+The globals: ``N`` (coordinates), ``STALL_RATIO`` (of the Newton test), the
+generated fillers of the scheme's expressions (:mod:`.scheme_expressions`:
+``fill`` for rk4; ``momenta``, ``momenta_force``, ``mass``, ``jacobian`` for
+midpoint; ``mass`` and
 ``gradient`` for Stormer-Verlet) and the RK4 tableau.  The schemes are the
 numpy backend's step for step, written for one member's state:
 
@@ -39,6 +40,7 @@ from lagrangian.numeric.numba_linalg import eliminate
 
 # -- generated: begin (each generated module has its own values here) ----------------
 N = 1
+STALL_RATIO = 0.5
 A21 = A32 = A43 = B1 = B2 = B3 = B4 = C2 = C3 = C4 = 0.0
 fill = momenta = momenta_force = mass = jacobian = gradient = None
 # -- generated: end ------------------------------------------------------------------
@@ -59,10 +61,19 @@ def larger(a, b):  # pragma: no cover - compiled by numba
 
 
 @njit(inline="always", cache=True)
-def converged(size, previous, scale, tol, floor):  # pragma: no cover - compiled by numba
+def converged(size, previous, scale, reach, tol, floor):  # pragma: no cover - compiled by numba
     """variational._converged for one member: small, or stuck at the rounding floor."""
     small = size <= tol * scale or size == 0.0
-    return small or (size >= previous and size <= floor * scale)
+    return small or (size >= STALL_RATIO * previous and size <= floor * scale * reach)
+
+
+@njit(inline="always", cache=True)
+def extent(y):  # pragma: no cover - compiled by numba
+    """variational._extent for one member: max(1, max |q|)."""
+    size = 1.0
+    for i in range(N):
+        size = larger(size, abs(y[i]))
+    return size
 
 
 # -- rk4 -------------------------------------------------------------------------------
@@ -125,6 +136,7 @@ def midpoint_step(t, h, y, p, work, tol, floor, iterations):  # pragma: no cover
     for i in range(N):
         v[i] = 2 * y[N + i] - last[i] if started[0] else y[N + i]  # O(h^2) first guess
     previous = np.inf
+    reach = extent(y)
     for iteration in range(iterations + 1):
         for i in range(N):
             z[i] = y[i] + (h / 2) * v[i]
@@ -135,7 +147,7 @@ def midpoint_step(t, h, y, p, work, tol, floor, iterations):  # pragma: no cover
             residual[i] = momenta_now[i] - (h / 2) * force[i] - kept[i]
             size = larger(size, abs(residual[i]))
             scale = larger(scale, larger(abs(kept[i]), abs(momenta_now[i])))
-        if converged(size, previous, scale, tol, floor):
+        if converged(size, previous, scale, reach, tol, floor):
             break
         if iteration == iterations:
             return False
@@ -153,6 +165,7 @@ def midpoint_step(t, h, y, p, work, tol, floor, iterations):  # pragma: no cover
     started[0] = True
     # the velocity from the momenta: L_q'(q, q') = p_{k+1} by Newton with M, from v
     previous = np.inf
+    reach = extent(y)
     for iteration in range(iterations + 1):
         momenta(t + h, z, p, momenta_now)
         size = scale = 0.0
@@ -160,7 +173,7 @@ def midpoint_step(t, h, y, p, work, tol, floor, iterations):  # pragma: no cover
             residual[i] = momenta_now[i] - kept[i]
             size = larger(size, abs(residual[i]))
             scale = larger(scale, larger(abs(kept[i]), abs(momenta_now[i])))
-        if converged(size, previous, scale, tol, floor):
+        if converged(size, previous, scale, reach, tol, floor):
             for i in range(N):
                 y[N + i] = z[N + i]
             return True

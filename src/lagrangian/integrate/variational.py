@@ -22,7 +22,9 @@ the Jacobian
 
 M = d^2L/dq'^2 (``mass_matrix``), P_q = d^2L/dq'dq (``momenta_jacobian_q``),
 L_qq (``lagrangian_hessian_q``), Q_q, Q_q' (``nonconservative_forces_jacobian_*``),
-until the residual is ``newton_tol`` (1e-14) relative to the momenta; then
+until the residual is ``newton_tol`` (1e-14) relative to the momenta (or, once
+an update no longer halves it, ``ROUNDING_FLOOR`` relative to the momenta times
+max(1, |q|): the coordinates' own rounding, which the momenta inherit); then
 p_{k+1} = p_k + h [L_q + Q](q_m, v), which keeps the momentum of a cyclic
 coordinate (L_q = 0, Q = 0) constant to the last bit.  The velocity q'_{k+1}
 of the state comes from p_{k+1} by the Legendre transform, L_q'(q_{k+1}, q') = p_{k+1}
@@ -57,9 +59,17 @@ from .fixed_step import AbstractFixedStepIntegrator, StepFailure
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
 
-#: A residual that stopped decreasing is accepted below this (relative) size:
-#: the rounding floor of badly conditioned mass matrices.
+#: A residual that stopped decreasing is accepted below this size relative to the
+#: momenta times max(1, max |q|): the rounding floor of badly conditioned mass matrices,
+#: and of coordinates that have grown (a spinning angle of 600 rad carries 600 times the
+#: absolute rounding of one of 1 rad, and the momenta depend on it).
 ROUNDING_FLOOR = 1e-10
+#: Below the floor, a Newton update that no longer shrinks the residual by this factor
+#: has reached the rounding noise (Newton's iteration, converging, shrinks it far more).
+#: Waiting for the noise to stop decreasing instead took up to max_newton updates, and a
+#: long enough run of decreasing noise failed the step (float32 ensembles: one member
+#: in about 10^9 steps).
+STALL_RATIO = 0.5
 
 
 @dataclass(frozen=True)
@@ -154,7 +164,7 @@ class Variational(AbstractFixedStepIntegrator):
             residual = momenta - (h / 2) * force - p
             size = np.max(np.abs(residual), axis=0)
             scale = np.maximum(np.max(np.abs(p), axis=0), np.max(np.abs(momenta), axis=0))
-            active &= ~_converged(size, previous, scale, self.newton_tol)
+            active &= ~_converged(size, previous, scale, _extent(q), self.newton_tol)
             if not active.any():
                 break
             if iteration == self.max_newton:
@@ -193,7 +203,7 @@ class Variational(AbstractFixedStepIntegrator):
             residual = momenta - p
             size = np.max(np.abs(residual), axis=0)
             scale = np.maximum(np.max(np.abs(p), axis=0), np.max(np.abs(momenta), axis=0))
-            active &= ~_converged(size, previous, scale, self.newton_tol)
+            active &= ~_converged(size, previous, scale, _extent(q), self.newton_tol)
             if not active.any():
                 return w
             if iteration == self.max_newton:
@@ -224,10 +234,16 @@ def _check_regular(compiled, t, q: np.ndarray, mass: np.ndarray) -> None:
     )
 
 
-def _converged(size, previous, scale, tolerance) -> np.ndarray:
-    """Per batch element: residual small, or no longer decreasing at the rounding floor."""
+def _converged(size, previous, scale, extent, tolerance) -> np.ndarray:
+    """Per batch element: residual small, or no longer shrinking at the rounding floor."""
     small = (size <= tolerance * scale) | (size == 0.0)
-    return small | ((size >= previous) & (size <= ROUNDING_FLOOR * scale))
+    stalled = size >= STALL_RATIO * previous
+    return small | (stalled & (size <= ROUNDING_FLOOR * scale * extent))
+
+
+def _extent(q: np.ndarray) -> np.ndarray:
+    """max(1, max |q|) per batch element: how the coordinates' rounding scales."""
+    return np.maximum(1.0, np.max(np.abs(q), axis=0))
 
 
 @dataclass(frozen=True)
