@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING, ClassVar
 import numpy as np
 
 from ..errors import ModelError
+from ..trajectory import EventRecord
 from .base import (
     AbstractIntegrator,
     IntegrationResult,
@@ -35,6 +36,7 @@ from .base import (
     reject_settings,
 )
 from .events import Event, EventWatcher, hermite, named
+from .guard import energy_jump, start_problem, state_problem
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -118,8 +120,12 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
         watcher = EventWatcher(events, params, t0, y) if events else None
         grid = step_grid(t0, t1, self.dt)
         times, states = [t0], [y]
-        solver_state = self.init(compiled, t0, y, params, work)
         status, message = Status.SUCCESS, "reached the end time"
+        problem = start_problem(compiled, t0, y, params)
+        if problem is not None:
+            status, message, grid = Status.FAILED, problem, grid[:1]
+        else:
+            solver_state = self.init(compiled, t0, y, params, work)
         for ta, tb in itertools.pairwise(grid):
             try:
                 y_new, solver_state = self.step(
@@ -128,8 +134,9 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
             except StepFailure as failure:
                 status, message = Status.FAILED, f"{failure} at t = {ta:.17g}"
                 break
-            if not np.all(np.isfinite(y_new)):
-                status, message = Status.FAILED, f"the state is not finite at t = {tb:.17g}"
+            problem = state_problem(compiled, ta, y, y_new)
+            if problem is not None:
+                status, message = Status.FAILED, problem
                 break
             if project is not None:
                 y_new = project(tb, y_new, params)
@@ -146,6 +153,12 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
             states.append(y_new)
             y = y_new
         t_out, y_out = np.array(times), np.stack(states, axis=-1)
+        records = watcher.records(y.shape[0]) if watcher is not None else ()
+        jump = energy_jump(compiled, t_out, y_out, params) if y_out.ndim == 2 else None
+        if jump is not None:  # the run ends at the start of the step that broke the balance
+            k, message = jump
+            status, t_out, y_out = Status.FAILED, t_out[: k + 1], y_out[..., : k + 1]
+            records = tuple(_until(record, t_out[-1]) for record in records)
         if t_eval is not None:
             t_out, y_out = _dense(t_out, y_out, np.asarray(t_eval, float), status, derivative)
             if project is not None:
@@ -159,9 +172,15 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
             steps=work.steps,
             rhs_evaluations=work.rhs_evaluations,
             jacobian_evaluations=work.jacobian_evaluations,
-            events=watcher.records(y.shape[0]) if watcher is not None else (),
+            events=records,
             settings=self.settings_for(compiled),
         )
+
+
+def _until(record: EventRecord, t: float) -> EventRecord:
+    """The occurrences of ``record`` up to time ``t``."""
+    kept = record.times <= t
+    return EventRecord(record.name, record.times[kept], record.states[:, kept])
 
 
 def _dense(times, states, t_eval, status, derivative):

@@ -36,6 +36,7 @@ from .base import (
     reject_settings,
 )
 from .events import Event, named, scipy_event
+from .guard import UNDEFINED, describe_state, start_problem, state_problem
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -92,27 +93,67 @@ class AbstractScipyIntegrator(AbstractIntegrator):
         if y0.ndim != 1:
             raise ModelError(f"method '{self.name}' integrates one trajectory, not a batch")
         events = named(events)
+        problem = start_problem(compiled, t0, y0, params)
+        if problem is not None:  # SciPy's first step size would be NaN: it would never stop
+            return self._stopped(compiled, [t0], [y0], problem, events)
+        # A trial stage may leave the domain of the equations (rejected, the step shrinks);
+        # the last such evaluation explains a run that then fails for want of a step size.
+        undefined: list[float] = []
 
         def fun(t: float, y: np.ndarray) -> np.ndarray:
-            return compiled.rhs(t, y, params)
+            slope = compiled.rhs(t, y, params)
+            if not np.all(np.isfinite(slope)):
+                undefined[:] = [t]
+            return slope
+
+        def jac(t: float, y: np.ndarray) -> np.ndarray:
+            jacobian = compiled.rhs_jacobian(t, y, params)
+            if not np.all(np.isfinite(jacobian)):  # at an accepted state: no way on
+                raise _Undefined(t, y)
+            return jacobian
 
         options: dict[str, object] = {}
         if self.uses_jacobian:
-            options["jac"] = lambda t, y: compiled.rhs_jacobian(t, y, params)
+            options["jac"] = jac
         if events:
             f0 = fun(t0, y0)
             options["events"] = [scipy_event(e, params, t0, y0, f0) for e in events]
-        solution = solve_ivp(
-            fun,
-            (t0, t1),
-            y0,
-            method=self.scipy_method,
-            rtol=self.rtol,
-            atol=self.atol,
-            dense_output=t_eval is not None,
-            **options,
-        )
+        try:
+            solution = solve_ivp(
+                fun,
+                (t0, t1),
+                y0,
+                method=self.scipy_method,
+                rtol=self.rtol,
+                atol=self.atol,
+                dense_output=t_eval is not None,
+                **options,
+            )
+        except _Undefined as stop:
+            message = (
+                f"the Jacobian of the right-hand side is not finite at t = {stop.t:.6g} "
+                f"({describe_state(compiled, stop.y)}): {UNDEFINED}"
+            )
+            points = ([t0], [y0]) if stop.t == t0 else ([t0, stop.t], [y0, stop.y])
+            return self._stopped(compiled, *points, message, events)
         status = _STATUS.get(solution.status, Status.FAILED)
+        message = str(solution.message)
+        if status is Status.FAILED:
+            where = f"t = {solution.t[-1]:.6g} ({describe_state(compiled, solution.y[:, -1])})"
+            message = f"{message.rstrip('.')} at {where}"
+            if undefined:
+                message = (
+                    f"the right-hand side is not finite just after {where}, so no step "
+                    f"size works: {UNDEFINED}, or the motion reaches a singularity"
+                )
+        finite = np.all(np.isfinite(solution.y), axis=0)
+        if not finite.all():  # kept out by the error control, in case one slips through
+            k = int(np.argmin(finite))
+            status = Status.FAILED
+            message = state_problem(
+                compiled, solution.t[k - 1], solution.y[:, k - 1], solution.y[:, k]
+            )
+            solution.t, solution.y = solution.t[:k], solution.y[:, :k]
         t_out, y_out = solution.t, solution.y
         if t_eval is not None:
             t_out, y_out = _at(np.asarray(t_eval, float), solution, status)
@@ -128,13 +169,38 @@ class AbstractScipyIntegrator(AbstractIntegrator):
             t=t_out,
             y=y_out,
             status=status,
-            message=str(solution.message),
+            message=message,
             steps=max(0, len(solution.t) - 1),
             rhs_evaluations=int(solution.nfev),
             jacobian_evaluations=int(solution.njev),
             events=records,
             settings=self.settings_for(compiled),
         )
+
+    def _stopped(self, compiled, times, states, message, events) -> IntegrationResult:
+        """The failed result of a run that stopped, SciPy's steps lost, at the last state."""
+        size = states[0].shape[0]
+        return IntegrationResult(
+            t=np.array(times, dtype=float),
+            y=np.stack(states, axis=-1),
+            status=Status.FAILED,
+            message=message,
+            steps=0,
+            rhs_evaluations=0,
+            jacobian_evaluations=0,
+            events=tuple(
+                EventRecord(event.name, np.empty(0), np.empty((size, 0))) for event in events
+            ),
+            settings=self.settings_for(compiled),
+        )
+
+
+class _Undefined(Exception):
+    """Raised inside SciPy's loop to stop it at (t, y), where the equations are not finite."""
+
+    def __init__(self, t: float, y: np.ndarray):
+        super().__init__(t)
+        self.t, self.y = float(t), np.array(y, dtype=float)
 
 
 def _at(t_eval: np.ndarray, solution, status: Status) -> tuple[np.ndarray, np.ndarray]:

@@ -72,11 +72,14 @@ def simulate(
     if compiled.has_constraints and compiled.project is not None:
         y0 = np.asarray(compiled.project(t_span[0], y0, p), dtype=float)
     outputs = output_times(t_span, n_out=n_out, t_eval=t_eval)
-    start = time.perf_counter()
-    result = integrator.solve(compiled, t_span, y0, p, t_eval=outputs, events=events)
-    wall_time = time.perf_counter() - start
-    values = dict(zip(compiled.parameter_names, p.tolist(), strict=True))
-    return trajectory_of(compiled, result, p, parameters=values, wall_time=wall_time)
+    # Non-finite values are found and reported (integrate.guard): NumPy's warnings about
+    # them would only repeat that, several lines long.
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        start = time.perf_counter()
+        result = integrator.solve(compiled, t_span, y0, p, t_eval=outputs, events=events)
+        wall_time = time.perf_counter() - start
+        values = dict(zip(compiled.parameter_names, p.tolist(), strict=True))
+        return trajectory_of(compiled, result, p, parameters=values, wall_time=wall_time)
 
 
 def output_times(

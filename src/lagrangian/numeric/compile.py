@@ -110,6 +110,7 @@ def compile_equations(
         ),
         constant_mass_matrix=forms.constant_mass_matrix,
         separable=forms.separable,
+        autonomous_lagrangian=not forms.lagrangian.has(forms.time),
         has_constraints=constraint_functions is not None,
         constraint_names=tuple(
             s.name for s in (forms.constraints.multipliers if forms.constraints else ())

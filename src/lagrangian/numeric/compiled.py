@@ -62,6 +62,7 @@ class CompiledSystem:
     invariants: Mapping[str, StateFunction] = field(default_factory=dict)  # conserved quantities
     constant_mass_matrix: bool = False  # M depends on no q, q', t: Stormer-Verlet applies
     separable: bool = False  # L = q'^T M q' / 2 - V(q), M constant, no forces
+    autonomous_lagrangian: bool = False  # L has no explicit t: dh/dt = q' . (Q - dF/dq')
     has_constraints: bool = False
     constraint_names: tuple[str, ...] = ()  # multiplier names (lambda1, ...)
     multipliers: StateFunction | None = None  # lambda along a state

@@ -7,7 +7,10 @@ symbolic forms as the NumPy functions: M and f from common-subexpression-
 eliminated scalar code, q'' from M q'' = f by Gaussian elimination inside the
 kernel.  Everything else, and any batched call (a trailing batch axis), uses
 the NumPy backend's functions, so results agree to rounding either way.  The
-code is generated and jitted on the first call (then cached on disk).
+code is generated and jitted on the first call (then cached on disk).  Where a
+kernel divides by zero (numba raises ZeroDivisionError: a zero pivot of M, or
+1/x at x = 0) the NumPy function answers instead, with the NumPy backend's
+result: inf or NaN, which the integrators report, or its singular-matrix error.
 
 Constrained systems keep the NumPy functions for now (a warning says so).
 numba is imported only when a numba function is first called with one state,
@@ -112,7 +115,10 @@ class NumbaFunctions:
                 return fallback(t, y, params)  # a batch, or an error to report
             if kernel is None:
                 kernel = getattr(self.module(), name)
-            return kernel(float(t), y, params)
+            try:
+                return kernel(float(t), y, params)
+            except ZeroDivisionError:  # numba raises where NumPy gives inf, or names M singular
+                return fallback(t, y, params)
 
         def scalar_function(t: Any, y: Any, params: Any) -> Any:
             return np.asarray(jitted(t, y, params))  # a 0-d array, as the NumPy backend's
@@ -133,7 +139,10 @@ class NumbaFunctions:
                 return fallback(t, q, v, p)
             if kernel is None:
                 kernel = getattr(self.module(), name)
-            return kernel(float(t), np.concatenate((q, v)), p)
+            try:
+                return kernel(float(t), np.concatenate((q, v)), p)
+            except ZeroDivisionError:  # as above
+                return fallback(t, q, v, p)
 
         function.__name__ = function.__qualname__ = name
         return function
