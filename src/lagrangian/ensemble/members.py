@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError
+from ..numeric.compiled import check_initial
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -63,10 +64,14 @@ def members(
     count = int(np.prod(shape))
     if count == 0:
         raise ModelError("the ensemble has no members")
+    for name in initial:
+        check_initial(name, arrays[name])
+    for name in params:  # before the defaults are read, so the error names the value given
+        compiled.check_parameter(name, arrays[name])
     y0 = np.repeat(compiled.state_vector({})[:, None], count, axis=1)
     for name in initial:
         y0[state_names.index(name)] = np.broadcast_to(arrays[name], shape).ravel()
-    base = compiled.parameter_vector({name: 0.0 for name in params})
+    base = compiled.parameter_vector({name: np.ravel(arrays[name])[0] for name in params})
     if params:
         p = np.repeat(base[:, None], count, axis=1)
         for name in params:

@@ -119,6 +119,7 @@ def compile_equations(
         constraint_residual=constraint_functions.residual if constraint_functions else None,
         project=constraint_functions.project if constraint_functions else None,
         default_parameters=MappingProxyType(dict(system.parameter_values)),
+        parameter_signs=MappingProxyType({p.name: p.sign for p in system.parameters}),
         constraint_holonomic=forms.constraints.holonomic if forms.constraints else (),
         constraint_velocity_residual=(
             constraint_functions.velocity_residual if constraint_functions else None

@@ -63,6 +63,7 @@ class CompiledSystem:
     constant_mass_matrix: bool = False  # M depends on no q, q', t: Stormer-Verlet applies
     separable: bool = False  # L = q'^T M q' / 2 - V(q), M constant, no forces
     autonomous_lagrangian: bool = False  # L has no explicit t: dh/dt = q' . (Q - dF/dq')
+    parameter_signs: Mapping[str, str] = field(default_factory=dict)  # name -> assumed sign
     has_constraints: bool = False
     constraint_names: tuple[str, ...] = ()  # multiplier names (lambda1, ...)
     multipliers: StateFunction | None = None  # lambda along a state
@@ -94,7 +95,30 @@ class CompiledSystem:
                 + ", ".join(missing)
                 + " (give them with --set NAME=VALUE)"
             )
+        for name in self.parameter_names:
+            self.check_parameter(name, values[name])
         return np.array([values[name] for name in self.parameter_names], dtype=float)
+
+    def check_parameter(self, name: str, values: float | np.ndarray) -> None:
+        """ModelError naming the first value that is not finite or breaks the parameter's sign.
+
+        The equations were derived with the model's assumptions (a positive m makes
+        sqrt(m**2) = m), so they are wrong, silently, for a value that breaks one.
+        """
+        values = np.ravel(np.asarray(values, dtype=float))
+        bad = ~np.isfinite(values)
+        if bad.any():
+            value = values[int(np.argmax(bad))]
+            raise ModelError(f"parameter {name} = {value:g} is not a finite number")
+        sign = self.parameter_signs.get(name, "real")
+        bad = _BREAKS_SIGN.get(sign, lambda v: np.zeros(v.shape, bool))(values)
+        if bad.any():
+            value = values[int(np.argmax(bad))]
+            raise ModelError(
+                f"parameter {name} = {value:g} breaks the model's assumption that {name} is "
+                f"{sign} (the equations were derived with it): give a value {_SIGN_RANGE[sign]}, "
+                f'or declare {name} = {{value = ..., sign = "real"}} in the model'
+            )
 
     def state_vector(self, initial: Mapping[str, float] | None = None) -> np.ndarray:
         """y0 from ``{q: value, q_dot: value}``; missing entries are 0 (DESIGN section 2)."""
@@ -104,4 +128,23 @@ class CompiledSystem:
         unknown = set(values) - set(names)
         if unknown:
             raise ModelError(f"not a coordinate or velocity: {', '.join(sorted(unknown))}")
+        for name, value in values.items():
+            check_initial(name, value)
         return np.array([float(values.get(name, 0.0)) for name in names], dtype=float)
+
+
+def check_initial(name: str, values: float | np.ndarray) -> None:
+    """ModelError naming the first initial value of ``name`` that is not finite."""
+    values = np.ravel(np.asarray(values, dtype=float))
+    bad = ~np.isfinite(values)
+    if bad.any():
+        raise ModelError(f"initial {name} = {values[int(np.argmax(bad))]:g} is not a finite number")
+
+
+#: Per assumed sign: which values break it, and the range to say instead.
+_BREAKS_SIGN = {
+    "positive": lambda values: values <= 0,
+    "nonnegative": lambda values: values < 0,
+    "negative": lambda values: values >= 0,
+}
+_SIGN_RANGE = {"positive": "> 0", "nonnegative": ">= 0", "negative": "< 0"}
