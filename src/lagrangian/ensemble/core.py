@@ -40,6 +40,7 @@ from ..errors import ModelError
 from ..integrate import method_class
 from ..integrate.base import check_time_span
 from ..integrate.fixed_step import AbstractFixedStepIntegrator, step_grid
+from ..integrate.memory import check_fits, count_text, step_count
 from .members import Members, members
 from .numpy_backend import integrate_chunk
 from .observables import observable_names
@@ -55,6 +56,8 @@ PRECISIONS = ("float64", "float32")
 DEFAULT_CHUNK_SIZE = 65_536
 #: A GPU needs far more members at once than a CPU to be busy.
 GPU_CHUNK_SIZE = 1_048_576
+#: The (2n)-vectors of work per member of a chunk (stages, Newton, observables).
+WORK_VECTORS = 40
 
 
 def run_ensemble(
@@ -101,7 +104,18 @@ def run_ensemble(
         raise ModelError(f"save_every must be a whole number >= 1, not {save_every!r}")
     if int(chunk_size) != chunk_size or chunk_size < 1:
         raise ModelError(f"chunk_size must be a whole number >= 1, not {chunk_size!r}")
-    batch = members(compiled, initial, params)
+    steps = step_count(t0, t1, integrator.dt)
+
+    def fits(count: int) -> None:
+        kept = f", keeping {count_text(steps // save_every + 1)} states each" if save_every else ""
+        check_fits(
+            ensemble_bytes(compiled, count, steps, names, save_every, int(chunk_size)),
+            f"an ensemble of {count_text(count)} members{kept} ({count_text(steps)} steps)",
+            "use fewer members (fewer points per --grid), or fewer steps (a larger --dt)"
+            + (" or a larger save_every" if save_every else ""),
+        )
+
+    batch = members(compiled, initial, params, before_allocating=fits)
     if compiled.has_constraints and compiled.project is not None:
         batch = _projected(compiled, batch)
     options = {"save_every": save_every, "progress": progress}
@@ -128,6 +142,27 @@ def run_ensemble(
     return _assemble(
         compiled, integrator, batch, parts, names, t1, backend, wall_time, save_every, precision
     )
+
+
+def ensemble_bytes(
+    compiled: CompiledSystem,
+    count: int,
+    steps: int,
+    names: tuple[str, ...],
+    save_every: int | None,
+    chunk_size: int,
+) -> float:
+    """Bytes an ensemble of ``count`` members holds: per member the initial state and
+    parameters (2n + P numbers), its observables twice (the chunks' and the joined
+    arrays), its saved path (three copies: the chunks', the joined, the dataset's);
+    the step grid; and the work arrays of one chunk (a few dozen 2n-vectors a member)."""
+    state = 2 * compiled.n
+    observables = sum(state if name == "final_state" else 1 for name in names)
+    per_member = state + len(compiled.parameter_names) + 2 * observables
+    if save_every:
+        per_member += 3 * state * (steps // save_every + 1)
+    work = WORK_VECTORS * state * min(count, chunk_size)
+    return 8.0 * (float(count) * per_member + steps + 1 + work)
 
 
 def _compiled_backend(backend: str):

@@ -9,7 +9,7 @@ input that varies along that axis only (``theta1`` x ``theta2``), else
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -41,8 +41,14 @@ def members(
     compiled: CompiledSystem,
     initial: Mapping[str, object] | None,
     params: Mapping[str, object] | None,
+    *,
+    before_allocating: Callable[[int], None] | None = None,
 ) -> Members:
-    """The batch of ``compiled``'s states and parameters (see the module docstring)."""
+    """The batch of ``compiled``'s states and parameters (see the module docstring).
+
+    ``before_allocating(count)`` is called with the number of members once it is
+    known, before the batch is made (to refuse one that cannot fit in memory).
+    """
     initial, params = dict(initial or {}), dict(params or {})
     state_names = [*compiled.coordinate_names, *(f"{q}_dot" for q in compiled.coordinate_names)]
     for name in initial:
@@ -64,6 +70,8 @@ def members(
     count = int(np.prod(shape))
     if count == 0:
         raise ModelError("the ensemble has no members")
+    if before_allocating is not None:
+        before_allocating(count)
     for name in initial:
         check_initial(name, arrays[name])
     for name in params:  # before the defaults are read, so the error names the value given

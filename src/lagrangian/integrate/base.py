@@ -124,6 +124,10 @@ class AbstractIntegrator(abc.ABC):
     def settings(self) -> dict[str, object]:
         """Every setting of this instance (defaults included), for results and files."""
 
+    def kept_steps(self, t_span: tuple[float, float]) -> int | None:
+        """How many steps ``solve`` keeps over ``t_span`` (None: unknown before the run)."""
+        return None
+
     def settings_for(self, compiled: CompiledSystem) -> dict[str, object]:
         """The settings as used on ``compiled`` (a method may add what it chose for it)."""
         return self.settings()

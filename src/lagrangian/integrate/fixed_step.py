@@ -37,6 +37,7 @@ from .base import (
 )
 from .events import Event, EventWatcher, hermite, named
 from .guard import energy_jump, start_problem, state_problem
+from .memory import step_count
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -48,7 +49,7 @@ class StepFailure(Exception):
 
 def step_grid(t0: float, t_end: float, dt: float) -> np.ndarray:
     """t0, t0 + dt, ..., t_end: N = ceil((t_end - t0)/dt) steps, the last one ending at t_end."""
-    count = max(1, int(np.ceil((t_end - t0) / dt - 1e-9)))
+    count = step_count(t0, t_end, dt)
     grid = t0 + dt * np.arange(count + 1, dtype=float)
     grid[-1] = t_end
     return grid
@@ -74,6 +75,9 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
 
     def settings(self) -> dict[str, object]:
         return {"method": self.name, "dt": self.dt}
+
+    def kept_steps(self, t_span: tuple[float, float]) -> int:
+        return step_count(*t_span, self.dt)
 
     @abc.abstractmethod
     def init(

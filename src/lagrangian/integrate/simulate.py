@@ -30,6 +30,7 @@ from ..errors import ModelError
 from ..trajectory import Trajectory
 from .base import AbstractIntegrator, IntegrationResult, check_time_span
 from .events import Event
+from .memory import check_fits, count_text, run_bytes
 from .registry import method_class
 
 if TYPE_CHECKING:
@@ -71,6 +72,7 @@ def simulate(
     p = compiled.parameter_vector(params)
     if compiled.has_constraints and compiled.project is not None:
         y0 = np.asarray(compiled.project(t_span[0], y0, p), dtype=float)
+    _check_memory(integrator, t_span, 2 * compiled.n, n_out=n_out, t_eval=t_eval)
     outputs = output_times(t_span, n_out=n_out, t_eval=t_eval)
     # Non-finite values are found and reported (integrate.guard): NumPy's warnings about
     # them would only repeat that, several lines long.
@@ -80,6 +82,25 @@ def simulate(
         wall_time = time.perf_counter() - start
         values = dict(zip(compiled.parameter_names, p.tolist(), strict=True))
         return trajectory_of(compiled, result, p, parameters=values, wall_time=wall_time)
+
+
+def _check_memory(integrator, t_span, state_size, *, n_out, t_eval) -> None:
+    """Refuse, before anything is allocated, a run whose steps and outputs cannot fit."""
+    steps = integrator.kept_steps(t_span)
+    outputs = len(t_eval) if t_eval is not None else (n_out or 0)
+    settings = integrator.settings()
+    if steps is not None:
+        check_fits(
+            run_bytes(state_size, steps, outputs),
+            f"{settings['method']} with dt = {settings['dt']:g} to t_end = {t_span[1]:g} "
+            f"({count_text(steps)} steps, every one kept)",
+            "give a larger --dt or a shorter --t-end",
+        )
+    check_fits(
+        run_bytes(state_size, 0, outputs),
+        f"{count_text(outputs)} output times",
+        "ask for fewer output times (n_out, t_eval)",
+    )
 
 
 def output_times(
