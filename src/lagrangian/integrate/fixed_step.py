@@ -12,6 +12,12 @@ at the projection's accuracy instead of growing.  Outputs are the step points,
 or, with ``t_eval``, the cubic Hermite interpolant between them (values and
 y' = rhs at both ends; error O(dt^4), below the error of the methods here).
 The default step is (t_end - t0) / 1000 (``DEFAULT_STEPS``).
+
+The run fails (status ``failed``, the message naming the time and the state;
+see :mod:`lagrangian.integrate.guard`) where y' is not finite at the start, where
+a step ends on a state that is not finite, and, checked on the steps once the
+run is done, at the first step that breaks the energy balance (the output then
+ends where that step began).
 """
 
 from __future__ import annotations

@@ -15,6 +15,12 @@ slowly at these tolerances.  Outputs are SciPy's steps, or with ``t_eval`` the
 method's dense output there; events are located by ``solve_ivp`` on the dense
 output (see :func:`~lagrangian.integrate.events.scipy_event`).  A run stopped
 by a terminal event or a failure ends with the state where it stopped.
+
+A start where y' is not finite fails at once (SciPy's first step size would be
+NaN, and its loop would never end); a run that fails for want of a step size
+after the right-hand side was not finite says so, with the last state reached;
+radau stops where its Jacobian, taken at accepted states, is not finite (see
+:mod:`lagrangian.integrate.guard`).
 """
 
 from __future__ import annotations
