@@ -75,6 +75,25 @@ class ModelError(LagrangianError):
         )
 
 
+class FileError(LagrangianError):
+    """A file that cannot be read or written: names the file and what is wrong with it."""
+
+    def __init__(self, path: object, message: str):
+        self.path = str(path)
+        self.message = message
+        shown = self.path if len(self.path) <= 120 else self.path[:58] + "..." + self.path[-59:]
+        super().__init__(_single_line(f"{_visible(shown)}: {message}"))
+
+
+class LagrangianWarning(UserWarning):
+    """Base of the toolkit's own warnings: the CLI prints each as one line
+    (``lagrangian: warning: ...``); warnings of other libraries it keeps quiet."""
+
+
+class CacheWarning(LagrangianWarning):
+    """The code cache could not be used as configured (a temporary one was used)."""
+
+
 class SingularMassMatrixError(LagrangianError):
     """The equations cannot be solved for the accelerations."""
 

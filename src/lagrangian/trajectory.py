@@ -20,8 +20,9 @@ Files (DESIGN section 5): ``to_csv`` writes the columns
 ``t, <q...>, <q_dot...>, energy`` then the invariants and multipliers, one row
 per output time; ``to_netcdf`` writes the whole dataset (SciPy's netCDF-3
 writer, no extra dependency).  Both write atomically: a temporary file in the
-same directory, renamed over the target only when complete, so a failed write
-never leaves a truncated file.  A CSV file holds no metadata; NetCDF round
+same directory, renamed over the target only when complete
+(:func:`lagrangian.files.write_atomically`), so a failed write never leaves a
+truncated file.  A CSV file holds no metadata; NetCDF round
 trips everything.
 
 xarray is imported only when a trajectory is built or read.
@@ -29,10 +30,8 @@ xarray is imported only when a trajectory is built or read.
 
 from __future__ import annotations
 
-import csv
 import json
 import os
-import secrets
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,6 +40,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .errors import ModelError
+from .files import write_atomically
 
 if TYPE_CHECKING:
     import xarray
@@ -271,59 +271,14 @@ class Trajectory:
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> Trajectory:
-        """A trajectory read from a .csv or .nc file written by this class."""
-        return _by_suffix(path, {".csv": _read_csv, ".nc": _read_netcdf})(path)
+        """A trajectory read from a .csv or .nc file written by this class.
 
+        A file that is not one (another program's, damaged, empty, too large, a
+        folder) is a :class:`~lagrangian.errors.FileError` naming it and what is wrong.
+        """
+        from .trajectory_files import read_csv, read_netcdf
 
-def _read_netcdf(path: str | os.PathLike) -> Trajectory:
-    import xarray as xr
-
-    with xr.open_dataset(path, engine="scipy", mmap=False) as dataset:
-        return Trajectory(dataset.load())
-
-
-def _read_csv(path: str | os.PathLike) -> Trajectory:
-    import xarray as xr
-
-    with open(path, newline="", encoding="utf-8") as stream:
-        header = next(csv.reader(stream))
-        table = np.loadtxt(stream, delimiter=",", ndmin=2)
-    if not header or header[0] != "t" or table.shape[1] != len(header):
-        raise ModelError("not a trajectory CSV file (first column must be t)", source=str(path))
-    names = header[1:]
-    coordinates = [name for name in names if f"{name}_dot" in names]
-    known = {*coordinates, *(f"{q}_dot" for q in coordinates), "energy"}
-    extra = [name for name in names if name not in known]
-    data_vars = {name: ("t", table[:, i + 1]) for i, name in enumerate(names)}
-    attrs = {"coordinate_names": ",".join(coordinates), "invariants": ",".join(extra), "events": ""}
-    return Trajectory(xr.Dataset(data_vars, coords={"t": table[:, 0]}, attrs=attrs))
-
-
-def write_atomically(path: str | os.PathLike, write: Callable[[Path], object]) -> Path:
-    """Run ``write(temporary)`` on a new file beside ``path``, then rename it to ``path``.
-
-    The rename is atomic on POSIX and Windows (``os.replace``): readers see the
-    old file or the complete new one.  When ``write`` raises, the temporary
-    file is removed and ``path`` is untouched.
-    """
-    target = Path(path)
-    directory = target.parent if str(target.parent) else Path(".")
-    while True:
-        temporary = directory / f".{target.name}.{secrets.token_hex(6)}.tmp"
-        try:  # O_EXCL: never reuse a file; 0o666 & ~umask: the permissions of a plain open
-            os.close(os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
-            break
-        except FileExistsError:  # pragma: no cover - 48 random bits collided
-            continue
-    try:
-        write(temporary)
-        with open(temporary, "rb+") as stream:
-            os.fsync(stream.fileno())
-        os.replace(temporary, target)
-    except BaseException:
-        temporary.unlink(missing_ok=True)
-        raise
-    return target
+        return _by_suffix(path, {".csv": read_csv, ".nc": read_netcdf})(path)
 
 
 def _by_suffix(path: str | os.PathLike, table: Mapping[str, Callable]) -> Callable:

@@ -183,6 +183,10 @@ def simulate(
     system = load(model)
     if out is not None and not out.endswith((".csv", ".nc")):
         raise click.BadParameter("the output file must end in .csv or .nc", param_hint="--out")
+    if out is not None:
+        from ..files import check_output_path
+
+        check_output_path(out)  # before the run: a typo in --out fails at once
     with _progress_bar(enabled=not as_json) as progress:
         trajectory = simulate_system(
             system,

@@ -93,6 +93,10 @@ def ensemble(
 
     if out is not None and not out.endswith((".nc", ".png")):
         raise click.BadParameter("the output file must end in .nc or .png", param_hint="--out")
+    if out is not None:
+        from ..files import check_output_path
+
+        check_output_path(out)  # before the runs: a typo in --out fails at once
     grid = _grids(grids)
     fixed = _assignments(assignments)
     names = observable_names(observables or ("final_state",))

@@ -12,6 +12,7 @@ from pathlib import Path
 
 import click
 
+from ..files import check_output_path
 from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app
 
 PLOT_KINDS = ("timeseries", "phase", "energy", "poincare", "modes")
@@ -99,6 +100,7 @@ def plot(source, kind, out, t_end, method, assignments, definitions) -> None:
         raise click.BadParameter(
             "the output file must end in .png, .pdf or .svg", param_hint="--out"
         )
+    check_output_path(out)  # before the run: a typo in --out fails at once
     _headless()
     if source.lower().endswith(TRAJECTORY_SUFFIXES):
         if t_end is not None or method is not None or assignments or definitions:
@@ -107,8 +109,6 @@ def plot(source, kind, out, t_end, method, assignments, definitions) -> None:
             )
         if kind == "modes":
             raise click.UsageError("--kind modes needs a MODEL, not a trajectory file")
-        if not Path(source).is_file():
-            raise click.BadParameter(f"no such file: {source}", param_hint="TRAJECTORY")
         from ..trajectory import Trajectory
 
         figure = PLOTS[kind](Trajectory.load(source))
@@ -177,6 +177,7 @@ def animate(model, out, t_end, method, assignments, definitions, fps, max_frames
 
     out = out or f"{_stem(model)}.gif"
     check_animation_path(out)
+    check_output_path(out)
     system = load(model)
     if not system.particles and not system.bodies:
         raise ModelError("nothing to animate: the model has no particles or bodies")

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..trajectory import write_atomically
+from ..files import write_atomically
 
 
 @dataclass(frozen=True, eq=False)

@@ -38,8 +38,9 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError
+from ..files import write_atomically
 from ..model import System
-from ..trajectory import Trajectory, write_atomically
+from ..trajectory import Trajectory
 from .geometry import geometry, rods
 from .mechanism import DEFAULT_DPI, DEFAULT_SIZE, MechanismView
 

@@ -27,7 +27,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError
-from ..trajectory import DRIFT_RELATIVE_FLOOR, Trajectory, write_atomically
+from ..files import write_atomically
+from ..trajectory import DRIFT_RELATIVE_FLOOR, Trajectory
 from .notation import latex_name
 
 if TYPE_CHECKING:

@@ -1,0 +1,208 @@
+"""The on-disk code cache of the numba backend: generated modules, checked before they run.
+
+A generated module is the file ``<cache>/numba/<digest>.py`` (``<cache>`` is
+``$LAGRANGIAN_CACHE`` or the user cache folder, see :func:`cache_directory`).
+Its first line holds the sha256 of the rest::
+
+    # lagrangian code cache: sha256=<64 hex digits>
+
+and a file whose text does not match it (damaged by a full disk, a crash, an
+editor) is generated again, never imported.  The verified text itself is what
+runs (compiled from memory under the file's name, so that numba finds the
+file): nothing read after the check can differ from what was checked.
+
+numba keeps the machine code beside the module (``__pycache__/<digest>.*.nbi``,
+``.nbc``), pickles it reads without checking: a damaged index stops every
+later run with an ``UnpicklingError``, damaged machine code can abort the
+process inside LLVM.  So at exit the sha256 of those files goes into
+``<digest>.numba-sha256``, and before a module is used its numba files are
+compared with it; files that do not match, or that no list vouches for (a run
+killed before its exit), are deleted and numba compiles again.
+
+A cache folder that cannot be written (read-only, a path through a file) is
+replaced by a private temporary folder for this process, with one
+:class:`~lagrangian.errors.CacheWarning`.
+"""
+
+from __future__ import annotations
+
+import atexit
+import contextlib
+import hashlib
+import importlib.util
+import os
+import shutil
+import sys
+import tempfile
+import threading
+import warnings
+from pathlib import Path
+from types import ModuleType
+
+from ..errors import CacheWarning, FileError, ModelError
+from ..files import write_atomically
+
+_HEADER = "# lagrangian code cache: sha256="
+_MODULES: dict[str, ModuleType] = {}
+_CHOSEN: dict[str, Path] = {}  # configured folder -> the folder used in this process
+_LOADED: set[Path] = set()  # modules whose numba files are listed at exit
+_LOCK = threading.RLock()
+
+
+def cache_directory() -> Path:
+    """Where generated modules live: ``$LAGRANGIAN_CACHE/numba`` or the user cache."""
+    root = os.environ.get("LAGRANGIAN_CACHE")
+    if root:
+        return Path(root) / "numba"
+    if sys.platform == "win32":
+        base = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
+    elif sys.platform == "darwin":
+        base = Path.home() / "Library" / "Caches"
+    else:
+        base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    return base / "lagrangian" / "numba"
+
+
+def usable_directory() -> Path:
+    """:func:`cache_directory` if it can be written, else a temporary folder (one warning)."""
+    configured = cache_directory()
+    with _LOCK:
+        chosen = _CHOSEN.get(str(configured))
+        if chosen is None:
+            problem = _unwritable(configured)
+            chosen = configured if problem is None else _temporary_folder(configured, problem)
+            _CHOSEN[str(configured)] = chosen
+        return chosen
+
+
+def load_text(digest: str, source: object) -> ModuleType:
+    """The module ``<digest>.py``: from this process, from disk if intact, else ``str(source)``
+    written now (``source`` is made into text only when needed)."""
+    path = usable_directory() / f"{digest}.py"
+    with _LOCK:
+        module = _MODULES.get(str(path))
+        if module is not None:
+            return module
+        text = verified_text(path)
+        if text is None:
+            text = _HEADER + hashlib.sha256(str(source).encode()).hexdigest() + "\n" + str(source)
+            _forget_numba_files(path)  # machine code of whatever was there before
+            _write(path, text)
+        else:
+            _check_numba_files(path)
+        module = _import(path, text)
+        _MODULES[str(path)] = module
+        _LOADED.add(path)
+        return module
+
+
+def verified_text(path: Path) -> str | None:
+    """The text of ``path`` if its first line holds the sha256 of the rest, else None."""
+    try:
+        data = path.read_bytes()
+    except OSError:
+        return None
+    first, newline, body = data.partition(b"\n")
+    if not newline or not first.startswith(_HEADER.encode()):
+        return None
+    if first[len(_HEADER) :].decode("ascii", "replace") != hashlib.sha256(body).hexdigest():
+        return None
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:  # pragma: no cover - the hash matched text we wrote
+        return None
+
+
+def _import(path: Path, text: str) -> ModuleType:
+    """Run ``text`` as the module of ``path`` (numba's disk cache finds globals by name)."""
+    folder = hashlib.sha256(str(path).encode()).hexdigest()[:8]
+    name = f"_lagrangian_numba_{folder}_{path.stem[:16]}"
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    try:
+        exec(compile(text, str(path), "exec"), module.__dict__)  # the text checked, not a re-read
+    except BaseException:
+        sys.modules.pop(name, None)
+        raise
+    return module
+
+
+def _write(path: Path, text: str) -> None:
+    try:
+        write_atomically(path, lambda temporary: temporary.write_text(text, encoding="utf-8"))
+    except FileError as error:
+        raise ModelError(
+            f"backend 'numba' cannot write its code cache: {error}; "
+            "set LAGRANGIAN_CACHE to a writable folder"
+        ) from None
+
+
+# -- the folder ------------------------------------------------------------------------
+def _unwritable(folder: Path) -> str | None:
+    """Why ``folder`` cannot hold the cache, or None when a file can be made in it."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as error:
+        return error.strerror or str(error)
+    return None
+
+
+def _temporary_folder(configured: Path, problem: str) -> Path:
+    folder = Path(tempfile.mkdtemp(prefix="lagrangian-cache-"))  # private: mode 0o700
+    atexit.register(shutil.rmtree, folder, ignore_errors=True)
+    warnings.warn(
+        CacheWarning(
+            f"the code cache {configured} cannot be used ({problem.lower()}); compiled code "
+            "goes to a temporary folder for this run (set LAGRANGIAN_CACHE to a writable folder)"
+        ),
+        stacklevel=2,
+    )
+    return folder
+
+
+# -- numba's files beside a module -----------------------------------------------------
+def _numba_files(path: Path) -> list[Path]:
+    return sorted((path.parent / "__pycache__").glob(f"{path.stem}.*.nb[ic]"))
+
+
+def _manifest(path: Path) -> Path:
+    return path.with_name(f"{path.stem}.numba-sha256")
+
+
+def _listing(files: list[Path]) -> str:
+    return "".join(f"{hashlib.sha256(f.read_bytes()).hexdigest()}  {f.name}\n" for f in files)
+
+
+def _check_numba_files(path: Path) -> None:
+    """Delete numba's files of ``path`` unless the list of the last exit vouches for them."""
+    files = _numba_files(path)
+    if not files:
+        return
+    try:
+        if _manifest(path).read_text(encoding="utf-8") == _listing(files):
+            return
+    except (OSError, UnicodeDecodeError):
+        pass
+    _forget_numba_files(path)
+
+
+def _forget_numba_files(path: Path) -> None:
+    for file in (*_numba_files(path), _manifest(path)):
+        with contextlib.suppress(OSError):
+            file.unlink()
+
+
+@atexit.register
+def _list_numba_files() -> None:
+    """At exit: the sha256 of numba's files of every module this process used."""
+    for path in sorted(_LOADED):
+        with contextlib.suppress(OSError, FileError):
+            files = _numba_files(path)
+            listing = _listing(files) if files else ""
+            manifest = _manifest(path)
+            if not files or (manifest.exists() and manifest.read_text() == listing):
+                continue
+            write_atomically(manifest, lambda target, text=listing: target.write_text(text))
