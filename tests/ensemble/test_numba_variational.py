@@ -24,7 +24,15 @@ def _forced_rotating_frame() -> lg.System:
         coordinates=["x", "y"],
         dissipation="b*(x_dot**2 + y_dot**2)/2",
         forces={"x": "F*cos(w*t)"},
-        parameters={"m": 1.0, "w": 0.7, "k": 2.0, "b": 0.3, "F": 0.5, "e": 0.2},
+        # w real, not positive: one member runs without rotation (w = 0)
+        parameters={
+            "m": 1.0,
+            "w": {"value": 0.7, "sign": "real"},
+            "k": 2.0,
+            "b": 0.3,
+            "F": 0.5,
+            "e": 0.2,
+        },
     )
 
 
@@ -36,7 +44,7 @@ kinetic = "m*(x1_dot^2 + x2_dot^2 + x3_dot^2)/2 + mu*(x1_dot*x2_dot + x2_dot*x3_
 potential = "k*(x1^2 + (x2-x1)^2 + (x3-x2)^2 + x3^2)/2 + a*(x1^4 + x2^4 + x3^4)/4 + s*sin(x1)*x3"
 [parameters]
 m = 1.0
-mu = 0.3
+mu = {value = 0.3, sign = "real"}  # one member without coupling (mu = 0)
 k = 2.0
 a = 0.5
 s = 0.4
