@@ -13,6 +13,7 @@ in-process without timing them.
 from __future__ import annotations
 
 import argparse
+import os
 import shutil
 import statistics
 import subprocess
@@ -51,6 +52,7 @@ def main() -> int:
                     done = subprocess.run(
                         [command, *argv], capture_output=True, text=True, stdin=subprocess.DEVNULL,
                         timeout=max(60.0, 4 * args.limit), cwd=folder,
+                        env={**os.environ, **case.environment(Path(folder))},
                     )  # fmt: skip
                 except subprocess.TimeoutExpired:
                     runs.append(float("inf"))

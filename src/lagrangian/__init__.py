@@ -7,7 +7,14 @@
 """
 
 from .derive import CoordinateDerivation, EquationsOfMotion, derive
-from .errors import LagrangianError, ModelError, ParseError, SingularMassMatrixError
+from .errors import (
+    FileError,
+    LagrangianError,
+    LagrangianWarning,
+    ModelError,
+    ParseError,
+    SingularMassMatrixError,
+)
 from .integrate import Event, simulate
 from .model import Gravity, Parameter, Particle, RigidBody2D, Spring, System, load, loads
 from .numeric import CompiledSystem, compile_equations
@@ -18,8 +25,10 @@ __all__ = [
     "CoordinateDerivation",
     "EquationsOfMotion",
     "Event",
+    "FileError",
     "Gravity",
     "LagrangianError",
+    "LagrangianWarning",
     "ModelError",
     "Parameter",
     "ParseError",

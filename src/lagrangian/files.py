@@ -87,10 +87,10 @@ def check_output_path(path: str | os.PathLike) -> Path:
     before long work, so that a typo in ``--out`` fails at once.
     """
     target = Path(path)
-    if target.is_symlink():
-        target = Path(os.path.realpath(target))
-    folder = target.parent
     try:
+        if target.is_symlink():
+            target = Path(os.path.realpath(target))
+        folder = target.parent
         if target.is_dir():
             raise OSError(errno.EISDIR, os.strerror(errno.EISDIR))
         if not folder.is_dir():
@@ -99,7 +99,7 @@ def check_output_path(path: str | os.PathLike) -> Path:
         os.stat(folder)  # ENAMETOOLONG, ELOOP of the folder part
     except OSError as error:
         raise output_error(target, error) from None
-    if len(os.fsencode(target.name)) > _name_max(folder):
+    if len(os.fsencode(target.name)) > _name_max(target.parent):
         raise output_error(target, OSError(errno.ENAMETOOLONG, "File name too long"))
     return target
 

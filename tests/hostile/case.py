@@ -28,6 +28,7 @@ class HostileCase:
     exit_code: int = 2
     output: str = ""  # for exit 0: a regular expression searched in stdout
     warning: str = ""  # a regular expression searched in stderr (warnings with exit 0)
+    env: tuple[tuple[str, str], ...] = ()  # extra environment variables ({dir} replaced)
 
     def prepare(self, folder: Path) -> list[str]:
         """Write the case's files into ``folder`` and return the argv to run."""
@@ -37,6 +38,10 @@ class HostileCase:
         if self.setup is not None:
             self.setup(folder)
         return [argument.replace("{dir}", str(folder)) for argument in self.argv]
+
+    def environment(self, folder: Path) -> dict[str, str]:
+        """The extra environment variables of the case, ``{dir}`` being ``folder``."""
+        return {name: value.replace("{dir}", str(folder)) for name, value in self.env}
 
     def check(self, status: int, stdout: str, stderr: str) -> None:
         """Assert the outcome: the exit status, one error line, no traceback or warning noise."""

@@ -28,8 +28,10 @@ def _alarm(signum, frame):
 
 
 @pytest.mark.parametrize("case", all_cases(), ids=lambda case: case.name)
-def test_hostile_case(case, tmp_path, capsys):
+def test_hostile_case(case, tmp_path, capsys, monkeypatch):
     argv = case.prepare(tmp_path)
+    for name, value in case.environment(tmp_path).items():
+        monkeypatch.setenv(name, value)
     previous = signal.signal(signal.SIGALRM, _alarm)
     signal.alarm(HANG_ALARM_S)
     try:

@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import os
 import sys
+import warnings
 from collections.abc import Sequence
 from enum import IntEnum
 
 import click
 
-from ..errors import LagrangianError
+from ..errors import LagrangianError, LagrangianWarning
 from .app import app
 
 
@@ -25,7 +26,22 @@ class ExitStatus(IntEnum):
 
 
 def main(argv: Sequence[str] | None = None) -> ExitStatus:
-    """Run the CLI on ``argv`` (default: ``sys.argv[1:]``) and return the exit status."""
+    """Run the CLI on ``argv`` (default: ``sys.argv[1:]``) and return the exit status.
+
+    Warnings raised during the command are held back: on success our own
+    (:class:`~lagrangian.errors.LagrangianWarning`) are printed, one line each,
+    and other libraries' (NumPy's RuntimeWarning, xarray's, matplotlib's) only
+    with ``LAGRANGIAN_DEBUG=1``; on failure only the error line is printed.
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")  # each distinct warning once, ours included
+        status = _run(argv)
+    if status == ExitStatus.SUCCESS:
+        _show_warnings(caught, debug=bool(os.environ.get("LAGRANGIAN_DEBUG")))
+    return status
+
+
+def _run(argv: Sequence[str] | None) -> ExitStatus:
     try:
         result = app.main(
             args=list(sys.argv[1:] if argv is None else argv),
@@ -50,6 +66,21 @@ def main(argv: Sequence[str] | None = None) -> ExitStatus:
         if isinstance(result, int) and result in (0, 1, 2)
         else ExitStatus.SUCCESS
     )
+
+
+def _show_warnings(caught: list[warnings.WarningMessage], *, debug: bool) -> None:
+    """Ours as ``lagrangian: warning: ...`` (each text once); the rest only when debugging."""
+    shown = set()
+    for record in caught:
+        ours = issubclass(record.category, LagrangianWarning)
+        if not (ours or debug):
+            continue
+        line = " ".join(str(record.message).split())
+        if not ours:
+            line = f"{record.category.__name__}: {line} ({record.filename}:{record.lineno})"
+        if line not in shown:
+            shown.add(line)
+            print(f"lagrangian: warning: {line}", file=sys.stderr)
 
 
 def _fail(status: ExitStatus, message: str) -> ExitStatus:

@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import LagrangianWarning, ModelError
 from .compiled import CompiledSystem
 from .forms import SymbolicForms
 
@@ -60,6 +60,7 @@ def with_numba_functions(forms: SymbolicForms, compiled: CompiledSystem) -> Comp
     if compiled.has_constraints:
         warnings.warn(
             "backend 'numba' does not handle constraints yet: the NumPy functions are used",
+            LagrangianWarning,
             stacklevel=3,
         )
         return dataclasses.replace(compiled, backend="numba")
