@@ -6,7 +6,9 @@ which could explode), optionally tries ``trigsimp`` on small expressions and
 keeps its result only when it is shorter, and writes the result the way a
 textbook does: terms with the same dependence on the state grouped, with the
 parameter coefficient factored ((m1 + m2) g sin(theta1)).  Every step is
-skipped above a fixed operation count, so the cost is bounded.
+skipped above a fixed operation count, so the cost is bounded; sizes are
+measured by :func:`lagrangian.budget.ops_exceed`, which stops counting at the
+limit (SymPy's ``count_ops`` alone walks a huge tree for minutes).
 """
 
 from __future__ import annotations
@@ -16,17 +18,21 @@ from collections.abc import Iterable
 
 import sympy
 
+from .budget import exceeds, ops_exceed
+
 #: Largest operation count handed to ``trigsimp`` (tens of milliseconds at this size).
 TRIGSIMP_MAX_OPS = 120
 #: Largest operation count for which ``expand`` and grouping are attempted at all.
 EXPAND_MAX_OPS = 4_000
 #: Largest coefficient (operation count) that is factored.
 FACTOR_MAX_OPS = 40
+#: Largest tree (nodes) that ``tidy`` looks at: above, nothing it tries pays for its cost.
+TIDY_MAX_NODES = 20_000
 
 
 def expand_products(expr: sympy.Expr) -> sympy.Expr:
     """Distribute products over sums, but never expand ``(a + b)**n``."""
-    if sympy.count_ops(expr) > EXPAND_MAX_OPS:
+    if ops_exceed(expr, EXPAND_MAX_OPS):
         return expr
     return sympy.expand(
         expr, deep=True, mul=True, multinomial=False, power_exp=False, power_base=False, log=False
@@ -49,7 +55,7 @@ def tidy(expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = F
     ``trig``, trigonometric identities (sin^2 + cos^2 = 1, angle sums) are
     applied when they make the expression shorter.
     """
-    if expr.is_Number:
+    if expr.is_Number or exceeds(expr, TIDY_MAX_NODES):
         return expr
     expanded = expand_products(expr)
     if trig and expanded.has(sympy.sin, sympy.cos):
@@ -107,7 +113,7 @@ def group_by_state(expr: sympy.Expr, state: tuple[sympy.Symbol, ...]) -> sympy.E
 
     g*m1*sin(theta1) + g*m2*sin(theta1) -> g*(m1 + m2)*sin(theta1).
     """
-    if sympy.count_ops(expr) > EXPAND_MAX_OPS:
+    if ops_exceed(expr, EXPAND_MAX_OPS):
         return expr
     state_set = set(state)
     groups: dict[sympy.Expr, list[sympy.Expr]] = {}
@@ -187,7 +193,7 @@ def tidy_fraction(
     (g x y - x (x'^2 + y'^2)) / (x^2 + y^2) rather than a sum of fractions.
     """
     state = tuple(state)
-    if sympy.count_ops(expr) > EXPAND_MAX_OPS:
+    if ops_exceed(expr, EXPAND_MAX_OPS):
         return expr
     numerator, denominator = sympy.fraction(sympy.together(expr))
     if not any(_is_polynomial_factor(f) for f in sympy.Mul.make_args(denominator)):

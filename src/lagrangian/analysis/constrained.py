@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import sympy
 
 from ..algebra import tidy
+from ..budget import remaining
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from .equilibria import _in_child, _solve
@@ -69,7 +70,10 @@ def constrained_equilibria(
         tidy(rest_force[i] + sum(lam * gradients[j, i] for j, lam in enumerate(lambdas)))
         for i in range(len(q))
     ] + [tidy(c) for c in system.constraints]
-    solutions = _in_child(_solve, (equations, q + lambdas), timeout)
+    left = remaining()  # a stage's deadline, when sooner
+    solutions = _in_child(
+        _solve, (equations, q + lambdas), timeout if left is None else min(timeout, left)
+    )
     if not solutions:
         return ()
     results = []

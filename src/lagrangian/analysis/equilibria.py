@@ -41,6 +41,7 @@ import sympy
 from sympy.core.function import AppliedUndef
 
 from ..algebra import is_zero, tidy
+from ..budget import remaining
 from ..derive import EquationsOfMotion
 from ..distributions import without_distributions
 from ..errors import ModelError
@@ -90,6 +91,31 @@ def equilibria(eom: EquationsOfMotion, *, timeout: float = 10.0) -> tuple[Equili
     >>> [dict(e.point) for e in equilibria(lg.load("simple_pendulum").equations_of_motion())]
     [{'theta': 0}, {'theta': pi}]
     """
+    return tuple(with_modes(eom, rest) for rest in rest_points(eom, timeout=timeout))
+
+
+@dataclass(frozen=True)
+class RestPoint:
+    """An equilibrium before its modes: ``everywhere`` when every configuration is one."""
+
+    point: Mapping[str, sympy.Expr]
+    numeric: bool
+    everywhere: bool = False
+
+
+def with_modes(eom: EquationsOfMotion, rest: RestPoint) -> Equilibrium:
+    """The :class:`Equilibrium` at ``rest``, with the normal modes about it."""
+    if rest.everywhere:
+        return Equilibrium({}, False, _modes_everywhere(eom))
+    return Equilibrium(rest.point, rest.numeric, _modes(eom, rest.point, rest.numeric))
+
+
+def rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> tuple[RestPoint, ...]:
+    """The points of :func:`equilibria`, without their modes.
+
+    ``timeout`` bounds SymPy's solve (and less when a deadline of
+    :mod:`lagrangian.budget` ends sooner); past it, the numerical roots.
+    """
     system = eom.system
     if system.constraints:
         raise ModelError("equilibria with constraints are not supported", field="constraints")
@@ -105,17 +131,18 @@ def equilibria(eom: EquationsOfMotion, *, timeout: float = 10.0) -> tuple[Equili
         )
     equations = [g for g in forces if not is_zero(g)]
     if not equations:
-        return (Equilibrium({}, False, _modes_everywhere(eom)),)
+        return (RestPoint({}, False, everywhere=True),)
     symbols = set().union(*(g.free_symbols for g in equations))
     unknowns = [c for c in system.coordinates if c.q in symbols]
     if not unknowns:
         return ()  # the forces at rest never vanish (for generic parameter values)
     search = _Search(system, equations, unknowns)
-    points = search.symbolic(timeout)
+    left = remaining()
+    points = search.symbolic(timeout if left is None else min(timeout, left))
     numeric = points is None or not search.confirms(points)
     if numeric:
         points = search.numeric()
-    return tuple(Equilibrium(p, numeric, _modes(eom, p, numeric)) for p in points)
+    return tuple(RestPoint(p, numeric) for p in points)
 
 
 def _modes(eom: EquationsOfMotion, point: Mapping[str, sympy.Expr], numeric: bool) -> NormalModes:

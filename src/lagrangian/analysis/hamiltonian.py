@@ -5,6 +5,11 @@ velocities, q' = M^-1 (p - b) and
 
     H(q, p, t) = p . q' - L,
     q' = dH/dp,   p' = -dH/dq + Q - dF/dq'   (Q and F expressed in p).
+
+When H is too large to differentiate readably (a 5-link chain: M^-1 untidied,
+minutes for dH/dq), Hamilton's equations are written with the identities
+dH/dp = q'(q, p, t) and dH/dq|_p = -dL/dq|_q' at q' = q'(q, p, t), which are
+equal and cost one substitution.
 """
 
 from __future__ import annotations
@@ -15,9 +20,13 @@ from dataclasses import dataclass
 import sympy
 
 from ..algebra import tidy, tidy_fraction
+from ..budget import exceeds
 from ..derive import EquationsOfMotion
 from ..derive.solve import diagonal_blocks, solve_linear
 from ..errors import ModelError
+
+#: Largest H (tree nodes) whose derivatives are formed and tidied.
+DIFFERENTIATE_MAX_NODES = 5_000
 
 
 @dataclass(frozen=True)
@@ -61,13 +70,18 @@ def hamiltonian(eom: EquationsOfMotion) -> Hamiltonian:
         part = sum((shifted[i] * solved[i] for i in block), sympy.Integer(0)) / 2
         kinetic += tidy_fraction(part, phase_state, trig=True)
     expression = kinetic + tidy(-system.lagrangian.xreplace(zero_velocity), phase_state)
+    large = exceeds(expression, DIFFERENTIATE_MAX_NODES)
     equations = {}
-    for c in coordinates:
+    for c, velocity in zip(coordinates, solved, strict=True):
         forces = system.forces.get(c.name, sympy.Integer(0)) - sympy.diff(
             system.dissipation, c.q_dot
         )
-        q_rate = tidy(sympy.diff(expression, c.p), phase_state)
-        p_rate = tidy(-sympy.diff(expression, c.q) + forces.xreplace(in_momenta), phase_state)
+        if large:  # the identities of the module docstring
+            q_rate = velocity
+            p_rate = (sympy.diff(system.lagrangian, c.q) + forces).xreplace(in_momenta)
+        else:
+            q_rate = tidy(sympy.diff(expression, c.p), phase_state)
+            p_rate = tidy(-sympy.diff(expression, c.q) + forces.xreplace(in_momenta), phase_state)
         equations[c.name] = (q_rate, p_rate)
     return Hamiltonian(
         expression=expression,

@@ -1,16 +1,35 @@
-"""`analyze`: everything the analysis stage can say about a system, in one frozen object."""
+"""`analyze`: everything the analysis stage can say about a system, in one frozen object.
+
+Each stage (conserved quantities, Hamiltonian, equilibria, their modes, Routh's
+reduction, steady motions) runs under its own deadline (:mod:`lagrangian.budget`,
+``timeout`` seconds each).  A stage that runs out of time is abandoned whole and
+listed in ``undecided``; what it would have said is ``None`` (or empty), never
+a half-made answer.
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..budget import STAGE_SECONDS, Undecided, attempt
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from .conserved import Conservation, conserved_quantities
 from .constrained import constrained_equilibria
-from .equilibria import Equilibrium, equilibria
+from .equilibria import Equilibrium, equilibria, rest_points, with_modes
 from .hamiltonian import Hamiltonian, hamiltonian
+from .modes import NormalModes
 from .routh import Reduction, cyclic_coordinates, reduce
+
+#: The stages in the order they run (the names used in ``undecided``).
+STAGES = (
+    "conserved quantities",
+    "Hamiltonian",
+    "equilibria",
+    "modes",
+    "Routh reduction",
+    "steady motions",
+)
 
 
 @dataclass(frozen=True, eq=False)
@@ -18,16 +37,22 @@ class Analysis:
     """Conserved quantities, H, equilibria with their small oscillations, Routh's reduction.
 
     ``notes`` say what was not computed and why (a part that does not apply is
-    ``None`` or empty, never silently wrong).
+    ``None`` or empty, never silently wrong); ``undecided`` lists the stages that
+    ran out of time (their parts are ``None`` or empty, and say nothing).
     """
 
     equations: EquationsOfMotion
-    conservation: Conservation
+    conservation: Conservation | None
     hamiltonian: Hamiltonian | None
     equilibria: tuple[Equilibrium, ...]
     reduction: Reduction | None
     steady_motions: tuple[Equilibrium, ...] = ()  # equilibria of the reduced system
     notes: tuple[str, ...] = ()
+    undecided: tuple[Undecided, ...] = ()
+
+    def decided(self, stage: str) -> bool:
+        """Whether ``stage`` (one of ``STAGES``) finished within its time."""
+        return all(u.stage != stage for u in self.undecided)
 
     def _repr_latex_(self) -> str:
         from ..output.analysis import latex_analysis
@@ -35,43 +60,75 @@ class Analysis:
         return latex_analysis(self)
 
 
-def analyze(eom: EquationsOfMotion) -> Analysis:
-    """Run every analysis that applies to ``eom``."""
-    notes = []
-    conservation = conserved_quantities(eom)
+def analyze(eom: EquationsOfMotion, *, timeout: float | None = STAGE_SECONDS) -> Analysis:
+    """Run every analysis that applies to ``eom``, each stage within ``timeout`` seconds.
+
+    ``timeout=None`` runs every stage to its end.
+    """
+    notes: list[str] = []
+    undecided: list[Undecided] = []
+
+    def stage(name: str, work, *arguments):
+        """``work(*arguments)`` within ``timeout``; None with a note when it does not apply."""
+        result, missing = attempt(name, timeout, lambda: _or_note(notes, name, work, *arguments))
+        if missing is not None:
+            undecided.append(missing)
+        return result
+
+    conservation = stage("conserved quantities", conserved_quantities, eom)
     constrained = eom.constraints is not None
     h = None
     if constrained:
         notes.append("Hamiltonian: not computed for systems with constraints")
     else:
-        try:
-            h = hamiltonian(eom)
-        except ModelError as error:
-            notes.append(f"Hamiltonian: {error.message}")
+        h = stage("Hamiltonian", hamiltonian, eom)
     points: tuple[Equilibrium, ...] = ()
     if constrained:
-        try:
-            points = constrained_equilibria(eom)
-        except ModelError as error:
-            notes.append(f"equilibria: {error.message}")
+        points = stage("equilibria", constrained_equilibria, eom) or ()
     else:
-        try:
-            points = equilibria(eom)
-        except ModelError as error:
-            notes.append(f"equilibria: {error.message}")
-        if not points and not eom.system.is_autonomous:
-            notes.append("equilibria: none in general, the system depends explicitly on t")
+        rest = stage("equilibria", rest_points, eom)
+        if rest is not None:
+            points = _with_modes(eom, rest, stage)
+            if not points and not eom.system.is_autonomous:
+                notes.append("equilibria: none in general, the system depends explicitly on t")
     reduction, steady = None, ()
     if not constrained and cyclic_coordinates(eom):
-        try:
-            reduction = reduce(eom)
-            steady = equilibria(reduction.system.equations_of_motion())
-            if not steady:
-                momenta = ", ".join(str(p) for p in reduction.momenta.values())
-                notes.append(
-                    f"steady motions: none found symbolically; for a numeric search give {momenta}"
-                    " values: lagrangian.analysis.steady_motions(eom, momenta={...})"
-                )
-        except ModelError as error:
-            notes.append(f"Routh reduction: {error.message}")
-    return Analysis(eom, conservation, h, points, reduction, steady, tuple(notes))
+        reduction = stage("Routh reduction", reduce, eom)
+    if reduction is not None:
+        steady = stage("steady motions", _steady, reduction, notes) or ()
+    return Analysis(eom, conservation, h, points, reduction, steady, tuple(notes), tuple(undecided))
+
+
+def _or_note(notes: list[str], name: str, work, *arguments):
+    """``work(*arguments)``, or None with a note when it says it does not apply (ModelError)."""
+    try:
+        return work(*arguments)
+    except ModelError as error:
+        notes.append(f"{name}: {error.message}")
+        return None
+
+
+def _with_modes(eom: EquationsOfMotion, rest, stage) -> tuple[Equilibrium, ...]:
+    """The equilibria with their modes; past the modes' deadline, the rest undetermined."""
+    done: list[Equilibrium] = []
+
+    def all_modes() -> None:
+        for point in rest[len(done) :]:
+            done.append(with_modes(eom, point))
+
+    if stage("modes", all_modes) is None and len(done) < len(rest):
+        note = "the normal modes were not decided in time"
+        for point in rest[len(done) :]:
+            done.append(Equilibrium(point.point, point.numeric, NormalModes.undetermined(note)))
+    return tuple(done)
+
+
+def _steady(reduction: Reduction, notes: list[str]) -> tuple[Equilibrium, ...]:
+    steady = equilibria(reduction.system.equations_of_motion())
+    if not steady:
+        momenta = ", ".join(str(p) for p in reduction.momenta.values())
+        notes.append(
+            f"steady motions: none found symbolically; for a numeric search give {momenta}"
+            " values: lagrangian.analysis.steady_motions(eom, momenta={...})"
+        )
+    return steady

@@ -9,28 +9,40 @@ accelerations, with coefficients M_ij = dp_i/dq_j' (the Hessian of L in the
 velocities).  No symbolic inverse and no unbounded simplification is used.
 Systems with ``FAST_MIN_COORDINATES`` coordinates or more are derived by
 :func:`lagrangian.derive.fast.derive_large`: the same equations, untidied.
+
+Every symbolic step is bounded (:mod:`lagrangian.budget`): tidying by size, the
+readable route by ``READABLE_SECONDS`` (past it, the large route: the same M and
+f, untidied), and solving for q'' (and lambda) by ``SOLVE_SECONDS`` twice over:
+first tidied, then as the untidied LU solution, and past that q'' is left to
+the numerical solve (``accelerations`` is None, as on the large route).
 """
 
 from __future__ import annotations
 
+import dataclasses
+
 import sympy
 
 from ..algebra import FAST_MIN_COORDINATES, positive_content, tidy
+from ..budget import within
 from ..errors import ModelError, SingularMassMatrixError
 from ..model import System
-from .constraints import constraint_forms, solve_constrained
+from .constraints import ConstraintForms, constraint_forms, solve_constrained
 from .equations import CoordinateDerivation, EquationsOfMotion
 from .fast import derive_large
-from .solve import check_independent, check_regular, solve_accelerations
+from .solve import check_independent, check_regular, plain_solution, solve_accelerations
+
+#: Seconds for the readable route's M, f and steps before the large route takes over.
+READABLE_SECONDS = 10.0
+#: Seconds for each attempt at q'' (and lambda): tidied, then untidied.
+SOLVE_SECONDS = 5.0
 
 
 def derive(system: System) -> EquationsOfMotion:
     """The equations of motion M(q, t) q'' = f(q, q', t) of ``system``."""
     coordinates = system.coordinates
-    time = system.time
-    lagrangian = system.lagrangian
     accelerations = [c.q_ddot for c in coordinates]
-    for part, where in [(lagrangian, "lagrangian"), (system.dissipation, "dissipation")] + [
+    for part, where in [(system.lagrangian, "lagrangian"), (system.dissipation, "dissipation")] + [
         (q, f"forces.{name}") for name, q in system.forces.items()
     ]:
         if part.has(*accelerations):
@@ -39,10 +51,43 @@ def derive(system: System) -> EquationsOfMotion:
     forms = constraint_forms(system) if system.constraints else None
     if forms is not None:
         check_independent(forms.matrix, [f"constraints[{j}]" for j in range(forms.matrix.rows)])
+    parts = None
     if len(coordinates) >= FAST_MIN_COORDINATES:
         large = derive_large(system, forms)
         if large is not None:
             return large
+    else:
+        parts = within(READABLE_SECONDS, "derive", lambda: _parts(system, forms), _none)
+        large = None if parts is not None else derive_large(system, forms)
+        if large is not None:  # the readable route was too slow: the same M and f, untidied
+            solved = _solved(large.mass_matrix, large.forcing, forms, system)
+            return dataclasses.replace(large, accelerations=solved[0], multipliers=solved[1])
+    if parts is None:  # SymEngine cannot hold the model: readable, bounded by size alone
+        parts = _parts(system, forms)
+    mass_matrix, forcing_vector, steps = parts
+    accelerations, multipliers = _solved(mass_matrix, forcing_vector, forms, system)
+    return EquationsOfMotion(
+        system=system,
+        equations=tuple(step.equation for step in steps),
+        mass_matrix=mass_matrix,
+        forcing=forcing_vector,
+        accelerations=accelerations,
+        steps=tuple(steps),
+        constraints=forms,
+        multipliers=multipliers,
+    )
+
+
+def _none() -> None:
+    return None
+
+
+def _parts(system: System, forms: ConstraintForms | None) -> tuple:
+    """M, f and the steps by the readable route: each part tidied."""
+    coordinates = system.coordinates
+    time = system.time
+    lagrangian = system.lagrangian
+    accelerations = [c.q_ddot for c in coordinates]
     n = len(coordinates)
     state = system.state_symbols
     mass_rows = []
@@ -85,26 +130,33 @@ def derive(system: System) -> EquationsOfMotion:
     except SingularMassMatrixError as error:
         located = f"{system.source}: {error}" if system.source else str(error)
         raise SingularMassMatrixError(located) from None
-    forcing_vector = sympy.ImmutableMatrix(n, 1, forcing)
-    if forms is None:
-        accelerations = solve_accelerations(mass_matrix, forcing_vector, coordinates, state)
-        multipliers = None
-    else:
-        solved = solve_constrained(mass_matrix, forcing_vector, forms, state)
-        accelerations = multipliers = None
-        if solved is not None:
-            accelerations = {c.name: a for c, a in zip(coordinates, solved[0], strict=True)}
-            multipliers = {s.name: lam for s, lam in zip(forms.multipliers, solved[1], strict=True)}
-    return EquationsOfMotion(
-        system=system,
-        equations=tuple(step.equation for step in steps),
-        mass_matrix=mass_matrix,
-        forcing=forcing_vector,
-        accelerations=accelerations,
-        steps=tuple(steps),
-        constraints=forms,
-        multipliers=multipliers,
-    )
+    return mass_matrix, sympy.ImmutableMatrix(n, 1, forcing), steps
+
+
+def _solved(mass_matrix, forcing, forms: ConstraintForms | None, system: System) -> tuple:
+    """(q'', lambda) by name: tidied, else untidied, else (None, None); each try bounded."""
+    coordinates, state = system.coordinates, system.state_symbols
+
+    def named(solved) -> tuple:
+        if solved is None:
+            return None, None
+        accelerations = {c.name: a for c, a in zip(coordinates, solved[0], strict=True)}
+        if forms is None:
+            return accelerations, None
+        multipliers = {s.name: lam for s, lam in zip(forms.multipliers, solved[1], strict=True)}
+        return accelerations, multipliers
+
+    def tidied():
+        if forms is None:
+            solved = solve_accelerations(mass_matrix, forcing, coordinates, state)
+            return None if solved is None else (list(solved.values()), None)
+        return solve_constrained(mass_matrix, forcing, forms, state)
+
+    def untidied():
+        work = lambda: plain_solution(mass_matrix, forcing, forms)  # noqa: E731
+        return within(SOLVE_SECONDS, "accelerations", work, _none)
+
+    return named(within(SOLVE_SECONDS, "accelerations", tidied, untidied))
 
 
 def _readable_equation(expr: sympy.Expr, state) -> sympy.Expr:

@@ -137,6 +137,27 @@ def solve_linear(
     return solution
 
 
+def plain_solution(
+    mass_matrix: sympy.Matrix, forcing: sympy.Matrix, forms=None
+) -> tuple[list[sympy.Expr], list[sympy.Expr] | None] | None:
+    """(q'', lambda) as untidied LU solutions (None above ``SYMBOLIC_MAX_SIZE`` coordinates).
+
+    The fallback when tidying runs out of time: equal to the readable solution, longer.
+    With constraints ``forms`` (A, beta), by the Schur complement as in
+    :func:`~lagrangian.derive.constraints.solve_constrained`.
+    """
+    if mass_matrix.rows > SYMBOLIC_MAX_SIZE:
+        return None
+    matrix = sympy.Matrix(mass_matrix)
+    free = matrix.LUsolve(sympy.Matrix(forcing))
+    if forms is None:
+        return list(free), None
+    a = sympy.Matrix(forms.matrix)
+    response = matrix.LUsolve(a.T)
+    multipliers = (a * response).LUsolve(sympy.Matrix(forms.bias) - a * free)
+    return list(free + response * multipliers), list(multipliers)
+
+
 def _cramer(
     matrix: sympy.Matrix, rhs: sympy.Matrix, state: Sequence[sympy.Symbol], trig: bool
 ) -> list[sympy.Expr]:

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING
 
 import sympy
 
+from ..budget import STAGE_SECONDS
 from ..errors import ModelError
 from ..symbols import Coordinate, time_symbol
 from .components import ExprLike, Gravity, Particle, RigidBody2D, Spring
@@ -163,11 +164,14 @@ class System:
 
         return linearize(self.equations_of_motion(), at)
 
-    def analyze(self):
-        """Every analysis that applies (see :func:`lagrangian.analysis.analyze`)."""
+    def analyze(self, *, timeout: float | None = STAGE_SECONDS):
+        """Every analysis that applies, each stage within ``timeout`` seconds (None: no limit).
+
+        See :func:`lagrangian.analysis.analyze`; stages out of time are in ``undecided``.
+        """
         from ..analysis import analyze
 
-        return analyze(self.equations_of_motion())
+        return analyze(self.equations_of_motion(), timeout=timeout)
 
     def simulate(self, **options: object):
         """Integrate the equations of motion -> :class:`~lagrangian.trajectory.Trajectory`.

@@ -9,25 +9,35 @@ from .text import unicode_expression
 
 
 def analysis_document(analysis: Analysis) -> dict:
-    """The ``analyze --json`` document; expressions are SymPy ``str()`` text."""
+    """The ``analyze --json`` document; expressions are SymPy ``str()`` text.
+
+    A stage that ran out of time is listed in ``undecided`` ({stage, reason}); its
+    fields are null (conserved quantities, Hamiltonian) or empty, never a guess.
+    """
     conservation = analysis.conservation
+    decided = conservation is not None
     document: dict = {
         "name": analysis.equations.system.name,
-        "cyclic_coordinates": list(conservation.cyclic_coordinates),
+        "cyclic_coordinates": list(conservation.cyclic_coordinates) if decided else None,
         "conserved": [
             {"name": q.name, "expression": str(q.expression), "description": q.description}
             for q in conservation.conserved
-        ],
+        ]
+        if decided
+        else None,
         "not_conserved": [
             {"name": q.name, "expression": str(q.expression), "reason": q.reason}
             for q in conservation.not_conserved
-        ],
+        ]
+        if decided
+        else None,
         "hamiltonian": None
         if analysis.hamiltonian is None
         else str(analysis.hamiltonian.expression),
         "equilibria": [_equilibrium_document(e) for e in analysis.equilibria],
         "steady_motions": [_equilibrium_document(e) for e in analysis.steady_motions],
         "notes": list(analysis.notes),
+        "undecided": [{"stage": u.stage, "reason": u.reason} for u in analysis.undecided],
     }
     if analysis.reduction is not None:
         reduction = analysis.reduction
@@ -59,32 +69,48 @@ def format_analysis(analysis: Analysis) -> str:
     system = analysis.equations.system
     show = lambda expr: unicode_expression(expr, system)  # noqa: E731
     conservation = analysis.conservation
+    missing = {u.stage: u.reason for u in analysis.undecided}
     lines = [
         f"{system.name}   (coordinates: {', '.join(map(unicode_name, system.coordinate_names))})"
     ]
-    cyclic = ", ".join(map(unicode_name, conservation.cyclic_coordinates)) or "none"
-    lines += ["", f"Cyclic coordinates: {cyclic}", "", "Conserved:"]
-    for q in conservation.conserved:
-        lines.append(f"  {_name(q.name)} = {show(q.expression)}   ({q.description})")
-    if not conservation.conserved:
-        lines.append("  nothing")
-    if conservation.not_conserved:
+    if conservation is None:
+        reason = missing.get("conserved quantities", "not computed")
+        lines += ["", f"Cyclic coordinates and conserved quantities: {reason}"]
+    else:
+        cyclic = ", ".join(map(unicode_name, conservation.cyclic_coordinates)) or "none"
+        lines += ["", f"Cyclic coordinates: {cyclic}", "", "Conserved:"]
+        for q in conservation.conserved:
+            lines.append(f"  {_name(q.name)} = {show(q.expression)}   ({q.description})")
+        if not conservation.conserved:
+            lines.append("  nothing")
+    if conservation is not None and conservation.not_conserved:
         lines += ["", "Not conserved:"]
         for q in conservation.not_conserved:
             lines.append(f"  {_name(q.name)} = {show(q.expression)}   because {q.reason}")
     if analysis.hamiltonian is not None:
         lines += ["", f"Hamiltonian:  H = {show(analysis.hamiltonian.expression)}"]
+    elif "Hamiltonian" in missing:
+        lines += ["", f"Hamiltonian: {missing['Hamiltonian']}"]
     lines += ["", "Equilibria (at rest, staying at rest):"]
-    lines += _equilibrium_lines(analysis.equilibria, show)
+    if "equilibria" in missing:
+        lines.append(f"  {missing['equilibria']}")
+    else:
+        lines += _equilibrium_lines(analysis.equilibria, show)
     if analysis.reduction is not None:
         reduction = analysis.reduction
         lines += ["", f"Routh reduction of {', '.join(map(unicode_name, reduction.cyclic))}:"]
         lines.append(f"  R = {show(reduction.routhian)}")
         lines.append(f"  V_eff = {show(reduction.effective_potential)}")
         lines += ["", "Steady motions (cyclic momenta fixed, the other coordinates at rest):"]
-        lines += _equilibrium_lines(analysis.steady_motions, show)
+        if "steady motions" in missing:
+            lines.append(f"  {missing['steady motions']}")
+        else:
+            lines += _equilibrium_lines(analysis.steady_motions, show)
     if analysis.notes:
         lines += ["", "Notes:"] + [f"  {note}" for note in analysis.notes]
+    if analysis.undecided:
+        lines += ["", "Undecided (out of time; analyze --timeout SECONDS gives more):"]
+        lines += [f"  {u.stage}: {u.reason}" for u in analysis.undecided]
     return "\n".join(lines)
 
 
@@ -115,10 +141,8 @@ def latex_analysis(analysis: Analysis) -> str:
     """The conserved quantities, H, equilibria and V_eff as one ``align*`` block."""
     system = analysis.equations.system
     show = lambda expr: latex_expression(expr, system)  # noqa: E731
-    rows = [
-        rf"{_latex_quantity(q.name)} &= {show(q.expression)}"
-        for q in analysis.conservation.conserved
-    ]
+    conserved = analysis.conservation.conserved if analysis.conservation is not None else ()
+    rows = [rf"{_latex_quantity(q.name)} &= {show(q.expression)}" for q in conserved]
     if analysis.hamiltonian is not None:
         rows.append(rf"H &= {show(analysis.hamiltonian.expression)}")
     for e in analysis.equilibria:
@@ -129,6 +153,8 @@ def latex_analysis(analysis: Analysis) -> str:
         )
     if analysis.reduction is not None:
         rows.append(rf"V_{{\mathrm{{eff}}}} &= {show(analysis.reduction.effective_potential)}")
+    for u in analysis.undecided:  # out of time: said, not left out silently
+        rows.append(rf"&\text{{{u.stage}: {u.reason}}}")
     return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
 
 

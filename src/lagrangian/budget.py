@@ -1,0 +1,170 @@
+"""Time and size budgets for the symbolic stages: nothing hangs, nothing is silently wrong.
+
+SymPy is pure Python, so a deadline can interrupt it anywhere: :func:`deadline`
+arms a real-time timer (``SIGALRM``) and raises :class:`OutOfTime` (a
+``BaseException``, so that no ``except Exception`` inside SymPy swallows it) in
+the code it guards.  The guarded code is abandoned whole: its caller gets either
+the complete result or :class:`OutOfTime`, never a half-made one, and reports
+the part as undecided (:func:`attempt`) or falls back to a cheaper route that is
+still correct.
+
+A process has one real-time timer, so deadlines nest: an inner one arms the
+timer for the earlier of its own end and the outer end, and on leaving re-arms
+whatever was armed before it (a test harness's hang alarm included).  Signals
+reach only the main thread: elsewhere (a web server's worker) a deadline is not
+armed and the code runs to its end, bounded only by the size limits.
+
+Sizes are measured with :func:`exceeds`, which stops counting at the limit, so
+asking whether a million-node expression is "too large" costs as much as a small
+one (SymPy's ``count_ops`` walks the whole tree, shared parts again and again).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import threading
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import TypeVar
+
+import sympy
+
+#: Default seconds for each stage of ``analyze`` (conserved quantities, H, equilibria, ...).
+STAGE_SECONDS = 5.0
+
+T = TypeVar("T")
+
+
+class OutOfTime(BaseException):  # like KeyboardInterrupt: an interruption, not an error
+    """The deadline of ``stage`` (``seconds`` long) has passed."""
+
+    def __init__(self, stage: str, seconds: float):
+        super().__init__(f"{stage}: not decided within {seconds:g} s")
+        self.stage, self.seconds = stage, seconds
+
+
+@dataclass(frozen=True)
+class Undecided:
+    """A part of a result that was not decided, and why (``"not decided within 5 s"``)."""
+
+    stage: str
+    reason: str
+
+    def __str__(self) -> str:
+        return f"{self.stage}: {self.reason}"
+
+
+# The armed deadlines, innermost last: (end on the monotonic clock, the exception to raise).
+_active: list[tuple[float, OutOfTime]] = []
+
+
+def _can_arm() -> bool:
+    return hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
+
+
+@contextlib.contextmanager
+def deadline(seconds: float | None, stage: str) -> Iterator[None]:
+    """Raise :class:`OutOfTime` in the guarded block once ``seconds`` have passed.
+
+    ``None`` (or a thread other than the main one) arms nothing.
+    """
+    if seconds is None or not _can_arm():
+        yield
+        return
+    now = time.monotonic()
+    mine = now + max(float(seconds), 0.0)
+    error = OutOfTime(stage, seconds)
+    previous_handler = signal.getsignal(signal.SIGALRM)
+    previous_delay, previous_interval = signal.getitimer(signal.ITIMER_REAL)
+    outer = now + previous_delay if previous_delay > 0 else None
+    state = {"armed": True, "handed_on": False}
+
+    def expired(signum, frame):
+        if outer is not None and outer < mine:  # the outer alarm is the one due: hand it on
+            if state["armed"]:
+                state["handed_on"] = True
+                signal.signal(signal.SIGALRM, previous_handler)
+                if callable(previous_handler):
+                    previous_handler(signum, frame)
+                else:
+                    signal.raise_signal(signal.SIGALRM)
+            return  # else: leaving the block re-arms the outer alarm, due at once
+        if state["armed"]:
+            raise error
+
+    signal.signal(signal.SIGALRM, expired)
+    _active.append((mine, error))
+    end = mine if outer is None else min(mine, outer)
+    signal.setitimer(signal.ITIMER_REAL, max(end - now, 1e-6))
+    try:
+        yield
+    finally:
+        # First, before any call (where a pending signal could be delivered): a late
+        # alarm from here on is ignored rather than raised inside this cleanup.
+        state["armed"] = False
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        _active.pop()
+        signal.signal(signal.SIGALRM, previous_handler)
+        if outer is not None and not state["handed_on"]:  # re-arm what was armed before
+            delay = max(outer - time.monotonic(), 1e-6)
+            signal.setitimer(signal.ITIMER_REAL, delay, previous_interval)
+
+
+def remaining() -> float | None:
+    """Seconds left before the earliest armed deadline (None when none is armed).
+
+    For work a deadline cannot interrupt in-process (a forked child's solve).
+    """
+    if not _active:
+        return None
+    return max(min(end for end, _ in _active) - time.monotonic(), 0.0)
+
+
+def attempt(
+    stage: str, seconds: float | None, work: Callable[[], T]
+) -> tuple[T | None, Undecided | None]:
+    """``(work(), None)``, or ``(None, Undecided(stage, ...))`` when ``seconds`` ran out.
+
+    Only this deadline's :class:`OutOfTime` is caught: an outer one passes on.
+    """
+    try:
+        with deadline(seconds, stage):
+            return work(), None
+    except OutOfTime as error:
+        if any(error is outer for _, outer in _active):  # an enclosing deadline's: not ours
+            raise
+        return None, Undecided(stage, f"not decided within {seconds:g} s")
+
+
+def within(
+    seconds: float | None, stage: str, work: Callable[[], T], fallback: Callable[[], T]
+) -> T:
+    """``work()`` if it finishes within ``seconds``, else ``fallback()`` (cheaper, correct)."""
+    result, undecided = attempt(stage, seconds, work)
+    return fallback() if undecided is not None else result
+
+
+# -- sizes ------------------------------------------------------------------------------
+
+
+def exceeds(expr: sympy.Basic, limit: int) -> bool:
+    """Whether the expression tree of ``expr`` has more than ``limit`` nodes.
+
+    Stops at the limit, so the answer costs O(limit) however large ``expr`` is.
+    """
+    nodes = enumerate(sympy.preorder_traversal(expr), start=1)
+    return any(count > limit for count, _ in nodes)
+
+
+def ops_exceed(expr: sympy.Basic, max_ops: int) -> bool:
+    """``count_ops(expr) > max_ops``, answered without walking a huge tree.
+
+    A tree has at most about three nodes per operation (x/2 is Mul(1/2, x): one
+    operation, three nodes), so one with more than 4 max_ops + 4 nodes is over;
+    otherwise ``count_ops`` decides, on a tree small enough to walk.
+    """
+    if exceeds(expr, 4 * max_ops + 4):
+        return True
+    return sympy.count_ops(expr) > max_ops
