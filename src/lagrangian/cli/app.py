@@ -58,7 +58,14 @@ def derive(model: str, as_json: bool, as_latex: bool, steps: bool) -> None:
 @click.argument("model")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON document.")
 @click.option("--latex", "as_latex", is_flag=True, help="Print LaTeX.")
-def analyze(model: str, as_json: bool, as_latex: bool) -> None:
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    default=5.0,
+    show_default=True,
+    help="Seconds for each stage; a stage out of time is reported undecided.",
+)
+def analyze(model: str, as_json: bool, as_latex: bool, timeout: float) -> None:
     """Conserved quantities, Hamiltonian, equilibria and small oscillations of MODEL."""
     from ..analysis import analyze as run_analysis
     from ..model import load
@@ -66,7 +73,7 @@ def analyze(model: str, as_json: bool, as_latex: bool) -> None:
 
     if as_json and as_latex:
         raise click.UsageError("choose one of --json and --latex")
-    analysis = run_analysis(load(model).equations_of_motion())
+    analysis = run_analysis(load(model).equations_of_motion(), timeout=timeout)
     if as_json:
         click.echo(json.dumps(analysis_document(analysis), indent=2, ensure_ascii=False))
     elif as_latex:
