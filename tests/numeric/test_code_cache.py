@@ -1,0 +1,158 @@
+"""The code cache: only intact text is imported; numba's files are vouched for; a folder that
+cannot be written falls back to a temporary one with one warning."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import subprocess
+import sys
+import tempfile
+import textwrap
+
+import pytest
+
+from lagrangian.errors import CacheWarning
+from lagrangian.numeric import code_cache
+
+
+@pytest.fixture
+def cache(tmp_path, monkeypatch):
+    """A fresh cache folder and no module remembered by this process."""
+    monkeypatch.setenv("LAGRANGIAN_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setattr(code_cache, "_MODULES", {})
+    monkeypatch.setattr(code_cache, "_CHOSEN", {})
+    monkeypatch.setattr(code_cache, "_LOADED", set())
+    return tmp_path / "cache" / "numba"
+
+
+def _digest(text: str) -> str:
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def test_a_module_is_written_with_the_hash_of_its_text(cache):
+    digest = _digest("X = 1\n")
+    module = code_cache.load_text(digest, "X = 1\n")
+    assert module.X == 1
+    first, body = (cache / f"{digest}.py").read_text().split("\n", 1)
+    assert first == "# lagrangian code cache: sha256=" + _digest(body)
+    assert module.__file__ == str(cache / f"{digest}.py")
+
+
+@pytest.mark.parametrize(
+    "damage",
+    [
+        lambda text: text[: len(text) // 2],  # truncated by a crash or a full disk
+        lambda text: text.replace("X = 1", "X = 9"),  # edited: the header no longer matches
+        lambda text: text.split("\n", 1)[1],  # no header (an older version's file)
+        lambda text: "# lagrangian code cache: sha256=" + "0" * 64 + "\nraise SystemExit(3)\n",
+        lambda text: "\udcff",  # not UTF-8
+    ],
+)
+def test_a_damaged_or_edited_entry_is_rebuilt_never_run(cache, monkeypatch, damage):
+    digest = _digest("X = 1\n")
+    code_cache.load_text(digest, "X = 1\n")
+    path = cache / f"{digest}.py"
+    text = path.read_text()
+    path.write_bytes(damage(text).encode("utf-8", "surrogateescape"))
+    monkeypatch.setattr(code_cache, "_MODULES", {})  # as a new process would
+    assert code_cache.load_text(digest, "X = 1\n").X == 1
+    assert path.read_text() == text
+
+
+def test_an_intact_entry_is_not_generated_again(cache, monkeypatch):
+    digest = _digest("X = 1\n")
+    code_cache.load_text(digest, "X = 1\n")
+    monkeypatch.setattr(code_cache, "_MODULES", {})
+
+    class Refuse:
+        def __str__(self):
+            raise AssertionError("generated again")
+
+    assert code_cache.load_text(digest, Refuse()).X == 1
+
+
+def test_a_cache_path_through_a_file_falls_back_with_one_warning(tmp_path, cache):
+    (tmp_path / "cache").write_text("a file")
+    with pytest.warns(CacheWarning, match=r"cache/numba cannot be used \(not a directory\)"):
+        module = code_cache.load_text(_digest("X = 1\n"), "X = 1\n")
+    assert module.X == 1
+    assert module.__file__.startswith(tempfile.gettempdir())
+    assert oct(os.stat(os.path.dirname(module.__file__)).st_mode & 0o777) == "0o700"
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the second module: no second warning
+        code_cache.load_text(_digest("Y = 2\n"), "Y = 2\n")
+
+
+def test_a_read_only_cache_falls_back(cache, monkeypatch):
+    cache.mkdir(parents=True)
+    if os.geteuid() == 0:  # root writes anyway: refuse as the kernel would for a user
+
+        def refuse(*args, **kwargs):
+            raise PermissionError(13, "Permission denied")
+
+        monkeypatch.setattr(tempfile, "TemporaryFile", refuse)
+    else:
+        cache.chmod(0o555)
+    with pytest.warns(CacheWarning, match=r"cannot be used \(permission denied\)"):
+        module = code_cache.load_text(_digest("X = 1\n"), "X = 1\n")
+    cache.chmod(0o755)
+    assert module.X == 1
+    assert list(cache.iterdir()) == []
+
+
+def _numba_file(cache, digest, suffix):
+    folder = cache / "__pycache__"
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"{digest}.f-4.py311{suffix}"
+    path.write_bytes(os.urandom(64))
+    return path
+
+
+@pytest.mark.parametrize("manifest", ["none", "matching", "other"])
+def test_numba_files_are_kept_only_when_the_exit_listing_vouches_for_them(
+    cache, monkeypatch, manifest
+):
+    digest = _digest("X = 1\n")
+    code_cache.load_text(digest, "X = 1\n")
+    files = [_numba_file(cache, digest, ".nbi"), _numba_file(cache, digest, ".1.nbc")]
+    if manifest != "none":
+        code_cache._list_numba_files()  # what the exit of the run that compiled them writes
+    if manifest == "other":
+        files[1].write_bytes(os.urandom(64))  # damaged after that run
+    monkeypatch.setattr(code_cache, "_MODULES", {})
+    code_cache.load_text(digest, "X = 1\n")
+    assert all(f.exists() for f in files) == (manifest == "matching")
+
+
+_NUMBA_RUN = """
+import sys
+from lagrangian.numeric.code_cache import load_text
+TEXT = "from numba import njit\\n\\n@njit(cache=True)\\ndef twice(x):\\n    return 2.0 * x\\n"
+print(load_text("0123456789abcdef" * 4, TEXT).twice(1.5))
+"""
+
+
+def test_a_damaged_numba_index_is_recompiled_not_a_crash(tmp_path):
+    pytest.importorskip("numba")
+    script = tmp_path / "run.py"
+    script.write_text(textwrap.dedent(_NUMBA_RUN))
+    environment = {**os.environ, "LAGRANGIAN_CACHE": str(tmp_path / "cache")}
+
+    def run():
+        return subprocess.run(
+            [sys.executable, str(script)], env=environment, capture_output=True, text=True
+        )
+
+    assert run().stdout.strip() == "3.0"
+    pycache = tmp_path / "cache" / "numba" / "__pycache__"
+    index = list(pycache.glob("*.nbi"))
+    assert index and list(pycache.glob("*.nbc"))
+    for path in index:  # numba itself raises UnpicklingError on this, on every later run
+        path.write_bytes(b"\x80\x04garbage")
+    second = run()
+    assert second.returncode == 0, second.stderr
+    assert second.stdout.strip() == "3.0"
+    assert run().stdout.strip() == "3.0"  # and the files numba wrote again are trusted
