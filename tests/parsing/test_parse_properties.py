@@ -100,8 +100,8 @@ UNARY = {
 
 
 def _node(text: str, value: sympy.Expr, *children) -> tuple[str, sympy.Expr, bool]:
-    """(text, value, whether an infinite or undefined value arose on the way)."""
-    undefined = any(child[2] for child in children) or value.has(*NON_FINITE)
+    """(text, value, whether an infinite, undefined or complex value arose on the way)."""
+    undefined = any(child[2] for child in children) or value.has(*NON_FINITE, sympy.I)
     return text, value, undefined
 
 

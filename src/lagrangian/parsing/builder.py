@@ -5,7 +5,9 @@ integer, ``sqrt`` of a long number factors it by trial division, and a product
 merges ``2**(x + c) * 2**(-x)`` into ``2**c``.  So before each power, product,
 sum and function call the size of the exact numbers it could create is
 estimated (:mod:`.limits`) and refused above the limits.  Division by zero and
-other infinite or undefined results are refused where they arise.
+other infinite or undefined results are refused where they arise, and so is
+every power or function value that is not real (``sqrt(-1)``, ``acos(2)``:
+:mod:`.constants`), the only places where real arguments can give one.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from collections.abc import Callable, Sequence
 import sympy
 
 from lagrangian.errors import ParseError, UnknownNameError
+from lagrangian.parsing.constants import NotRealError, RealConstants
 from lagrangian.parsing.limits import (
     ARGUMENT_NODE_BUDGET,
     ROOT_DIGITS_LIMIT,
@@ -63,6 +66,7 @@ class _Builder:
         self.root_work_us = 0.0
         self.argument_nodes = 0
         self.charged: set[sympy.Basic] = set()
+        self.constants = RealConstants()
 
     def error(self, message: str, position: int | None) -> ParseError:
         return ParseError(message, self.text, position)
@@ -137,8 +141,9 @@ class _Builder:
 
     def builtin(self, name: str, args: list[sympy.Expr], position: int) -> sympy.Expr:
         self.charge_arguments(args, position)
+        shown = f"{name}({', '.join(map(str, args))})"
         if name == "sqrt":
-            return self.power(args[0], _HALF, position)
+            return self.power(args[0], _HALF, position, shown=shown)
         if name == "exp":
             self.check_exp(args[0], position)
         elif name in _TRIGONOMETRIC and isinstance(args[0], _INVERSE_TRIGONOMETRIC):
@@ -147,7 +152,8 @@ class _Builder:
         function = BUILTIN_FUNCTIONS[name][0]
         result = self.evaluate(lambda: function(*args), f"{name}()", position)
         if is_non_finite(result):
-            raise self.error(f"{name}() is infinite or undefined here", position)
+            raise self.error(f"{_clip(shown)} is infinite or undefined", position)
+        self.check_real(result, shown, position)
         return result
 
     # -- arithmetic ----------------------------------------------------------------
@@ -184,7 +190,9 @@ class _Builder:
             raise self.error("division by zero", position)
         return result
 
-    def power(self, base: sympy.Expr, exponent: sympy.Expr, position: int) -> sympy.Expr:
+    def power(
+        self, base: sympy.Expr, exponent: sympy.Expr, position: int, shown: str = ""
+    ) -> sympy.Expr:
         if exponent.is_Rational:
             self.check_power(base, exponent, position)
             if base == 0 and exponent < 0:
@@ -201,6 +209,7 @@ class _Builder:
         result = self.evaluate(lambda: sympy.Pow(base, exponent), "the power", position)
         if is_non_finite(result):
             raise self.error("division by zero", position)
+        self.check_real(result, shown or f"({base})**({exponent})", position)
         return result
 
     # -- guards ----------------------------------------------------------------------
@@ -234,6 +243,13 @@ class _Builder:
         self.check_digits(exp_size(argument), position)
         if roots > ROOT_DIGITS_LIMIT:
             self.check_root(roots, position)
+
+    def check_real(self, result: sympy.Expr, shown: str, position: int) -> None:
+        """Refuse a value that is not real: ``shown`` is the call or power as built."""
+        try:
+            self.constants.check(result)
+        except NotRealError as error:
+            raise self.error(f"{_clip(shown)} {error.reason}", position) from None
 
     def check_digits(self, size: float, position: int) -> None:
         """Refuse a number of ``size`` (``log10``) with more than ``max_result_digits`` digits."""
@@ -280,6 +296,11 @@ def _sum_size(terms: Sequence[sympy.Expr], limit: int) -> float:
             if coefficient.is_Rational and coefficient.q != 1 and log_size(common) <= limit:
                 common = math.lcm(common, coefficient.q)
     return largest + log_size(common) + log_size(len(terms))
+
+
+def _clip(shown: str) -> str:
+    """A subexpression for a message: at most 60 characters."""
+    return shown if len(shown) <= 60 else shown[:57] + "..."
 
 
 def _show(value: sympy.Rational) -> str:
