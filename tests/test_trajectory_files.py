@@ -114,3 +114,21 @@ def test_good_files_still_round_trip(tmp_path):
     for suffix in (".csv", ".nc"):
         loaded = Trajectory.load(make().save(tmp_path / f"run{suffix}"))
         np.testing.assert_array_equal(loaded["x"], make()["x"])
+
+
+def test_ensemble_files_are_checked_too(tmp_path):
+    import lagrangian as lg
+    from lagrangian.ensemble import EnsembleTrajectory, ensemble_of_system
+
+    result = ensemble_of_system(lg.load("simple_pendulum"), initial={"theta": [0.1]}, t_end=0.2)
+    loaded = EnsembleTrajectory.load(result.to_netcdf(tmp_path / "runs.nc"))
+    assert loaded.attrs["members"] == 1
+    (tmp_path / "empty.nc").write_bytes(b"")
+    with pytest.raises(FileError, match=r"empty\.nc: is empty, not an ensemble file"):
+        EnsembleTrajectory.load(tmp_path / "empty.nc")
+    (tmp_path / "noise.nc").write_bytes(bytes(range(256)))
+    with pytest.raises(FileError, match=r"noise\.nc: is not a readable netCDF file"):
+        EnsembleTrajectory.load(tmp_path / "noise.nc")
+    make().to_netcdf(tmp_path / "single.nc")
+    with pytest.raises(FileError, match=r"single\.nc: holds no ensemble of lagrangian"):
+        EnsembleTrajectory.load(tmp_path / "single.nc")

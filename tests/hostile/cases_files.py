@@ -132,6 +132,17 @@ CASES = [
         error=r"p\.png: cannot write: .*plain is not a folder",
         setup=lambda folder: (_file("plain")(folder), _text("run.csv", GOOD_CSV)(folder)),
     ),
+    HostileCase(
+        "files-ensemble-out-missing-folder",
+        ("ensemble", MODEL, "--grid", "x=0:1:2", "--out", "{dir}/missing/runs.nc"),
+        error=r"missing/runs\.nc: cannot write: the folder .* does not exist",
+    ),
+    HostileCase(
+        "files-animate-out-under-a-file",
+        ("animate", MODEL, "--out", "{dir}/plain/motion.gif"),
+        error=r"motion\.gif: cannot write: .*plain is not a folder",
+        setup=_file("plain"),
+    ),
     # -- trajectory files given to plot -----------------------------------------------------
     _plot(
         "empty.nc",

@@ -19,7 +19,11 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..files import write_atomically
+from ..errors import FileError
+from ..files import check_input_file, write_atomically
+
+#: Largest ensemble file read (bytes): the whole dataset is held in memory.
+MAX_ENSEMBLE_BYTES = 4 << 30
 
 
 @dataclass(frozen=True, eq=False)
@@ -66,8 +70,18 @@ class EnsembleTrajectory:
 
     @classmethod
     def load(cls, path: str | os.PathLike) -> EnsembleTrajectory:
-        with xr.open_dataset(path) as dataset:
-            return cls(dataset.load())
+        """An ensemble read from a .nc file written by :meth:`to_netcdf`; a file that is
+        not one (missing, empty, damaged, another program's) is a FileError naming it."""
+        check_input_file(path, what="an ensemble file", max_bytes=MAX_ENSEMBLE_BYTES)
+        try:
+            with xr.open_dataset(path) as dataset:
+                dataset = dataset.load()
+        except Exception as error:  # the engines' many kinds of "damaged"
+            first = (str(error).strip().splitlines() or [type(error).__name__])[0][:100]
+            raise FileError(path, f"is not a readable netCDF file ({first})") from None
+        if "observables" not in dataset.attrs or "members" not in dataset.attrs:
+            raise FileError(path, "holds no ensemble of lagrangian (another program's data?)")
+        return cls(dataset)
 
     def __repr__(self) -> str:
         attrs = self.dataset.attrs
