@@ -46,6 +46,7 @@ _WRITE_REASONS = {
     errno.ENOSPC: "no space left on the device; nothing was written",
     errno.EDQUOT: "the disk quota is exceeded; nothing was written",
     errno.EISDIR: "it is a folder, not a file",
+    errno.EEXIST: "it is a file, not a folder",
 }
 
 

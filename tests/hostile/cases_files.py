@@ -143,6 +143,18 @@ CASES = [
         error=r"motion\.gif: cannot write: .*plain is not a folder",
         setup=_file("plain"),
     ),
+    HostileCase(
+        "files-demo-out-dir-is-a-file",
+        ("demo", "--out-dir", "{dir}/plain"),
+        error=r"plain.* is a file",
+        setup=_file("plain"),
+    ),
+    HostileCase(
+        "files-demo-out-dir-under-a-file",
+        ("demo", "--out-dir", "{dir}/plain/demo"),
+        error=r"plain/demo: cannot write: .*plain is not a folder",
+        setup=_file("plain"),
+    ),
     # -- trajectory files given to plot -----------------------------------------------------
     _plot(
         "empty.nc",

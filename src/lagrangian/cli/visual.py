@@ -12,7 +12,7 @@ from pathlib import Path
 
 import click
 
-from ..files import check_output_path
+from ..files import check_output_path, output_error
 from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app
 
 PLOT_KINDS = ("timeseries", "phase", "energy", "poincare", "modes")
@@ -216,7 +216,10 @@ def demo(out_dir: str) -> None:
     start = time.perf_counter()
     _headless()
     folder = Path(out_dir)
-    folder.mkdir(parents=True, exist_ok=True)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:  # a file in the way, no permission: one line, before any work
+        raise output_error(folder, error) from None
     system = load(DEMO_MODEL)
     eom = system.equations_of_motion()
     click.echo("1. Lagrange's equations, derived from the positions of the two bobs\n")
