@@ -132,7 +132,7 @@ def test_save_picks_the_format_by_suffix(tmp_path):
 def test_a_csv_that_is_not_a_trajectory_is_refused(tmp_path):
     path = tmp_path / "other.csv"
     path.write_text("a,b\n1,2\n")
-    with pytest.raises(FileError, match="other.csv: is not a trajectory CSV file"):
+    with pytest.raises(FileError, match=r"other\.csv: is not a trajectory CSV file"):
         Trajectory.load(path)
 
 
