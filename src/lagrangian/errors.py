@@ -32,11 +32,19 @@ class ParseError(LagrangianError):
 
 
 class UnknownNameError(ParseError):
-    """An identifier that is neither declared nor built in."""
+    """An identifier that is neither declared nor built in (``suggestion``: the likely one)."""
 
-    def __init__(self, name: str, text: str = "", position: int | None = None):
+    def __init__(
+        self,
+        name: str,
+        text: str = "",
+        position: int | None = None,
+        suggestion: str | None = None,
+    ):
         self.name = name
-        super().__init__(f"unknown symbol '{name}'", text, position)
+        self.suggestion = suggestion
+        hint = f" (did you mean '{suggestion}'?)" if suggestion else ""
+        super().__init__(f"unknown symbol '{name}'{hint}", text, position)
 
 
 class ModelError(LagrangianError):
@@ -88,6 +96,10 @@ class FileError(LagrangianError):
 class LagrangianWarning(UserWarning):
     """Base of the toolkit's own warnings: the CLI prints each as one line
     (``lagrangian: warning: ...``); warnings of other libraries it keeps quiet."""
+
+
+class LikelyTypoWarning(LagrangianWarning):
+    """A parameter whose name looks like a slip for a coordinate or velocity (``xdot``)."""
 
 
 class CacheWarning(LagrangianWarning):

@@ -1,15 +1,16 @@
 """Turn a raw model description (text, numbers, SymPy) into a checked, frozen `System`.
 
-The TOML loader and the Python constructors both produce a :class:`ModelSpec`;
-:func:`build_system` validates names, parses every expression with the safe
-parser, checks what each field may depend on, and assembles L = T - V.
+The TOML loader and the Python constructors both produce a :class:`ModelSpec`
+(:mod:`.spec`); :func:`build_system` checks its size, validates names, parses
+every expression with the safe parser, checks what each field may depend on,
+and assembles L = T - V.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass, field, replace
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
 
 import sympy
 from sympy.core.function import AppliedUndef
@@ -21,60 +22,37 @@ from ..parsing import (
     parse_expression,
     referenced_names,
 )
+from ..parsing.constants import NotRealError, RealConstants
 from ..symbols import (
     TIME_NAME,
     is_identifier,
     parameter_symbol,
     time_symbol,
 )
-from .components import ExprLike, Gravity, Particle, RigidBody2D, Spring
+from .components import Gravity, Spring
 from .energy import conservative_potential, gravity_potential, kinetic_energy, spring_potential
-from .naming import RESERVED, coordinates_named, parameter_entry
+from .naming import RESERVED, coordinates_named, parameter_entry, warn_of_likely_typos
+from .spec import (
+    COORDINATES,
+    PARAMETERS,
+    TIME,
+    VELOCITIES,
+    ModelSpec,
+    check_size,
+    expression_fields,
+)
 from .system import FunctionDeclaration, Parameter, System
 
-# What an expression field may depend on.
-COORDINATES, VELOCITIES, TIME, PARAMETERS = "coordinates", "velocities", "t", "parameters"
-STATE_AND_TIME = frozenset({COORDINATES, VELOCITIES, TIME, PARAMETERS})
-CONFIGURATION = frozenset({COORDINATES, TIME, PARAMETERS})
-CONSTANT = frozenset({PARAMETERS})
-CONSTANT_OR_TIME = frozenset({PARAMETERS, TIME})
-
-
-@dataclass(frozen=True)
-class ModelSpec:
-    """A model as the user wrote it: names, and expressions as text, SymPy or numbers.
-
-    ``parameters`` maps a name to its default value (``None`` for none) or to
-    ``{"value": v, "sign": "real"}``; a plain sequence of names declares
-    parameters without values; ``None`` takes every undeclared name used in the
-    expressions as a positive parameter (Python API only; model files must
-    declare their parameters).
-    """
-
-    coordinates: tuple[str, ...]
-    parameters: Mapping[str, object] | Sequence[str] | None = None
-    lagrangian: ExprLike | None = None
-    kinetic: ExprLike | None = None
-    potential: ExprLike | None = None
-    particles: tuple[Particle, ...] = ()
-    bodies: tuple[RigidBody2D, ...] = ()
-    springs: tuple[Spring, ...] = ()
-    gravity: Gravity | None = None
-    forces: Mapping[str, ExprLike] = field(default_factory=dict)
-    conservative_forces: Mapping[str, ExprLike] = field(default_factory=dict)
-    dissipation: ExprLike | None = None
-    constraints: tuple[ExprLike, ...] = ()
-    functions: Mapping[str, Sequence[str]] = field(default_factory=dict)
-    initial: Mapping[str, float] = field(default_factory=dict)
-    simulate: Mapping[str, object] = field(default_factory=dict)
-    name: str = ""
-    description: str = ""
-    source: str | None = None
+__all__ = ["ModelSpec", "build_system"]
 
 
 def build_system(spec: ModelSpec) -> System:
-    """Validate ``spec`` and build the frozen :class:`System` it describes."""
+    """Validate ``spec`` and build the frozen :class:`System` it describes.
+
+    Its size is checked first (:mod:`.limits`), before any symbol is made.
+    """
     try:
+        check_size(spec)
         return _Builder(spec).build()
     except ModelError as error:
         raise error.located(source=spec.source) from None
@@ -140,6 +118,9 @@ class _Builder:
             elif sign == "negative":
                 symbol = sympy.Symbol(name, negative=True)
             parameters.append(Parameter(name, symbol, value, sign))
+        warn_of_likely_typos(
+            entries, self.coordinates, declared=given is not None, source=self.spec.source
+        )
         return tuple(parameters)
 
     def _check_new_name(self, name: object, where: str) -> None:
@@ -152,7 +133,7 @@ class _Builder:
 
     def _undeclared_names(self) -> set[str]:
         found: set[str] = set()
-        for where, value, _ in self._expression_fields():
+        for where, value, _ in expression_fields(self.spec):
             if isinstance(value, str):
                 try:
                     referenced = referenced_names(value)
@@ -225,47 +206,18 @@ class _Builder:
                     f"undeclared function '{applied.func.__name__}'", field=where, text=str(value)
                 )
             adopted = adopted.xreplace({applied: declared.function(*applied.args)})
+        try:  # the parser checks this as it builds; a SymPy expression is checked whole
+            RealConstants().check(adopted)
+        except NotRealError as error:
+            raise ModelError(
+                f"{error.subexpression} {error.reason}", field=where, text=str(value)
+            ) from None
         return adopted
-
-    def _expression_fields(self) -> Iterator[tuple[str, object, frozenset[str]]]:
-        """Every expression of the spec with its field name and what it may depend on."""
-        spec = self.spec
-        for key in ("lagrangian", "kinetic", "potential", "dissipation"):
-            value = getattr(spec, key)
-            if value is not None:
-                yield key, value, STATE_AND_TIME
-        for i, particle in enumerate(spec.particles):
-            yield f"particles[{i}].mass", particle.mass, CONSTANT
-            for k, x in enumerate(particle.position):
-                yield f"particles[{i}].position[{k}]", x, CONFIGURATION
-        for i, body in enumerate(spec.bodies):
-            yield f"bodies[{i}].mass", body.mass, CONSTANT
-            yield f"bodies[{i}].inertia", body.inertia, CONSTANT
-            for k, x in enumerate(body.center):
-                yield f"bodies[{i}].center[{k}]", x, CONFIGURATION
-            yield f"bodies[{i}].angle", body.angle, CONFIGURATION
-        for i, spring in enumerate(spec.springs):
-            yield f"springs[{i}].stiffness", spring.stiffness, CONSTANT_OR_TIME
-            yield f"springs[{i}].rest_length", spring.rest_length, CONSTANT_OR_TIME
-            for e, end in enumerate(spring.ends):
-                if not isinstance(end, str):
-                    for k, x in enumerate(end):
-                        yield f"springs[{i}].ends[{e}][{k}]", x, CONSTANT_OR_TIME
-        if spec.gravity is not None:
-            yield "gravity.g", spec.gravity.g, CONSTANT
-            for k, x in enumerate(spec.gravity.direction or ()):
-                yield f"gravity.direction[{k}]", x, CONSTANT
-        for name, value in spec.forces.items():
-            yield f"forces.{name}", value, STATE_AND_TIME
-        for name, value in spec.conservative_forces.items():
-            yield f"conservative_forces.{name}", value, CONFIGURATION
-        for i, value in enumerate(spec.constraints):
-            yield f"constraints[{i}]", value, STATE_AND_TIME
 
     # -- assembly --------------------------------------------------------------
     def build(self) -> System:
         spec = self.spec
-        resolved = {where: self.expr(v, where, ok) for where, v, ok in self._expression_fields()}
+        resolved = {where: self.expr(v, where, ok) for where, v, ok in expression_fields(spec)}
         particles = tuple(
             replace(
                 p,

@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+import warnings
+from collections.abc import Iterable, Mapping, Sequence
 
-from ..errors import ModelError
+from ..errors import LikelyTypoWarning, ModelError
 from ..parsing import BUILTIN_CONSTANTS, BUILTIN_FUNCTIONS
+from ..parsing.suggest import likely_meant
 from ..symbols import (
     ACCELERATION_SUFFIX,
     TIME_NAME,
@@ -79,3 +81,31 @@ def parameter_entry(entry: object, where: str) -> tuple[float | None, str]:
     if violated:
         raise ModelError(f"value {value} contradicts sign '{sign}'", field=where)
     return value, sign
+
+
+def warn_of_likely_typos(
+    parameters: Iterable[str],
+    coordinates: Sequence[Coordinate],
+    *,
+    declared: bool,
+    source: str | None = None,
+) -> None:
+    """Warn (:class:`~lagrangian.errors.LikelyTypoWarning`) of each parameter named like a
+    slip for a coordinate, velocity or acceleration: ``xdot``, ``x_dott``, ``dx``, ``thetta``.
+
+    A parameter is a constant, so a velocity misspelt as one gives equations of
+    motion that are wrong without any error.  ``declared``: the user listed the
+    name as a parameter (a model file); otherwise it became one by being used.
+    """
+    known = [name for c in coordinates for name in (c.name, c.q_dot.name, c.q_ddot.name)]
+    for name in parameters:
+        meant = likely_meant(name, known)
+        if meant is None:
+            continue
+        how = "is declared as a parameter" if declared else "is not declared and became a parameter"
+        where = ": ".join(part for part in (source, f"parameters.{name}") if part)
+        warnings.warn(
+            f"{where}: '{name}' {how} (a constant); did you mean '{meant}'?",
+            LikelyTypoWarning,
+            stacklevel=4,
+        )

@@ -1,12 +1,16 @@
 """Read a model file (TOML, DESIGN section 2) into a `System`.
 
-Only the structure is checked here (known keys, types); every expression is
-parsed and checked by :func:`~lagrangian.model.build.build_system`.  Errors
-name the file and the field.
+Only the structure is checked here (known keys, types, sizes); every
+expression is parsed and checked by :func:`~lagrangian.model.build.build_system`.
+Errors name the file and the field.  What a file may cost to read is bounded
+by :mod:`.limits`: only a regular file is opened (a FIFO, ``/dev/zero``, a
+folder or a socket is refused by its type, never read), up to its size limit.
 """
 
 from __future__ import annotations
 
+import os
+import stat
 import tomllib
 from collections.abc import Mapping
 from pathlib import Path
@@ -14,10 +18,16 @@ from pathlib import Path
 from ..errors import ModelError
 from .build import ModelSpec, build_system
 from .components import Gravity, Particle, RigidBody2D, Spring
+from .limits import MAX_FILE_BYTES, check_counts, check_toml_keys, file_size_problem
 from .system import System
 
-#: Model files larger than this are refused before they are parsed.
-MAX_FILE_BYTES = 1_000_000
+_KINDS = {
+    stat.S_IFDIR: "a folder",
+    stat.S_IFIFO: "a named pipe (FIFO)",
+    stat.S_IFCHR: "a character device",
+    stat.S_IFBLK: "a block device",
+    stat.S_IFSOCK: "a socket",
+}
 
 TOP_LEVEL_KEYS = frozenset(
     {
@@ -28,32 +38,72 @@ TOP_LEVEL_KEYS = frozenset(
     }
 )  # fmt: skip
 SIMULATE_KEYS = frozenset({"t_end", "dt", "rtol", "atol", "method", "steps"})
+_COUNTED = (
+    "coordinates", "parameters", "particles", "bodies", "springs", "constraints", "functions",
+    "forces", "conservative_forces", "initial",
+)  # fmt: skip
 
 
 def load_file(path: str | Path) -> System:
     """The system described by the model file at ``path``."""
-    path = Path(path)
     source = str(path)
     try:
-        size = path.stat().st_size
-        if size > MAX_FILE_BYTES:
-            raise ModelError(
-                f"file too large ({size} bytes, limit {MAX_FILE_BYTES})", source=source
-            )
-        text = path.read_text(encoding="utf-8")
+        data = _read_regular_file(Path(path))
+        text = data.decode("utf-8")
     except FileNotFoundError:
         raise ModelError("no such model file or built-in example", source=source) from None
-    except (OSError, UnicodeDecodeError) as error:
-        raise ModelError(f"cannot read: {error}", source=source) from None
+    except ModelError as error:
+        raise error.located(source=source) from None
+    except UnicodeDecodeError as error:
+        raise ModelError(f"cannot read: not UTF-8 text ({error.reason})", source=source) from None
+    except OSError as error:
+        raise ModelError(f"cannot read: {error.strerror or error}", source=source) from None
     return loads(text, source=source)
+
+
+def _read_regular_file(path: Path) -> bytes:
+    """The bytes of ``path`` if it is a regular file within :data:`MAX_FILE_BYTES`.
+
+    The type is checked before opening (opening a FIFO for reading waits for a
+    writer), and again on the open file, which is opened non-blocking in case
+    the path was replaced in between; at most one byte past the limit is read.
+    """
+    _check_regular(os.stat(path))
+    flags = os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0)
+    descriptor = os.open(path, flags)
+    with os.fdopen(descriptor, "rb") as file:
+        _check_regular(os.fstat(descriptor))
+        data = file.read(MAX_FILE_BYTES + 1)
+    problem = file_size_problem(len(data))
+    if problem is not None:
+        raise ModelError(problem)
+    return data
+
+
+def _check_regular(status: os.stat_result) -> None:
+    if not stat.S_ISREG(status.st_mode):
+        kind = _KINDS.get(stat.S_IFMT(status.st_mode), "not a regular file")
+        raise ModelError(f"is {kind}, not a model file (a regular TOML file)")
+    problem = file_size_problem(status.st_size)
+    if problem is not None:
+        raise ModelError(problem)
 
 
 def loads(text: str, *, source: str = "<model>") -> System:
     """The system described by the TOML ``text``; ``source`` names it in errors."""
+    problem = file_size_problem(len(text), unit="characters")
+    if problem is not None:
+        raise ModelError(problem, source=source)
     try:
+        check_toml_keys(text)
         data = tomllib.loads(text)
+    except ModelError as error:
+        raise error.located(source=source) from None
     except tomllib.TOMLDecodeError as error:
         raise ModelError(f"invalid TOML: {error}", source=source) from None
+    except RecursionError:  # arrays or inline tables nested thousands deep
+        message = "invalid TOML: arrays or tables nested too deeply"
+        raise ModelError(message, source=source) from None
     return build_system(spec_from_mapping(data, source=source))
 
 
@@ -74,6 +124,9 @@ def _spec(data: Mapping[str, object], source: str | None) -> ModelSpec:
         )
     if "coordinates" not in data:
         raise ModelError("missing field", field="coordinates")
+    check_counts(
+        {key: len(data[key]) for key in _COUNTED if isinstance(data.get(key), list | dict)}
+    )
     simulate = _table(data, "simulate")
     for key in simulate:
         if key not in SIMULATE_KEYS:

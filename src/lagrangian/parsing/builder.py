@@ -40,6 +40,7 @@ from lagrangian.parsing.names import (
     arity_message,
 )
 from lagrangian.parsing.nodes import Call, Name, Negate, Node, Number, Power, Product, Sum
+from lagrangian.parsing.suggest import likely_meant
 
 _NON_FINITE = (sympy.S.ComplexInfinity, sympy.S.NaN, sympy.S.Infinity, sympy.S.NegativeInfinity)
 _TRIGONOMETRIC = frozenset({"sin", "cos", "tan", "cot", "sec", "csc"})
@@ -118,7 +119,8 @@ class _Builder:
             )
         value = self.namespace.symbols.get(name)
         if value is None:
-            raise UnknownNameError(name, self.text, position)
+            known = [*self.namespace.symbols, *self.namespace.functions]
+            raise UnknownNameError(name, self.text, position, likely_meant(name, known))
         return value
 
     def call(self, node: Call) -> sympy.Expr:
@@ -137,7 +139,9 @@ class _Builder:
             return self.multiply([left, self.build(node.args[0])], node.position)
         if name in self.namespace.symbols:
             raise self.error(f"'{name}' is not a function", node.position)
-        raise self.error(f"unknown function '{name}'", node.position)
+        meant = likely_meant(name, [*self.namespace.functions, *BUILTIN_FUNCTIONS])
+        hint = f" (did you mean '{meant}'?)" if meant else ""
+        raise self.error(f"unknown function '{name}'{hint}", node.position)
 
     def builtin(self, name: str, args: list[sympy.Expr], position: int) -> sympy.Expr:
         self.charge_arguments(args, position)

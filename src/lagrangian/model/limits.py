@@ -1,0 +1,104 @@
+"""Size limits of a model, all in one place, checked before any symbolic work.
+
+Each expression is bounded by the parser (:class:`~lagrangian.parsing.ParseLimits`);
+these bound how many there are and what reading a model file may cost.  They
+are generous for hand-written and generated models (the largest built-in
+example has 3 coordinates) and keep a hostile file to a second or two of work:
+
+* :data:`MAX_FILE_BYTES`: a model file is read whole; TOML parses at about a
+  microsecond a byte.
+* :data:`MAX_KEY_PARTS`: Python's TOML reader takes time quadratic in the parts
+  of one dotted key (``a.a.a....`` with 100,000 parts: minutes), so longer
+  keys are refused by a linear scan before it runs.  Nesting of arrays and
+  tables deeper than Python's recursion limit is refused from its RecursionError.
+* :data:`MAX_COUNTS`: coordinates, parameters, particles ... (each becomes SymPy
+  symbols and expressions, and derivation grows with their number).
+* :data:`MAX_EXPRESSION_CHARACTERS`: the text of all expressions together
+  (the parser takes about 10 microseconds a character).
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from types import MappingProxyType
+
+from ..errors import ModelError
+
+MAX_FILE_BYTES = 1 << 20
+"""Largest model file read (1 MiB)."""
+
+MAX_KEY_PARTS = 32
+"""Most parts of one dotted TOML key (``a.b.c`` has 3)."""
+
+MAX_COUNTS: Mapping[str, int] = MappingProxyType(
+    {
+        "coordinates": 200,
+        "parameters": 1_000,
+        "particles": 500,
+        "bodies": 500,
+        "springs": 500,
+        "constraints": 200,
+        "functions": 100,
+        "forces": 200,
+        "conservative_forces": 200,
+        "initial": 400,
+    }
+)
+"""Most entries of each list or table of a model."""
+
+MAX_EXPRESSION_CHARACTERS = 200_000
+"""Most characters of expression text in one model, all fields together."""
+
+# A dotted key of more than MAX_KEY_PARTS parts.  Possessive parts and the look-behind
+# (no start inside a key) keep the scan linear on any text; a match inside a string
+# value would need 33 dotted words without spaces, which no model's text has.
+_KEY_PART = r"""(?:[A-Za-z0-9_-]++|"(?:[^"\\\n]|\\.)*+"|'[^'\n]*+')"""
+_DEEP_KEY = re.compile(
+    rf"(?<![A-Za-z0-9_\-\"'.]){_KEY_PART}(?:[ \t]*+\.[ \t]*+{_KEY_PART}){{{MAX_KEY_PARTS},}}"
+)
+
+
+def file_size_problem(size: int, unit: str = "bytes") -> str | None:
+    """Why a model file of ``size`` bytes (or characters of text) is not read, or None."""
+    if size > MAX_FILE_BYTES:
+        return f"file too large ({size} {unit}, limit {MAX_FILE_BYTES} = 1 MiB)"
+    return None
+
+
+def check_toml_keys(text: str) -> None:
+    """Refuse a dotted key too long for the TOML reader (before it runs)."""
+    found = _DEEP_KEY.search(text)
+    if found is not None:
+        line = text.count("\n", 0, found.start()) + 1
+        raise ModelError(
+            f"invalid TOML: a dotted key of more than {MAX_KEY_PARTS} parts (line {line})"
+        )
+
+
+def check_counts(counts: Mapping[str, int]) -> None:
+    """Refuse a model with more entries of a kind than :data:`MAX_COUNTS` allows.
+
+    >>> check_counts({"coordinates": 3, "particles": 2})
+    >>> check_counts({"coordinates": 50_000})
+    Traceback (most recent call last):
+    ...
+    lagrangian.errors.ModelError: coordinates: too many (50000, limit 200)
+    """
+    for kind, count in counts.items():
+        limit = MAX_COUNTS[kind]
+        if count > limit:
+            raise ModelError(f"too many ({count}, limit {limit})", field=kind)
+
+
+def check_expression_text(lengths: Mapping[str, int]) -> None:
+    """Refuse a model whose expressions (field -> characters) hold more than
+    :data:`MAX_EXPRESSION_CHARACTERS` in all, naming the longest."""
+    total = sum(lengths.values())
+    if total > MAX_EXPRESSION_CHARACTERS:
+        longest = max(lengths, key=lengths.__getitem__)
+        raise ModelError(
+            f"expressions too long in all ({total} characters in {len(lengths)} fields, "
+            f"limit {MAX_EXPRESSION_CHARACTERS}; this one has {lengths[longest]})",
+            field=longest,
+        )
