@@ -1,0 +1,184 @@
+"""Analysis within budgets: stages out of time are reported undecided, never guessed.
+
+Budgets are tested with a tiny timeout (what is reported), never by wall clock;
+the systems that used to run for minutes are tested by finishing at all with
+the default budget.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import random
+import time
+
+import pytest
+import sympy
+
+import lagrangian as lg
+from derive.test_chain_pendulum import chain_pendulum
+from helpers import assert_close, evaluate, random_point
+from lagrangian.analysis import analyze
+from lagrangian.analysis.hamiltonian import hamiltonian
+from lagrangian.budget import OutOfTime, Undecided, attempt, deadline, exceeds, remaining
+from lagrangian.output.analysis import analysis_document, format_analysis, latex_analysis
+
+TOP_KINETIC = (
+    "(I1*(phi_dot*sin(theta)*sin(psi) + theta_dot*cos(psi))**2"
+    " + I2*(phi_dot*sin(theta)*cos(psi) - theta_dot*sin(psi))**2"
+    " + I3*(phi_dot*cos(theta) + psi_dot)**2)/2"
+)
+
+
+def asymmetric_top() -> lg.System:
+    """The torque-free asymmetric top in zxz Euler angles, I1, I2, I3 distinct."""
+    return lg.System.from_lagrangian(
+        TOP_KINETIC,
+        coordinates=["phi", "theta", "psi"],
+        parameters={"I1": 1.0, "I2": 2.0, "I3": 3.0},
+        name="Asymmetric top",
+    )
+
+
+def _spin():
+    while True:
+        pass
+
+
+# -- the mechanism ---------------------------------------------------------------
+def test_a_deadline_interrupts_pure_python_and_reports_the_stage():
+    result, undecided = attempt("spinning", 0.05, _spin)
+    assert result is None
+    assert undecided == Undecided("spinning", "not decided within 0.05 s")
+    assert remaining() is None  # nothing left armed
+
+
+def test_work_within_its_deadline_returns_its_result():
+    assert attempt("quick", 5, lambda: 42) == (42, None)
+
+
+def test_an_outer_deadline_passes_through_an_inner_one():
+    # the outer stage ends first: its own OutOfTime, not the inner stage's report
+    outcome = attempt("outer", 0.05, lambda: attempt("inner", 10, _spin))
+    assert outcome == (None, Undecided("outer", "not decided within 0.05 s"))
+
+
+def test_an_inner_deadline_leaves_the_outer_one_armed():
+    def inner_then_spin():
+        assert attempt("inner", 0.02, _spin)[1] is not None
+        assert 0 < remaining() <= 10
+        _spin()
+
+    assert attempt("outer", 0.1, inner_then_spin)[1].stage == "outer"
+
+
+def test_an_outer_alarm_of_someone_else_still_fires():
+    import signal
+
+    class Alarm(Exception):
+        pass
+
+    def raise_alarm(signum, frame):
+        raise Alarm
+
+    previous = signal.signal(signal.SIGALRM, raise_alarm)
+    signal.setitimer(signal.ITIMER_REAL, 0.1)
+    try:
+        with pytest.raises(Alarm), deadline(30, "long stage"):
+            _spin()
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def test_out_of_time_is_not_an_exception_that_library_code_swallows():
+    assert not issubclass(OutOfTime, Exception)
+
+
+def test_sizes_are_counted_only_up_to_the_limit():
+    x = sympy.Symbol("x")
+    huge = sympy.Add(*(x**k for k in range(1, 20_000)))
+    start = time.perf_counter()
+    assert exceeds(huge, 100)
+    assert not exceeds(x + 1, 3)
+    assert time.perf_counter() - start >= 0  # the count stops early (no timing asserted)
+
+
+# -- analyze ------------------------------------------------------------------------
+def test_a_tiny_timeout_reports_every_stage_undecided_never_a_guess():
+    eom = lg.load("spherical_pendulum").equations_of_motion()
+    analysis = analyze(eom, timeout=1e-4)
+    stages = {u.stage for u in analysis.undecided}
+    assert {"conserved quantities", "Hamiltonian", "equilibria"} <= stages
+    assert analysis.conservation is None and analysis.hamiltonian is None
+    assert analysis.equilibria == ()
+    text = format_analysis(analysis)
+    assert "conserved quantities: not decided within 0.0001 s" in text
+    assert "Cyclic coordinates: none" not in text  # not claimed: undecided
+    document = analysis_document(analysis)
+    assert document["cyclic_coordinates"] is None and document["conserved"] is None
+    assert {"stage": "Hamiltonian", "reason": "not decided within 0.0001 s"} in document[
+        "undecided"
+    ]
+    json.dumps(document)
+    assert r"\text{equilibria: not decided within 0.0001 s}" in latex_analysis(analysis)
+
+
+def test_with_time_enough_nothing_is_undecided():
+    analysis = lg.load("spherical_pendulum").analyze(timeout=None)
+    assert analysis.undecided == ()
+    assert analysis_document(analysis)["undecided"] == []
+    assert "phi" in analysis.conservation.cyclic_coordinates
+
+
+def test_asymmetric_top_finishes_with_its_cyclic_angle_and_energy():
+    # analyze ran for over 5 minutes (the reduced system's solve for q'')
+    analysis = asymmetric_top().analyze()
+    assert analysis.conservation.cyclic_coordinates == ("phi",)
+    assert {"p_phi", "energy"} <= set(analysis.conservation.names)
+    for stage in [u.stage for u in analysis.undecided]:
+        assert stage in ("Routh reduction", "steady motions", "modes")
+
+
+def test_the_asymmetric_top_with_a_small_budget_says_what_it_did_not_decide():
+    analysis = asymmetric_top().analyze(timeout=0.2)
+    assert analysis.undecided  # the steady motions need more than 0.2 s
+    text = format_analysis(analysis)
+    for undecided in analysis.undecided:
+        assert f"{undecided.stage}: not decided within 0.2 s" in text
+
+
+# -- the Hamiltonian of a large system ------------------------------------------
+def _check_hamilton_equations(system, h, rng):
+    """At (q, q'): H = h(q, q') and Hamilton's equations give q' and dp/dt = dL/dq."""
+    eom = system.equations_of_motion()
+    for _ in range(2):
+        point = random_point(system, rng)
+        values = {c.name: point[c.name] for c in system.coordinates}
+        for c in system.coordinates:
+            values[c.p.name] = evaluate(sympy.diff(system.lagrangian, c.q_dot), point)
+        phase = values | {p.name: point[p.name] for p in system.parameters} | {"t": point["t"]}
+        for step in eom.steps:
+            c = step.coordinate
+            q_rate, p_rate = h.equations[c.name]
+            assert_close(evaluate(q_rate, phase), point[c.q_dot.name], what=f"{c.name}'")
+            assert_close(
+                evaluate(p_rate, phase),
+                evaluate(sympy.diff(system.lagrangian, c.q), point),
+                what=f"p_{c.name}'",
+            )
+
+
+def test_hamiltonian_of_a_five_link_chain_finishes_and_is_right():
+    # 48 s before (dH/dq of M^-1 untidied); now by dH/dq = -dL/dq at q'(q, p)
+    system = chain_pendulum(5)
+    h = hamiltonian(system.equations_of_motion())
+    _check_hamilton_equations(system, h, random.Random(5))
+
+
+def test_the_identity_route_equals_differentiating_h(monkeypatch):
+    module = importlib.import_module("lagrangian.analysis.hamiltonian")
+
+    system = lg.load("double_pendulum")
+    monkeypatch.setattr(module, "DIFFERENTIATE_MAX_NODES", 0)
+    _check_hamilton_equations(system, hamiltonian(system.equations_of_motion()), random.Random(2))

@@ -1,0 +1,68 @@
+"""Symbolic stages within their budgets: analyze says what it could not decide in time."""
+
+from hostile.case import HostileCase
+
+TOP_KINETIC = (
+    "(I1*(phi_dot*sin(theta)*sin(psi) + theta_dot*cos(psi))**2"
+    " + I2*(phi_dot*sin(theta)*cos(psi) - theta_dot*sin(psi))**2"
+    " + I3*(phi_dot*cos(theta) + psi_dot)**2)/2"
+)
+ASYMMETRIC_TOP = f"""name = "Asymmetric top"
+coordinates = ["phi", "theta", "psi"]
+kinetic = "{TOP_KINETIC}"
+potential = "0"
+
+[parameters]
+I1 = 1.0
+I2 = 2.0
+I3 = 3.0
+"""
+
+DISC_KINETIC = (
+    "m*((x_dot + R*(cos(theta)*sin(phi)*theta_dot + sin(theta)*cos(phi)*phi_dot))**2"
+    " + (y_dot - R*(cos(theta)*cos(phi)*theta_dot - sin(theta)*sin(phi)*phi_dot))**2"
+    " + R**2*sin(theta)**2*theta_dot**2)/2"
+    " + m*R**2*(theta_dot**2 + phi_dot**2*cos(theta)**2)/8"
+    " + m*R**2*(psi_dot + phi_dot*sin(theta))**2/4"
+)
+LEANING_DISC = f"""name = "Leaning rolling disc"
+coordinates = ["x", "y", "theta", "phi", "psi"]
+kinetic = "{DISC_KINETIC}"
+potential = "m*g*R*cos(theta)"
+constraints = ["x_dot - R*psi_dot*cos(phi)", "y_dot - R*psi_dot*sin(phi)"]
+
+[parameters]
+m = 1.0
+R = 1.0
+g = 9.81
+"""
+
+CASES = [
+    HostileCase(
+        "analyze-asymmetric-top-reports-undecided",
+        ("analyze", "{dir}/model.toml", "--timeout", "0.1"),
+        exit_code=0,
+        output=r"(?s)Undecided \(out of time.*: not decided within 0\.1 s",
+        model=ASYMMETRIC_TOP,
+    ),
+    HostileCase(
+        "analyze-asymmetric-top-json-undecided",
+        ("analyze", "{dir}/model.toml", "--timeout", "0.1", "--json"),
+        exit_code=0,
+        output=r'"undecided": \[\s*\{\s*"stage": ',
+        model=ASYMMETRIC_TOP,
+    ),
+    HostileCase(
+        "analyze-timeout-must-be-positive",
+        ("analyze", "{dir}/model.toml", "--timeout", "0"),
+        error=r"--timeout",
+        model=ASYMMETRIC_TOP,
+    ),
+    HostileCase(
+        "derive-leaning-rolling-disc",
+        ("derive", "{dir}/model.toml"),
+        exit_code=0,
+        output=r"Lagrange multipliers",
+        model=LEANING_DISC,
+    ),
+]
