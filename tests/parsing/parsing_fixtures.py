@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
+import signal
+from collections.abc import Iterator
+
 import sympy
 
 from lagrangian.parsing import DeclaredFunction, Namespace
@@ -50,3 +54,28 @@ NAMESPACE = Namespace(
         "V": DeclaredFunction(V, (S["x"],)),
     },
 )
+
+
+class ParseDeadline(BaseException):
+    """The parser ran past its deadline.
+
+    A BaseException, not an Exception: raised from a signal handler anywhere in
+    the parser or SymPy, it cannot be caught by an ``except Exception`` there
+    (the builder turns SymPy's own exceptions into ParseErrors).
+    """
+
+
+@contextlib.contextmanager
+def hard_deadline(seconds: float, text: str) -> Iterator[None]:
+    """Raise :class:`ParseDeadline` naming ``text`` if the block runs longer than ``seconds``."""
+
+    def expired(signum, frame):
+        raise ParseDeadline(f"still parsing after {seconds} s: {text[:300]!r}")
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)

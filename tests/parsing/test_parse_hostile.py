@@ -6,6 +6,7 @@ import time
 
 import pytest
 import sympy
+from parsing_fixtures import hard_deadline
 
 from lagrangian.errors import ParseError
 from lagrangian.parsing import ParseLimits, parse_expression
@@ -16,13 +17,14 @@ BIG = "9" * 100  # the longest literal allowed
 
 
 def timed(text: str, namespace, limits: ParseLimits | None = None):
-    """(result or ParseError, seconds)."""
+    """(result or ParseError, seconds); a hang fails at a hard deadline instead of stalling."""
     start = time.perf_counter()
     try:
-        if limits is None:
-            result = parse_expression(text, namespace)
-        else:
-            result = parse_expression(text, namespace, limits)
+        with hard_deadline(10 * SECONDS, text):
+            if limits is None:
+                result = parse_expression(text, namespace)
+            else:
+                result = parse_expression(text, namespace, limits)
     except ParseError as error:
         result = error
     return result, time.perf_counter() - start

@@ -1,19 +1,31 @@
-"""Properties: any text gives an expression or a ParseError, quickly; valid text parses right."""
+"""Properties: any text gives an expression or a ParseError, quickly; valid text parses right.
+
+Every example runs under a hard deadline (SIGALRM raising a BaseException the
+parser cannot swallow), so a hang fails with the text that caused it instead
+of stalling the suite.  Examples are derandomized: CI sees the same ones.
+"""
 
 from __future__ import annotations
 
 import time
 
+import pytest
 import sympy
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
-from parsing_fixtures import NAMESPACE, S
+from parsing_fixtures import NAMESPACE, ParseDeadline, S, hard_deadline
 
-from lagrangian.errors import ParseError
+from lagrangian.errors import LagrangianError, ParseError
 from lagrangian.parsing import parse_expression, referenced_names
+from lagrangian.parsing.constants import NotRealError, RealConstants
 
-SECONDS = 1.5
-SETTINGS = settings(max_examples=250, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+SECONDS = 2.0  # a parse takes milliseconds; this is a hard stop for a hang
+SETTINGS = settings(
+    max_examples=250,
+    deadline=None,  # ours is hard_deadline: Hypothesis' own cannot interrupt a hang
+    derandomize=True,
+    suppress_health_check=[HealthCheck.too_slow],
+)
 
 PLAIN_TOKENS = [
     "x", "y", "theta", "theta_dot", "A", "V", "m", "pi", "E", "sin", "cos", "exp", "log",
@@ -36,16 +48,16 @@ language_text = st.text(
 
 
 def check(text: str) -> None:
-    """``text`` gives an expression or a ParseError (nothing else), in time; names agree."""
-    start = time.perf_counter()
+    """``text`` gives a real expression or a ParseError (nothing else), in time; names agree."""
     try:
-        result = parse_expression(text, NAMESPACE)
+        with hard_deadline(SECONDS, text):
+            result = parse_expression(text, NAMESPACE)
     except ParseError:
         result = None
-    assert time.perf_counter() - start < SECONDS
     if result is not None:
         assert isinstance(result, sympy.Expr)
-        assert not result.has(sympy.zoo, sympy.nan, sympy.oo)
+        assert not result.has(sympy.zoo, sympy.nan, sympy.oo, sympy.I)
+        RealConstants().check(result)  # no constant in it is certainly not real
     try:
         found = referenced_names(text)
     except ParseError:
@@ -80,6 +92,67 @@ def test_sequences_of_plain_tokens(text):
     check(text)
 
 
+# -- hostile soup: big exponents, deep calls, constants outside the real domain, LaTeX ----
+
+HOSTILE_TOKENS = [
+    "1e400", "9e999", "1e-400", "10**1000", "9**9**9", "(2**1000)", "**1000", "^999", "**-1",
+    "**(1/3)", "^(1/2)", "^0.5", "**(1/1001)", "0", "-1", "-8", "2", "3", "1/0", "9" * 100,
+    "sin(", "cos(", "tan(", "asin(", "acos(", "atan(", "atan2(", "sqrt(", "log(", "exp(",
+    "sinh(", "cosh(", "Abs(", "sign(", "V(", "A(", "(", ")", ",", "+", "-", "*", "/", "x", "y",
+    "theta", "pi", "E", "x_dot", "\\frac{", "}{", "}", "{", "\\sqrt{", "\\sqrt[3]{", "\\left(",
+    "\\right)", "\\cdot", "\\dot{x}", "\\ddot{\\theta}", "\\arccos", "\\arcsin", "\\ln",
+    "\\exp", "^{", "_{", "\\pi", "\\theta", " ",
+]  # fmt: skip
+hostile_soup = st.lists(st.sampled_from(HOSTILE_TOKENS), max_size=60).map("".join)
+
+_FUNCTIONS = ["sin", "cos", "tan", "cot", "sec", "csc", "asin", "acos", "atan", "sinh",
+              "cosh", "tanh", "exp", "log", "sqrt", "Abs", "sign"]  # fmt: skip
+_LEAVES = st.sampled_from(
+    ["x", "y", "theta", "pi", "E", "0", "1", "2", "-1", "-2", "1/2", "3", "10**300", "0.5",
+     "1e-300", "(-8)", "V(x)", "A(x, y, 0)"]
+)  # fmt: skip
+
+
+def _compose(children):
+    call = st.tuples(st.sampled_from(_FUNCTIONS), children).map(lambda c: f"{c[0]}({c[1]})")
+    atan2 = st.tuples(children, children).map(lambda c: f"atan2({c[0]}, {c[1]})")
+    binary = st.tuples(children, st.sampled_from(["+", "-", "*", "/", "**", "^"]), children).map(
+        lambda c: f"({c[0]}){c[1]}({c[2]})"
+    )
+    root = st.tuples(children, st.sampled_from(["1/2", "1/3", "2/3", "-1/2", "pi", "x"])).map(
+        lambda c: f"({c[0]})**({c[1]})"
+    )
+    return st.one_of(call, atan2, binary, root, children.map(lambda c: f"-({c})"))
+
+
+random_expressions = st.recursive(_LEAVES, _compose, max_leaves=16)
+
+
+@settings(SETTINGS, max_examples=400)
+@given(hostile_soup)
+def test_hostile_token_soup(text):
+    check(text)
+
+
+@settings(SETTINGS, max_examples=400)
+@given(random_expressions)
+def test_random_expressions_with_constants_anywhere(text):
+    check(text)
+
+
+@settings(SETTINGS, max_examples=150)
+@given(random_expressions)
+def test_random_expressions_in_a_model(text):
+    """Through the model builder: a System or a LagrangianError, in time, never anything else."""
+    import lagrangian as lg
+
+    try:
+        with hard_deadline(SECONDS, text):
+            lg.System.from_lagrangian(f"x_dot**2/2 + ({text})", coordinates=["x", "y", "theta"])
+    except LagrangianError:
+        pass
+
+
 # -- valid expressions, built as text and as SymPy objects side by side ---------------------
 
 x, y, theta = S["x"], S["y"], S["theta"]
@@ -101,8 +174,17 @@ UNARY = {
 
 def _node(text: str, value: sympy.Expr, *children) -> tuple[str, sympy.Expr, bool]:
     """(text, value, whether an infinite, undefined or complex value arose on the way)."""
-    undefined = any(child[2] for child in children) or value.has(*NON_FINITE, sympy.I)
+    undefined = any(child[2] for child in children) or value.has(*NON_FINITE) or _not_real(value)
     return text, value, undefined
+
+
+def _not_real(value: sympy.Expr) -> bool:
+    """``sqrt(cos(2))`` has no ``I`` but is not real (cos(2) < 0): the parser refuses it."""
+    try:
+        RealConstants().check(value)
+    except NotRealError:
+        return True
+    return False
 
 
 def _extend(children):
@@ -140,3 +222,21 @@ def test_valid_expressions_parse_to_the_same_object(node):
         raise AssertionError(f"{text!r} should be refused")
     assume(isinstance(expected, sympy.Expr))
     assert parse_expression(text, NAMESPACE) == expected
+
+
+def test_the_deadline_cannot_be_swallowed(monkeypatch):
+    """A hang inside SymPy, under an ``except Exception`` that retries, still ends."""
+
+    def stubborn(*args, **kwargs):
+        while True:
+            try:
+                time.sleep(0.01)
+            except Exception:  # what a careless parser might do
+                continue
+
+    monkeypatch.setattr(sympy, "Pow", stubborn)  # called under the builder's except Exception
+    start = time.perf_counter()
+    expected = r"still parsing after 0.2 s: 'x\*\*3'"
+    with pytest.raises(ParseDeadline, match=expected), hard_deadline(0.2, "x**3"):
+        parse_expression("x**3", NAMESPACE)
+    assert time.perf_counter() - start < 2
