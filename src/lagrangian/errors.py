@@ -71,7 +71,10 @@ class ModelError(LagrangianError):
             shown = self.text if len(self.text) <= 60 else self.text[:57] + "..."
             quoted = f" in '{_visible(shown)}'"
         prefix = f"{where}: " if where else ""
-        return _single_line(f"{prefix}{self.message}{quoted}")
+        message = self.message  # may quote a value of the user's: a line, not a page
+        if len(message) > 300:
+            message = message[:297] + "..."
+        return _single_line(f"{prefix}{_visible(message)}{quoted}")
 
     def located(self, *, source: str | None = None, field: str | None = None) -> ModelError:
         """The same error with the file (and field, if not yet known) filled in."""

@@ -143,3 +143,12 @@ def test_the_counts_hold_for_python_constructors_too():
             "x_dot**2", coordinates=["x"], forces={"x": "+".join(["x"] * 9_000)},
             constraints=tuple("+".join(["x_dot"] * 3_000) for _ in range(12)),
         )  # fmt: skip
+
+
+def test_an_error_quoting_a_huge_value_stays_one_short_line():
+    text = SMALL + "[parameters]\nm = [" + ",".join(["1"] * 100_000) + "]\n"
+    with pytest.raises(ModelError) as caught:
+        loads(text, source="model.toml")
+    message = str(caught.value)
+    assert message.startswith("model.toml: parameters.m: expected a number, got [1, 1, ")
+    assert len(message) < 400 and message.endswith("...")
