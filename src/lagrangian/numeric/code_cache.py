@@ -8,8 +8,8 @@ Its first line holds the sha256 of the rest::
 
 and a file whose text does not match it (damaged by a full disk, a crash, an
 editor) is generated again, never imported.  The verified text itself is what
-runs (compiled from memory under the file's name, so that numba finds the
-file): nothing read after the check can differ from what was checked.
+runs (handed to the import system from memory under the file's name, so that
+numba finds the file): nothing read after the check can differ from it.
 
 numba keeps the machine code beside the module (``__pycache__/<digest>.*.nbi``,
 ``.nbc``), pickles it reads without checking: a damaged index stops every
@@ -29,6 +29,7 @@ from __future__ import annotations
 import atexit
 import contextlib
 import hashlib
+import importlib.machinery
 import importlib.util
 import os
 import shutil
@@ -117,15 +118,33 @@ def _import(path: Path, text: str) -> ModuleType:
     """Run ``text`` as the module of ``path`` (numba's disk cache finds globals by name)."""
     folder = hashlib.sha256(str(path).encode()).hexdigest()[:8]
     name = f"_lagrangian_numba_{folder}_{path.stem[:16]}"
-    spec = importlib.util.spec_from_file_location(name, path)
+    loader = _VerifiedLoader(name, path, text.encode("utf-8"))
+    spec = importlib.util.spec_from_file_location(name, path, loader=loader)
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module
     try:
-        exec(compile(text, str(path), "exec"), module.__dict__)  # the text checked, not a re-read
+        loader.exec_module(module)
     except BaseException:
         sys.modules.pop(name, None)
         raise
     return module
+
+
+class _VerifiedLoader(importlib.machinery.SourceFileLoader):
+    """Loads the text that was checked: no second read of the file, no ``.pyc`` (Python's
+    bytecode cache is another file that could be damaged, and is checked by date only)."""
+
+    def __init__(self, name: str, path: Path, data: bytes):
+        super().__init__(name, str(path))
+        self._data = data
+
+    def get_data(self, path: str) -> bytes:
+        if path == self.path:
+            return self._data
+        raise OSError("generated modules keep no bytecode cache")
+
+    def set_data(self, path: str, data: bytes, *, _mode: int = 0o666) -> None:
+        pass
 
 
 def _write(path: Path, text: str) -> None:
