@@ -152,3 +152,24 @@ def test_an_error_quoting_a_huge_value_stays_one_short_line():
     message = str(caught.value)
     assert message.startswith("model.toml: parameters.m: expected a number, got [1, 1, ")
     assert len(message) < 400 and message.endswith("...")
+
+
+def _particles(count: int, moving_with: int) -> str:
+    """``count`` particles, each moving with the first ``moving_with`` of 200 coordinates."""
+    names = [f"q{i}" for i in range(200)]
+    text = "coordinates = [" + ",".join(f'"{q}"' for q in names) + "]\n[parameters]\nm = 1.0\n"
+    x = "+".join(f"sin({q})" for q in names[:moving_with])
+    return text + f'[[particles]]\nmass = "m"\nposition = ["{x}", "0"]\n' * count
+
+
+def test_geometry_too_costly_to_assemble_is_refused_before_it_starts(deadline):
+    start = time.perf_counter()
+    with deadline(5), pytest.raises(ModelError) as caught:
+        loads(_particles(4, 200), source="model.toml")  # 4 x 20,100 pairs: took 10 s
+    assert time.perf_counter() - start < 2.0
+    assert str(caught.value) == (
+        "model.toml: particles: kinetic energy too large to assemble: the particles and bodies "
+        "couple 80400 pairs of velocities (limit 50000); give fewer points that each move with "
+        "fewer coordinates"
+    )
+    assert loads(_particles(3, 20)).kinetic is not None  # 630 pairs

@@ -31,6 +31,7 @@ from ..symbols import (
 )
 from .components import Gravity, Spring
 from .energy import conservative_potential, gravity_potential, kinetic_energy, spring_potential
+from .limits import check_kinetic_work
 from .naming import RESERVED, coordinates_named, parameter_entry, warn_of_likely_typos
 from .spec import (
     COORDINATES,
@@ -250,6 +251,7 @@ class _Builder:
         gravity = self._gravity(resolved, dimension)
 
         time = time_symbol()
+        self._check_kinetic_work(particles, bodies)
         kinetic = (
             kinetic_energy(self.coordinates, time, particles, bodies)
             if (particles or bodies)
@@ -308,6 +310,14 @@ class _Builder:
             initial={k: float(v) for k, v in spec.initial.items()},
             simulate_settings=dict(spec.simulate),
             source=spec.source,
+        )
+
+    def _check_kinetic_work(self, particles, bodies) -> None:
+        """Refuse geometry whose kinetic energy is too costly to assemble (:mod:`.limits`)."""
+        q = {c.q for c in self.coordinates}
+        points = [p.position for p in particles] + [(*b.center, b.angle) for b in bodies]
+        check_kinetic_work(
+            len(q & set().union(*(x.free_symbols for x in point))) for point in points
         )
 
     def _by_coordinate(self, table, where, resolved) -> dict[str, sympy.Expr]:

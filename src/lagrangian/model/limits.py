@@ -15,12 +15,14 @@ example has 3 coordinates) and keep a hostile file to a second or two of work:
   symbols and expressions, and derivation grows with their number).
 * :data:`MAX_EXPRESSION_CHARACTERS`: the text of all expressions together
   (the parser takes about 10 microseconds a character).
+* :data:`MAX_KINETIC_PAIRS`: the work of assembling T from particles and bodies,
+  estimated from how many coordinates each one moves with, before it starts.
 """
 
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from types import MappingProxyType
 
 from ..errors import ModelError
@@ -49,6 +51,12 @@ MAX_COUNTS: Mapping[str, int] = MappingProxyType(
 
 MAX_EXPRESSION_CHARACTERS = 200_000
 """Most characters of expression text in one model, all fields together."""
+
+MAX_KINETIC_PAIRS = 50_000
+"""Most pairs of velocities, summed over the particles and bodies, that the kinetic
+energy of a geometric model couples: a point moving with ``k`` coordinates adds
+``k (k + 1) / 2`` (a 66-link pendulum chain has 50,116; assembling costs about
+40 microseconds a pair)."""
 
 # A dotted key of more than MAX_KEY_PARTS parts.  Possessive parts and the look-behind
 # (no start inside a key) keep the scan linear on any text; a match inside a string
@@ -101,4 +109,17 @@ def check_expression_text(lengths: Mapping[str, int]) -> None:
             f"expressions too long in all ({total} characters in {len(lengths)} fields, "
             f"limit {MAX_EXPRESSION_CHARACTERS}; this one has {lengths[longest]})",
             field=longest,
+        )
+
+
+def check_kinetic_work(moving_with: Iterable[int]) -> None:
+    """Refuse particles and bodies (each moving with so many coordinates) whose kinetic
+    energy couples more than :data:`MAX_KINETIC_PAIRS` pairs of velocities."""
+    pairs = sum(k * (k + 1) // 2 for k in moving_with)
+    if pairs > MAX_KINETIC_PAIRS:
+        raise ModelError(
+            f"kinetic energy too large to assemble: the particles and bodies couple {pairs} "
+            f"pairs of velocities (limit {MAX_KINETIC_PAIRS}); give fewer points that each "
+            "move with fewer coordinates",
+            field="particles",
         )
