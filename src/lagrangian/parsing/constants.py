@@ -21,6 +21,7 @@ microseconds a node whatever the input.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Sequence
 
 import sympy
@@ -62,10 +63,7 @@ class RealConstants:
     """
 
     def __init__(self) -> None:
-        self.iv = MPIntervalContext()
-        self.iv.prec = PRECISION_BITS
-        self.mp = MPContext()
-        self.mp.prec = PRECISION_BITS + 10
+        self.iv, self.mp = _contexts()
         self.known: dict[sympy.Basic, object] = {}
         mp = self.mp
         self.functions: dict[type, Callable[[object], object]] = {
@@ -216,6 +214,17 @@ class RealConstants:
     def _holds_no_integer(self, x) -> bool:
         low, high = self._ends(x)
         return self.mp.floor(low) == self.mp.floor(high) and self.mp.floor(low) != low
+
+
+@functools.cache
+def _contexts() -> tuple[MPIntervalContext, MPContext]:
+    """mpmath's interval and number contexts at our precision: made once (half a
+    millisecond each), never changed after, so every checker shares them."""
+    iv = MPIntervalContext()
+    iv.prec = PRECISION_BITS
+    mp = MPContext()
+    mp.prec = PRECISION_BITS + 10
+    return iv, mp
 
 
 def _fold(values: Sequence[object], combine: Callable[[object, object], object]):
