@@ -242,12 +242,14 @@ def main() -> None:
             compiled, integrator, y0, p, steps * dt, ("final_state",), precision=precision
         )
 
+    rk4_rates = {}
     for precision in ("float64", "float32"):
         hand = hand_cuda(cupy, precision)
         hand(y0, p, dt, 2)
         ours("rk4", precision, 2)
         hand_rate = median_rate(lambda h=hand: h(y0, p, dt, args.steps), work, args.repeat)
         rate = median_rate(lambda q=precision: ours("rk4", q, args.steps), work, args.repeat)
+        rk4_rates[precision] = rate
         print(f"  rk4 {precision}  hand CUDA kernel {hand_rate:10.3g}  cuda backend "
               f"{rate:10.3g} trajectory-steps/s  ours/hand {rate / hand_rate:.2f}")  # fmt: skip
     short = min(args.steps, 200)
@@ -257,7 +259,8 @@ def main() -> None:
     for precision in ("float32", "float64"):
         ours("variational", precision, 2)
         rate = median_rate(lambda q=precision: ours("variational", q, args.steps), work, 1)
-        print(f"  variational (midpoint) {precision}  cuda backend {rate:10.3g} trajectory-steps/s")
+        print(f"  variational (midpoint) {precision}  cuda backend {rate:10.3g} trajectory-steps/s"
+              f"  time / rk4 time {rk4_rates[precision] / rate:.2f}")  # fmt: skip
     _jax(compiled, y0, p, dt, args)
 
 
