@@ -29,10 +29,12 @@ from ..symbols import (
     parameter_symbol,
     time_symbol,
 )
-from .components import Gravity, Spring
+from .components import Gravity, RigidBody, Spring
 from .energy import conservative_potential, gravity_potential, kinetic_energy, spring_potential
+from .inputs import assemble_inputs, input_entries, input_parameters, with_input_forces
 from .limits import check_kinetic_work
 from .naming import RESERVED, coordinates_named, parameter_entry, warn_of_likely_typos
+from .rigid_body import moving_with, resolve_body
 from .spec import (
     COORDINATES,
     PARAMETERS,
@@ -66,6 +68,9 @@ class _Builder:
         self.names = self._base_names()
         self.functions = self._functions()
         self.parameters = self._parameters()
+        self.parameters += input_parameters(
+            spec.inputs, self._check_new_name, {p.name for p in self.parameters}
+        )
         self.namespace = self._namespace()
 
     # -- names ---------------------------------------------------------------
@@ -143,7 +148,8 @@ class _Builder:
                 found |= referenced.symbols
             elif isinstance(value, sympy.Basic):
                 found |= {s.name for s in value.free_symbols if isinstance(s, sympy.Symbol)}
-        return found - set(self.names) - set(self.functions) - RESERVED
+        inputs = {name for name, _, _ in input_entries(self.spec.inputs)}
+        return found - set(self.names) - set(self.functions) - inputs - RESERVED
 
     def _namespace(self) -> Namespace:
         symbols = {name: symbol for name, (symbol, _) in self.names.items()}
@@ -231,7 +237,9 @@ class _Builder:
             for i, p in enumerate(spec.particles)
         )
         bodies = tuple(
-            replace(
+            self._body_3d(i, b, resolved)
+            if isinstance(b, RigidBody)
+            else replace(
                 b,
                 name=b.name or f"body{i + 1}",
                 mass=resolved[f"bodies[{i}].mass"],
@@ -291,6 +299,12 @@ class _Builder:
             lagrangian = kinetic - (potential if potential is not None else 0)
 
         self._check_initial()
+        inputs = assemble_inputs(
+            spec.inputs,
+            resolved,
+            {p.name: p.symbol for p in self.parameters},
+            {c.name for c in self.coordinates},
+        )
         return System(
             name=spec.name or "system",
             description=spec.description,
@@ -300,7 +314,8 @@ class _Builder:
             lagrangian=lagrangian,
             kinetic=kinetic,
             potential=potential if potential is not None else (0 if kinetic is not None else None),
-            forces=self._by_coordinate(spec.forces, "forces", resolved),
+            forces=with_input_forces(self._by_coordinate(spec.forces, "forces", resolved), inputs),
+            inputs=inputs,
             dissipation=resolved.get("dissipation", sympy.Integer(0)),
             constraints=tuple(resolved[f"constraints[{i}]"] for i in range(len(spec.constraints))),
             particles=particles,
@@ -312,10 +327,20 @@ class _Builder:
             source=spec.source,
         )
 
+    def _body_3d(self, i, body, resolved) -> RigidBody:
+        """A 3-D body resolved and checked (:func:`~.rigid_body.resolve_body`)."""
+        values = {p.symbol: p.default for p in self.parameters if p.default is not None}
+        symbols = [time_symbol(), *(c.q for c in self.coordinates)]
+        symbols += [p.symbol for p in self.parameters]
+        built = resolve_body(body, f"bodies[{i}]", resolved, values, symbols)
+        return replace(built, name=body.name or f"body{i + 1}")
+
     def _check_kinetic_work(self, particles, bodies) -> None:
         """Refuse geometry whose kinetic energy is too costly to assemble (:mod:`.limits`)."""
         q = {c.q for c in self.coordinates}
-        points = [p.position for p in particles] + [(*b.center, b.angle) for b in bodies]
+        points = [p.position for p in particles] + [
+            moving_with(b) if isinstance(b, RigidBody) else (*b.center, b.angle) for b in bodies
+        ]
         check_kinetic_work(
             len(q & set().union(*(x.free_symbols for x in point))) for point in points
         )
@@ -328,7 +353,8 @@ class _Builder:
         return {name: resolved[f"{where}.{name}"] for name in table}
 
     def _dimension(self, particles, bodies) -> int | None:
-        dimensions = {len(p.position) for p in particles} | {2 for _ in bodies}
+        dimensions = {len(p.position) for p in particles}
+        dimensions |= {3 if isinstance(b, RigidBody) else 2 for b in bodies}
         for i, p in enumerate(particles):
             if len(p.position) not in (2, 3):
                 raise ModelError(

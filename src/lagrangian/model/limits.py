@@ -45,6 +45,7 @@ MAX_COUNTS: Mapping[str, int] = MappingProxyType(
         "forces": 200,
         "conservative_forces": 200,
         "initial": 400,
+        "inputs": 200,
     }
 )
 """Most entries of each list or table of a model."""

@@ -5,7 +5,8 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 
-from .components import ExprLike, Gravity, Particle, RigidBody2D, Spring
+from .components import ExprLike, Gravity, Particle, RigidBody, RigidBody2D, Spring
+from .inputs import input_fields
 from .limits import check_counts, check_expression_text
 
 # What an expression field may depend on.
@@ -33,7 +34,7 @@ class ModelSpec:
     kinetic: ExprLike | None = None
     potential: ExprLike | None = None
     particles: tuple[Particle, ...] = ()
-    bodies: tuple[RigidBody2D, ...] = ()
+    bodies: tuple[RigidBody2D | RigidBody, ...] = ()
     springs: tuple[Spring, ...] = ()
     gravity: Gravity | None = None
     forces: Mapping[str, ExprLike] = field(default_factory=dict)
@@ -41,6 +42,7 @@ class ModelSpec:
     dissipation: ExprLike | None = None
     constraints: tuple[ExprLike, ...] = ()
     functions: Mapping[str, Sequence[str]] = field(default_factory=dict)
+    inputs: Mapping[str, object] = field(default_factory=dict)  # see .inputs
     initial: Mapping[str, float] = field(default_factory=dict)
     simulate: Mapping[str, object] = field(default_factory=dict)
     name: str = ""
@@ -61,6 +63,7 @@ def check_size(spec: ModelSpec) -> None:
         "forces": spec.forces,
         "conservative_forces": spec.conservative_forces,
         "initial": spec.initial,
+        "inputs": spec.inputs,
     }
     check_counts(
         {
@@ -85,6 +88,11 @@ def expression_fields(spec: ModelSpec) -> Iterator[tuple[str, object, frozenset[
         for k, x in enumerate(particle.position):
             yield f"particles[{i}].position[{k}]", x, CONFIGURATION
     for i, body in enumerate(spec.bodies):
+        if isinstance(body, RigidBody):
+            from .rigid_body import body_fields
+
+            yield from body_fields(body, f"bodies[{i}]", CONSTANT, CONFIGURATION)
+            continue
         yield f"bodies[{i}].mass", body.mass, CONSTANT
         yield f"bodies[{i}].inertia", body.inertia, CONSTANT
         for k, x in enumerate(body.center):
@@ -107,3 +115,5 @@ def expression_fields(spec: ModelSpec) -> Iterator[tuple[str, object, frozenset[
         yield f"conservative_forces.{name}", value, CONFIGURATION
     for i, value in enumerate(spec.constraints):
         yield f"constraints[{i}]", value, STATE_AND_TIME
+    for where, value in input_fields(spec.inputs):
+        yield where, value, STATE_AND_TIME

@@ -12,10 +12,11 @@ import sympy
 from ..budget import STAGE_SECONDS
 from ..errors import ModelError
 from ..symbols import Coordinate, time_symbol
-from .components import ExprLike, Gravity, Particle, RigidBody2D, Spring
+from .components import ExprLike, Gravity, Particle, RigidBody, RigidBody2D, Spring
 
 if TYPE_CHECKING:
     from ..derive import EquationsOfMotion
+    from .inputs import Input
 
 PARAMETER_SIGNS = ("positive", "nonnegative", "real", "negative")
 
@@ -67,10 +68,11 @@ class System:
     potential: sympy.Expr | None = None
     functions: tuple[FunctionDeclaration, ...] = ()
     forces: Mapping[str, sympy.Expr] = field(default_factory=dict)
+    inputs: tuple[Input, ...] = ()
     dissipation: sympy.Expr = sympy.S.Zero
     constraints: tuple[sympy.Expr, ...] = ()
     particles: tuple[Particle, ...] = ()
-    bodies: tuple[RigidBody2D, ...] = ()
+    bodies: tuple[RigidBody2D | RigidBody, ...] = ()
     springs: tuple[Spring, ...] = ()
     gravity: Gravity | None = None
     initial: Mapping[str, float] = field(default_factory=dict)
@@ -112,6 +114,17 @@ class System:
             raise ModelError(f"unknown name '{name}' (known: {known})") from None
 
     @property
+    def input_names(self) -> tuple[str, ...]:
+        """The inputs (see :mod:`lagrangian.model.inputs`); each is also a parameter."""
+        return tuple(entry.name for entry in self.inputs)
+
+    def without_inputs(self, values: Mapping[str, float] | None = None) -> System:
+        """The system with its inputs held at ``values`` (default 0): no inputs left."""
+        from .inputs import without_inputs
+
+        return without_inputs(self, values)
+
+    @property
     def parameter_values(self) -> Mapping[str, float]:
         """Default values of the parameters that have one."""
         return MappingProxyType(
@@ -141,10 +154,11 @@ class System:
 
     # -- analysis (DESIGN section 6) ------------------------------------------------
     def conserved_quantities(self):
-        """Cyclic momenta and the energy function, with reasons for what is not conserved."""
+        """Cyclic momenta and the energy function, with reasons for what is not conserved
+        (inputs held at 0)."""
         from ..analysis import conserved_quantities
 
-        return conserved_quantities(self.equations_of_motion())
+        return conserved_quantities(self.without_inputs().equations_of_motion())
 
     def hamiltonian(self):
         """H(q, p, t) by Legendre transform, with Hamilton's equations."""
@@ -153,25 +167,33 @@ class System:
         return hamiltonian(self.equations_of_motion())
 
     def equilibria(self):
-        """Points at rest that stay at rest, each with its normal modes."""
+        """Points at rest that stay at rest, each with its normal modes (inputs held at 0)."""
         from ..analysis import equilibria
 
-        return equilibria(self.equations_of_motion())
+        return equilibria(self.without_inputs().equations_of_motion())
 
     def linearize(self, at: Mapping[str, object]):
         """M0 x'' + C0 x' + K0 x = 0 about the equilibrium ``at``; ``.normal_modes()``."""
         from ..analysis import linearize
 
-        return linearize(self.equations_of_motion(), at)
+        return linearize(self.without_inputs().equations_of_motion(), at)
+
+    def state_space(self, at: Mapping[str, object] | None = None, **options: object):
+        """x' = A x + B u, y = C x + D u about an equilibrium or steady motion, x = [q, q']
+        (options ``outputs``, ``inputs``: see :func:`lagrangian.analysis.state_space`)."""
+        from ..analysis.state_space import state_space
+
+        return state_space(self.equations_of_motion(), at, **options)
 
     def analyze(self, *, timeout: float | None = STAGE_SECONDS):
         """Every analysis that applies, each stage within ``timeout`` seconds (None: no limit).
 
         See :func:`lagrangian.analysis.analyze`; stages out of time are in ``undecided``.
+        Inputs are held at 0.
         """
         from ..analysis import analyze
 
-        return analyze(self.equations_of_motion(), timeout=timeout)
+        return analyze(self.without_inputs().equations_of_motion(), timeout=timeout)
 
     def simulate(self, **options: object):
         """Integrate the equations of motion -> :class:`~lagrangian.trajectory.Trajectory`.

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from ..errors import ModelError
 from .build import ModelSpec, build_system
-from .components import Gravity, Particle, RigidBody2D, Spring
+from .components import Gravity, Particle, RigidBody, RigidBody2D, Spring
 from .limits import MAX_FILE_BYTES, check_counts, check_toml_keys, file_size_problem
 from .system import System
 
@@ -34,13 +34,13 @@ TOP_LEVEL_KEYS = frozenset(
         "name", "description", "coordinates", "parameters", "lagrangian", "kinetic",
         "potential", "particles", "bodies", "springs", "gravity", "forces",
         "conservative_forces", "dissipation", "constraints", "functions", "initial",
-        "simulate",
+        "simulate", "inputs",
     }
 )  # fmt: skip
 SIMULATE_KEYS = frozenset({"t_end", "dt", "rtol", "atol", "method", "steps"})
 _COUNTED = (
     "coordinates", "parameters", "particles", "bodies", "springs", "constraints", "functions",
-    "forces", "conservative_forces", "initial",
+    "forces", "conservative_forces", "initial", "inputs",
 )  # fmt: skip
 
 
@@ -151,6 +151,7 @@ def _spec(data: Mapping[str, object], source: str | None) -> ModelSpec:
         conservative_forces=_table(data, "conservative_forces"),
         constraints=tuple(_list(data, "constraints")),
         functions=_table(data, "functions"),
+        inputs=_table(data, "inputs"),
         initial=_table(data, "initial"),
         simulate=simulate,
         source=source,
@@ -239,6 +240,8 @@ def _particle(table, i):
 
 def _body(table, i):
     where = f"bodies[{i}]"
+    if "position" in table or "orientation" in table or isinstance(table.get("inertia"), list):
+        return _body_3d(table, where)
     _check_keys(table, {"name", "mass", "inertia", "center", "angle"}, where)
     return RigidBody2D(
         name=_string(table, "name", ""),
@@ -246,6 +249,44 @@ def _body(table, i):
         inertia=_required(table, "inertia", where),
         center=_vector(table, "center", where, sizes=(2,)),
         angle=_required(table, "angle", where),
+    )
+
+
+def _body_3d(table, where):
+    """A 3-D body: position, inertia (3 moments or 3 x 3), orientation {euler, convention}
+    or {rotation}; shapes and values are checked when built (:mod:`.rigid_body`)."""
+    _check_keys(table, {"name", "mass", "position", "inertia", "orientation"}, where)
+    for key in ("position", "inertia", "orientation"):
+        if key not in table:
+            raise ModelError("missing field (a 3-D body has position, inertia, orientation)",
+                             field=f"{where}.{key}")  # fmt: skip
+    inertia = _list(table, "inertia", f"{where}.inertia")
+    orientation = table["orientation"]
+    if not isinstance(orientation, dict):
+        raise ModelError(
+            "expected a table {euler = [...], convention = \"zxz\"} or {rotation = [[...], ...]}",
+            field=f"{where}.orientation",
+        )
+    _check_keys(orientation, {"euler", "convention", "rotation"}, f"{where}.orientation")
+    convention = orientation.get("convention", "zxz")
+    if not isinstance(convention, str):
+        raise ModelError("expected text such as \"zxz\"", field=f"{where}.orientation.convention")
+    euler = orientation.get("euler")
+    rotation = orientation.get("rotation")
+    for key, value in (("euler", euler), ("rotation", rotation)):
+        if value is not None and not isinstance(value, list):
+            raise ModelError(f"expected a list, got {type(value).__name__}",
+                             field=f"{where}.orientation.{key}")  # fmt: skip
+    return RigidBody(
+        name=_string(table, "name", ""),
+        mass=_required(table, "mass", where),
+        position=_vector(table, "position", where, sizes=(3,)),
+        inertia=tuple(tuple(x) if isinstance(x, list) else x for x in inertia),
+        euler=None if euler is None else tuple(euler),
+        convention=convention,
+        rotation=None if rotation is None else tuple(
+            tuple(row) if isinstance(row, list) else row for row in rotation
+        ),
     )
 
 
