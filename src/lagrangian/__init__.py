@@ -16,7 +16,17 @@ from .errors import (
     SingularMassMatrixError,
 )
 from .integrate import Event, simulate
-from .model import Gravity, Parameter, Particle, RigidBody2D, Spring, System, load, loads
+from .model import (
+    Gravity,
+    Parameter,
+    Particle,
+    RigidBody,
+    RigidBody2D,
+    Spring,
+    System,
+    load,
+    loads,
+)
 from .numeric import CompiledSystem, compile_equations
 from .trajectory import Trajectory
 
@@ -33,6 +43,7 @@ __all__ = [
     "Parameter",
     "ParseError",
     "Particle",
+    "RigidBody",
     "RigidBody2D",
     "SingularMassMatrixError",
     "Spring",

@@ -1,7 +1,7 @@
 """Stage 1: a mechanical system as frozen data (`System`) from text, TOML or Python."""
 
 from .build import ModelSpec, build_system
-from .components import Gravity, Particle, RigidBody2D, Spring
+from .components import Gravity, Particle, RigidBody, RigidBody2D, Spring
 from .system import FunctionDeclaration, Parameter, System
 from .toml_io import load, load_file, loads
 
@@ -11,6 +11,7 @@ __all__ = [
     "ModelSpec",
     "Parameter",
     "Particle",
+    "RigidBody",
     "RigidBody2D",
     "Spring",
     "System",

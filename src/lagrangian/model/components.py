@@ -1,4 +1,5 @@
-"""The pieces a system can be assembled from: particles, planar rigid bodies, springs, gravity.
+"""The pieces a system can be assembled from: particles, rigid bodies (planar and 3-D),
+springs, gravity.
 
 Fields accept text (parsed by the safe parser when the system is built), SymPy
 expressions or numbers; inside a built :class:`~lagrangian.model.System` every
@@ -40,6 +41,34 @@ class RigidBody2D:
     inertia: ExprLike
     center: tuple[ExprLike, ExprLike]
     angle: ExprLike
+
+
+@dataclass(frozen=True)
+class RigidBody:
+    """A rigid body in space: centre of mass ``position`` (3 components), ``inertia``
+    about the centre of mass in the body frame, and its orientation.
+
+    ``inertia``: the principal moments (I1, I2, I3) or the full 3 x 3 tensor.  The
+    orientation is given by Euler angles ``euler`` in ``convention`` (see
+    :data:`~lagrangian.model.rotation.CONVENTIONS`; "zxz" classical, "zyx" yaw-pitch-roll)
+    or by the entries of the ``rotation`` matrix R (body frame -> space frame), all
+    functions of the coordinates and ``t``.  T = m |v_c|^2 / 2 + omega^T I omega / 2 with
+    omega the body-frame angular velocity (König's theorem; :mod:`.rigid_body`).
+    Once built, ``inertia`` is the full tensor and ``rotation`` is always given.
+    """
+
+    name: str
+    mass: ExprLike
+    position: tuple[ExprLike, ...]
+    inertia: tuple
+    euler: tuple[ExprLike, ...] | None = None
+    convention: str = "zxz"
+    rotation: tuple[tuple[ExprLike, ...], ...] | None = None
+
+    @property
+    def center(self) -> tuple[ExprLike, ...]:
+        """The centre of mass (the name planar bodies use, for springs and gravity)."""
+        return self.position
 
 
 @dataclass(frozen=True)

@@ -34,29 +34,46 @@ from ..algebra import (
 )
 from ..errors import ModelError
 from ..symbols import Coordinate
-from .components import Gravity, Particle, RigidBody2D, Spring
+from .components import Gravity, Particle, RigidBody, RigidBody2D, Spring
+from .rigid_body import rotation_piece
 
 
 def kinetic_energy(
     coordinates: Sequence[Coordinate],
     time: sympy.Symbol,
     particles: Sequence[Particle],
-    bodies: Sequence[RigidBody2D],
+    bodies: Sequence[RigidBody2D | RigidBody],
 ) -> sympy.Expr:
-    """T of the particles and planar rigid bodies (translation of the centre + rotation)."""
+    """T of the particles and rigid bodies (translation of the centre + rotation).
+
+    A 3-D body's rotation adds omega^T I omega / 2 with omega = A q' + b its body-frame
+    angular velocity (:mod:`.rigid_body`): M += A^T I A, linear += A^T I b,
+    c += b^T I b / 2, tidied with the translation, entry by entry.
+    """
     q = [c.q for c in coordinates]
     n = len(q)
+    solids = [b for b in bodies if isinstance(b, RigidBody)]
+    bodies = [b for b in bodies if not isinstance(b, RigidBody)]
     if n >= FAST_MIN_COORDINATES:
-        fast = _kinetic_energy_large(coordinates, time, particles, bodies)
+        centers = [Particle(b.name, b.mass, b.position) for b in solids]
+        fast = _kinetic_energy_large(coordinates, time, [*particles, *centers], bodies)
         if fast is not None:
-            return fast
+            return fast + _rotational_energy(coordinates, time, solids)
     mass_matrix = [[sympy.Integer(0)] * n for _ in range(n)]
     linear = [sympy.Integer(0)] * n
     constant = sympy.Integer(0)
+    for body in solids:
+        inertia, rates, explicit = rotation_piece(body, q, time)
+        weighted = inertia * rates  # I A
+        for i in range(n):
+            for j in range(i, n):
+                mass_matrix[i][j] += (rates[:, i].T * weighted[:, j])[0, 0]
+            linear[i] += (weighted[:, i].T * explicit)[0, 0]
+        constant += (explicit.T * inertia * explicit)[0, 0] / 2
 
     # (mass or inertia, position components): a body's rotation is a 1-D "point" at its angle.
     points = [(p.mass, p.position) for p in particles]
-    points += [(b.mass, b.center) for b in bodies]
+    points += [(b.mass, b.center) for b in [*bodies, *solids]]
     points += [(b.inertia, (b.angle,)) for b in bodies]
     for mass, position in points:
         jacobian = [[sympy.diff(x, qj) for qj in q] for x in position]
@@ -78,6 +95,30 @@ def kinetic_energy(
         ]
         terms.append(tidy(linear[i], state, trig=True) * velocities[i])
     terms.append(tidy(constant, state, trig=True))
+    return sympy.Add(*terms)
+
+
+def _rotational_energy(
+    coordinates: Sequence[Coordinate], time: sympy.Symbol, solids: Sequence[RigidBody]
+) -> sympy.Expr:
+    """sum over 3-D bodies of omega^T I omega / 2, each coefficient of q_i' q_j' tidied."""
+    q = [c.q for c in coordinates]
+    velocities = [c.q_dot for c in coordinates]
+    state = (*q, time)
+    terms = []
+    for body in solids:
+        inertia, rates, explicit = rotation_piece(body, q, time)
+        weighted = inertia * rates
+        active = [i for i in range(len(q)) if any(x != 0 for x in rates[:, i])]
+        for a, i in enumerate(active):
+            for j in active[a:]:
+                entry = tidy((rates[:, i].T * weighted[:, j])[0, 0], state, trig=True)
+                weight = velocities[i] ** 2 / 2 if i == j else velocities[i] * velocities[j]
+                terms.append(entry * weight)
+            terms.append(
+                tidy((weighted[:, i].T * explicit)[0, 0], state, trig=True) * velocities[i]
+            )
+        terms.append(tidy((explicit.T * inertia * explicit)[0, 0] / 2, state, trig=True))
     return sympy.Add(*terms)
 
 
@@ -184,7 +225,7 @@ def _jacobian_columns(position, q) -> dict:
 
 
 def gravity_potential(
-    gravity: Gravity, particles: Sequence[Particle], bodies: Sequence[RigidBody2D]
+    gravity: Gravity, particles: Sequence[Particle], bodies: Sequence[RigidBody2D | RigidBody]
 ) -> sympy.Expr:
     """V = -g sum_k m_k (direction . r_k): height measured against the direction of gravity."""
     points = [(p.mass, p.position) for p in particles] + [(b.mass, b.center) for b in bodies]

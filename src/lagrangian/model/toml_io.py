@@ -264,19 +264,21 @@ def _body_3d(table, where):
     orientation = table["orientation"]
     if not isinstance(orientation, dict):
         raise ModelError(
-            "expected a table {euler = [...], convention = \"zxz\"} or {rotation = [[...], ...]}",
+            'expected a table {euler = [...], convention = "zxz"} or {rotation = [[...], ...]}',
             field=f"{where}.orientation",
         )
     _check_keys(orientation, {"euler", "convention", "rotation"}, f"{where}.orientation")
     convention = orientation.get("convention", "zxz")
     if not isinstance(convention, str):
-        raise ModelError("expected text such as \"zxz\"", field=f"{where}.orientation.convention")
+        raise ModelError('expected text such as "zxz"', field=f"{where}.orientation.convention")
     euler = orientation.get("euler")
     rotation = orientation.get("rotation")
     for key, value in (("euler", euler), ("rotation", rotation)):
         if value is not None and not isinstance(value, list):
             raise ModelError(f"expected a list, got {type(value).__name__}",
                              field=f"{where}.orientation.{key}")  # fmt: skip
+    if rotation is not None:
+        rotation = tuple(tuple(row) if isinstance(row, list) else row for row in rotation)
     return RigidBody(
         name=_string(table, "name", ""),
         mass=_required(table, "mass", where),
@@ -284,9 +286,7 @@ def _body_3d(table, where):
         inertia=tuple(tuple(x) if isinstance(x, list) else x for x in inertia),
         euler=None if euler is None else tuple(euler),
         convention=convention,
-        rotation=None if rotation is None else tuple(
-            tuple(row) if isinstance(row, list) else row for row in rotation
-        ),
+        rotation=rotation,
     )
 
 
