@@ -85,11 +85,15 @@ def test_double_pendulum_has_four_equilibria_only_one_stable():
 def test_spherical_pendulum_leaves_out_the_cyclic_azimuth():
     found = equilibria(lg.load("spherical_pendulum").equations_of_motion())
     assert points(found) == [{"theta": 0}, {"theta": sympy.pi}]
-    # sin(theta)^2 in M vanishes at the poles: the linearization is undetermined there
-    for e in found:
-        assert e.modes.stability is Stability.UNDETERMINED
-        assert "singular" in e.modes.note
-        assert not e.stable
+    # sin(theta)^2 in M vanishes at the poles: phi is degenerate there, and the modes are
+    # those of theta alone: the pendulum in a vertical plane, g/l below and -g/l above
+    system = lg.load("spherical_pendulum")
+    g, l = system.symbol("g"), system.symbol("l")
+    down, up = found
+    assert down.degenerate == up.degenerate == ("phi",)
+    assert down.omega_squared == (g / l,) and down.modes.stability is Stability.STABLE
+    assert up.omega_squared == (-g / l,) and up.modes.stability is Stability.UNSTABLE
+    assert list(down.modes.shapes[0]) == [1, 0]  # theta moves, the degenerate phi does not
 
 
 @pytest.mark.parametrize("name", ["central_force", "planar_particle_forces"])

@@ -28,8 +28,8 @@ from ..algebra import tidy
 from ..budget import remaining
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
-from .equilibria import _in_child, _solve
 from .linear import LinearizedSystem, NormalModes
+from .solving import in_child, solve_factored
 
 
 @dataclass(frozen=True)
@@ -71,8 +71,8 @@ def constrained_equilibria(
         for i in range(len(q))
     ] + [tidy(c) for c in system.constraints]
     left = remaining()  # a stage's deadline, when sooner
-    solutions = _in_child(
-        _solve, (equations, q + lambdas), timeout if left is None else min(timeout, left)
+    solutions = in_child(
+        solve_factored, (equations, q + lambdas), timeout if left is None else min(timeout, left)
     )
     if not solutions:
         return ()

@@ -26,53 +26,58 @@ it are reduced to (-pi, pi] and compared modulo 2 pi.
 
 from __future__ import annotations
 
-import itertools
-import math
-import multiprocessing
-import pickle
-import random
-import warnings
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 from types import MappingProxyType
 
-import numpy as np
 import sympy
 from sympy.core.function import AppliedUndef
 
 from ..algebra import is_zero, tidy
 from ..budget import remaining
 from ..derive import EquationsOfMotion
-from ..distributions import without_distributions
 from ..errors import ModelError
 from ..model import System
-from ..symbols import Coordinate
-from .linear import NormalModes, Stability, linearize, vanishes
-
-#: Distance below which two numerical roots are the same point.
-DEDUPE_TOLERANCE = 1e-8
-#: Residual (relative to the size of G at the starts) below which a root is accepted.
-ROOT_TOLERANCE = 1e-9
-#: Largest Newton step (relative to the point) from an accepted numerical root.
-NEWTON_STEP = 1e-6
-#: Numerical root coordinates smaller than this are reported as 0.
-SNAP_TO_ZERO = 1e-12
-#: Largest number of factor combinations solved symbolically.
-MAX_COMBINATIONS = 64
-#: Starting points of the numerical search: about this many, in [-pi, pi]^n.
-STARTS = 100
+from .conditions import stability_verdict
+from .linear import LinearizedSystem, NormalModes, Stability, linearize
+from .neutral import free_coordinates, representative, zero_mode_names
+from .search import RootSearch
+from .singular import regular_modes
 
 
 @dataclass(frozen=True)
 class Equilibrium:
-    """A point at rest (coordinate name -> value) with the normal modes about it."""
+    """A point at rest (coordinate name -> value) with the normal modes about it.
+
+    ``free``: for a continuum of equilibria, the coordinates that parametrize it
+    (the point gives the others in terms of them); the modes are those at
+    ``representative`` (a member with the free coordinates set).  ``degenerate``:
+    coordinates that are singular at the point (their row of M vanishes); the
+    modes are then those of the regular directions (:mod:`.singular`).
+    ``zero_modes``: what each direction with omega^2 = 0 is (:mod:`.neutral`).
+    ``at_defaults``: the stability verdict holds at the default parameter values;
+    ``stability_condition``: the condition on the parameters for stability
+    (:mod:`.conditions`), when found.
+    """
 
     point: Mapping[str, sympy.Expr]
     numeric: bool
     modes: NormalModes
+    free: tuple[str, ...] = ()
+    representative: Mapping[str, sympy.Expr] = field(default_factory=dict)
+    degenerate: tuple[str, ...] = ()
+    zero_modes: tuple[str, ...] = ()
+    at_defaults: bool = False
+    stability_condition: sympy.Basic | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "point", MappingProxyType(dict(self.point)))
+        object.__setattr__(self, "representative", MappingProxyType(dict(self.representative)))
+
+    @property
+    def everywhere(self) -> bool:
+        """Every configuration is an equilibrium (an empty point, no free coordinates)."""
+        return not self.point and not self.free and not self.degenerate
 
     @property
     def stable(self) -> bool:
@@ -104,10 +109,44 @@ class RestPoint:
 
 
 def with_modes(eom: EquationsOfMotion, rest: RestPoint) -> Equilibrium:
-    """The :class:`Equilibrium` at ``rest``, with the normal modes about it."""
+    """The :class:`Equilibrium` at ``rest``, with the normal modes about it.
+
+    A continuum (free coordinates) is linearized at a representative member; a
+    point where coordinates are singular, in its regular directions.
+    """
     if rest.everywhere:
-        return Equilibrium({}, False, _modes_everywhere(eom))
-    return Equilibrium(rest.point, rest.numeric, _modes(eom, rest.point, rest.numeric))
+        modes = _modes_everywhere(eom)
+        return Equilibrium({}, False, modes, zero_modes=_everywhere_names(eom, modes))
+    free = free_coordinates(eom, rest.point)
+    member = representative(eom, rest.point, free) if free else dict(rest.point)
+    modes, degenerate, linear = _modes(eom, member, rest.numeric)
+    zero = ()
+    if linear is not None and any(_is_zero_root(w) for w in modes.omega_squared):
+        regular = [i for i, c in enumerate(eom.system.coordinates) if c.name not in degenerate]
+        stiffness = linear.stiffness.extract(regular, regular)
+        zero = zero_mode_names(eom, stiffness, member, free, rest.point, tuple(regular))
+    verdict = stability_verdict(modes)
+    return Equilibrium(
+        rest.point,
+        rest.numeric,
+        modes,
+        free=free,
+        representative=member if free else {},
+        degenerate=degenerate,
+        zero_modes=zero,
+        at_defaults=verdict.at_defaults,
+        stability_condition=verdict.condition,
+    )
+
+
+def _is_zero_root(w: sympy.Expr) -> bool:
+    return w == 0 or (w.is_number and abs(complex(w)) == 0)
+
+
+def _everywhere_names(eom: EquationsOfMotion, modes: NormalModes) -> tuple[str, ...]:
+    if modes.omega_squared and all(w == 0 for w in modes.omega_squared):
+        return ("every direction: every configuration is at rest",) * len(modes.omega_squared)
+    return ()
 
 
 def rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> tuple[RestPoint, ...]:
@@ -120,6 +159,8 @@ def rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> tuple[RestP
     if system.constraints:
         raise ModelError("equilibria with constraints are not supported", field="constraints")
     rest = {c.q_dot: sympy.Integer(0) for c in system.coordinates}
+    if _flat(system, rest):
+        return (RestPoint({}, False, everywhere=True),)
     forces = [tidy(g, trig=True) for g in eom.forcing.xreplace(rest)]
     if any(g.has(system.time) for g in forces):
         return ()
@@ -136,7 +177,7 @@ def rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> tuple[RestP
     unknowns = [c for c in system.coordinates if c.q in symbols]
     if not unknowns:
         return ()  # the forces at rest never vanish (for generic parameter values)
-    search = _Search(system, equations, unknowns)
+    search = RootSearch(system, equations, unknowns)
     left = remaining()
     points = search.symbolic(timeout if left is None else min(timeout, left))
     numeric = points is None or not search.confirms(points)
@@ -145,14 +186,37 @@ def rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> tuple[RestP
     return tuple(RestPoint(p, numeric) for p in points)
 
 
-def _modes(eom: EquationsOfMotion, point: Mapping[str, sympy.Expr], numeric: bool) -> NormalModes:
+def _flat(system: System, rest: Mapping) -> bool:
+    """Every configuration at rest is an equilibrium, seen from L alone (no search):
+    L(q, 0) does not depend on q (V = 0, no moving constraints), L has no t, and
+    no generalized or dissipative force acts at rest (a torque-free rigid body)."""
+    q = [c.q for c in system.coordinates]
+    at_rest = system.lagrangian.xreplace(rest)
+    if at_rest.has(*q) or system.lagrangian.has(system.time):
+        return False
+    forces = [*system.forces.values()] + [
+        sympy.diff(system.dissipation, c.q_dot) for c in system.coordinates
+    ]
+    return all(is_zero(f.xreplace(rest)) for f in forces)
+
+
+def _modes(
+    eom: EquationsOfMotion, point: Mapping[str, sympy.Expr], numeric: bool
+) -> tuple[NormalModes, tuple[str, ...], LinearizedSystem | None]:
+    """(modes, degenerate coordinates, the linearization) about ``point``."""
     at = dict(point)
     if numeric:
         at |= {name: sympy.Float(v) for name, v in eom.system.parameter_values.items()}
     try:
-        return linearize(eom, at, check=not numeric).normal_modes()
+        linear = linearize(eom, at, check=not numeric)
     except ModelError as error:
-        return NormalModes.undetermined(str(error))
+        return NormalModes.undetermined(str(error)), (), None
+    modes = linear.normal_modes()
+    if modes.stability is Stability.UNDETERMINED and "singular" in modes.note:
+        regular = regular_modes(linear)
+        if regular is not None:
+            return regular[0], regular[1], linear
+    return modes, (), linear
 
 
 def _modes_everywhere(eom: EquationsOfMotion) -> NormalModes:
@@ -161,7 +225,7 @@ def _modes_everywhere(eom: EquationsOfMotion) -> NormalModes:
     rest = {c.q_dot: 0 for c in coordinates}
     for variables in ([c.q for c in coordinates], [c.q_dot for c in coordinates]):
         if any(not is_zero(e) for e in eom.forcing.jacobian(variables).xreplace(rest)):
-            return _modes(eom, {}, False)
+            return _modes(eom, {}, False)[0]
     n = len(coordinates)
     return NormalModes(
         omega_squared=(sympy.Integer(0),) * n,
@@ -169,266 +233,3 @@ def _modes_everywhere(eom: EquationsOfMotion) -> NormalModes:
         closed_form=True,
         shapes=tuple(sympy.ImmutableMatrix(n, 1, lambda i, _, k=k: int(i == k)) for k in range(n)),
     )
-
-
-class _Search:
-    """Solve G = 0 for ``unknowns``, symbolically and numerically."""
-
-    def __init__(self, system: System, equations: list[sympy.Expr], unknowns: list[Coordinate]):
-        self.system = system
-        self.equations = equations
-        self.unknowns = unknowns
-        self.defaults = dict(system.parameter_values)
-        self.complete = all(p.default is not None for p in system.parameters)
-        self.angles = []
-        for c in unknowns:
-            shift = {c.q: c.q + 2 * sympy.pi}
-            self.angles.append(all(is_zero(g.xreplace(shift) - g) for g in equations))
-
-    # -- symbolic ----------------------------------------------------------------
-    def symbolic(self, timeout: float) -> list[dict[str, sympy.Expr]] | None:
-        """Real solutions by SymPy, or None when it fails or runs out of time."""
-        solutions = _in_child(_solve, (self.equations, [c.q for c in self.unknowns]), timeout)
-        if solutions is None:
-            return None
-        points = []
-        for solution in solutions:
-            point = {c.name: solution[c.q] for c in self.unknowns if c.q in solution}
-            if self._may_be_real(point) and self._solves(point) and point not in points:
-                points.append(point)
-        return points
-
-    def _may_be_real(self, point: Mapping[str, sympy.Expr]) -> bool:
-        for value in point.values():
-            if value.is_extended_real is False or value.has(sympy.zoo, sympy.nan):
-                return False
-            if self.complete and not value.has(*(c.q for c in self.unknowns)):
-                number = _number(value, self.defaults)
-                if number is None or abs(number.imag) > 1e-9 * (1 + abs(number.real)):
-                    return False
-        return True
-
-    def _solves(self, point: Mapping[str, sympy.Expr]) -> bool:
-        substitution = {c.q: point[c.name] for c in self.unknowns if c.name in point}
-        try:
-            residuals = [g.xreplace(substitution) for g in self.equations]
-        except (ZeroDivisionError, ValueError):
-            return False
-        if any(r.has(sympy.zoo, sympy.nan) for r in residuals):
-            return False
-        values = self.defaults if self.complete else {}
-        return all(vanishes(r, self.system, values) for r in residuals)
-
-    # -- numeric ---------------------------------------------------------------
-    def confirms(self, points: Sequence[Mapping[str, sympy.Expr]]) -> bool:
-        """True when each numerical root (at the defaults, else at random values) is a point."""
-        values = self.defaults if self.complete else self._random_values()
-        expected = []
-        for point in points:
-            if len(point) < len(self.unknowns):
-                return True  # a continuum of equilibria: nothing to compare
-            numbers = [_number(point[c.name], values) for c in self.unknowns]
-            if all(z is not None and abs(z.imag) <= 1e-9 * (1 + abs(z.real)) for z in numbers):
-                expected.append(np.array([z.real for z in numbers]))
-        found = self._roots(values)
-        if all(any(self._same(root, e, 1e-6) for e in expected) for root in found):
-            return True
-        if not self.complete:
-            missing = [p.name for p in self.system.parameters if p.default is None]
-            raise ModelError(
-                "SymPy found only some of the equilibria; give default values for "
-                + ", ".join(missing)
-                + " to locate them numerically"
-            )
-        return False
-
-    def numeric(self) -> list[dict[str, sympy.Expr]]:
-        """Roots at the default parameter values; ModelError when some are missing."""
-        if not self.complete:
-            missing = [p.name for p in self.system.parameters if p.default is None]
-            raise ModelError(
-                "SymPy cannot solve for the equilibria; give default values for "
-                + ", ".join(missing)
-                + " to locate them numerically"
-            )
-        return [
-            {c.name: sympy.Float(float(x)) for c, x in zip(self.unknowns, root, strict=True)}
-            for root in self._roots(self.defaults)
-        ]
-
-    def _random_values(self) -> dict[str, float]:
-        rng = random.Random(11)
-        values = dict(self.defaults)
-        for p in self.system.parameters:
-            if p.default is None:
-                magnitude = rng.uniform(0.5, 2.0)
-                values[p.name] = -magnitude if p.sign == "negative" else magnitude
-        return values
-
-    def _roots(self, values: Mapping[str, float]) -> list[np.ndarray]:
-        import scipy.optimize  # lazily: `lagrangian derive` never needs SciPy
-
-        """Distinct roots of G from starts on a grid and at random in [-pi, pi]^n."""
-        q = [c.q for c in self.unknowns]
-        table = {
-            s: sympy.Float(values[s.name])
-            for g in self.equations
-            for s in g.free_symbols
-            if s not in q
-        }
-        system = without_distributions(sympy.Matrix(self.equations).xreplace(table))
-        function = sympy.lambdify([q], list(system), "numpy")
-        jacobian = sympy.lambdify([q], without_distributions(system.jacobian(q)).tolist(), "numpy")
-        n = len(q)
-        per_axis = max(2, round(STARTS ** (1 / n)))
-        grid = np.linspace(-math.pi, math.pi, per_axis + 1)[:-1] + math.pi / (2 * per_axis)
-        starts = []
-        if per_axis**n <= 4 * STARTS:
-            starts = [np.array(p) for p in itertools.product(grid, repeat=n)]
-        rng = np.random.default_rng(5)
-        starts += list(rng.uniform(-math.pi, math.pi, size=(max(8, STARTS // 4), n)))
-        if n == len(self.equations):
-            options = {"method": "hybr", "jac": lambda x: np.array(jacobian(x), dtype=float)}
-        else:
-            options = {"method": "lm"}
-        with np.errstate(all="ignore"):
-            scale = np.median([np.abs(_call(function, x)).max() for x in starts])
-            tolerance = ROOT_TOLERANCE * (scale if np.isfinite(scale) and scale > 0 else 1.0)
-            roots: list[np.ndarray] = []
-            for start in starts:
-                try:
-                    result = scipy.optimize.root(lambda x: _call(function, x), start, **options)
-                    root = _polished(function, jacobian, result.x, n)
-                except (TypeError, ValueError, ZeroDivisionError, np.linalg.LinAlgError):
-                    continue
-                if root is None or np.abs(_call(function, root)).max() > tolerance:
-                    continue
-                root = self._reduced(root)
-                if not any(self._same(root, r, DEDUPE_TOLERANCE) for r in roots):
-                    roots.append(root)
-        return sorted(roots, key=tuple)
-
-    def _reduced(self, x: np.ndarray) -> np.ndarray:
-        x = np.array(x, dtype=float)
-        for i, angle in enumerate(self.angles):
-            if angle:
-                x[i] = math.remainder(x[i], 2 * math.pi)
-                if x[i] <= -math.pi + DEDUPE_TOLERANCE:
-                    x[i] = math.pi
-        return x
-
-    def _same(self, a: np.ndarray, b: np.ndarray, tolerance: float) -> bool:
-        for x, y, angle in zip(a, b, self.angles, strict=True):
-            d = abs(x - y)
-            if angle:
-                d = abs(math.remainder(x - y, 2 * math.pi))
-            if d > tolerance * max(1.0, abs(x), abs(y)):
-                return False
-        return True
-
-
-def _polished(function, jacobian, x: np.ndarray, n: int) -> np.ndarray | None:
-    """A few Newton (least-squares) steps from ``x``; None unless the last step is
-    small, i.e. ``x`` is near a root and not where G merely decays (-mu/r^2, r -> oo)."""
-    x = np.array(x, dtype=float)
-    residual = _call(function, x)
-    for _ in range(6):
-        if not np.all(np.isfinite(residual)):
-            return None
-        gradient = np.array(jacobian(list(x)), dtype=float).reshape(-1, n)
-        try:  # solve, not lstsq: a tiny pivot must give a huge step, not none
-            step = np.linalg.solve(gradient, residual)
-        except np.linalg.LinAlgError:
-            step = np.linalg.lstsq(gradient, residual, rcond=None)[0]
-        candidate = x - step
-        candidate_residual = _call(function, candidate)
-        if not np.abs(candidate_residual).max() < np.abs(residual).max():
-            break
-        x, residual = candidate, candidate_residual
-    if not np.abs(step).max() <= NEWTON_STEP * max(1.0, np.abs(x).max()):
-        return None
-    x[np.abs(x) < SNAP_TO_ZERO] = 0.0
-    return x
-
-
-def _call(function, x: np.ndarray) -> np.ndarray:
-    return np.array(function(list(x)), dtype=float).ravel()
-
-
-def _number(expr: sympy.Expr, values: Mapping[str, float]) -> complex | None:
-    if not {s.name for s in expr.free_symbols} <= set(values):
-        return None
-    table = {s: sympy.Float(values[s.name], 30) for s in expr.free_symbols}
-    try:
-        number = complex(sympy.N(expr.xreplace(table), 30))
-    except (TypeError, ValueError):
-        return None
-    return number if np.isfinite(number) else None
-
-
-# -- SymPy in a child process -------------------------------------------------------
-def _solve(equations: list[sympy.Expr], unknowns: list[sympy.Symbol]) -> list[dict]:
-    """Solutions of the equations, each split into its factors (a product is zero
-    when one factor is), with those that make a denominator vanish dropped."""
-    options = []
-    denominators = []
-    for equation in equations:
-        numerator, denominator = sympy.fraction(sympy.together(equation))
-        if not numerator.has(*unknowns):
-            return []  # a condition on the parameters alone: no solution for generic values
-        denominators.append(denominator)
-        factors = [f for f, _ in sympy.factor_list(numerator)[1] if f.has(*unknowns)]
-        options.append(factors or [numerator])
-    if math.prod(len(o) for o in options) > MAX_COMBINATIONS:
-        options = [[sympy.fraction(sympy.together(e))[0]] for e in equations]
-    solutions: list[dict] = []
-    for combination in itertools.product(*options):
-        for solution in sympy.solve(list(combination), unknowns, dict=True):
-            if any(d.xreplace(solution).is_zero for d in denominators):
-                continue
-            if solution and solution not in solutions:
-                solutions.append(solution)
-    return solutions
-
-
-def _in_child(function, arguments: tuple, timeout: float):
-    """``function(*arguments)`` in a forked process; None on error or after ``timeout`` s."""
-    if "fork" not in multiprocessing.get_all_start_methods():
-        return None
-    context = multiprocessing.get_context("fork")
-    receiver, sender = context.Pipe(duplex=False)
-    process = context.Process(target=_child, args=(sender, function, arguments), daemon=True)
-    with warnings.catch_warnings():
-        # JAX warns at every fork that its threads may hold locks.  The child runs only
-        # SymPy (pure Python), never XLA, and glibc's malloc is fork-safe; a fork server
-        # or spawn would re-run the user's __main__ script, which is worse.
-        warnings.filterwarnings(
-            "ignore", message=r"os\.fork\(\) was called", category=RuntimeWarning
-        )
-        process.start()
-    sender.close()
-    try:
-        if receiver.poll(timeout):
-            ok, result = receiver.recv()
-            return result if ok else None
-        return None
-    except (EOFError, OSError, pickle.UnpicklingError, AttributeError, TypeError):
-        return None  # the child died or sent something unreadable: use the numerical route
-    finally:
-        receiver.close()
-        if process.is_alive():
-            process.kill()
-        process.join()
-
-
-def _child(sender, function, arguments) -> None:
-    try:
-        result = (True, function(*arguments))
-    except Exception:
-        result = (False, None)
-    try:
-        sender.send(result)
-    except Exception:
-        sender.send((False, None))
-    finally:
-        sender.close()

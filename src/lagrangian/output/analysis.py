@@ -53,7 +53,7 @@ def analysis_document(analysis: Analysis) -> dict:
 def _equilibrium_document(e) -> dict:
     multipliers = getattr(e, "multipliers", None)
     extra = {"multipliers": {k: str(v) for k, v in multipliers.items()}} if multipliers else {}
-    return extra | {
+    document = extra | {
         "point": {name: str(value) for name, value in e.point.items()},
         "stable": e.stable,
         "stability": e.modes.stability.value,
@@ -62,6 +62,24 @@ def _equilibrium_document(e) -> dict:
         "numeric": e.numeric,
         "closed_form": e.modes.closed_form,
     }
+    # additive fields (DESIGN section 5 keeps the keys above): families, singular
+    # coordinates, named zero modes, and how the verdict depends on the parameters
+    if getattr(e, "free", ()):
+        document["free"] = list(e.free)
+        document["representative"] = {k: str(v) for k, v in e.representative.items()}
+    if getattr(e, "degenerate", ()):
+        document["degenerate"] = list(e.degenerate)
+    if getattr(e, "zero_modes", ()):
+        document["zero_modes"] = list(e.zero_modes)
+    if getattr(e, "at_defaults", False):
+        document["stability_at_defaults"] = True
+    condition = getattr(e, "stability_condition", None)
+    if condition is not None:
+        document["stability_condition"] = str(condition)
+    velocities = getattr(e, "velocities", None)
+    if velocities:
+        document["cyclic_velocities"] = {k: str(v) for k, v in velocities.items()}
+    return document
 
 
 def format_analysis(analysis: Analysis) -> str:
@@ -121,7 +139,24 @@ def _equilibrium_lines(points, show) -> list[str]:
             "every configuration"
         )
         numeric = "  [numeric, at the default parameter values]" if e.numeric else ""
-        lines.append(f"  {point}: {e.modes.stability.value}{numeric}")
+        lines.append(f"  {point}: {_verdict(e, show)}{numeric}")
+        free = getattr(e, "free", ())
+        if free:
+            member = ", ".join(
+                f"{unicode_name(k)} = {show(v)}" for k, v in e.representative.items()
+            )
+            names = ", ".join(map(unicode_name, free))
+            lines.append(f"    a family of equilibria, free: {names}; modes at the member {member}")
+        if getattr(e, "degenerate", ()):
+            names = ", ".join(map(unicode_name, e.degenerate))
+            lines.append(
+                f"    {names} degenerate here (the coordinates are singular at this point):"
+                " modes of the regular directions"
+            )
+        velocities = getattr(e, "velocities", None)
+        if velocities:
+            turning = ", ".join(f"{unicode_name(k)}̇ = {show(v)}" for k, v in velocities.items())
+            lines.append(f"    turning at {turning}")
         multipliers = getattr(e, "multipliers", None)
         if multipliers:
             forces = ", ".join(f"{unicode_name(k)} = {show(v)}" for k, v in multipliers.items())
@@ -132,9 +167,31 @@ def _equilibrium_lines(points, show) -> list[str]:
         if e.modes.periods:
             periods = [p if e.modes.closed_form else p.evalf(6) for p in e.modes.periods]
             lines.append("    periods: " + ", ".join(show(p) for p in periods))
+        for name in getattr(e, "zero_modes", ()):
+            lines.append(f"    ω² = 0: {name}")
         if e.modes.note:
             lines.append(f"    ({e.modes.note})")
     return lines or ["  none found"]
+
+
+def _verdict(e, show) -> str:
+    """'stable', or 'stable at the default parameter values; stable iff 2 a g > ω²'."""
+    verdict = e.modes.stability.value
+    if getattr(e, "at_defaults", False):
+        verdict += " at the default parameter values"
+        condition = getattr(e, "stability_condition", None)
+        if condition is not None:
+            verdict += "; stable iff " + _relation(condition, show)
+    return verdict
+
+
+def _relation(condition, show, latex: bool = False) -> str:
+    """``a > b`` (and ``a > b and c > d``) written with ``show`` for each side."""
+    import sympy
+
+    parts = condition.args if isinstance(condition, sympy.And) else (condition,)
+    joiner = r" \wedge " if latex else " and "
+    return joiner.join(f"{show(p.lhs)} > {show(p.rhs)}" for p in parts)
 
 
 def latex_analysis(analysis: Analysis) -> str:
@@ -151,6 +208,12 @@ def latex_analysis(analysis: Analysis) -> str:
         rows.append(
             rf"&{point}: \ \omega^2 \in \{{{squares}\}}\ \text{{({e.modes.stability.value})}}"
         )
+        if getattr(e, "at_defaults", False):
+            row = r"&\quad\text{stability at the default parameter values}"
+            if e.stability_condition is not None:
+                condition = _relation(e.stability_condition, show, latex=True)
+                row += rf"\text{{; stable iff }} {condition}"
+            rows.append(row)
     if analysis.reduction is not None:
         rows.append(rf"V_{{\mathrm{{eff}}}} &= {show(analysis.reduction.effective_potential)}")
     for u in analysis.undecided:  # out of time: said, not left out silently

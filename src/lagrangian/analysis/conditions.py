@@ -1,0 +1,92 @@
+"""When symbolic omega^2 decide stability only at the default values: the condition.
+
+With symmetric M0 > 0, K0 and no velocity terms, the equilibrium is linearly
+stable exactly when every root omega^2 of det(K0 - omega^2 M0) = 0 is
+positive.  A root whose sign the parameters' assumptions (positive, real,
+non-zero for generic values) do not decide was judged at the default values;
+this module states that, and writes the condition omega^2 > 0 in the parameters
+the way a textbook does: factors known to be positive dropped, negative ones
+flipping the inequality, and the rest as ``positive terms > negative terms``
+(a bead on a parabola z = a r^2 turning at omega: omega^2 = 2 a g - omega^2 > 0
+reads 2 a g > omega^2; the bottom of a turning hoop: g > R omega^2).
+
+Only roots that are rational functions of the parameters get a condition
+(others, with square roots of a discriminant, would need their reality too).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy
+
+from ..budget import ops_exceed
+from .modes import NormalModes, Stability, _generic
+
+#: Largest root (operation count) turned into a condition.
+CONDITION_MAX_OPS = 200
+
+
+@dataclass(frozen=True)
+class StabilityVerdict:
+    """``at_defaults``: the verdict holds at the default values only; ``condition``:
+    the parameters' condition for stability (None when not found or not needed)."""
+
+    at_defaults: bool
+    condition: sympy.Basic | None = None
+
+
+def stability_verdict(modes: NormalModes) -> StabilityVerdict:
+    """Whether the stability of ``modes`` was judged at the defaults, and the condition."""
+    if not modes.closed_form or modes.stability is Stability.ASYMPTOTICALLY_STABLE:
+        return StabilityVerdict(False)
+    undecided = [r for r in modes.omega_squared if r.free_symbols and _sign(r) is None]
+    if not undecided:
+        return StabilityVerdict(False)
+    if modes.shapes == () or any(_sign(r) in ("-", "0") for r in modes.omega_squared):
+        return StabilityVerdict(True)  # gyroscopic/damped, or never stable: no condition
+    parts = []
+    for root in undecided:
+        part = _positive(root)
+        if part is None:
+            return StabilityVerdict(True)
+        parts.append(part)
+    condition = sympy.And(*parts) if len(parts) > 1 else parts[0]
+    return StabilityVerdict(True, condition)
+
+
+def _sign(expr: sympy.Expr) -> str | None:
+    for candidate in (expr, _generic(expr)):
+        if candidate.is_zero:
+            return "0"
+        if candidate.is_positive:
+            return "+"
+        if candidate.is_negative:
+            return "-"
+    return None
+
+
+def _positive(root: sympy.Expr) -> sympy.Basic | None:
+    """``root > 0`` written in the parameters, or None for roots not handled."""
+    if ops_exceed(root, CONDITION_MAX_OPS) or not root.is_rational_function(*root.free_symbols):
+        return None
+    numerator, denominator = sympy.fraction(sympy.factor(sympy.together(root)))
+    flip = False
+    kept = []
+    for factor in (*sympy.Mul.make_args(numerator), *sympy.Mul.make_args(denominator)):
+        sign = _sign(factor)
+        if sign == "+":
+            continue
+        if sign == "-":
+            flip = not flip
+            continue
+        kept.append(factor)
+    if not kept:
+        return None
+    expr = sympy.expand(sympy.Mul(*kept))
+    if flip:
+        expr = -expr
+    terms = sympy.Add.make_args(expr)
+    left = sympy.Add(*(t for t in terms if not t.could_extract_minus_sign()))
+    right = -sympy.Add(*(t for t in terms if t.could_extract_minus_sign()))
+    return sympy.StrictGreaterThan(left, right, evaluate=False)

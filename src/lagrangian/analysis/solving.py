@@ -1,0 +1,86 @@
+"""SymPy's solve of G = 0 in a forked child process, killed after a timeout.
+
+SymPy cannot be interrupted safely from outside a pure-Python call that holds
+no checkpoints (``solve`` on a hard system may run for minutes), so the solve
+runs in a child process that is simply killed when its time is up.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import multiprocessing
+import pickle
+import warnings
+
+import sympy
+
+#: Largest number of factor combinations solved symbolically.
+MAX_COMBINATIONS = 64
+
+
+def solve_factored(equations: list[sympy.Expr], unknowns: list[sympy.Symbol]) -> list[dict]:
+    """Solutions of the equations, each split into its factors (a product is zero
+    when one factor is), with those that make a denominator vanish dropped."""
+    options = []
+    denominators = []
+    for equation in equations:
+        numerator, denominator = sympy.fraction(sympy.together(equation))
+        if not numerator.has(*unknowns):
+            return []  # a condition on the parameters alone: no solution for generic values
+        denominators.append(denominator)
+        factors = [f for f, _ in sympy.factor_list(numerator)[1] if f.has(*unknowns)]
+        options.append(factors or [numerator])
+    if math.prod(len(o) for o in options) > MAX_COMBINATIONS:
+        options = [[sympy.fraction(sympy.together(e))[0]] for e in equations]
+    solutions: list[dict] = []
+    for combination in itertools.product(*options):
+        for solution in sympy.solve(list(combination), unknowns, dict=True):
+            if any(d.xreplace(solution).is_zero for d in denominators):
+                continue
+            if solution and solution not in solutions:
+                solutions.append(solution)
+    return solutions
+
+
+def in_child(function, arguments: tuple, timeout: float):
+    """``function(*arguments)`` in a forked process; None on error or after ``timeout`` s."""
+    if "fork" not in multiprocessing.get_all_start_methods():
+        return None
+    context = multiprocessing.get_context("fork")
+    receiver, sender = context.Pipe(duplex=False)
+    process = context.Process(target=_child, args=(sender, function, arguments), daemon=True)
+    with warnings.catch_warnings():
+        # JAX warns at every fork that its threads may hold locks.  The child runs only
+        # SymPy (pure Python), never XLA, and glibc's malloc is fork-safe; a fork server
+        # or spawn would re-run the user's __main__ script, which is worse.
+        warnings.filterwarnings(
+            "ignore", message=r"os\.fork\(\) was called", category=RuntimeWarning
+        )
+        process.start()
+    sender.close()
+    try:
+        if receiver.poll(timeout):
+            ok, result = receiver.recv()
+            return result if ok else None
+        return None
+    except (EOFError, OSError, pickle.UnpicklingError, AttributeError, TypeError):
+        return None  # the child died or sent something unreadable: use the numerical route
+    finally:
+        receiver.close()
+        if process.is_alive():
+            process.kill()
+        process.join()
+
+
+def _child(sender, function, arguments) -> None:
+    try:
+        result = (True, function(*arguments))
+    except Exception:
+        result = (False, None)
+    try:
+        sender.send(result)
+    except Exception:
+        sender.send((False, None))
+    finally:
+        sender.close()
