@@ -19,7 +19,7 @@ from ..algebra import tidy_in_velocities
 from ..errors import ModelError, ParseError
 from ..parsing import DeclaredFunction, Namespace, parse_expression, referenced_names
 from ..symbols import Coordinate, parameter_symbol
-from .components import ExprLike
+from .components import ExprLike, RigidBody
 from .naming import coordinates_named
 from .system import Parameter, System
 
@@ -117,16 +117,25 @@ def change_coordinates(
         particles=tuple(
             replace(p, position=tuple(move(x) for x in p.position)) for p in system.particles
         ),
-        bodies=tuple(
-            replace(b, center=tuple(move(x) for x in b.center), angle=move(b.angle))
-            for b in system.bodies
-        ),
+        bodies=tuple(_moved_body(b, move) for b in system.bodies),
         springs=tuple(
             replace(s, ends=tuple(tuple(move(x) for x in end) for end in s.ends))
             for s in system.springs
         ),
         initial={},
     )
+
+
+def _moved_body(body, move):
+    """A planar or 3-D body with every expression of its geometry moved."""
+    if isinstance(body, RigidBody):
+        return replace(
+            body,
+            position=tuple(move(x) for x in body.position),
+            euler=None if body.euler is None else tuple(move(a) for a in body.euler),
+            rotation=tuple(tuple(move(x) for x in row) for row in body.rotation),
+        )
+    return replace(body, center=tuple(move(x) for x in body.center), angle=move(body.angle))
 
 
 def _new_parameters(
