@@ -10,7 +10,10 @@ With p_i = dL/dq_i' and Lagrange's equations d/dt p_i = dL/dq_i + Q_i - dF/dq_i'
   constraints, as the bead on a rotating wire) h is only the Jacobi integral and
   T + V is not conserved.
 - Noether: if L is invariant under q -> q + eps xi(q, t) (dL = 0 to first order),
-  then sum_i p_i xi_i is conserved.
+  then sum_i p_i xi_i is conserved.  Such symmetries (translations, rotations,
+  any linear combination of coordinates, Galilean boosts) are searched for
+  automatically (:mod:`lagrangian.analysis.symmetries`), within
+  :data:`SYMMETRY_SECONDS`.
 
 Every quantity reported conserved is also checked numerically (its time
 derivative along the motion vanishes at random states), and every quantity not
@@ -25,11 +28,16 @@ from dataclasses import dataclass
 import sympy
 
 from ..algebra import is_zero, tidy
+from ..budget import attempt
 from ..derive import EquationsOfMotion
 from ..derive.constraints import constraint_velocity_form
 from ..errors import ModelError
 from ..model import System
 from .motion import total_derivative, vanishes_along_motion
+from .symmetries import point_symmetries
+
+#: Seconds for the automatic search of point symmetries (past it: cyclic momenta only).
+SYMMETRY_SECONDS = 3.0
 
 
 @dataclass(frozen=True)
@@ -57,6 +65,7 @@ class Conservation:
     cyclic_coordinates: tuple[str, ...]
     conserved: tuple[ConservedQuantity, ...]
     not_conserved: tuple[NotConserved, ...]
+    notes: tuple[str, ...] = ()  # e.g. the symmetry search ran out of time
 
     def __getitem__(self, name: str) -> ConservedQuantity:
         for quantity in self.conserved:
@@ -123,10 +132,21 @@ def conserved_quantities(eom: EquationsOfMotion) -> Conservation:
                 "(positions depend on t), so their forces do work",
             )
         )
+    notes = []
+    found, undecided = attempt(
+        "symmetry search", SYMMETRY_SECONDS, lambda: point_symmetries(eom, tuple(cyclic))
+    )
+    if undecided is not None:
+        notes.append(f"{undecided}: Noether charges other than cyclic momenta may be missing")
+    for symmetry in found or ():
+        if symmetry.broken:
+            not_conserved.append(NotConserved(symmetry.name, symmetry.charge, symmetry.broken))
+        else:
+            conserved.append(ConservedQuantity(symmetry.name, symmetry.charge, symmetry.reason))
     for quantity in conserved:
         if not vanishes_along_motion(quantity.expression, eom):
             raise AssertionError(f"bug: {quantity.name} reported conserved but is not")
-    return Conservation(tuple(cyclic), tuple(conserved), tuple(not_conserved))
+    return Conservation(tuple(cyclic), tuple(conserved), tuple(not_conserved), tuple(notes))
 
 
 def energy_function(system: System) -> sympy.Expr:

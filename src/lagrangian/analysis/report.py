@@ -76,6 +76,8 @@ def analyze(eom: EquationsOfMotion, *, timeout: float | None = STAGE_SECONDS) ->
         return result
 
     conservation = stage("conserved quantities", conserved_quantities, eom)
+    if conservation is not None:
+        notes.extend(conservation.notes)
     constrained = eom.constraints is not None
     h = None
     if constrained:
