@@ -3,28 +3,30 @@
 from __future__ import annotations
 
 from ..derive import EquationsOfMotion
+from .large import plain_printer
 
 
 def derive_document(eom: EquationsOfMotion) -> dict:
     """``derive --json``: equations, M and f with M q'' = f, and the solved accelerations."""
     system = eom.system
     n = len(eom.coordinates)
+    text = plain_printer(system)  # SymPy's str(), or SymEngine's for large systems
     document = {
         "name": system.name,
         "coordinates": list(system.coordinate_names),
         "parameters": sorted(system.parameter_names),
         "functions": {f.name: [str(a) for a in f.arguments] for f in system.functions},
-        "lagrangian": str(system.lagrangian),
-        "equations": [str(e) for e in eom.equations],
-        "mass_matrix": [[str(eom.mass_matrix[i, j]) for j in range(n)] for i in range(n)],
-        "forcing": [str(eom.forcing[i, 0]) for i in range(n)],
+        "lagrangian": text(system.lagrangian),
+        "equations": [text(e) for e in eom.equations],
+        "mass_matrix": [[text(eom.mass_matrix[i, j]) for j in range(n)] for i in range(n)],
+        "forcing": [text(eom.forcing[i, 0]) for i in range(n)],
     }
     if eom.accelerations is not None:
-        document["accelerations"] = {name: str(expr) for name, expr in eom.accelerations.items()}
+        document["accelerations"] = {name: text(expr) for name, expr in eom.accelerations.items()}
     if eom.constraints is not None:
-        document["constraints"] = [str(c) for c in system.constraints]
+        document["constraints"] = [text(c) for c in system.constraints]
         document["multipliers"] = (
-            {name: str(expr) for name, expr in eom.multipliers.items()}
+            {name: text(expr) for name, expr in eom.multipliers.items()}
             if eom.multipliers is not None
             else {str(s): None for s in eom.constraints.multipliers}
         )

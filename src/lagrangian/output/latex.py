@@ -6,6 +6,7 @@ import sympy
 
 from ..derive import EquationsOfMotion
 from ..model import System
+from .large import latex_printer
 from .notation import (
     TOO_LONG,
     DotLatexPrinter,
@@ -23,13 +24,13 @@ def _solved(name: str, value: sympy.Expr, system: System) -> str:
     """An ``align*`` row ``name &= value``; a closed form too long to read is named only."""
     if too_long_to_print(value):
         return rf"{name} &: \text{{{TOO_LONG}}}"
-    return rf"{name} &= {latex_expression(value, system)}"
+    return rf"{name} &= {latex_printer(system)(value)}"
 
 
 def latex_equations(eom: EquationsOfMotion) -> str:
     """An ``align*`` block: L, each equation (= 0) and each solved acceleration."""
     system = eom.system
-    show = lambda expr: latex_expression(expr, system)  # noqa: E731
+    show = latex_printer(system)  # linear-time printing for large systems
     rows = [rf"L &= {show(system.lagrangian)}"]
     rows += [rf"0 &= {show(equation)}" for equation in eom.equations]
     if eom.accelerations is not None:
@@ -45,7 +46,7 @@ def latex_equations(eom: EquationsOfMotion) -> str:
 def latex_steps(eom: EquationsOfMotion) -> str:
     """The derivation step by step as LaTeX (one ``align*`` block)."""
     system = eom.system
-    show = lambda expr: latex_expression(expr, system)  # noqa: E731
+    show = latex_printer(system)  # linear-time printing for large systems
     rows = []
     if system.kinetic is not None:
         rows += [rf"T &= {show(system.kinetic)}", rf"V &= {show(system.potential)}"]

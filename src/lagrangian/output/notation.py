@@ -182,7 +182,26 @@ TOO_LONG = f"too long to print (more than {PRINT_MAX_NODES:,} nodes); derive --j
 
 def too_long_to_print(expr: sympy.Expr) -> bool:
     """Whether ``expr`` has more than ``PRINT_MAX_NODES`` nodes (stops counting there)."""
-    for count, _ in enumerate(sympy.preorder_traversal(expr), start=1):
-        if count > PRINT_MAX_NODES:
-            return True
-    return False
+    return longer_than(expr, PRINT_MAX_NODES)
+
+
+def longer_than(expr: sympy.Expr, limit: int) -> bool:
+    """Whether the tree of ``expr`` has more than ``limit`` nodes, repeats counted.
+
+    Each distinct subexpression is sized once (the solved q'' of a chain repeats the
+    same sums hundreds of times), and the count stops once past ``limit``.
+    """
+    sizes: dict = {}
+
+    def size(node) -> int:
+        found = sizes.get(node)
+        if found is None:
+            found = 1
+            for arg in node.args:
+                found += size(arg)
+                if found > limit:
+                    break
+            sizes[node] = found
+        return found
+
+    return size(expr) > limit

@@ -6,6 +6,7 @@ import sympy
 
 from ..derive import EquationsOfMotion
 from ..model import System
+from .large import unicode_printer
 from .notation import (
     TOO_LONG,
     UnicodePrinter,
@@ -24,13 +25,13 @@ def _equality(lhs: str, rhs: sympy.Expr, system: System) -> str:
     """``lhs = rhs``; a closed form too long to read is named, not printed."""
     if too_long_to_print(rhs):
         return f"{lhs}: {TOO_LONG}"
-    return f"{lhs} = {unicode_expression(rhs, system)}"
+    return f"{lhs} = {unicode_printer(system)(rhs)}"
 
 
 def format_equations(eom: EquationsOfMotion) -> str:
     """The equations of motion as text: L, the equations (= 0) and the accelerations."""
     system = eom.system
-    show = lambda expr: unicode_expression(expr, system)  # noqa: E731
+    show = unicode_printer(system)  # linear-time printing for large systems
     lines = [_title(system)]
     lines.append(f"  L = {show(system.lagrangian)}")
     lines.append("")
@@ -55,7 +56,7 @@ def format_equations(eom: EquationsOfMotion) -> str:
 def format_steps(eom: EquationsOfMotion) -> str:
     """The derivation as done by hand: T, V, L, then each coordinate's terms."""
     system = eom.system
-    show = lambda expr: unicode_expression(expr, system)  # noqa: E731
+    show = unicode_printer(system)  # linear-time printing for large systems
     lines = [_title(system)]
     if system.kinetic is not None:
         lines.append(f"  T = {show(system.kinetic)}")

@@ -1,0 +1,100 @@
+"""Seconds of ``lagrangian derive FILE`` as a process, against KanesMethod in the same run.
+
+    python benchmarks/cli.py [--repeat 3] [--sizes 5,20,100] [--kane-max 20]
+
+For each n-link pendulum (point masses on massless links, angles from the downward
+vertical, written as a model file with particle positions, as benchmarks/derive.py
+builds it) the real command runs as a child process: ``derive FILE --json``,
+``derive FILE`` (text) and ``derive FILE --latex``.  Process start-up is measured in
+the same run (``lagrangian --version``: the interpreter, click and the package
+import) and subtracted; printed are medians over ``--repeat`` runs, the bytes
+written, and for n up to ``--kane-max`` the seconds of sympy.physics.mechanics'
+``KanesMethod`` for the same chain (one run, in this process) with the ratio
+Kane / ours (ours above start-up).  A command that runs past ``--timeout`` seconds
+is stopped and shown as such.  Nothing is asserted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from derive import kanes_method
+
+FORMATS = {"json": ["--json"], "text": [], "latex": ["--latex"]}
+
+
+def chain_model(n: int) -> str:
+    """The TOML text of the n-link pendulum built from particles."""
+    coordinates = ", ".join(f'"theta{i}"' for i in range(1, n + 1))
+    lines = [f'name = "{n}-link pendulum"', f"coordinates = [{coordinates}]", "", "[parameters]"]
+    lines += [f"m{i} = 1.0" for i in range(1, n + 1)]
+    lines += [f"l{i} = 1.0" for i in range(1, n + 1)]
+    lines += ["g = 9.81", ""]
+    x, y = "0", "0"
+    for i in range(1, n + 1):
+        x += f" + l{i}*sin(theta{i})"
+        y += f" - l{i}*cos(theta{i})"
+        lines += ["[[particles]]", f'name = "bob{i}"', f'mass = "m{i}"']
+        lines += [f'position = ["{x}", "{y}"]', ""]
+    lines += ["[gravity]", 'g = "g"', "direction = [0, -1]", "", "[initial]", "theta1 = 0.5", ""]
+    return "\n".join(lines)
+
+
+def command() -> list[str]:
+    return [sys.executable, "-m", "lagrangian"]
+
+
+def timed(arguments: list[str], timeout: float) -> tuple[float, int]:
+    """Seconds of one child process and the bytes it printed (inf where it timed out)."""
+    start = time.perf_counter()
+    try:
+        done = subprocess.run(
+            [*command(), *arguments], capture_output=True, timeout=timeout, check=True
+        )
+    except subprocess.TimeoutExpired:
+        return float("inf"), 0
+    return time.perf_counter() - start, len(done.stdout)
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--sizes", default="5,20,100")
+    parser.add_argument("--kane-max", type=int, default=20, help="run KanesMethod up to this n")
+    parser.add_argument("--timeout", type=float, default=300.0)
+    args = parser.parse_args(argv)
+    sizes = [int(s) for s in args.sizes.split(",")]
+    startup = statistics.median(timed(["--version"], 60)[0] for _ in range(args.repeat + 2))
+    print(f"process start-up (lagrangian --version): {startup:.3f} s (median)")
+    print(
+        f"{'n':>4} {'format':>6} {'process s':>10} {'above start-up s':>17} {'bytes':>10} "
+        f"{'Kane s':>8} {'Kane / ours':>12}"
+    )
+    with tempfile.TemporaryDirectory() as folder:
+        for n in sizes:
+            path = Path(folder) / f"chain{n}.toml"
+            path.write_text(chain_model(n))
+            kane = kanes_method(n) if n <= args.kane_max else float("nan")
+            for name, flags in FORMATS.items():
+                runs = [
+                    timed(["derive", str(path), *flags], args.timeout) for _ in range(args.repeat)
+                ]
+                total = statistics.median(r[0] for r in runs)
+                above = total - startup
+                ratio = kane / above if above > 0 else float("nan")
+                print(
+                    f"{n:>4} {name:>6} {total:>10.3f} {above:>17.3f} {runs[0][1]:>10} "
+                    f"{kane:>8.2f} {ratio:>12.1f}"
+                )
+    print("above start-up: the process median minus the start-up median; Kane: one run")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,152 @@
+"""Printing of large systems from their SymEngine form (lagrangian.output.large).
+
+The JSON text must read back with ``sympy.parse_expr`` (DESIGN section 5) and equal
+what was derived; checked numerically at random points, entry by entry.
+"""
+
+from __future__ import annotations
+
+import json
+import random
+
+import pytest
+import sympy
+
+import lagrangian as lg
+from lagrangian import output
+from lagrangian.algebra import FAST_MIN_COORDINATES
+from lagrangian.output.large import is_large, latex_printer, plain_printer, unicode_printer
+
+
+def chain(n: int) -> lg.System:
+    particles, x, y = [], "0", "0"
+    for i in range(1, n + 1):
+        x += f" + l{i}*sin(theta{i})"
+        y += f" - l{i}*cos(theta{i})"
+        particles.append(lg.Particle(f"bob{i}", mass=f"m{i}", position=[x, y]))
+    parameters = {f"m{i}": 1.0 + i / 10 for i in range(1, n + 1)}
+    parameters |= {f"l{i}": 1.0 for i in range(1, n + 1)} | {"g": 9.81}
+    return lg.System.from_particles(
+        coordinates=[f"theta{i}" for i in range(1, n + 1)],
+        particles=particles,
+        gravity=lg.Gravity(g="g", direction=(0, -1)),
+        parameters=parameters,
+    )
+
+
+def unusual(n: int = FAST_MIN_COORDINATES) -> lg.System:
+    """Large, with the functions and numbers a printer can get wrong."""
+    terms = [f"m*x{i}_dot**2/2 - k*x{i}**2/3" for i in range(1, n + 1)]
+    terms += [
+        "exp(-x1*x2)/7",
+        "sqrt(1 + x3**2)*x3_dot",
+        "atan2(x4, 1 + x5**2)",
+        "Abs(x6 - 2)*x6_dot**2/5",
+        "x7_dot*x1/(k + x2**2)**3",
+        "pi*cosh(x1)*x2_dot*x1_dot",
+    ]
+    return lg.System.from_lagrangian(
+        " + ".join(terms),
+        coordinates=[f"x{i}" for i in range(1, n + 1)],
+        parameters={"m": 1.5, "k": 0.7},
+    )
+
+
+def read_back(text: str, system: lg.System) -> sympy.Expr:
+    names = {s.name: s for s in system.state_symbols}
+    names |= {c.q_ddot.name: c.q_ddot for c in system.coordinates}
+    names |= {name: sympy.Symbol(name) for name in system.parameter_names}
+    for name, symbol in dict(system.symbols).items():
+        names.setdefault(name, symbol)
+    return sympy.parse_expr(text, local_dict=names)  # trusted: our own output
+
+
+def same_value(a: sympy.Expr, b: sympy.Expr, rng: random.Random) -> bool:
+    symbols = sorted(a.free_symbols | b.free_symbols, key=str)
+    by_name: dict[str, list] = {}
+    for s in symbols:
+        by_name.setdefault(s.name, []).append(s)
+    for _ in range(2):
+        point = {}
+        for same in by_name.values():
+            value = rng.uniform(0.3, 1.7)
+            point |= {s: value for s in same}  # a name means one value, whatever its assumptions
+        x, y = complex(a.evalf(subs=point)), complex(b.evalf(subs=point))
+        if abs(x - y) > 1e-9 * (1 + abs(y)):
+            return False
+    return True
+
+
+@pytest.mark.parametrize("make", [lambda: chain(8), unusual], ids=["chain8", "unusual"])
+def test_json_of_a_large_system_reads_back_equal(make):
+    system = make()
+    assert is_large(system)
+    eom = system.equations_of_motion()
+    document = json.loads(json.dumps(output.derive_document(eom)))
+    rng = random.Random(12)
+    n = len(eom.coordinates)
+    pairs = [(document["lagrangian"], system.lagrangian)]
+    pairs += list(zip(document["equations"], eom.equations, strict=True))
+    matrix = document["mass_matrix"]
+    pairs += [(matrix[i][j], eom.mass_matrix[i, j]) for i in range(n) for j in range(n)]
+    pairs += [(document["forcing"][i], eom.forcing[i, 0]) for i in range(n)]
+    for text, derived in pairs:
+        assert same_value(read_back(text, system), derived, rng), text
+
+
+def test_json_text_is_symengine_form_only_for_large_systems():
+    small = lg.load("double_pendulum")
+    show = plain_printer(small)
+    for expr in small.equations_of_motion().forcing:
+        assert show(expr) == str(expr)  # SymPy's own str, unchanged
+    large = chain(FAST_MIN_COORDINATES)
+    assert is_large(large) and not is_large(small)
+
+
+def test_huge_acceleration_of_a_small_system_reads_back():
+    system = chain(4)
+    eom = system.equations_of_motion()
+    document = output.derive_document(eom)
+    rng = random.Random(3)
+    for c in eom.coordinates:
+        derived = eom.accelerations[c.name]
+        assert same_value(read_back(document["accelerations"][c.name], system), derived, rng)
+
+
+OSCILLATORS = lg.System.from_lagrangian(
+    " + ".join(f"m*x{i}_dot**2/2 - k*x{i}**2/2" for i in range(1, 8))
+    + " + sqrt(k)*sin(x1)**2*x2_dot - x3_dot*x4_dot/(m*k)",
+    coordinates=[f"x{i}" for i in range(1, 8)],
+    parameters={"m": 1.0, "k": 2.0},
+)
+
+
+def test_unicode_of_a_large_system_in_textbook_notation():
+    x1, x5 = sympy.symbols("x1 x5", real=True)
+    show = unicode_printer(OSCILLATORS)
+    eom = OSCILLATORS.equations_of_motion()
+    assert show(eom.equations[4]) == "m ẍ₅ + k x₅"
+    lagrangian = show(OSCILLATORS.lagrangian)
+    assert "√k sin²(x₁) ẋ₂" in lagrangian
+    assert " - ẋ₃ ẋ₄/(k m)" in lagrangian
+    assert lagrangian.startswith("m ẋ")  # velocities before positions
+    assert show(sympy.Rational(-3, 4) * x1**3 / x5) == "-3 x₁³/(4 x₅)"
+
+
+def test_latex_of_a_large_system_with_dots_and_fractions():
+    x1, x5 = sympy.symbols("x1 x5", real=True)
+    show = latex_printer(OSCILLATORS)
+    eom = OSCILLATORS.equations_of_motion()
+    assert show(eom.equations[4]) == r"m \ddot{x}_{5} + k x_{5}"
+    assert show(sympy.Rational(-3, 4) * x1**3 / x5) == r"-\frac{3 x_{1}^{3}}{4 x_{5}}"
+    assert show(sympy.sin(x1) ** 2) == r"\sin^{2}{\left(x_{1} \right)}"
+    assert show(sympy.sqrt(x1 + x5)) == r"\sqrt{x_{1} + x_{5}}"
+
+
+def test_text_and_latex_documents_of_a_large_chain():
+    eom = chain(FAST_MIN_COORDINATES + 1).equations_of_motion()
+    text = output.format_equations(eom)
+    assert "θ̈₁" in text and "**" not in text and "theta" not in text
+    latex = output.latex_equations(eom)
+    assert r"\ddot{\theta}_{1}" in latex and "**" not in latex
+    assert latex.count(r"0 &= ") == FAST_MIN_COORDINATES + 1
