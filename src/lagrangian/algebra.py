@@ -58,7 +58,7 @@ def tidy(expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = F
     if expr.is_Number or exceeds(expr, TIDY_MAX_NODES):
         return expr
     expanded = expand_products(expr)
-    if trig and expanded.has(sympy.sin, sympy.cos):
+    if trig and expanded.has(sympy.sin, sympy.cos) and not _expands_far(expanded):
         expanded = _angle_sums_combined(expanded)
         ops = sympy.count_ops(expanded)
         if ops <= TRIGSIMP_MAX_OPS and _has_trig_products(expanded):
@@ -84,6 +84,18 @@ def _angle_sums_combined(expr: sympy.Expr) -> sympy.Expr:
     # doit: SymPy's own evaluation, so cos(-a + b) is written cos(a - b) as SymPy prints it
     combined = expand_products(to_sympy(combine_angles(converted), symbols).doit())
     return combined if sympy.count_ops(combined) < sympy.count_ops(expr) else expr
+
+
+#: Highest power of a sum that the full expansion behind the angle rule may multiply out:
+#: (sin x + x')^1000 would become a thousand terms with 300-digit coefficients.
+EXPAND_MAX_POWER = 6
+
+
+def _expands_far(expr: sympy.Expr) -> bool:
+    return any(
+        p.base.is_Add and p.exp.is_Integer and abs(p.exp) > EXPAND_MAX_POWER
+        for p in expr.atoms(sympy.Pow)
+    )
 
 
 _TRIG = (sympy.sin, sympy.cos, sympy.tan, sympy.cot, sympy.sec, sympy.csc)

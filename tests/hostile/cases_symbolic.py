@@ -66,3 +66,50 @@ CASES = [
         model=LEANING_DISC,
     ),
 ]
+
+
+def _one_coordinate(lagrangian: str) -> str:
+    return f'coordinates = ["x"]\nlagrangian = "{lagrangian}"\n'
+
+
+# Values beyond double precision: SymPy's own evaluation at sample points asked mpmath for
+# numbers of 10^17 digits (a hang in analyze, an OverflowError in derive)
+EXP_TOWER = "exp(exp(exp(exp(exp(x)))))"
+
+CASES += [
+    HostileCase(
+        "derive-exp-tower-in-the-mass",
+        ("derive", "{dir}/model.toml"),
+        exit_code=0,
+        output=r"ẍ = ",
+        model=_one_coordinate(f"{EXP_TOWER}*x_dot^2/2 - x^2"),
+    ),
+    HostileCase(
+        "analyze-exp-tower-in-the-mass",
+        ("analyze", "{dir}/model.toml"),
+        exit_code=0,
+        output=r"(?s)Conserved:\s+energy.*overflow double precision",
+        model=_one_coordinate(f"{EXP_TOWER}*x_dot^2/2 - x^2"),
+    ),
+    HostileCase(
+        "analyze-exp-tower-potential",
+        ("analyze", "{dir}/model.toml", "--timeout", "1"),
+        exit_code=0,
+        output=r"(?s)Conserved:\s+energy",
+        model=_one_coordinate(f"x_dot^2/2 - {EXP_TOWER}"),
+    ),
+    HostileCase(
+        "simulate-exp-tower-overflows-at-the-start",
+        ("simulate", "{dir}/model.toml"),
+        error=r"not finite at t = 0",
+        model=_one_coordinate(f"{EXP_TOWER}*x_dot^2/2 - x^2"),
+    ),
+    HostileCase(
+        # the trigonometric tidying expanded the power: a thousand terms of 300-digit numbers
+        "derive-power-1000-of-a-sum",
+        ("derive", "{dir}/model.toml"),
+        exit_code=0,
+        output=r"ẍ = -998 ẋ cos\(x\)/999 \+ sin\(x\) cos\(x\)/999",
+        model=_one_coordinate("(sin(x) + x_dot)^1000"),
+    ),
+]

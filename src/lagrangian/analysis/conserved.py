@@ -33,7 +33,7 @@ from ..derive import EquationsOfMotion
 from ..derive.constraints import constraint_velocity_form
 from ..errors import ModelError
 from ..model import System
-from .motion import total_derivative, vanishes_along_motion
+from .motion import contradicted_along_motion, total_derivative
 from .symmetries import point_symmetries
 
 #: Seconds for the automatic search of point symmetries (past it: cyclic momenta only).
@@ -144,7 +144,7 @@ def conserved_quantities(eom: EquationsOfMotion) -> Conservation:
         else:
             conserved.append(ConservedQuantity(symmetry.name, symmetry.charge, symmetry.reason))
     for quantity in conserved:
-        if not vanishes_along_motion(quantity.expression, eom):
+        if contradicted_along_motion(quantity.expression, eom):
             raise AssertionError(f"bug: {quantity.name} reported conserved but is not")
     return Conservation(tuple(cyclic), tuple(conserved), tuple(not_conserved), tuple(notes))
 

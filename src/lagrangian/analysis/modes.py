@@ -143,6 +143,9 @@ class ModeAnalysis:
         missing = sorted(symbols - set(self.values))
         self.why = "no closed form; numbers need default values for " + ", ".join(missing)
         self.numbers = None if missing else [self._evaluate(m) for m in self.matrices]
+        if self.numbers is not None and not all(np.isfinite(a).all() for a in self.numbers):
+            self.numbers = None  # exact but beyond float64, e.g. exp(exp(exp(e)))
+            self.why = "the linearized matrices overflow double precision at the default values"
         self.tol = ZERO_TOLERANCE
         if self.numbers is not None:
             m, k, g, d = self.numbers

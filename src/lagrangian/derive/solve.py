@@ -17,6 +17,7 @@ from sympy.core.function import AppliedUndef
 
 from ..algebra import tidy_fraction
 from ..errors import ModelError, SingularMassMatrixError
+from ..pointwise import evaluate
 from ..symbols import Coordinate
 
 #: Blocks up to this size are solved with a simplified determinant (Cramer's rule).
@@ -84,14 +85,9 @@ def _equilibrated(matrix: np.ndarray) -> np.ndarray:
 
 def _at_random_point(matrix: sympy.Matrix, rng: random.Random) -> np.ndarray | None:
     undefined = matrix.atoms(AppliedUndef, sympy.Derivative)
-    values = {atom: sympy.Float(rng.uniform(0.5, 2.5)) for atom in undefined}
-    numeric = matrix.xreplace(values)
-    values = {s: sympy.Float(rng.uniform(0.5, 2.5)) for s in numeric.free_symbols}
-    try:
-        array = np.array(numeric.xreplace(values).evalf(), dtype=float)
-    except (TypeError, ValueError):
-        return None
-    return array if np.all(np.isfinite(array)) else None  # overflow: no verdict from here
+    values = {atom: rng.uniform(0.5, 2.5) for atom in undefined}
+    values.update({s: rng.uniform(0.5, 2.5) for s in matrix.free_symbols})
+    return evaluate(matrix, values)  # None on overflow: no verdict from here
 
 
 def solve_accelerations(

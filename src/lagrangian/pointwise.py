@@ -1,0 +1,46 @@
+"""SymPy expressions evaluated at one numeric point, in double precision.
+
+The symbolic stages check their claims at random sample points (a mass matrix
+is regular, dC/dt vanishes along the motion).  Substituting SymPy Floats makes
+SymPy evaluate every function at arbitrary precision as it goes, and a tower
+such as exp(exp(exp(exp(exp(x))))) then asks mpmath for a number with 10^17
+digits: minutes, or an OverflowError.  SymEngine evaluates in double
+precision, where such a value is inf, which the callers read as "no verdict
+from this point" and draw another; it is also ten times faster than SymPy's
+substitution for a small mass matrix.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+import symengine
+import sympy
+
+
+def evaluate(expr: sympy.Basic, values: Mapping[sympy.Basic, float]) -> np.ndarray | None:
+    """``expr`` (an expression or a matrix) at ``values`` as a float array, or None.
+
+    Keys of ``values`` are symbols or whole subexpressions such as f(x) or
+    Derivative(f(x), x) (each replaced as a unit).  None when something of
+    ``expr`` has no value, when the result is complex or not finite (overflow,
+    a pole, the root of a negative number) or cannot be evaluated at all.
+    """
+    standing_in = {key: sympy.Dummy() for key in values if not isinstance(key, sympy.Symbol)}
+    if standing_in:  # Dummies, not numbers: SymPy must not evaluate anything here
+        expr = expr.xreplace(standing_in)
+    numbers = {
+        symengine.sympify(standing_in.get(key, key)): symengine.RealDouble(float(value))
+        for key, value in values.items()
+    }
+    try:
+        converted = symengine.sympify(expr)
+        is_matrix = isinstance(converted, symengine.MatrixBase)
+        entries, shape = (converted, converted.shape) if is_matrix else ([converted], ())
+        result = np.array(
+            [float(e.subs(numbers).n(53, real=True)) for e in entries], dtype=float
+        ).reshape(shape)
+    except (RuntimeError, TypeError, ValueError, ZeroDivisionError, OverflowError):
+        return None  # a symbol left over, a complex result, or a function SymEngine lacks
+    return result if np.all(np.isfinite(result)) else None
