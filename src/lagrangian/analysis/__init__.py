@@ -17,7 +17,7 @@ from .equilibria import Equilibrium, equilibria
 from .hamiltonian import Hamiltonian, hamiltonian
 from .linear import LinearizedSystem, NormalModes, Stability, linearize
 from .report import Analysis, analyze
-from .routh import Reduction, reduce, steady_motions
+from .routh import Reduction, SteadyMotion, reduce, steady_motions
 
 __all__ = [
     "Analysis",
@@ -31,6 +31,7 @@ __all__ = [
     "NotConserved",
     "Reduction",
     "Stability",
+    "SteadyMotion",
     "analyze",
     "conserved_quantities",
     "constrained_equilibria",

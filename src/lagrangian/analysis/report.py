@@ -16,10 +16,13 @@ from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from .conserved import Conservation, conserved_quantities
 from .constrained import constrained_equilibria
-from .equilibria import Equilibrium, equilibria, rest_points, with_modes
+from .equilibria import Equilibrium, rest_points, with_modes
 from .hamiltonian import Hamiltonian, hamiltonian
 from .modes import NormalModes
-from .routh import Reduction, cyclic_coordinates, reduce
+from .routh import Reduction, cyclic_coordinates, reduce, steady_motions_of
+
+#: Seconds for SymPy's solve of the steady motions within the stage.
+STEADY_SOLVE_SECONDS = 2.5
 
 #: The stages in the order they run (the names used in ``undecided``).
 STAGES = (
@@ -126,11 +129,14 @@ def _with_modes(eom: EquationsOfMotion, rest, stage) -> tuple[Equilibrium, ...]:
 
 
 def _steady(reduction: Reduction, notes: list[str]) -> tuple[Equilibrium, ...]:
-    steady = equilibria(reduction.system.equations_of_motion())
+    # SymPy's solve gets part of the stage: without values for the momenta the
+    # numerical search cannot follow, and a hard solve (a top's two momenta)
+    # should end in a note, not in an undecided stage
+    steady = steady_motions_of(reduction, timeout=STEADY_SOLVE_SECONDS)
     if not steady:
         momenta = ", ".join(str(p) for p in reduction.momenta.values())
         notes.append(
             f"steady motions: none found symbolically; for a numeric search give {momenta}"
-            " values: lagrangian.analysis.steady_motions(eom, momenta={...})"
+            " values: System.steady_motions(momenta={...})"
         )
     return steady

@@ -22,8 +22,9 @@ p_phi^2/(2 m l^2 sin^2 theta) - m g l cos(theta) for the spherical pendulum
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from types import MappingProxyType
 
 import sympy
@@ -157,17 +158,67 @@ def reduce(eom: EquationsOfMotion, *, momenta: Mapping[str, float] | None = None
     )
 
 
+@dataclass(frozen=True)
+class SteadyMotion(Equilibrium):
+    """A steady motion: the non-cyclic coordinates at rest (``point``), the cyclic ones
+    turning uniformly at ``velocities`` (q_c' for the momenta ``momenta``).
+
+    Everything else is the :class:`Equilibrium` of the reduced system: ``modes``
+    are the small oscillations of the non-cyclic coordinates about the steady
+    motion, with the p_c held (conical pendulum: omega^2 = Omega^2 (1 + 3 cos^2
+    theta0) with Omega^2 = g/(l cos theta0); circular Kepler orbit: omega^2 =
+    mu^4/p^6, the orbital frequency squared).
+    """
+
+    velocities: Mapping[str, sympy.Expr] = field(default_factory=dict)
+    momenta: Mapping[str, sympy.Expr] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        for name in ("velocities", "momenta"):
+            object.__setattr__(self, name, MappingProxyType(dict(getattr(self, name))))
+
+
 def steady_motions(
     eom: EquationsOfMotion,
     *,
     momenta: Mapping[str, float] | None = None,
     timeout: float = 10.0,
-) -> tuple[Equilibrium, ...]:
+) -> tuple[SteadyMotion, ...]:
     """The equilibria of the reduced system: motions with constant non-cyclic coordinates.
+
+    ``momenta`` gives values to the cyclic momenta p_c (then the steady motions are
+    found numerically where SymPy cannot solve); without, they stay symbols.
 
     >>> import lagrangian as lg
     >>> [dict(e.point) for e in steady_motions(lg.load("central_force").equations_of_motion())]
     [{'r': p_theta**2/mu}]
     """
-    reduction = reduce(eom, momenta=momenta)
-    return equilibria(reduction.system.equations_of_motion(), timeout=timeout)
+    return steady_motions_of(reduce(eom, momenta=momenta), timeout=timeout)
+
+
+def steady_motions_of(reduction: Reduction, *, timeout: float = 10.0) -> tuple[SteadyMotion, ...]:
+    """The steady motions of a reduction (see :func:`steady_motions`)."""
+    given = {
+        p: sympy.Float(reduction.system.parameter_values[str(p)])
+        for p in reduction.momenta.values()
+        if str(p) in reduction.system.parameter_values
+    }
+    found = []
+    for e in equilibria(reduction.system.equations_of_motion(), timeout=timeout):
+        at = {reduction.system.symbol(name): value for name, value in e.point.items()}
+        numbers = {}  # a numerical point holds at the default values: so do its velocities
+        if e.numeric:
+            numbers = {
+                p.symbol: sympy.Float(p.default)
+                for p in reduction.system.parameters
+                if p.default is not None
+            }
+        velocities = {
+            name: tidy(v.xreplace(at).xreplace(numbers), trig=True)
+            for name, v in reduction.velocities.items()
+        }
+        parts = {f.name: getattr(e, f.name) for f in dataclasses.fields(Equilibrium)}
+        momenta = {str(p): given.get(p, p) for p in reduction.momenta.values()}
+        found.append(SteadyMotion(**parts, velocities=velocities, momenta=momenta))
+    return tuple(found)

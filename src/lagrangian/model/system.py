@@ -167,10 +167,19 @@ class System:
         return hamiltonian(self.equations_of_motion())
 
     def equilibria(self):
-        """Points at rest that stay at rest, each with its normal modes (inputs held at 0)."""
-        from ..analysis import equilibria
+        """Points at rest that stay at rest, each with its normal modes (inputs held at 0);
+        with holonomic constraints, on the constraint surface with the multipliers."""
+        from ..analysis import constrained_equilibria, equilibria
 
-        return equilibria(self.without_inputs().equations_of_motion())
+        eom = self.without_inputs().equations_of_motion()
+        return constrained_equilibria(eom) if eom.constraints is not None else equilibria(eom)
+
+    def steady_motions(self, momenta: Mapping[str, float] | None = None):
+        """Steady motions (cyclic coordinates turning uniformly at the momenta p_c, given
+        or symbolic; the others at rest), each with the small oscillations about it."""
+        from ..analysis import steady_motions
+
+        return steady_motions(self.without_inputs().equations_of_motion(), momenta=momenta)
 
     def linearize(self, at: Mapping[str, object]):
         """M0 x'' + C0 x' + K0 x = 0 about the equilibrium ``at``; ``.normal_modes()``."""

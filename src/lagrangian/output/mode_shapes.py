@@ -50,7 +50,13 @@ def mode_numbers(
         stable = [e for e in system.equilibria() if e.stable]
         if not stable:
             raise ModelError("the model has no stable equilibrium to show normal modes about")
-        at = stable[0].point
+        # the equilibrium's own modes: a family's are those at its representative member,
+        # a singular point's those of its regular directions (linearize alone has neither)
+        at = dict(getattr(stable[0], "representative", None) or stable[0].point)
+        if modes is None and len(stable[0].modes.shapes[:1]) and (
+            len(stable[0].modes.shapes[0]) == len(system.coordinates)
+        ):
+            modes = stable[0].modes
     if modes is None:
         modes = system.linearize(at).normal_modes()
     if not modes.shapes:
@@ -113,7 +119,7 @@ def _strobe(system, point, omega_squared, shapes, parameters) -> Figure:
     size = max(
         float(
             np.ptp(
-                np.concatenate([rest.particles[:, :, 0].T, [[0] * scene.dimension]]), axis=0
+                np.concatenate([rest.particles[:, :, 0], [[0] * scene.dimension]]), axis=0
             ).max()
         ),
         1e-9,
