@@ -154,7 +154,7 @@ def test_steady_precession_at_the_closed_form_rates(theta0, heavy_top):
     system, compiled = heavy_top
     p = system.parameter_values
     pivot = p["I1"] + p["M"] * p["l"] ** 2
-    spin = 50.0  # omega3 = psi' + phi' cos(theta)
+    spin = 100.0  # omega3 = psi' + phi' cos(theta)
     roots = np.roots([pivot * np.cos(theta0), -p["I3"] * spin, p["M"] * p["g"] * p["l"]])
     assert np.all(np.isreal(roots))
     for precession in [*roots.real, roots.real.mean()]:

@@ -8,11 +8,12 @@ joined by a rigid rod: a rod is drawn between consecutive particles, or from the
 origin (the pivot), when the distance between them is constant along the motion
 (checked numerically, relative variation below :data:`ROD_TOLERANCE`).
 
-A rigid body is drawn as a uniform rod through its centre along its angle, with
-the length L = sqrt(12 I / m) of the uniform rod of the same mass and moment of
-inertia.  3-D models are shown in two orthographic views: the side view
-(horizontal axis, vertical axis; vertical = against gravity, else z) and the
-top view.
+A planar rigid body is drawn as a uniform rod through its centre along its angle,
+with the length L = sqrt(12 I / m) of the uniform rod of the same mass and moment
+of inertia; a 3-D body as the box (or disc) of the same mass and principal
+moments, turned by its rotation R(q, t) (:mod:`lagrangian.output.solids`).
+3-D models are shown in two orthographic views: the side view (horizontal axis,
+vertical axis; vertical = against gravity, else z) and the top view.
 """
 
 from __future__ import annotations
@@ -25,7 +26,8 @@ import sympy
 
 from ..algebra import as_expression
 from ..errors import ModelError
-from ..model import System
+from ..model import RigidBody, System
+from .solids import SolidShape, solid_points, solid_shape
 
 #: Relative variation (max - min) / max of a distance below which it is a rigid rod.
 ROD_TOLERANCE = 1e-4
@@ -39,7 +41,8 @@ class Positions:
     """Everything drawable at the times ``t`` (T,), as arrays with a trailing time axis.
 
     ``particles`` (P, D, T); ``centers`` (B, 2, T) and ``angles`` (B, T) of the
-    bodies; ``springs`` (S, 2, D, T): both ends of every spring.
+    planar bodies; ``springs`` (S, 2, D, T): both ends of every spring;
+    ``solid_centers`` (S3, 3, T) and ``rotations`` (S3, 3, 3, T) of the 3-D bodies.
     """
 
     t: np.ndarray
@@ -47,6 +50,8 @@ class Positions:
     centers: np.ndarray
     angles: np.ndarray
     springs: np.ndarray
+    solid_centers: np.ndarray | None = None
+    rotations: np.ndarray | None = None
 
     def point(self, index: int) -> np.ndarray:
         """(D, T) of a particle, or of the origin for :data:`ORIGIN`."""
@@ -65,10 +70,21 @@ class Geometry:
     masses: np.ndarray  # (P,)
     body_lengths: np.ndarray  # (B,)
     vertical: int  # index of the axis that points up (against gravity)
+    solid_shapes: tuple[SolidShape, ...]  # the outline of each 3-D body, body frame
     _particle_functions: tuple
     _center_functions: tuple
     _angle_functions: tuple
     _spring_functions: tuple
+    _solid_center_functions: tuple = ()
+    _rotation_functions: tuple = ()
+
+    @property
+    def planar_bodies(self) -> tuple:
+        return tuple(b for b in self.system.bodies if not isinstance(b, RigidBody))
+
+    @property
+    def solids(self) -> tuple[RigidBody, ...]:
+        return tuple(b for b in self.system.bodies if isinstance(b, RigidBody))
 
     @property
     def particle_names(self) -> tuple[str, ...]:
@@ -100,7 +116,17 @@ class Geometry:
         angles = evaluate([[f] for f in self._angle_functions], 1)[:, 0]
         ends = [end for spring in self._spring_functions for end in spring]
         springs = evaluate(ends, self.dimension).reshape(-1, 2, self.dimension, t.shape[0])
-        return Positions(t, particles, centers, angles, springs)
+        solid_centers = evaluate(self._solid_center_functions, 3)
+        rotations = evaluate(self._rotation_functions, 9).reshape(-1, 3, 3, t.shape[0])
+        return Positions(t, particles, centers, angles, springs, solid_centers, rotations)
+
+    def solid_outlines(self, positions: Positions) -> list[np.ndarray]:
+        """The outline of each 3-D body in space, (K, 3, T) each: r_c + R p for the
+        body-frame points p of its :class:`~lagrangian.output.solids.SolidShape`."""
+        return [
+            solid_points(shape, positions.solid_centers[i], positions.rotations[i])
+            for i, shape in enumerate(self.solid_shapes)
+        ]
 
     def body_ends(self, positions: Positions) -> np.ndarray:
         """(B, 2 ends, 2, T): the ends of the rods that stand for the bodies."""
@@ -111,9 +137,11 @@ class Geometry:
     def extent(self, positions: Positions, rods: Sequence[tuple[int, int]]) -> np.ndarray:
         """(D, 2): the smallest and largest coordinate of everything drawn, over all times."""
         pieces = [positions.particles.transpose(1, 0, 2).reshape(self.dimension, -1)]
-        if self.system.bodies:
+        if self.planar_bodies:
             ends = self.body_ends(positions)  # (B, 2, 2, T)
             pieces.append(ends.transpose(2, 0, 1, 3).reshape(2, -1))
+        for outline in self.solid_outlines(positions):
+            pieces.append(outline.transpose(1, 0, 2).reshape(3, -1))
         if self.system.springs:
             pieces.append(positions.springs.transpose(2, 0, 1, 3).reshape(self.dimension, -1))
         if any(ORIGIN in rod for rod in rods):
@@ -156,10 +184,19 @@ def geometry(system: System, parameters: Mapping[str, float] | None = None) -> G
         except (TypeError, ValueError):
             raise ModelError(f"{where} must be a number at the parameter values") from None
 
-    dimension = len(system.particles[0].position) if system.particles else 2
+    solids = [b for b in system.bodies if isinstance(b, RigidBody)]
+    planar = [b for b in system.bodies if not isinstance(b, RigidBody)]
+    dimension = len(system.particles[0].position) if system.particles else (3 if solids else 2)
     masses = np.array([number(p.mass, f"the mass of {p.name}") for p in system.particles])
+    shapes = tuple(
+        solid_shape(
+            number(b.mass, f"the mass of {b.name}"),
+            np.array([[number(x, f"the inertia of {b.name}") for x in row] for row in b.inertia]),
+        )
+        for b in solids
+    )
     body_lengths = []
-    for body in system.bodies:
+    for body in planar:
         mass, inertia = number(body.mass, body.name), number(body.inertia, body.name)
         body_lengths.append(np.sqrt(12 * inertia / mass) if mass > 0 and inertia > 0 else 0.0)
     vertical = dimension - 1
@@ -173,11 +210,16 @@ def geometry(system: System, parameters: Mapping[str, float] | None = None) -> G
         masses=masses,
         body_lengths=np.array(body_lengths, dtype=float),
         vertical=vertical,
+        solid_shapes=shapes,
         _particle_functions=tuple(compile_point(p.position, p.name) for p in system.particles),
-        _center_functions=tuple(compile_point(b.center, b.name) for b in system.bodies),
-        _angle_functions=tuple(compile_point([b.angle], b.name)[0] for b in system.bodies),
+        _center_functions=tuple(compile_point(b.center, b.name) for b in planar),
+        _angle_functions=tuple(compile_point([b.angle], b.name)[0] for b in planar),
         _spring_functions=tuple(
             tuple(compile_point(end, s.name) for end in s.ends) for s in system.springs
+        ),
+        _solid_center_functions=tuple(compile_point(b.position, b.name) for b in solids),
+        _rotation_functions=tuple(
+            compile_point([x for row in b.rotation for x in row], b.name) for b in solids
         ),
     )
 
@@ -197,6 +239,19 @@ def rods(positions: Positions, *, tolerance: float = ROD_TOLERANCE) -> tuple[tup
                 links.append((other, i))
                 break
     return tuple(links)
+
+
+def solid_pivots(positions: Positions, *, tolerance: float = ROD_TOLERANCE) -> tuple[int, ...]:
+    """The 3-D bodies (indices) whose centre stays at a constant distance from the origin:
+    a body turning about a fixed point there (a top), drawn with a stem from it."""
+    if positions.solid_centers is None:
+        return ()
+    origin = np.zeros((3, positions.t.shape[0]))
+    return tuple(
+        i
+        for i, center in enumerate(positions.solid_centers)
+        if _constant_distance(center, origin, tolerance)
+    )
 
 
 def _constant_distance(a: np.ndarray, b: np.ndarray, tolerance: float) -> bool:

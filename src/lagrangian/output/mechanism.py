@@ -4,7 +4,9 @@ The view is built from a :class:`~lagrangian.output.geometry.Geometry` and the
 motion resampled at the frame times (see :mod:`lagrangian.output.animation`):
 particles are dots whose area grows like mass^(2/3) (balls of one density),
 rods join the points a rigid link holds at constant distance, springs are
-zigzags, rigid bodies are thick rods through their centre, the last particle
+zigzags, planar rigid bodies are thick rods through their centre, 3-D bodies are
+boxes or discs turned by their rotation (with a stem from the origin when they
+turn about a fixed point there), the last particle
 leaves a fading trail, and the time is printed in a corner.  The axes have
 aspect 1:1 and limits that hold the largest extent of the whole run plus a
 margin, so nothing is clipped at the largest swing.
@@ -20,7 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .geometry import ORIGIN, Geometry, Positions, axis_label, zigzag
+from .geometry import ORIGIN, Geometry, Positions, axis_label, solid_pivots, zigzag
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -33,6 +35,7 @@ MARGIN = 0.12
 #: Marker diameter (points) of the heaviest particle and of a particle of mass -> 0.
 LARGEST_MARKER, SMALLEST_MARKER = 15.0, 5.0
 ROD_COLOR, SPRING_COLOR, BODY_COLOR, PIVOT_COLOR = "0.25", "0.45", "#8c564b", "black"
+SOLID_COLOR = "#1f4e79"
 #: Opacity of the newest piece of the trail (the oldest is transparent).
 TRAIL_ALPHA = 0.85
 _LEFT, _RIGHT, _BOTTOM, _TOP, _GAP = 0.65, 0.2, 0.5, 0.5, 0.55  # figure margins, inches
@@ -69,6 +72,8 @@ class MechanismView:
         self.trail_points = int(trail_points)
         self.caption = caption
         self.frame_count = (positions.t.shape[0] - 1) // self.oversample + 1
+        self.outlines = geometry.solid_outlines(positions)  # (K, 3, T) per 3-D body
+        self.stems = solid_pivots(positions)
         spans = max(float(np.max(extent[:, 1] - extent[:, 0])), 1e-9)
         self.spring_width = 0.025 * spans
         limits = _limits(extent, geometry.views, size)
@@ -117,7 +122,7 @@ class MechanismView:
 
         geometry = self.geometry
         panel: dict = {"axes": axes}
-        if any(ORIGIN in rod for rod in self.rods):
+        if any(ORIGIN in rod for rod in self.rods) or self.stems:
             ax.plot([0], [0], "o", ms=6, mfc="white", mec=PIVOT_COLOR, mew=1.5, zorder=4)
         panel["springs"] = [
             ax.plot([], [], "-", color=SPRING_COLOR, lw=1.2, zorder=2)[0]
@@ -135,11 +140,22 @@ class MechanismView:
                     )
         panel["bodies"] = [
             ax.plot([], [], "-", color=BODY_COLOR, lw=7, alpha=0.85, zorder=3)[0]
-            for _ in geometry.system.bodies
+            for _ in geometry.planar_bodies
         ]
         panel["centers"] = [
             ax.plot([], [], "o", ms=4, color="white", mec="black", mew=0.8, zorder=4)[0]
-            for _ in geometry.system.bodies
+            for _ in [*geometry.planar_bodies, *geometry.solids]
+        ]
+        panel["stems"] = [
+            ax.plot([], [], "-", color=ROD_COLOR, lw=2.2, solid_capstyle="round", zorder=3)[0]
+            for _ in self.stems
+        ]
+        panel["solids"] = [
+            [
+                ax.plot([], [], "-", color=SOLID_COLOR, lw=1.6, zorder=3)[0]
+                for _ in geometry.solid_shapes[i].paths
+            ]
+            for i in range(len(geometry.solid_shapes))
         ]
         trail = LineCollection([], linewidths=1.8, zorder=1, capstyle="butt")
         ax.add_collection(trail)
@@ -148,8 +164,10 @@ class MechanismView:
             ax.plot([], [], "o", ms=size, color=color, mec=_darker(color), mew=1.0, zorder=5)[0]
             for size, color in zip(self.marker_sizes, self.particle_colors, strict=True)
         ]
-        for kind in ("springs", "rods", "bodies", "centers", "particles"):
+        for kind in ("springs", "rods", "bodies", "centers", "stems", "particles"):
             self._moving.extend(panel[kind])
+        for lines in panel["solids"]:
+            self._moving.extend(lines)
         self._moving.append(trail)
         return panel
 
@@ -168,7 +186,8 @@ class MechanismView:
     @property
     def colors(self) -> list:
         """Every colour the moving parts are drawn in (a GIF palette keeps them exact)."""
-        colors = [ROD_COLOR, SPRING_COLOR, BODY_COLOR, PIVOT_COLOR, *self.particle_colors]
+        colors = [ROD_COLOR, SPRING_COLOR, BODY_COLOR, PIVOT_COLOR, SOLID_COLOR]
+        colors += self.particle_colors
         return colors + [_darker(color) for color in self.particle_colors]
 
     @property
@@ -187,6 +206,8 @@ class MechanismView:
     def _tracked(self) -> np.ndarray:
         if self.positions.particles.shape[0]:
             return self.positions.particles[-1]
+        if not self.positions.centers.shape[0]:  # 3-D bodies only
+            return self.positions.solid_centers[-1]
         center = self.positions.centers[-1]
         return np.concatenate([center, np.zeros((self.geometry.dimension - 2, center.shape[1]))])
 
@@ -194,7 +215,7 @@ class MechanismView:
         """Move every part to frame ``k``; returns the artists that changed."""
         j = k * self.oversample
         p = self.positions
-        ends = self.geometry.body_ends(p) if self.geometry.system.bodies else None
+        ends = self.geometry.body_ends(p) if self.geometry.planar_bodies else None
         tracked = self._tracked()
         for panel in self._panels:
             a, b = panel["axes"]
@@ -210,8 +231,10 @@ class MechanismView:
             if ends is not None:
                 for line, n in zip(panel["bodies"], range(ends.shape[0]), strict=True):
                     line.set_data(ends[n, :, 0, j], ends[n, :, 1, j])
-                for dot, n in zip(panel["centers"], range(ends.shape[0]), strict=True):
+                dots = panel["centers"][: ends.shape[0]]
+                for dot, n in zip(dots, range(ends.shape[0]), strict=True):
                     dot.set_data([p.centers[n, 0, j]], [p.centers[n, 1, j]])
+            self._update_solids(panel, j)
             start = max(0, j - self.trail_points)
             xy = np.column_stack([tracked[a, start : j + 1], tracked[b, start : j + 1]])
             segments = np.stack([xy[:-1], xy[1:]], axis=1) if len(xy) > 1 else np.empty((0, 2, 2))
@@ -220,6 +243,19 @@ class MechanismView:
         shown = f"t = {p.t[j]:.2f}"
         self.time_text.set_text(f"{shown}\n{self.caption}" if self.caption else shown)
         return self._moving
+
+    def _update_solids(self, panel: dict, j: int) -> None:
+        """Move the outlines, centres and stems of the 3-D bodies to sample ``j``."""
+        a, b = panel["axes"]
+        centers = self.positions.solid_centers
+        dots = panel["centers"][len(self.geometry.planar_bodies) :]
+        for i, (lines, outline) in enumerate(zip(panel["solids"], self.outlines, strict=True)):
+            paths = self.geometry.solid_shapes[i].paths
+            for line, path in zip(lines, paths, strict=True):
+                line.set_data(outline[list(path), a, j], outline[list(path), b, j])
+            dots[i].set_data([centers[i, a, j]], [centers[i, b, j]])
+        for line, i in zip(panel["stems"], self.stems, strict=True):
+            line.set_data([0, centers[i, a, j]], [0, centers[i, b, j]])
 
     def render(self, k: int) -> np.ndarray:
         """The RGBA pixels (rows from the top) of frame ``k``, drawn in full."""
