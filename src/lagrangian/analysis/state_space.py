@@ -178,21 +178,21 @@ def state_space(
         raise ModelError("the equations depend explicitly on t at this point: no fixed A, B")
     if _singular(M0):
         raise ModelError("the mass matrix is singular at this point (a coordinate singularity)")
-    rest = M0.LUsolve(f0)
+    rest = _solve(M0, f0)
     moving = [r for r in rest if not vanishes(r, system, point.defaults)]
     if moving:
         raise ModelError(
             "not an equilibrium or steady motion: q'' = "
-            + ", ".join(str(tidy(r)) for r in rest)
+            + ", ".join(str(_simplified(r)) for r in rest)
             + " != 0 at this point"
         )
     n = len(q)
-    lower = M0.LUsolve(point.at(forcing.jacobian(q + v)))
+    lower = _solve(M0, point.at(forcing.jacobian(q + v)))
     upper = sympy.zeros(n, n).row_join(sympy.eye(n))
     A = upper.col_join(lower)
     B = sympy.zeros(2 * n, 0)
     if u:
-        B = sympy.zeros(n, len(u)).col_join(M0.LUsolve(point.at(forcing.jacobian(u))))
+        B = sympy.zeros(n, len(u)).col_join(_solve(M0, point.at(forcing.jacobian(u))))
     names, expressions = _outputs(system, outputs)
     h = sympy.Matrix(expressions)
     C = point.at(h.jacobian(q + v)) if expressions else sympy.zeros(0, 2 * n)
@@ -235,7 +235,7 @@ class _Point:
                 known = ", ".join((*coordinates, *velocities, *parameters))
                 raise ModelError(f"'{name}' is not a coordinate, velocity, input or parameter "
                                  f"(known: {known})")  # fmt: skip
-            self.given[name] = _value(value, name, system)
+            self.given[name] = _value(value, f"at.{name}", system)
             self.substitution[symbol] = self.given[name]
         for c in system.coordinates:
             self.substitution.setdefault(c.q_dot, sympy.Integer(0))
@@ -334,20 +334,41 @@ def _outputs(
 def _value(
     value: object, name: str, system: System, allowed: Mapping[str, sympy.Expr] | None = None
 ) -> sympy.Expr:
-    """A number or a SymPy expression over ``allowed`` names (default: the parameters)."""
+    """A number, text (for the safe parser) or a SymPy expression over ``allowed`` names
+    (default: the parameters)."""
+    table = allowed if allowed is not None else {p.name: p.symbol for p in system.parameters}
+    if isinstance(value, str):
+        try:
+            return parse_expression(value, Namespace(symbols=table))
+        except ParseError as error:
+            raise ModelError(str(error), field=name, text=value) from None
     if isinstance(value, bool) or not isinstance(value, int | float | sympy.Basic):
-        raise ModelError(f"expected a number or SymPy expression, got {value!r}", field=name)
+        raise ModelError(f"expected a number, text or SymPy expression, got {value!r}", field=name)
     if isinstance(value, int):
         return sympy.Integer(value)
     if isinstance(value, float):
         if not np.isfinite(value):
             raise ModelError(f"expected a finite number, got {value!r}", field=name)
         return sympy.Float(value)
-    table = allowed if allowed is not None else {p.name: p.symbol for p in system.parameters}
     unknown = sorted(s.name for s in value.free_symbols if s.name not in table)
     if unknown:
         raise ModelError(f"unknown symbols {unknown} in the value", field=name)
     return value.xreplace({s: table[s.name] for s in value.free_symbols})
+
+
+def _solve(mass: sympy.Matrix, right: sympy.Matrix) -> sympy.Matrix:
+    """M0^-1 right, exactly: over the field of rational functions of the parameters where
+    the entries are such (every entry comes out cancelled, in milliseconds), else by
+    SymPy's LU with the entries tidied (nested fractions that take long to simplify)."""
+    from sympy.polys.matrices import DomainMatrix
+
+    try:
+        left, rhs = DomainMatrix.from_Matrix(mass).unify(DomainMatrix.from_Matrix(right))
+        if not left.domain.is_EX:
+            return left.to_field().lu_solve(rhs.to_field()).to_Matrix()
+    except (sympy.polys.polyerrors.PolynomialError, ZeroDivisionError, ValueError):
+        pass
+    return mass.LUsolve(right)
 
 
 def _singular(mass: sympy.Matrix) -> bool:

@@ -65,21 +65,84 @@ def derive(model: str, as_json: bool, as_latex: bool, steps: bool) -> None:
     show_default=True,
     help="Seconds for each stage; a stage out of time is reported undecided.",
 )
-def analyze(model: str, as_json: bool, as_latex: bool, timeout: float) -> None:
-    """Conserved quantities, Hamiltonian, equilibria and small oscillations of MODEL."""
+@click.option(
+    "--state-space",
+    "with_state_space",
+    is_flag=True,
+    help="Also the linearization x' = A x + B u, y = C x + D u (x = [q, q_dot]).",
+)
+@click.option(
+    "--at",
+    "at",
+    multiple=True,
+    metavar="NAME=EXPR",
+    help="Operating point of --state-space: a coordinate, a velocity (steady motion), an "
+    "input or a parameter, e.g. theta=pi (default: the first equilibrium found).",
+)
+@click.option(
+    "--output",
+    "outputs",
+    multiple=True,
+    metavar="NAME=EXPR",
+    help="An output y of --state-space, e.g. tip='x + l*sin(theta)' (default: the state).",
+)
+def analyze(
+    model: str,
+    as_json: bool,
+    as_latex: bool,
+    timeout: float,
+    with_state_space: bool,
+    at: tuple[str, ...],
+    outputs: tuple[str, ...],
+) -> None:
+    """Conserved quantities, Hamiltonian, equilibria and small oscillations of MODEL
+    (inputs held at 0); with --state-space also A, B, C, D."""
     from ..analysis import analyze as run_analysis
     from ..model import load
     from ..output.analysis import analysis_document, format_analysis, latex_analysis
 
     if as_json and as_latex:
         raise click.UsageError("choose one of --json and --latex")
-    analysis = run_analysis(load(model).equations_of_motion(), timeout=timeout)
+    if (at or outputs) and not with_state_space:
+        raise click.UsageError("--at and --output go with --state-space")
+    system = load(model)
+    linear = None
+    if with_state_space:  # first: a bad --at fails before the long analysis
+        linear = system.state_space(
+            at=_pairs(at, "--at") or None, outputs=_pairs(outputs, "--output") or None
+        )
+    analysis = run_analysis(system.without_inputs().equations_of_motion(), timeout=timeout)
     if as_json:
-        click.echo(json.dumps(analysis_document(analysis), indent=2, ensure_ascii=False))
+        document = analysis_document(analysis)
+        if linear is not None:
+            from ..output.state_space import state_space_document
+
+            document["state_space"] = state_space_document(linear)
+        click.echo(json.dumps(document, indent=2, ensure_ascii=False))
     elif as_latex:
         click.echo(latex_analysis(analysis))
+        if linear is not None:
+            from ..output.state_space import latex_state_space
+
+            click.echo(latex_state_space(linear))
     else:
         click.echo(format_analysis(analysis))
+        if linear is not None:
+            from ..output.state_space import format_state_space
+
+            click.echo("")
+            click.echo(format_state_space(linear))
+
+
+def _pairs(values: tuple[str, ...], hint: str) -> dict[str, str]:
+    """NAME=EXPR pairs (the expressions are read later by the safe parser)."""
+    result = {}
+    for item in values:
+        name, sep, text = item.partition("=")
+        if not sep or not name.strip() or not text.strip():
+            raise click.BadParameter(f"expected NAME=EXPR, got {item!r}", param_hint=hint)
+        result[name.strip()] = text
+    return result
 
 
 @contextlib.contextmanager
