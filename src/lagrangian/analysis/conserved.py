@@ -182,7 +182,7 @@ def _energy_leaks(system: System) -> list[str]:
 def _constraint_work(eom: EquationsOfMotion) -> list[str]:
     """Constraint forces A^T lambda do work -lambda . a0 when A q' + a0 = 0 has a0 != 0."""
     system = eom.system
-    at_rest = {c.q_dot: 0 for c in system.coordinates}
+    at_rest = {c.q_dot: sympy.Integer(0) for c in system.coordinates}  # a bare q' -> 0 stays SymPy
     for constraint in system.constraints:
         if not is_zero(constraint_velocity_form(constraint, system).xreplace(at_rest)):
             return ["the constraints move, so their forces do work"]

@@ -312,24 +312,20 @@ def _particle_motion(system: System, xi: tuple[sympy.Expr, ...]) -> tuple[str, s
     if len(translations) == 1:
         d = np.array(next(iter(translations)))
         return _named("P", "translation of all particles along", d)
-    rotations = []
+    # one w for every sample together: a single particle fixes w only across several points
+    blocks, targets = [], []
     for positions, moves in samples:
-        if dimension == 2:
-            a = np.vstack([np.array([[-r[1]], [r[0]]]) for r in positions])
-        else:
-            a = np.vstack(
-                [
-                    np.array([[0, r[2], -r[1]], [-r[2], 0, r[0]], [r[1], -r[0], 0]])
-                    for r in positions
-                ]
-            )
-        b = np.concatenate(moves)
-        w, *_ = np.linalg.lstsq(a, b, rcond=None)
-        if np.abs(a @ w - b).max() > 1e-9 * max(1.0, np.abs(b).max()):
-            return None
-        rotations.append(w)
-    if any(np.abs(w - rotations[0]).max() > 1e-9 * max(1.0, np.abs(w).max()) for w in rotations):
+        for r, dr in zip(positions, moves, strict=True):
+            if dimension == 2:
+                blocks.append(np.array([[-r[1]], [r[0]]]))
+            else:
+                blocks.append(np.array([[0, r[2], -r[1]], [-r[2], 0, r[0]], [r[1], -r[0], 0]]))
+            targets.append(dr)
+    a, b = np.vstack(blocks), np.concatenate(targets)
+    w, *_ = np.linalg.lstsq(a, b, rcond=None)
+    if np.abs(a @ w - b).max() > 1e-9 * max(1.0, np.abs(b).max()):
         return None
+    rotations = [w]
     if dimension == 2:
         return (
             "L_z",
