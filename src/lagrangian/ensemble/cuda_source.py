@@ -41,7 +41,7 @@ from ..integrate import tableaus
 from ..integrate.variational import STALL_RATIO
 from ..numeric.forms import SymbolicForms
 from ..numeric.numba_source import _fingerprint
-from .scheme_expressions import SCHEMES, STEP, scheme_expressions
+from ..numeric.scheme_expressions import SCHEMES, STEP, scheme_expressions
 
 #: Bump when the generated text changes.
 GENERATOR_VERSION = "3"

@@ -4,7 +4,7 @@ The expressions come from the same symbolic equations as the numpy backend
 (:func:`~lagrangian.numeric.forms.symbolic_forms` of ``compiled.equations``),
 printed as generated kernels cached on disk (:mod:`lagrangian.numeric.numba_source`):
 M and f of M q'' = f for ``rk4``; the momenta, forces, M and the Newton
-Jacobian of :mod:`.scheme_expressions` for ``variational`` (the midpoint
+Jacobian of :mod:`lagrangian.numeric.scheme_expressions` for ``variational`` (the midpoint
 scheme, or Stormer-Verlet when the system is separable, as
 :class:`~lagrangian.integrate.variational.Variational` picks).  The schemes
 (:mod:`.numba_loop`, a template written out per system and scheme so that
@@ -63,7 +63,7 @@ def _forms(compiled: CompiledSystem) -> SymbolicForms:
 def scheme_functions(compiled: CompiledSystem, scheme: str):
     """The module of jitted fillers of a variational ``scheme`` (generated, cached on disk)."""
     from ..numeric.numba_source import load_functions
-    from .scheme_expressions import MATRICES, SCALARS, scheme_expressions
+    from ..numeric.scheme_expressions import MATRICES, SCALARS, scheme_expressions
 
     forms = _forms(compiled)
     expressions = scheme_expressions(forms, scheme)

@@ -10,7 +10,7 @@ scheme, a copy of this text with the globals filled in (the block between the
 loop without compiling it.
 
 The globals: ``N`` (coordinates), ``STALL_RATIO`` (of the Newton test), the
-generated fillers of the scheme's expressions (:mod:`.scheme_expressions`:
+generated fillers of the scheme's expressions (:mod:`lagrangian.numeric.scheme_expressions`:
 ``fill`` for rk4; ``momenta``, ``momenta_force``, ``mass``, ``jacobian`` for
 midpoint; ``mass`` and
 ``gradient`` for Stormer-Verlet) and the RK4 tableau.  The schemes are the

@@ -55,6 +55,7 @@ import numpy as np
 
 from ..errors import ModelError, SingularMassMatrixError
 from .fixed_step import AbstractFixedStepIntegrator, StepFailure
+from .midpoint_step import Newton, Unavailable, midpoint_functions, step_one
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -130,6 +131,20 @@ class Variational(AbstractFixedStepIntegrator):
 
     def step(self, compiled, t, h, y, state, params, work):
         single = y.ndim == 1
+        if single and isinstance(state, _MidpointState) and np.ndim(params) == 1:
+            functions = midpoint_functions(compiled)
+            if functions is not None:
+                newton = Newton(self.newton_tol, ROUNDING_FLOOR, STALL_RATIO, self.max_newton)
+                momenta, last = state.momenta[:, 0], state.velocity
+                try:
+                    y_new, p_new, v_new = step_one(
+                        functions, t, h, y, momenta, None if last is None else last[:, 0],
+                        params, work, newton,
+                    )  # fmt: skip
+                except Unavailable:
+                    pass  # the NumPy functions take this step (and give its inf or NaN)
+                else:
+                    return y_new, _MidpointState(p_new[:, None], v_new[:, None])
         q, w = _split(_batch(y))
         if isinstance(state, _VerletState):
             q_new, w_new, state = self._verlet(compiled, t, h, q, state, params, work)

@@ -1,8 +1,10 @@
 r"""The expressions a compiled ensemble loop evaluates, per fixed-step scheme.
 
-The backends that generate a whole loop (CUDA C in :mod:`.cuda_source`, numba
-in :mod:`.numba_backend`) print the same entries, built here once from the
-symbolic forms (:mod:`lagrangian.numeric.forms`).  Each scheme needs a few
+The backends that generate a whole loop (CUDA C in
+:mod:`lagrangian.ensemble.cuda_source`, numba in :mod:`lagrangian.ensemble.numba_backend`)
+and the compiled midpoint step of one state (:mod:`lagrangian.integrate.midpoint_step`)
+print the same entries, built here once from the symbolic forms
+(:mod:`lagrangian.numeric.forms`).  Each scheme needs a few
 functions of (t, y = [q, q'], p), each filling named output arrays:
 
 - ``rk4``: ``mass_force`` (M, f of M q'' = f);
@@ -22,7 +24,7 @@ from __future__ import annotations
 
 import sympy
 
-from ..numeric.forms import SymbolicForms
+from .forms import SymbolicForms
 
 #: The step width in the Jacobian of the midpoint scheme.
 STEP = sympy.Symbol("_h")

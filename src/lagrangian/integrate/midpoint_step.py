@@ -1,0 +1,313 @@
+r"""The midpoint variational step of one state, from compiled fillers.
+
+:class:`~lagrangian.integrate.variational.Variational` works on batches of states
+with the NumPy functions of a compiled system: seven calls and some thirty array
+operations per Newton iteration, most of a millisecond per step of a double
+pendulum.  For one state (a single run) the same step is taken here from four
+generated functions of (t, z = [q_m, v], p) that fill given arrays, the entries of
+:mod:`lagrangian.numeric.scheme_expressions` (``momenta_force``: L_q' and L_q + Q;
+``jacobian``: the Newton Jacobian J, which depends on h; ``momenta``; ``mass``),
+each with its common subexpressions eliminated:
+
+- backend ``numba``: the ``numba.njit`` fillers the numba ensemble loop uses (the
+  same generated module, cached on disk);
+- backend ``numpy``: :func:`sympy.lambdify` of the same entries over Python floats
+  (``math`` functions), whose values are copied into the arrays.
+
+The iteration, its first guess and its convergence test are the batch step's
+(``Variational._midpoint``) for one element.  A filler that fails on a value (a
+division by zero, a logarithm of a negative number) raises :class:`Unavailable`,
+and the caller takes the step with the NumPy functions, whose inf or NaN the
+driver reports.  Systems whose entries cannot be printed for ``math`` (a declared
+function given as data) are not built here (:func:`midpoint_functions` returns None).
+"""
+
+from __future__ import annotations
+
+import threading
+import weakref
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+import sympy
+
+from .fixed_step import StepFailure
+
+if TYPE_CHECKING:
+    from ..numeric.compiled import CompiledSystem
+    from .base import Work
+
+_BUILT: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_LOCK = threading.Lock()
+_FILLERS = ("momenta_force", "jacobian", "momenta", "mass")
+
+
+class Newton(NamedTuple):
+    """The settings of the Newton iterations (see :mod:`.variational`)."""
+
+    tol: float
+    floor: float  # ROUNDING_FLOOR
+    stall: float  # STALL_RATIO
+    iterations: int
+
+
+class Unavailable(Exception):
+    """A filler could not evaluate at this state; take the step with the NumPy functions."""
+
+
+class MidpointFunctions:
+    """The four fillers of one system (see the module), each ``f(t, z, p, [h], *outputs)``,
+    and with backend numba the whole step, jitted (:mod:`.numba_midpoint`), else None."""
+
+    def __init__(self, n: int, fillers: dict, step=None):
+        self.n = n
+        self.step = step
+        self.momenta_force = fillers["momenta_force"]
+        self.jacobian = fillers["jacobian"]
+        self.momenta = fillers["momenta"]
+        self.mass = fillers["mass"]
+
+
+def midpoint_functions(compiled: CompiledSystem) -> MidpointFunctions | None:
+    """The fillers of ``compiled`` (built on first use, then kept), or None where there are none."""
+    from ..derive import EquationsOfMotion
+
+    if compiled.backend not in ("numpy", "numba") or compiled.has_constraints:
+        return None
+    if not isinstance(compiled.equations, EquationsOfMotion):
+        return None  # functions given by hand: no equations to generate code from
+    with _LOCK:
+        if compiled not in _BUILT:
+            _BUILT[compiled] = _build(compiled)
+        return _BUILT[compiled]
+
+
+def _build(compiled: CompiledSystem) -> MidpointFunctions | None:
+    from ..errors import ModelError
+    from ..numeric.definitions import function_definitions
+    from ..numeric.forms import symbolic_forms
+    from ..numeric.scheme_expressions import MATRICES, SCALARS, scheme_expressions
+
+    system = compiled.equations.system
+    try:
+        forms = symbolic_forms(
+            compiled.equations, function_definitions(system, dict(compiled.definitions))
+        )
+        functions = scheme_expressions(forms, "midpoint")
+        if compiled.backend == "numba":
+            from ..numeric.numba_source import load_functions
+
+            module = load_functions(
+                forms, "midpoint", functions, scalars=SCALARS, matrices=MATRICES
+            )
+            fillers = {name: _guarded(getattr(module, name)) for name in _FILLERS}
+            return MidpointFunctions(forms.n, fillers, _numba_step(forms.n, module))
+        else:
+            fillers = {
+                name: _lambdified(forms, outputs, SCALARS.get(name, ()))
+                for name, outputs in functions
+            }
+    except (ModelError, NameError, TypeError, ValueError, KeyError):
+        return None  # something the generated code cannot express: the NumPy step runs
+    return MidpointFunctions(forms.n, fillers)
+
+
+def _numba_step(n: int, fillers) -> object:
+    """The jitted step of :mod:`.numba_midpoint` over the ``fillers`` module (cached on disk)."""
+    import hashlib
+    from pathlib import Path
+
+    from ..numeric.code_cache import load_text
+    from .variational import STALL_RATIO  # imported when first built: no import cycle
+
+    template = Path(__file__).with_name("numba_midpoint.py").read_text(encoding="utf-8")
+    head, rest = template.split(_BEGIN, 1)
+    tail = rest.split(_END, 1)[1].split("\n", 1)[1]
+    generated = [
+        f"N = {n}",
+        f"STALL_RATIO = {STALL_RATIO!r}",
+        f"from {fillers.__name__} import {', '.join(_FILLERS)}",
+    ]
+    text = "\n".join([head.rstrip("\n"), "", *generated, "", tail])
+    return load_text(hashlib.sha256(text.encode()).hexdigest(), text).step
+
+
+_BEGIN, _END = "# -- generated: begin", "# -- generated: end"
+
+
+def _guarded(kernel):
+    """A numba filler whose ZeroDivisionError (NumPy gives inf there) becomes Unavailable."""
+
+    def filler(*arguments):
+        try:
+            kernel(*arguments)
+        except (ZeroDivisionError, ValueError, OverflowError):
+            raise Unavailable from None
+
+    return filler
+
+
+def _lambdified(forms, outputs, scalars):
+    """A filler ``f(t, z, p, *scalars, *arrays)`` from lambdify over Python floats."""
+    arguments = (forms.time, *forms.coordinates, *forms.velocities, *forms.parameters, *scalars)
+    entries = [entry for _, values in outputs for entry in values]
+    function = sympy.lambdify(arguments, entries, modules="math", cse=True, dummify=True)
+    sizes = [len(values) for _, values in outputs]
+    count = len(scalars)
+
+    def filler(t, z, p, *rest):
+        try:
+            values = function(t, *z.tolist(), *p.tolist(), *rest[:count])
+        except (ZeroDivisionError, ValueError, OverflowError):
+            raise Unavailable from None
+        if len(sizes) == 1:
+            rest[count].flat = values
+            return
+        start = 0
+        for array, size in zip(rest[count:], sizes, strict=True):
+            array.flat = values[start : start + size]
+            start += size
+
+    return filler
+
+
+def solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
+    """x with matrix x = rhs for one small system; None where the matrix is singular."""
+    n = rhs.shape[0]
+    if n == 1:
+        a = matrix[0, 0]
+        return None if a == 0 else rhs / a
+    if n == 2:
+        (a, b), (c, d) = matrix.tolist()
+        det = a * d - b * c
+        if det == 0:
+            return None
+        f, g = rhs.tolist()
+        return np.array([(d * f - b * g) / det, (a * g - c * f) / det])
+    try:
+        return np.linalg.solve(matrix, rhs)
+    except np.linalg.LinAlgError:
+        return None
+
+
+def step_one(
+    functions: MidpointFunctions,
+    t: float,
+    h: float,
+    y: np.ndarray,
+    p: np.ndarray,
+    last: np.ndarray | None,
+    params: np.ndarray,
+    work: Work,
+    newton: Newton,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(y, momenta, midpoint velocity) after the midpoint step of one state y (2n,) at t.
+
+    ``p``: the momenta at t; ``last``: the previous step's midpoint velocity (None at
+    the first step).  The iterations of ``Variational._midpoint`` and ``_velocity``
+    for one batch element, counted in ``work`` as there.
+    """
+    params = np.ascontiguousarray(params, dtype=float)
+    if functions.step is not None:
+        return _jitted(functions.step, t, h, y, p, last, params, work, newton)
+    n = functions.n
+    q, w = y[:n], y[n:]
+    v = w if last is None else 2 * w - last
+    tm = t + h / 2
+    reach = max(1.0, float(abs(q).max()))
+    z, momenta, force = np.empty(2 * n), np.empty(n), np.empty(n)
+    matrix = np.empty((n, n))
+    previous = np.inf
+    for iteration in range(newton.iterations + 1):
+        z[:n] = q + (h / 2) * v
+        z[n:] = v
+        functions.momenta_force(tm, z, params, momenta, force)
+        work.rhs_evaluations += 1
+        residual = momenta - (h / 2) * force - p
+        size, scale = _sizes(residual, p, momenta)
+        if _converged(size, previous, scale, reach, newton):
+            break
+        if iteration == newton.iterations:
+            raise StepFailure(
+                "Newton's method for the midpoint velocity did not converge in "
+                f"{newton.iterations} iterations (residual {size:.2e})"
+            )
+        previous = size
+        functions.jacobian(tm, z, params, h, matrix)
+        work.jacobian_evaluations += 1
+        work.newton_iterations += 1
+        v = v - _solved(matrix, residual)
+    p_new = p + h * force
+    q_new = q + h * v
+    # the velocity from the momenta, L_q'(q, q') = p_{k+1}: Newton with M, from v
+    z[:n] = q_new
+    z[n:] = v
+    reach = max(1.0, float(abs(q_new).max()))
+    previous = np.inf
+    for iteration in range(newton.iterations + 1):
+        functions.momenta(t + h, z, params, momenta)
+        work.rhs_evaluations += 1
+        residual = momenta - p_new
+        size, scale = _sizes(residual, p_new, momenta)
+        if _converged(size, previous, scale, reach, newton):
+            return np.concatenate([q_new, z[n:]]), p_new, v
+        if iteration == newton.iterations:
+            break
+        previous = size
+        functions.mass(t + h, z, params, matrix)
+        work.jacobian_evaluations += 1
+        z[n:] -= _solved(matrix, residual)
+    raise StepFailure(
+        f"the velocity for the momenta did not converge in {newton.iterations} iterations"
+    )
+
+
+def _jitted(step, t, h, y, p, last, params, work, newton):
+    """:func:`step_one` as one call of the numba step (:mod:`.numba_midpoint`)."""
+    n = y.shape[0] // 2
+    y = np.ascontiguousarray(y, dtype=float)
+    started = last is not None
+    last = np.ascontiguousarray(last if started else y[n:])
+    y_new, p_new, v_new = np.empty(2 * n), np.empty(n), np.empty(n)
+    counts = np.zeros(3, dtype=np.int64)
+    options = (newton.tol, newton.floor, int(newton.iterations))
+    try:
+        failed = step(float(t), float(h), y, params, np.ascontiguousarray(p), last, started,
+                      *options, y_new, p_new, v_new, counts)  # fmt: skip
+    except (ZeroDivisionError, ValueError, OverflowError):
+        raise Unavailable from None
+    work.rhs_evaluations += int(counts[0])
+    work.jacobian_evaluations += int(counts[1])
+    work.newton_iterations += int(counts[2])
+    if failed == 1:
+        raise StepFailure(
+            "Newton's method for the midpoint velocity did not converge in "
+            f"{newton.iterations} iterations"
+        )
+    if failed:
+        raise StepFailure(
+            f"the velocity for the momenta did not converge in {newton.iterations} iterations"
+        )
+    return y_new, p_new, v_new
+
+
+def _converged(size: float, previous: float, scale: float, reach: float, newton: Newton) -> bool:
+    """``variational._converged`` for one state, on Python floats."""
+    if size <= newton.tol * scale or size == 0.0:
+        return True
+    return size >= newton.stall * previous and size <= newton.floor * scale * reach
+
+
+def _sizes(residual: np.ndarray, p: np.ndarray, momenta: np.ndarray) -> tuple[float, float]:
+    """max |residual| and the scale max(max |p|, max |momenta|), as Python floats
+    (a NaN anywhere makes the size NaN, as numpy's max, so a NaN never converges)."""
+    size = float(abs(residual).max())
+    scale = float(max(abs(p).max(), abs(momenta).max()))
+    return size, scale
+
+
+def _solved(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    x = solve(matrix, rhs)
+    if x is None:
+        raise StepFailure("the Newton matrix (the mass matrix) is singular")
+    return x
