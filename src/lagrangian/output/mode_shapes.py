@@ -53,9 +53,8 @@ def mode_numbers(
         # the equilibrium's own modes: a family's are those at its representative member,
         # a singular point's those of its regular directions (linearize alone has neither)
         at = dict(getattr(stable[0], "representative", None) or stable[0].point)
-        if modes is None and len(stable[0].modes.shapes[:1]) and (
-            len(stable[0].modes.shapes[0]) == len(system.coordinates)
-        ):
+        shapes = stable[0].modes.shapes
+        if modes is None and shapes and len(shapes[0]) == len(system.coordinates):
             modes = stable[0].modes
     if modes is None:
         modes = system.linearize(at).normal_modes()
@@ -118,9 +117,7 @@ def _strobe(system, point, omega_squared, shapes, parameters) -> Figure:
     rest = scene.at(np.zeros(1), q0[:, None])
     size = max(
         float(
-            np.ptp(
-                np.concatenate([rest.particles[:, :, 0], [[0] * scene.dimension]]), axis=0
-            ).max()
+            np.ptp(np.concatenate([rest.particles[:, :, 0], [[0] * scene.dimension]]), axis=0).max()
         ),
         1e-9,
     )
