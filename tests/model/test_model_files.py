@@ -165,11 +165,11 @@ def _particles(count: int, moving_with: int) -> str:
 def test_geometry_too_costly_to_assemble_is_refused_before_it_starts(deadline):
     start = time.perf_counter()
     with deadline(5), pytest.raises(ModelError) as caught:
-        loads(_particles(4, 200), source="model.toml")  # 4 x 20,100 pairs: took 10 s
+        loads(_particles(10, 200), source="model.toml")  # 10 x 20,100 pairs
     assert time.perf_counter() - start < 2.0
     assert str(caught.value) == (
         "model.toml: particles: kinetic energy too large to assemble: the particles and bodies "
-        "couple 80400 pairs of velocities (limit 50000); give fewer points that each move with "
-        "fewer coordinates"
+        "couple 201000 pairs of velocities (limit 200000); give fewer points that each move "
+        "with fewer coordinates"
     )
     assert loads(_particles(3, 20)).kinetic is not None  # 630 pairs
