@@ -292,3 +292,36 @@ def test_a_body_in_python_with_springs_and_gravity_uses_its_centre():
         sympy.simplify(system.potential - (s["k"] * s["z"] ** 2 / 2 + s["m"] * s["g"] * s["z"]))
         == 0
     )
+
+
+@pytest.mark.parametrize("form", ["euler", "rotation"])
+def test_a_body_turned_at_a_given_rate_has_the_explicit_terms_of_T(form):
+    """A disc forced to turn about the vertical at rate w (phi = w t), free to tilt and spin:
+    T = I1 (theta'^2 + w^2 sin^2 theta)/2 + I3 (psi' + w cos theta)^2 / 2."""
+    if form == "euler":
+        orientation = {"euler": ("w*t", "theta", "psi"), "convention": "zxz"}
+    else:
+        phi, theta, psi = sympy.symbols("phi theta psi")
+        matrix = ACTIVE["z"](phi) * ACTIVE["x"](theta) * ACTIVE["z"](psi)
+        matrix = matrix.subs(phi, sympy.Symbol("w") * sympy.Symbol("t"))
+        orientation = {"rotation": tuple(tuple(str(x) for x in matrix.row(j)) for j in range(3))}
+    system = lg.System.from_particles(
+        ["theta", "psi"],
+        bodies=[lg.RigidBody("disc", "m", (0, 0, 0), ("I1", "I1", "I3"), **orientation)],
+        parameters={"m": 1.0, "I1": 1.0, "I3": 1.5, "w": 2.0},
+    )
+    s = system.symbols
+    theta, w = s["theta"], s["w"]
+    expected = s["I1"] * (s["theta_dot"] ** 2 + w**2 * sympy.sin(theta) ** 2) / 2
+    expected += s["I3"] * (s["psi_dot"] + w * sympy.cos(theta)) ** 2 / 2
+    rng = random.Random(9)
+    for _ in range(4):
+        point = random_state(system, rng) | {"w": rng.uniform(0.5, 2)}
+        assert numbers(system.kinetic, point) == pytest.approx(numbers(expected, point), rel=1e-12)
+
+
+def test_a_rotation_matrix_without_a_finite_value_is_refused():
+    nowhere = '["sqrt(-1 - theta^2)", "0", "0"], ["0", "1", "0"], ["0", "0", "1"]'
+    where = r"bodies\[0\]\.orientation\.rotation: the matrix has no finite value"
+    with pytest.raises(ModelError, match=where):
+        lg.loads(TOP.format(orientation=f"orientation = {{rotation = [{nowhere}]}}"))

@@ -62,14 +62,17 @@ def kinetic_energy(
     mass_matrix = [[sympy.Integer(0)] * n for _ in range(n)]
     linear = [sympy.Integer(0)] * n
     constant = sympy.Integer(0)
-    for body in solids:
+    state = (*q, time)
+    for body in solids:  # each entry tidied on its own first: smaller sums to simplify
         inertia, rates, explicit = rotation_piece(body, q, time)
         weighted = inertia * rates  # I A
-        for i in range(n):
-            for j in range(i, n):
-                mass_matrix[i][j] += (rates[:, i].T * weighted[:, j])[0, 0]
-            linear[i] += (weighted[:, i].T * explicit)[0, 0]
-        constant += (explicit.T * inertia * explicit)[0, 0] / 2
+        active = [i for i in range(n) if any(x != 0 for x in rates[:, i])]
+        for a, i in enumerate(active):
+            for j in active[a:]:
+                entry = (rates[:, i].T * weighted[:, j])[0, 0]
+                mass_matrix[i][j] += tidy(entry, state, trig=True)
+            linear[i] += tidy((weighted[:, i].T * explicit)[0, 0], state, trig=True)
+        constant += tidy((explicit.T * inertia * explicit)[0, 0] / 2, state, trig=True)
 
     # (mass or inertia, position components): a body's rotation is a 1-D "point" at its angle.
     points = [(p.mass, p.position) for p in particles]

@@ -136,6 +136,7 @@ def rotation_problem(
 
     rng = random.Random(seed)
     arguments = list(symbols)
+    checked = 0
     try:
         function = sympy.lambdify(arguments, sympy.Matrix(rotation), "numpy")
     except Exception as error:  # an unspecified function cannot be evaluated
@@ -145,7 +146,8 @@ def rotation_problem(
             rng.uniform(0.5, 2.0) if s.is_positive else rng.uniform(-2.0, 2.0) for s in arguments
         ]
         try:
-            matrix = np.array(function(*values), dtype=float)
+            with np.errstate(all="ignore"):  # a point outside the domain is skipped below
+                matrix = np.array(function(*values), dtype=float)
         except (TypeError, ValueError, ZeroDivisionError):
             return "cannot be evaluated to numbers"
         if not np.all(np.isfinite(matrix)):
@@ -156,4 +158,7 @@ def rotation_problem(
             return f"is not orthogonal (R^T R - 1 has an entry {deviation:.3g} at {point})"
         if np.linalg.det(matrix) < 0:
             return "is a reflection (det R = -1), not a rotation"
+        checked += 1
+    if checked == 0:
+        return f"has no finite value at {CHECK_POINTS} random points"
     return None
