@@ -126,11 +126,16 @@ def test_mp4_needs_ffmpeg(bob_pendulum, bob_run, tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_a_model_without_geometry_has_nothing_to_animate():
+def test_a_model_without_geometry_is_drawn_as_its_coordinates():
+    # one dot per coordinate at (q_i, -i), following the run; no rods between them
     system = lg.load("harmonic_oscillator")
     run = system.simulate(t_end=1.0)
-    with pytest.raises(lg.ModelError, match="nothing to animate: the model has no particles"):
-        animate(run, system)
+    scene = geometry(system)
+    positions = scene.at(run.t, np.stack([run["x"]]))
+    assert np.allclose(positions.particles[0, 0], run["x"])
+    assert np.allclose(positions.particles[0, 1], 0.0)
+    assert scene.coordinates_only
+    assert animate(run, system).html
 
 
 def test_double_pendulum_chain_of_rods():

@@ -170,7 +170,6 @@ def _model_figure(model: str, kind: str, options: dict):
 )
 def animate(model, out, t_end, method, assignments, definitions, fps, max_frames) -> None:
     """Animate the mechanism of MODEL: a run played in real time."""
-    from ..errors import ModelError
     from ..model import load
     from ..output.animation import animate as write_animation
     from ..output.animation import check_animation_path
@@ -178,9 +177,7 @@ def animate(model, out, t_end, method, assignments, definitions, fps, max_frames
     out = out or f"{_stem(model)}.gif"
     check_animation_path(out)
     check_output_path(out)
-    system = load(model)
-    if not system.particles and not system.bodies:
-        raise ModelError("nothing to animate: the model has no particles or bodies")
+    system = load(model)  # without particles or bodies: the coordinates are drawn
     _headless()
     run = _simulate(
         system,

@@ -154,7 +154,7 @@ def mechanism_view(
     samples = np.stack([trajectory[q] for q in system.coordinate_names])
     along_run = scene.at(t, samples)
     positions = scene.at(fine, resample(trajectory, fine))
-    links = rods(along_run)
+    links = () if scene.coordinates_only else rods(along_run)
     extent = _union(scene.extent(along_run, links), scene.extent(positions, links))
     caption = "" if abs(plan.speed - 1) < 1e-9 else f"({plan.speed:.3g}x speed)"
     view = MechanismView(
@@ -238,8 +238,9 @@ def animate(
     """Animate ``trajectory`` of ``system``; write ``path`` (.gif, .html, .mp4) when given.
 
     Without a path the result holds the HTML player and shows in Jupyter.
-    Errors: a model without particles or bodies ("nothing to animate"), an
-    unknown suffix, MP4 without ffmpeg.
+    A model without particles or bodies is drawn as its coordinates (one dot per
+    coordinate moving along its own line).  Errors: an unknown suffix, MP4
+    without ffmpeg.
     """
     suffix = check_animation_path(path) if path is not None else None
     view, plan = mechanism_view(

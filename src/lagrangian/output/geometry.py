@@ -77,6 +77,7 @@ class Geometry:
     _spring_functions: tuple
     _solid_center_functions: tuple = ()
     _rotation_functions: tuple = ()
+    coordinates_only: bool = False  # stand-in dots for the coordinates: no rods between them
 
     @property
     def planar_bodies(self) -> tuple:
@@ -156,11 +157,13 @@ class Geometry:
 def geometry(system: System, parameters: Mapping[str, float] | None = None) -> Geometry:
     """The :class:`Geometry` of ``system`` at ``parameters`` (default: the model's values).
 
-    Raises :class:`ModelError` when the model has no particles or bodies, or a
-    parameter has no value.
+    A model without particles or bodies (given by its Lagrangian or energies) is
+    drawn as its coordinates: one dot per coordinate q_i at (q_i, -i), moving
+    along its own line.  Raises :class:`ModelError` when a parameter has no value.
     """
-    if not system.particles and not system.bodies:
-        raise ModelError("nothing to animate: the model has no particles or bodies")
+    coordinates_only = not system.particles and not system.bodies
+    if coordinates_only:
+        system = coordinates_drawn(system)
     values = dict(system.parameter_values)
     values.update({k: float(v) for k, v in (parameters or {}).items()})
     missing = [p.name for p in system.parameters if p.name not in values]
@@ -221,7 +224,21 @@ def geometry(system: System, parameters: Mapping[str, float] | None = None) -> G
         _rotation_functions=tuple(
             compile_point([x for row in b.rotation for x in row], b.name) for b in solids
         ),
+        coordinates_only=coordinates_only,
     )
+
+
+def coordinates_drawn(system: System) -> System:
+    """``system`` with a stand-in particle per coordinate: q_i drawn at (q_i, -i)."""
+    import dataclasses
+
+    from ..model import Particle
+
+    dots = tuple(
+        Particle(c.name, sympy.Integer(1), (c.q, sympy.Integer(-i)))
+        for i, c in enumerate(system.coordinates)
+    )
+    return dataclasses.replace(system, particles=dots, gravity=None, springs=())
 
 
 def rods(positions: Positions, *, tolerance: float = ROD_TOLERANCE) -> tuple[tuple[int, int], ...]:
