@@ -103,7 +103,10 @@ def test_missing_parameter_values_are_named():
     assert dict(result.default_parameters) == {}
     with pytest.raises(lg.ModelError) as error:
         result.parameter_vector()
-    assert str(error.value) == "no value for parameter(s) k, m (give them with --set NAME=VALUE)"
+    assert (
+        str(error.value) == "no value for parameter(s) k, m (give them with --set NAME=VALUE,"
+        " or params={NAME: VALUE} in Python)"
+    )
     with pytest.raises(lg.ModelError) as error:
         result.rhs(0.0, [1.0, 0.0], [2.0])
     assert str(error.value) == "expected 2 parameter values (k, m), got 1: no value for m"

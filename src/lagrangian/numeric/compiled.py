@@ -93,7 +93,7 @@ class CompiledSystem:
             raise ModelError(
                 "no value for parameter(s) "
                 + ", ".join(missing)
-                + " (give them with --set NAME=VALUE)"
+                + " (give them with --set NAME=VALUE, or params={NAME: VALUE} in Python)"
             )
         for name in self.parameter_names:
             self.check_parameter(name, values[name])

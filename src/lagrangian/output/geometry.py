@@ -169,7 +169,8 @@ def geometry(system: System, parameters: Mapping[str, float] | None = None) -> G
     missing = [p.name for p in system.parameters if p.name not in values]
     if missing:
         raise ModelError(
-            f"no value for parameter(s) {', '.join(missing)} (give them with --set NAME=VALUE)"
+            f"no value for parameter(s) {', '.join(missing)} (give them with --set NAME=VALUE,"
+            " or params={NAME: VALUE} in Python)"
         )
     arguments = (system.time, *(c.q for c in system.coordinates))
     arguments += tuple(p.symbol for p in system.parameters)
