@@ -23,7 +23,7 @@ from collections.abc import Mapping
 import numpy as np
 import sympy
 
-from ..algebra import is_zero
+from ..algebra import as_expression, is_zero
 from ..derive import EquationsOfMotion
 from ..model import System
 
@@ -42,7 +42,7 @@ def free_coordinates(eom: EquationsOfMotion, point: Mapping[str, sympy.Expr]) ->
     system = eom.system
     free = []
     for c in system.coordinates:
-        in_values = any(sympy.sympify(v).has(c.q) for v in point.values())
+        in_values = any(as_expression(v).has(c.q) for v in point.values())
         needed = c.name not in point and (eom.mass_matrix.has(c.q) or eom.forcing.has(c.q))
         if in_values or needed:
             free.append(c.name)
@@ -61,7 +61,7 @@ def representative(
             symbols[name]: sympy.Integer(value) if isinstance(value, int) else value
             for name in free
         }
-        member = {name: sympy.sympify(v).xreplace(table) for name, v in point.items()}
+        member = {name: as_expression(v).xreplace(table) for name, v in point.items()}
         member |= {name: table[symbols[name]] for name in free if name not in point}
         first = first or member
         if _regular(eom, member):
@@ -147,7 +147,7 @@ def _family_tangent(system: System, family: Mapping[str, sympy.Expr], free) -> l
             [
                 sympy.Integer(1)
                 if c.name == name
-                else sympy.diff(sympy.sympify(family.get(c.name, 0)), symbol)
+                else sympy.diff(as_expression(family.get(c.name, 0)), symbol)
                 for c in system.coordinates
             ]
         )
