@@ -5,13 +5,15 @@
 For each n-link pendulum (point masses on massless links, angles from the downward
 vertical, written as a model file with particle positions, as benchmarks/derive.py
 builds it) the real command runs as a child process: ``derive FILE --json``,
-``derive FILE`` (text) and ``derive FILE --latex``.  Process start-up is measured in
-the same run (``lagrangian --version``: the interpreter, click and the package
-import) and subtracted; printed are medians over ``--repeat`` runs, the bytes
-written, and for n up to ``--kane-max`` the seconds of sympy.physics.mechanics'
-``KanesMethod`` for the same chain (one run, in this process) with the ratio
-Kane / ours (ours above start-up).  A command that runs past ``--timeout`` seconds
-is stopped and shown as such.  Nothing is asserted.
+``derive FILE`` (text) and ``derive FILE --latex``.  Process start-up
+(``lagrangian --version``: the interpreter, click and the package import) is
+measured just before each run of a command and subtracted from it (the machine
+may be shared: paired runs see the same load); printed are medians over
+``--repeat`` pairs of the command's seconds, of the start-up and of the
+difference, the bytes written, and for n up to ``--kane-max`` the seconds of
+sympy.physics.mechanics' ``KanesMethod`` for the same chain (one run, in this
+process) with the ratio Kane / ours (ours above start-up).  A command that runs
+past ``--timeout`` seconds is stopped and shown as such.  Nothing is asserted.
 """
 
 from __future__ import annotations
@@ -71,11 +73,9 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--timeout", type=float, default=300.0)
     args = parser.parse_args(argv)
     sizes = [int(s) for s in args.sizes.split(",")]
-    startup = statistics.median(timed(["--version"], 60)[0] for _ in range(args.repeat + 2))
-    print(f"process start-up (lagrangian --version): {startup:.3f} s (median)")
     print(
-        f"{'n':>4} {'format':>6} {'process s':>10} {'above start-up s':>17} {'bytes':>10} "
-        f"{'Kane s':>8} {'Kane / ours':>12}"
+        f"{'n':>4} {'format':>6} {'process s':>10} {'start-up s':>11} {'above start-up s':>17} "
+        f"{'bytes':>10} {'Kane s':>8} {'Kane / ours':>12}"
     )
     with tempfile.TemporaryDirectory() as folder:
         for n in sizes:
@@ -83,17 +83,21 @@ def main(argv: list[str] | None = None) -> None:
             path.write_text(chain_model(n))
             kane = kanes_method(n) if n <= args.kane_max else float("nan")
             for name, flags in FORMATS.items():
-                runs = [
-                    timed(["derive", str(path), *flags], args.timeout) for _ in range(args.repeat)
-                ]
-                total = statistics.median(r[0] for r in runs)
-                above = total - startup
+                pairs = []
+                for _ in range(args.repeat):
+                    startup = timed(["--version"], 60)[0]
+                    seconds, size = timed(["derive", str(path), *flags], args.timeout)
+                    pairs.append((seconds, startup, size))
+                total = statistics.median(p[0] for p in pairs)
+                startup = statistics.median(p[1] for p in pairs)
+                above = statistics.median(p[0] - p[1] for p in pairs)
                 ratio = kane / above if above > 0 else float("nan")
                 print(
-                    f"{n:>4} {name:>6} {total:>10.3f} {above:>17.3f} {runs[0][1]:>10} "
-                    f"{kane:>8.2f} {ratio:>12.1f}"
+                    f"{n:>4} {name:>6} {total:>10.3f} {startup:>11.3f} {above:>17.3f} "
+                    f"{pairs[0][2]:>10} {kane:>8.2f} {ratio:>12.1f}",
+                    flush=True,
                 )
-    print("above start-up: the process median minus the start-up median; Kane: one run")
+    print("above start-up: median of (command - the start-up run just before it); Kane: one run")
 
 
 if __name__ == "__main__":

@@ -16,7 +16,7 @@ from .errors import ModelError
 from .integrate import method_class, simulate
 from .integrate.simulate import DEFAULT_METHOD
 from .model import System
-from .numeric import CompiledSystem, compile_equations
+from .numeric import CompiledSystem, compile_equations, default_backend
 from .trajectory import Trajectory
 
 #: Used when neither the caller nor the model gives an end time.
@@ -36,7 +36,7 @@ def simulate_system(
     assignments: Mapping[str, float] | None = None,
     progress: Callable[[float], None] | None = None,
     definitions: Mapping[str, str] | None = None,
-    backend: str = "numpy",
+    backend: str | None = None,
     **options: object,
 ) -> Trajectory:
     """Simulate ``system``; ``assignments`` are NAME=VALUE pairs that may name a parameter
@@ -44,7 +44,8 @@ def simulate_system(
     the fraction of the time span done (often: throttle it); ``definitions`` give the
     unspecified functions as expressions of their arguments ({"V": "x^2 + y^2"});
     ``backend`` is the compiled code's (:func:`~lagrangian.numeric.compile_equations`:
-    ``"numba"`` runs the right-hand side as generated machine code)."""
+    ``"numba"`` runs the right-hand side as generated machine code; by default
+    :func:`~lagrangian.numeric.default_backend`, ``"llvm"`` where SymEngine has it)."""
     settings = dict(system.simulate_settings)
     initial = dict(initial or {})
     params = dict(params or {})
@@ -76,7 +77,7 @@ def simulate_system(
     }
     chosen = {key: value for key, value in chosen.items() if value is not None}
     compiled = compile_equations(
-        system.equations_of_motion(), backend=backend, definitions=definitions
+        system.equations_of_motion(), backend=backend or default_backend(), definitions=definitions
     )
     if progress is not None:
         t_final = float(chosen["t_end"])

@@ -235,10 +235,10 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
 @define_option
 @click.option(
     "--backend",
-    type=click.Choice(["numpy", "numba"]),
-    default="numpy",
-    show_default=True,
-    help="Compiled code: numba generates machine code, cached on disk (pip install numba).",
+    type=click.Choice(["llvm", "numpy", "numba"]),
+    default=None,
+    help="Compiled code: llvm (the default where SymEngine has it, else numpy) compiles "
+    "in milliseconds; numba generates machine code, cached on disk (pip install numba).",
 )
 @click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.csv or FILE.nc.")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON summary.")

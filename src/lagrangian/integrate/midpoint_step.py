@@ -11,8 +11,8 @@ each with its common subexpressions eliminated:
 
 - backend ``numba``: the ``numba.njit`` fillers the numba ensemble loop uses (the
   same generated module, cached on disk);
-- backend ``numpy``: :func:`sympy.lambdify` of the same entries over Python floats
-  (``math`` functions), whose values are copied into the arrays.
+- backends ``numpy`` and ``llvm``: :func:`sympy.lambdify` of the same entries over
+  Python floats (``math`` functions), whose values are copied into the arrays.
 
 The iteration, its first guess and its convergence test are the batch step's
 (``Variational._midpoint``) for one element.  A filler that fails on a value (a
@@ -72,7 +72,7 @@ def midpoint_functions(compiled: CompiledSystem) -> MidpointFunctions | None:
     """The fillers of ``compiled`` (built on first use, then kept), or None where there are none."""
     from ..derive import EquationsOfMotion
 
-    if compiled.backend not in ("numpy", "numba") or compiled.has_constraints:
+    if compiled.backend not in ("numpy", "numba", "llvm") or compiled.has_constraints:
         return None
     if not isinstance(compiled.equations, EquationsOfMotion):
         return None  # functions given by hand: no equations to generate code from

@@ -209,7 +209,8 @@ class System:
 
         Options: t_end, method ("dop853", "radau", "rk4", "variational"), dt,
         rtol, atol, initial ({q: value, q_dot: value}), params, events, n_out,
-        backend ("numpy", or "numba" for generated machine code).
+        backend ("llvm", the default where SymEngine has LLVM, "numpy", or "numba"
+        for generated machine code).
         """
         from ..simulation import simulate_system
 

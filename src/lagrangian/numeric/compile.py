@@ -30,6 +30,7 @@ from .definitions import Definition, function_definitions
 from .dynamics import Dynamics
 from .forms import SymbolicForms, symbolic_forms
 from .kernels import Kernel, LazyMapping, Signature
+from .llvm_functions import check_llvm, with_llvm_functions
 from .numba_functions import check_numba, with_numba_functions
 from .projection import ConstraintFunctions
 
@@ -43,7 +44,25 @@ DEFAULT_BAUMGARTE = 10.0
 #: (a ModelError naming what to install), (forms, compiled) -> compiled).
 JIT_BACKENDS: Mapping[
     str, tuple[str, Callable[[], None], Callable[[SymbolicForms, CompiledSystem], CompiledSystem]]
-] = MappingProxyType({"numba": ("numpy", check_numba, with_numba_functions)})
+] = MappingProxyType(
+    {
+        "numba": ("numpy", check_numba, with_numba_functions),
+        "llvm": ("numpy", check_llvm, with_llvm_functions),
+    }
+)
+
+
+def default_backend() -> str:
+    """The backend a single run uses unless told: ``"llvm"`` where SymEngine has LLVM.
+
+    Measured (benchmarks/first_run.py): compiling and integrating a first run of the
+    double pendulum or a 10-link chain is fastest with it (its code is made in
+    milliseconds; numba's takes seconds, NumPy's calls cost more).  ``"numpy"``
+    where SymEngine was built without LLVM.
+    """
+    from .llvm_functions import llvm_available
+
+    return "llvm" if llvm_available() else "numpy"
 
 
 def compile_equations(
@@ -60,7 +79,9 @@ def compile_equations(
     (``"numba"``: the NumPy functions, with rhs, accelerations, mass_matrix,
     forcing and energy of one state as numba kernels, see
     :mod:`lagrangian.numeric.numba_functions`; constrained systems keep the
-    NumPy functions, with a warning).  ``definitions`` gives
+    NumPy functions, with a warning; ``"llvm"``: rhs and accelerations of one
+    state compiled by SymEngine's LLVM Lambdify in milliseconds, see
+    :mod:`lagrangian.numeric.llvm_functions`).  ``definitions`` gives
     the model's unspecified functions, each as text over its declared arguments,
     the parameters and ``t``, or as a :class:`sympy.Lambda`; a function used but
     not defined is a :class:`~lagrangian.errors.ModelError`.  ``baumgarte``: the
