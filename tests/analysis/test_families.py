@@ -132,3 +132,27 @@ def test_spherical_pendulum_modes_plot(tmp_path, capsys):
     status = main(["plot", "spherical_pendulum", "--kind", "modes", "--out", str(out)])
     assert status == ExitStatus.SUCCESS, capsys.readouterr().err
     assert out.stat().st_size > 0
+
+
+def test_euler_angles_degenerate_along_a_combination_at_the_poles():
+    # a heavy symmetric top in Euler angles: at theta = 0, pi only phi +- psi is defined, so
+    # M0 is singular without a zero row; the regular directions keep the tilt, whose omega^2
+    # is that of a physical pendulum, M g l/(I1 + M l^2) hanging and minus that upright
+    top = lg.System.from_energies(
+        "(I1 + M*l**2)*(theta_dot**2 + phi_dot**2*sin(theta)**2)/2"
+        " + I3*(psi_dot + phi_dot*cos(theta))**2/2",
+        "M*g*l*cos(theta)",
+        coordinates=["phi", "theta", "psi"],
+        parameters={"I1": 1.0, "I3": 2.0, "M": 1.0, "l": 1.0, "g": 9.81},
+    )
+    I1, M, g, l = (top.symbol(n) for n in ("I1", "M", "g", "l"))
+    tilt = M * g * l / (I1 + M * l**2)
+    found = {e.point["theta"]: e for e in top.equilibria()}
+    up, down = found[0], found[sympy.pi]
+    for e, sign in ((up, -1), (down, 1)):
+        assert set(e.degenerate) == {"phi", "psi"}
+        nonzero = [w for w in e.omega_squared if w != 0]
+        assert len(nonzero) == 1 and sympy.simplify(nonzero[0] - sign * tilt) == 0
+        assert len(e.zero_modes) == 1  # the spin about the figure axis
+    assert up.modes.stability is Stability.UNSTABLE
+    assert down.modes.stability is Stability.MARGINAL

@@ -39,10 +39,10 @@ from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from ..model import System
 from .conditions import stability_verdict
-from .linear import LinearizedSystem, NormalModes, Stability, linearize
+from .linear import NormalModes, Stability, linearize
 from .neutral import free_coordinates, representative, zero_mode_names
 from .search import RootSearch
-from .singular import regular_modes
+from .singular import Reduced, regular_modes
 
 
 @dataclass(frozen=True)
@@ -122,9 +122,7 @@ def with_modes(eom: EquationsOfMotion, rest: RestPoint) -> Equilibrium:
     modes, degenerate, linear = _modes(eom, member, rest.numeric)
     zero = ()
     if linear is not None and any(_is_zero_root(w) for w in modes.omega_squared):
-        regular = [i for i, c in enumerate(eom.system.coordinates) if c.name not in degenerate]
-        stiffness = linear.stiffness.extract(regular, regular)
-        zero = zero_mode_names(eom, stiffness, member, free, rest.point, tuple(regular))
+        zero = zero_mode_names(eom, linear.stiffness, member, free, rest.point, linear.basis)
     verdict = stability_verdict(modes)
     return Equilibrium(
         rest.point,
@@ -202,8 +200,9 @@ def _flat(system: System, rest: Mapping) -> bool:
 
 def _modes(
     eom: EquationsOfMotion, point: Mapping[str, sympy.Expr], numeric: bool
-) -> tuple[NormalModes, tuple[str, ...], LinearizedSystem | None]:
-    """(modes, degenerate coordinates, the linearization) about ``point``."""
+) -> tuple[NormalModes, tuple[str, ...], Reduced | None]:
+    """(modes, degenerate coordinates, the linearization in the directions used) about
+    ``point``."""
     at = dict(point)
     if numeric:
         at |= {name: sympy.Float(v) for name, v in eom.system.parameter_values.items()}
@@ -215,8 +214,8 @@ def _modes(
     if modes.stability is Stability.UNDETERMINED and "singular" in modes.note:
         regular = regular_modes(linear)
         if regular is not None:
-            return regular[0], regular[1], linear
-    return modes, (), linear
+            return regular
+    return modes, (), Reduced(linear.stiffness, sympy.eye(len(eom.system.coordinates)))
 
 
 def _modes_everywhere(eom: EquationsOfMotion) -> NormalModes:

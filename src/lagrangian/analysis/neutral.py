@@ -92,28 +92,22 @@ def zero_mode_names(
     member: Mapping[str, sympy.Expr],
     free: tuple[str, ...],
     family: Mapping[str, sympy.Expr],
-    regular: tuple[int, ...] | None = None,
+    basis: sympy.Matrix | None = None,
 ) -> tuple[str, ...]:
     """What each null vector of the stiffness K0 is (see the module docstring).
 
-    ``regular``: the coordinate indices the rows of ``stiffness`` belong to
-    (all, unless some coordinates are degenerate at the point).
+    ``basis``: the directions (columns, over every coordinate) that the rows of
+    ``stiffness`` belong to (all coordinates, unless some are degenerate at the point).
     """
     system = eom.system
     n = len(system.coordinates)
-    regular = tuple(range(n)) if regular is None else regular
+    basis = sympy.eye(n) if basis is None else basis
     try:
         null = sympy.Matrix(stiffness).nullspace()
     except (TypeError, ValueError, ZeroDivisionError):
         return ()
     tangent = _family_tangent(system, family, free)
-    names = []
-    for vector in null:
-        full = [sympy.Integer(0)] * n
-        for i, value in zip(regular, vector, strict=True):
-            full[i] = value
-        names.append(_name(system, full, member, tangent))
-    return tuple(names)
+    return tuple(_name(system, list(basis * vector), member, tangent) for vector in null)
 
 
 def _name(system: System, v: list[sympy.Expr], member, tangent: list[list[sympy.Expr]]) -> str:

@@ -22,7 +22,7 @@ from .modes import NormalModes
 from .routh import Reduction, cyclic_coordinates, reduce, steady_motions_of
 
 #: Seconds for SymPy's solve of the steady motions within the stage.
-STEADY_SOLVE_SECONDS = 2.5
+STEADY_SOLVE_SECONDS = 1.5
 
 #: The stages in the order they run (the names used in ``undecided``).
 STAGES = (

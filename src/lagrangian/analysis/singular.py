@@ -19,56 +19,69 @@ gives the full set, here g/l twice.
 from __future__ import annotations
 
 import dataclasses
+from dataclasses import dataclass
 
 import sympy
 
-from .linear import LinearizedSystem, NormalModes, vanishes
+from .linear import LinearizedSystem, NormalModes
 
 
-def degenerate_coordinates(linear: LinearizedSystem) -> tuple[int, ...]:
-    """Indices of the coordinates whose row of M0 vanishes (at the default values, if any)."""
-    mass, n = linear.mass, linear.mass.rows
-    return tuple(
-        i
-        for i in range(n)
-        if all(vanishes(mass[i, j], linear.system, linear.values) for j in range(n))
-    )
+@dataclass(frozen=True, eq=False)
+class Reduced:
+    """The stiffness in the directions used for the modes (the columns of ``basis``)."""
+
+    stiffness: sympy.Matrix
+    basis: sympy.Matrix
 
 
-def regular_modes(linear: LinearizedSystem) -> tuple[NormalModes, tuple[str, ...]] | None:
+def degenerate_directions(linear: LinearizedSystem) -> list[sympy.Matrix]:
+    """A basis of the null space of M0 (exact; at the default values when that fails)."""
+    try:
+        return linear.mass.nullspace(simplify=True)
+    except (TypeError, ValueError, ZeroDivisionError):
+        return []
+
+
+def regular_modes(
+    linear: LinearizedSystem,
+) -> tuple[NormalModes, tuple[str, ...], Reduced] | None:
     """The modes in the regular directions and the names of the degenerate coordinates.
 
-    None when no row of M0 vanishes, when every one does, or when the regular
-    block is itself singular (a degeneracy that is not along coordinate axes).
-    Mode shapes are given over every coordinate, 0 in the degenerate ones.
+    The regular directions are the coordinates whose rows of M0 do not vanish
+    when the null space of M0 is spanned by coordinate axes (phi at the pole of
+    spherical coordinates); otherwise (phi - psi at theta = 0 of Euler angles,
+    where only phi + psi is defined) the orthogonal complement of the null space,
+    and the degenerate coordinates are those the null vectors move.  None when
+    M0 is regular, or the reduced M0 is still singular.  Mode shapes are given
+    over every coordinate, 0 along the degenerate directions.
     """
     n = linear.mass.rows
-    degenerate = degenerate_coordinates(linear)
-    if not degenerate or len(degenerate) == n:
+    null = degenerate_directions(linear)
+    if not null or len(null) == n:
         return None
-    keep = [i for i in range(n) if i not in degenerate]
+    names = linear.system.coordinate_names
+    axes = [next((i for i in range(n) if v[i] != 0), None) for v in null]
+    if all(sum(1 for x in v if x != 0) == 1 for v in null):
+        keep = [i for i in range(n) if i not in axes]
+        basis = sympy.Matrix.hstack(*(sympy.eye(n)[:, i] for i in keep))
+    else:
+        complement = sympy.Matrix.hstack(*null).T.nullspace()
+        basis = sympy.Matrix.hstack(*complement)
+    degenerate = tuple(names[i] for i in range(n) if any(v[i] != 0 for v in null))
 
-    def block(matrix: sympy.Matrix) -> sympy.ImmutableMatrix:
-        return sympy.ImmutableMatrix(matrix.extract(keep, keep))
+    def reduced(matrix: sympy.Matrix) -> sympy.ImmutableMatrix:
+        return sympy.ImmutableMatrix(basis.T * matrix * basis)
 
     regular = LinearizedSystem(
         linear.system,
         linear.point,
-        block(linear.mass),
-        block(linear.damping),
-        block(linear.stiffness),
+        reduced(linear.mass),
+        reduced(linear.damping),
+        reduced(linear.stiffness),
         linear.values,
     )
     modes = regular.normal_modes()
     if modes.note.startswith("the mass matrix is singular"):
         return None
-    shapes = tuple(_embedded(shape, keep, n) for shape in modes.shapes)
-    names = linear.system.coordinate_names
-    return dataclasses.replace(modes, shapes=shapes), tuple(names[i] for i in degenerate)
-
-
-def _embedded(shape: sympy.Matrix, keep: list[int], n: int) -> sympy.ImmutableMatrix:
-    entries = [sympy.Integer(0)] * n
-    for i, value in zip(keep, shape, strict=True):
-        entries[i] = value
-    return sympy.ImmutableMatrix(entries)
+    shapes = tuple(sympy.ImmutableMatrix(basis * shape) for shape in modes.shapes)
+    return dataclasses.replace(modes, shapes=shapes), degenerate, Reduced(regular.stiffness, basis)
