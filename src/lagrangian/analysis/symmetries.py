@@ -273,7 +273,18 @@ def _describe(system: System, xi: tuple[sympy.Expr, ...]) -> tuple[str, str, flo
     field = ", ".join(
         f"d{c.name} = {x}" for c, x in zip(system.coordinates, xi, strict=True) if x != 0
     )
+    if _antisymmetric(system, xi):
+        plane = ", ".join(moved)
+        return "J_" + "_".join(moved), f"rotation in the ({plane}) plane: {field} (times eps)", 1
     return "J_" + "_".join(moved), f"the linear transformation {field} (times eps)", 1
+
+
+def _antisymmetric(system: System, xi: tuple[sympy.Expr, ...]) -> bool:
+    """xi = B q with B = -B^T: a rotation of the coordinates (as in the Cartesian plane)."""
+    q = [c.q for c in system.coordinates]
+    matrix = sympy.Matrix(xi).jacobian(q)
+    linear = (matrix * sympy.Matrix(q) - sympy.Matrix(xi)).applyfunc(sympy.expand)
+    return linear.is_zero_matrix is True and (matrix + matrix.T).is_zero_matrix is True
 
 
 def _particle_motion(system: System, xi: tuple[sympy.Expr, ...]) -> tuple[str, str, float] | None:

@@ -1,0 +1,176 @@
+"""Every code block of README.md and docs/tutorial.md runs as written.
+
+```python blocks run as scripts (a fresh interpreter each, in a temporary
+folder); ```sh / ```console blocks run their ``lagrangian ...`` lines through the
+CLI in-process, in order, in a temporary folder per block.  What is not run
+is said here, each with its reason (SKIPPED, SYNOPSIS), and so is every change
+made to a command before it runs (SMALLER): nothing else is left out or
+altered.  Where a comment in the docs states what a command prints, the
+statement is checked against the output (PRINTS).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import os
+import re
+import shlex
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from lagrangian.cli import ExitStatus, main
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCUMENTS = (ROOT / "README.md", ROOT / "docs" / "tutorial.md")
+
+#: Lines not run, with why (matched as substrings of the command line).
+SKIPPED = {
+    "pip install": "installs packages: needs the network, and changes the environment",
+    "&& pytest": "runs this very test suite",
+    "--backend cuda": "needs an NVIDIA GPU",
+    "--scheduler tcp://": "needs a Dask cluster",
+}
+#: Synopsis lines (placeholders in capitals, alternatives with |, options in [...]).
+SYNOPSIS = re.compile(r"\b(MODEL|TRAJECTORY)\b|\[--")
+#: Heavy commands run smaller, said explicitly: (what in the docs, what the test runs).
+SMALLER = (
+    # the million-member flip-time map of the README and the 90,000 of the tutorial:
+    # the same command on a 20 x 20 grid
+    (":1000 --grid", ":20 --grid"),
+    ("-3.14:3.14:1000 ", "-3.14:3.14:20 "),
+    (":300 --grid", ":20 --grid"),
+    ("-3.14:3.14:300 ", "-3.14:3.14:20 "),
+    # the README's Python ensemble of 10,000 members: 100 members
+    ("np.linspace(-3, 3, 10_000)", "np.linspace(-3, 3, 100)"),
+)
+#: ``python docs/make_images.py [FILTER]`` remakes the pictures (every one: about a
+#: minute; the double pendulum's: half a minute): the test runs it, into a temporary
+#: folder, with this filter instead (the pictures whose name contains it).
+MAKE_IMAGES_FILTER = "modes"
+#: What the docs say a command prints: (command as in the docs, fragments of its output).
+PRINTS = {
+    "lagrangian derive rotating_wire_bead": ["r̈ = ω² r"],
+    "lagrangian derive simple_pendulum": ["θ:  l θ̈ + g sin(θ) = 0"],
+    "lagrangian analyze simple_pendulum": ["energy = ", "θ = 0: stable", "g/l"],
+    "lagrangian derive harmonic_oscillator": ["x:  m ẍ + k x = 0"],
+    "lagrangian derive central_force": ["r̈ - r θ̇² + μ/r² = 0", "r² θ̈ + 2 r ṙ θ̇ = 0"],
+    "lagrangian analyze central_force": ["Cyclic coordinates: θ", "p_θ = r² θ̇"],
+    "lagrangian analyze spherical_pendulum": [
+        "Cyclic coordinates: φ",
+        "p_φ = l² m φ̇ sin²θ",
+        "Routh reduction of φ",
+    ],
+    "lagrangian derive vertical_spring": ["x:  m ẍ - g m + k x = 0"],
+    "lagrangian analyze vertical_spring": ["x = g m/k: stable", "k/m"],
+    "lagrangian derive planar_particle_forces": ["m ẍ - Fₓ = 0", "m ÿ - F_y = 0"],
+    "lagrangian analyze rotating_wire_bead": [
+        "energy = m ṙ²/2 - m ω² r²/2",
+        "the Jacobi integral",
+    ],
+    "lagrangian demo": ["2.397", "5.787"],
+}
+
+
+def _blocks(path: Path):
+    text = path.read_text(encoding="utf-8")
+    for match in re.finditer(r"^```(\w+)\n(.*?)^```", text, re.S | re.M):
+        line = text[: match.start()].count("\n") + 1
+        yield match.group(1), match.group(2), f"{path.name}:{line}"
+
+
+def _commands(body: str) -> list[str]:
+    """The command lines of a shell block, continuation lines joined."""
+    lines, current = [], ""
+    for raw in body.splitlines():
+        line = raw.rstrip()
+        if line.endswith("\\"):
+            current += line[:-1] + " "
+            continue
+        current = (current + line).strip()
+        if current and not current.startswith("#"):
+            lines.append(current)
+        current = ""
+    return lines
+
+
+def _smaller(text: str) -> str:
+    for big, small in SMALLER:
+        text = text.replace(big, small)
+    return text
+
+
+BLOCKS = [b for path in DOCUMENTS for b in _blocks(path)]
+PYTHON = [pytest.param(body, id=where) for kind, body, where in BLOCKS if kind == "python"]
+SHELL = [pytest.param(body, id=where) for kind, body, where in BLOCKS if kind in ("sh", "console")]
+
+
+def _normalized(text: str) -> str:
+    return text.replace("−", "-")  # the docs may write a typographic minus
+
+
+def _readme_model(folder: Path) -> None:
+    """The README's model file, saved where its commands call it my_model.toml."""
+    (toml,) = [body for kind, body, where in BLOCKS if kind == "toml" and "README" in where]
+    (folder / "my_model.toml").write_text(toml, encoding="utf-8")
+
+
+@pytest.mark.parametrize("body", PYTHON)
+def test_python_block_runs(body, tmp_path):
+    script = tmp_path / "block.py"
+    script.write_text(_smaller(body), encoding="utf-8")
+    result = subprocess.run(
+        [sys.executable, str(script)],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        env=os.environ | {"MPLBACKEND": "Agg"},
+    )
+    assert result.returncode == 0, result.stderr[-3000:]
+
+
+@pytest.mark.parametrize("body", SHELL)
+def test_shell_block_runs(body, tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    _readme_model(tmp_path)
+    for line in _commands(body):
+        if any(key in line for key in SKIPPED) or SYNOPSIS.search(line):
+            continue
+        argv = shlex.split(_smaller(line), comments=True)
+        if argv[:2] == ["python", "docs/make_images.py"]:
+            _make_images(argv[2:], tmp_path)
+            continue
+        assert argv[0] == "lagrangian", f"a command the test does not know how to run: {line}"
+        if "run.csv" in argv:  # the synopsis' "a trajectory saved by simulate --out"
+            assert main(["simulate", "simple_pendulum", "--out", "run.csv"]) == 0
+        if argv[1:2] == ["demo"]:
+            argv += ["--out-dir", str(tmp_path / "demo")]
+        capsys.readouterr()
+        status = main(argv[1:])
+        out, err = capsys.readouterr()
+        assert status == ExitStatus.SUCCESS, f"{line}\n{err}"
+        command = " ".join(shlex.split(line, comments=True))
+        for fragment in PRINTS.get(command, ()):
+            assert _normalized(fragment) in _normalized(out), f"{line}: no {fragment!r} in\n{out}"
+
+
+def _make_images(arguments: list[str], folder: Path) -> None:
+    """docs/make_images.py with its pictures written to ``folder`` (not over docs/images)."""
+    spec = importlib.util.spec_from_file_location("make_images", ROOT / "docs" / "make_images.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    module.IMAGES = folder / "images"
+    del arguments  # the docs' filter (none, or "double"): see MAKE_IMAGES_FILTER
+    module.main([MAKE_IMAGES_FILTER])
+
+
+def test_every_statement_checked_is_still_in_the_docs():
+    commands = {
+        " ".join(shlex.split(c, comments=True))
+        for kind, body, _ in BLOCKS
+        if kind in ("sh", "console")
+        for c in _commands(body)
+    }
+    assert set(PRINTS) <= commands, set(PRINTS) - commands
