@@ -1,6 +1,6 @@
 """Solve time of a whole simulation against a hand-written NumPy right-hand side.
 
-    python benchmarks/simulate.py [--links 10] [--t-end 10] [--repeat 3]
+    python benchmarks/simulate.py [--links 10] [--t-end 10] [--repeat 3] [--taylor]
 
 For the double pendulum and an N-link pendulum built from particles: µs per
 ``rhs`` call (ours vs hand-written, same run), and the wall time of a complete
@@ -9,8 +9,11 @@ against ``scipy.integrate.solve_ivp`` driving the hand-written rhs with the
 same settings; for the N-link pendulum also the numba backend against
 ``solve_ivp`` driving the hand-written numba kernel (``rhs.chain_by_hand_numba``),
 with the first-call (generate + jit) time.  PyDy is timed too when it is installed.  Medians of
-``--repeat`` runs; ratios > 1 mean we are slower.  Not a test: nothing is
-asserted.
+``--repeat`` runs; ratios > 1 mean we are slower.  ``--taylor`` adds heyoka
+(Taylor's method) against our DOP853 and Radau at tolerances 1e-10 and 1e-15, to
+t = 10 and 1000, errors against an extended-precision reference
+(:mod:`taylor_peer`; only that part with ``--taylor-only``).  Not a test: nothing
+is asserted.
 """
 
 from __future__ import annotations
@@ -25,6 +28,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import taylor_peer
 from pydy_chain import chain_by_pydy
 from rhs import (
     chain_by_hand,
@@ -94,7 +98,12 @@ def main() -> None:
     parser.add_argument("--links", type=int, default=10)
     parser.add_argument("--t-end", type=float, default=10.0)
     parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--taylor", action="store_true", help="heyoka at tight tolerances too")
+    parser.add_argument("--taylor-only", action="store_true", help="only the heyoka comparison")
     args = parser.parse_args()
+    if args.taylor_only:
+        taylor_peer.main(args.repeat)
+        return
     print(f"python {sys.version.split()[0]}, numpy {np.__version__}")
     y0 = np.array([2.0, 0.5, 0.0, 0.0])
     compare(
@@ -133,6 +142,8 @@ def main() -> None:
             args.repeat,
             backend="numba",
         )
+    if args.taylor:
+        taylor_peer.main(args.repeat)
     pydy_rhs, pydy_setup = chain_by_pydy(n)
     if pydy_rhs is None:
         print("\nPyDy: not installed, skipped (pip install pydy cython)")

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import sympy
@@ -54,6 +54,18 @@ class Deferred(Sequence):
         return repr(self._made())
 
 
+@dataclass(frozen=True)
+class SymEngineForms:
+    """L, the equations, M (rows) and f as SymEngine expressions: the same expressions as
+    the SymPy ones of :class:`EquationsOfMotion`, kept by the SymEngine route
+    (:mod:`lagrangian.derive.fast`) so that large systems print without converting back."""
+
+    lagrangian: object
+    equations: tuple
+    mass_matrix: tuple
+    forcing: tuple
+
+
 @dataclass(frozen=True, eq=False)
 class EquationsOfMotion:
     """Lagrange's equations of a :class:`~lagrangian.model.System`.
@@ -84,6 +96,7 @@ class EquationsOfMotion:
     steps: Sequence[CoordinateDerivation]
     constraints: ConstraintForms | None = None
     multipliers: Mapping[str, sympy.Expr] | None = None
+    symengine: SymEngineForms | None = field(default=None, repr=False)
 
     @property
     def coordinates(self) -> tuple[Coordinate, ...]:

@@ -31,7 +31,7 @@ import sympy
 from ..algebra import factor_common, holds_derivative, to_symengine, to_sympy
 from ..model import System
 from .constraints import ConstraintForms
-from .equations import CoordinateDerivation, Deferred, EquationsOfMotion
+from .equations import CoordinateDerivation, Deferred, EquationsOfMotion, SymEngineForms
 from .solve import check_regular, solve_accelerations
 
 
@@ -170,7 +170,7 @@ def derive_large(
     velocity_index = {vj: j for j, vj in enumerate(v)}
     position_index = {qj: j for j, qj in enumerate(q)}
     n = len(coordinates)
-    mass_rows, forcing, numeric_rows, terms = [], [], [], []
+    mass_rows, forcing, numeric_rows, terms, rest_terms = [], [], [], [], []
     for i, c in enumerate(coordinates):
         momentum = tables.table(tables.diff(lagrangian, v[i], lagrangian_index))
         # One pass over the momentum's terms gives row i of M = dp_i/dq' and the part
@@ -210,6 +210,7 @@ def derive_large(
         inertia = se.Add(*(m * a for m, a in zip(row, accelerations, strict=True)))
         mass_rows.append([sympy_of(m) for m in row])
         forcing.append(sympy_of(rest))
+        rest_terms.append(rest)
         terms.append(
             (
                 c,
@@ -263,6 +264,14 @@ def derive_large(
         ),
         steps=made,
         constraints=constraints,
+        symengine=None
+        if constraints
+        else SymEngineForms(
+            lagrangian=converted["lagrangian"],
+            equations=tuple(term[-1] for term in terms),
+            mass_matrix=tuple(tuple(row) for row in numeric_rows),
+            forcing=tuple(rest_terms),
+        ),
     )
 
 

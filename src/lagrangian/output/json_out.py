@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from ..derive import EquationsOfMotion
-from .large import plain_printer
+from .large import plain_printer, printed
 
 
 def derive_document(eom: EquationsOfMotion) -> dict:
@@ -11,15 +11,16 @@ def derive_document(eom: EquationsOfMotion) -> dict:
     system = eom.system
     n = len(eom.coordinates)
     text = plain_printer(system)  # SymPy's str(), or SymEngine's for large systems
+    shown = printed(eom)
     document = {
         "name": system.name,
         "coordinates": list(system.coordinate_names),
         "parameters": sorted(system.parameter_names),
         "functions": {f.name: [str(a) for a in f.arguments] for f in system.functions},
-        "lagrangian": text(system.lagrangian),
-        "equations": [text(e) for e in eom.equations],
-        "mass_matrix": [[text(eom.mass_matrix[i, j]) for j in range(n)] for i in range(n)],
-        "forcing": [text(eom.forcing[i, 0]) for i in range(n)],
+        "lagrangian": text(shown.lagrangian),
+        "equations": [text(e) for e in shown.equations],
+        "mass_matrix": [[text(shown.mass_matrix[i][j]) for j in range(n)] for i in range(n)],
+        "forcing": [text(shown.forcing[i]) for i in range(n)],
     }
     if eom.accelerations is not None:
         document["accelerations"] = {name: text(expr) for name, expr in eom.accelerations.items()}

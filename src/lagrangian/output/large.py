@@ -21,7 +21,8 @@ derivatives, floating-point numbers).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 import sympy
 
@@ -37,7 +38,7 @@ from .notation import (
     unicode_name,
 )
 
-Printer = Callable[[sympy.Expr], str]
+Printer = Callable[[sympy.Expr], str]  # also takes the SymEngine forms of Printed
 
 ADD, MUL, POW, ATOM = 1, 2, 3, 4  # binding strength of what a walk returns
 
@@ -52,12 +53,36 @@ def is_large(system) -> bool:
 PLAIN_MAX_NODES = 1000
 
 
+@dataclass(frozen=True)
+class Printed:
+    """What a document prints: SymPy expressions, or for a large system derived on the
+    SymEngine route the same expressions in its SymEngine form (no conversion back)."""
+
+    lagrangian: object
+    equations: Sequence
+    mass_matrix: Sequence[Sequence]
+    forcing: Sequence
+
+
+def printed(eom) -> Printed:
+    """L, the equations, M (rows) and f of ``eom`` in the form to print."""
+    forms = eom.symengine
+    if forms is not None and is_large(eom.system):
+        return Printed(forms.lagrangian, forms.equations, forms.mass_matrix, forms.forcing)
+    n = len(eom.coordinates)
+    matrix = [[eom.mass_matrix[i, j] for j in range(n)] for i in range(n)]
+    forcing = [eom.forcing[i, 0] for i in range(n)]
+    return Printed(eom.system.lagrangian, eom.equations, matrix, forcing)
+
+
 def plain_printer(system) -> Printer:
     """SymPy ``str()`` text; SymEngine's ``str`` of the same expression where it is large."""
     large = is_large(system)
     cache: dict = {}
 
     def show(expr: sympy.Expr) -> str:
+        if not isinstance(expr, sympy.Basic):
+            return str(expr)  # a SymEngine form (see printed)
         if large or longer_than(expr, PLAIN_MAX_NODES):
             converted = to_symengine(expr, cache)
             if converted is not None:
@@ -84,6 +109,8 @@ def _walking(system, walk: _Walk, fallback: Printer) -> Printer:
     cache: dict = {}
 
     def show(expr: sympy.Expr) -> str:
+        if not isinstance(expr, sympy.Basic):
+            return walk.text(expr)  # a SymEngine form (see printed)
         if not (large or longer_than(expr, PLAIN_MAX_NODES)):
             return fallback(expr)
         converted = to_symengine(expr, cache)
@@ -140,12 +167,16 @@ class _Walk:
             return self.constant(node), ATOM
         return self.function(type(node).__name__, node.args), ATOM
 
-    def rank(self, term) -> int:
-        """2 for a term with an acceleration, 1 with a velocity, 0 otherwise."""
-        found = self._ranks.get(term)
+    def rank(self, node) -> int:
+        """2 for an expression with an acceleration, 1 with a velocity, 0 otherwise
+        (each distinct subexpression looked at once)."""
+        found = self._ranks.get(node)
         if found is None:
-            found = max((_split_dots(s.name)[1] for s in term.free_symbols), default=0)
-            self._ranks[term] = found
+            if type(node) is self.se.Symbol:
+                found = _split_dots(node.name)[1]
+            else:
+                found = max((self.rank(arg) for arg in node.args), default=0)
+            self._ranks[node] = found
         return found
 
     def add(self, node) -> tuple[str, int]:

@@ -6,7 +6,7 @@ import sympy
 
 from ..derive import EquationsOfMotion
 from ..model import System
-from .large import latex_printer
+from .large import latex_printer, printed
 from .notation import (
     TOO_LONG,
     DotLatexPrinter,
@@ -31,8 +31,9 @@ def latex_equations(eom: EquationsOfMotion) -> str:
     """An ``align*`` block: L, each equation (= 0) and each solved acceleration."""
     system = eom.system
     show = latex_printer(system)  # linear-time printing for large systems
-    rows = [rf"L &= {show(system.lagrangian)}"]
-    rows += [rf"0 &= {show(equation)}" for equation in eom.equations]
+    shown = printed(eom)
+    rows = [rf"L &= {show(shown.lagrangian)}"]
+    rows += [rf"0 &= {show(equation)}" for equation in shown.equations]
     if eom.accelerations is not None:
         rows += [
             _solved(latex_name(c.q_ddot.name), eom.accelerations[c.name], system)

@@ -6,7 +6,7 @@ import sympy
 
 from ..derive import EquationsOfMotion
 from ..model import System
-from .large import unicode_printer
+from .large import printed, unicode_printer
 from .notation import (
     TOO_LONG,
     UnicodePrinter,
@@ -33,10 +33,11 @@ def format_equations(eom: EquationsOfMotion) -> str:
     system = eom.system
     show = unicode_printer(system)  # linear-time printing for large systems
     lines = [_title(system)]
-    lines.append(f"  L = {show(system.lagrangian)}")
+    shown = printed(eom)
+    lines.append(f"  L = {show(shown.lagrangian)}")
     lines.append("")
     lines.append("Equations of motion:")
-    for c, equation in zip(eom.coordinates, eom.equations, strict=True):
+    for c, equation in zip(eom.coordinates, shown.equations, strict=True):
         lines.append(f"  {unicode_name(c.name)}:  {show(equation)} = 0")
     if eom.accelerations is not None:
         lines.append("")
