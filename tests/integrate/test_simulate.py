@@ -21,8 +21,8 @@ from . import systems
 
 
 # -- the registry ------------------------------------------------------------------------
-def test_the_registry_holds_the_four_methods_by_name():
-    assert list(METHODS) == ["dop853", "radau", "rk4", "variational"]
+def test_the_registry_holds_the_five_methods_by_name():
+    assert list(METHODS) == ["dop853", "radau", "rk4", "variational", "taylor"]
     for name, cls in METHODS.items():
         assert cls.name == name
         assert issubclass(cls, AbstractIntegrator)
@@ -30,7 +30,7 @@ def test_the_registry_holds_the_four_methods_by_name():
 
 
 def test_an_unknown_method_lists_the_valid_ones():
-    message = "unknown method 'euler' (methods: dop853, radau, rk4, variational)"
+    message = "unknown method 'euler' (methods: dop853, radau, rk4, variational, taylor)"
     with pytest.raises(ModelError) as error:
         method_class("euler")
     assert str(error.value) == message

@@ -219,7 +219,7 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
 @click.option("--t-end", type=float, help="End time (default: the model's [simulate] t_end).")
 @click.option(
     "--method",
-    type=click.Choice(["dop853", "radau", "rk4", "variational"]),
+    type=click.Choice(["dop853", "radau", "rk4", "variational", "taylor"]),
     help="Integrator (default: the model's, else dop853).",
 )
 @click.option("--dt", type=float, help="Step of the fixed-step methods (rk4, variational).")

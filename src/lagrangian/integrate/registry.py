@@ -1,7 +1,7 @@
 """The registry of integration methods: name (``--method NAME``) -> class.
 
 >>> sorted(METHODS)
-['dop853', 'radau', 'rk4', 'variational']
+['dop853', 'radau', 'rk4', 'taylor', 'variational']
 """
 
 from __future__ import annotations
@@ -13,10 +13,11 @@ from ..errors import ModelError
 from .base import AbstractIntegrator
 from .explicit_rk import RK4
 from .scipy_methods import Dop853, Radau
+from .taylor import Taylor
 from .variational import Variational
 
 METHODS: Mapping[str, type[AbstractIntegrator]] = MappingProxyType(
-    {cls.name: cls for cls in (Dop853, Radau, RK4, Variational)}
+    {cls.name: cls for cls in (Dop853, Radau, RK4, Variational, Taylor)}
 )
 
 
