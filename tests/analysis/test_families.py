@@ -156,3 +156,80 @@ def test_euler_angles_degenerate_along_a_combination_at_the_poles():
         assert len(e.zero_modes) == 1  # the spin about the figure axis
     assert up.modes.stability is Stability.UNSTABLE
     assert down.modes.stability is Stability.MARGINAL
+
+
+def bent_molecule():
+    """Three atoms in a plane, two springs of rest length d from the middle one, no bending
+    stiffness: at rest wherever both springs have length d (a family of dimension 4)."""
+    from lagrangian.model import Particle, Spring
+
+    atoms = [
+        Particle("H1", "m", ("x1", "y1")),
+        Particle("O", "M", ("x2", "y2")),
+        Particle("H2", "m", ("x3", "y3")),
+    ]
+    springs = [Spring("k", ("H1", "O"), "d"), Spring("k", ("O", "H2"), "d")]
+    return lg.System.from_particles(
+        ["x1", "y1", "x2", "y2", "x3", "y3"],
+        atoms,
+        springs=springs,
+        parameters={"m": 1.0, "M": 16.0, "k": 1.0, "d": 1.0},
+    )
+
+
+def test_a_bent_molecule_found_numerically_is_one_family_with_named_zero_modes():
+    system = bent_molecule()
+    found = equilibria(system.equations_of_motion(), timeout=1.0)
+    (member,) = found  # the many numerical roots, grouped into one family
+    assert member.numeric and member.family_dimension == 4
+    x = np.array([float(member.point[n]) for n in system.coordinate_names]).reshape(3, 2)
+    assert np.linalg.norm(x[0] - x[1]) == pytest.approx(1.0)
+    assert np.linalg.norm(x[2] - x[1]) == pytest.approx(1.0)
+    # the two stretching modes, against finite differences of V written here with NumPy
+    masses = np.repeat([1.0, 16.0, 1.0], 2)
+
+    def potential(q):
+        r = q.reshape(3, 2)
+        return sum(0.5 * (np.linalg.norm(r[i] - r[1]) - 1.0) ** 2 for i in (0, 2))
+
+    h, q0, n = 1e-4, x.ravel(), 6
+    hessian = np.zeros((n, n))
+    for i in range(n):
+        for j in range(n):
+            e_i, e_j = np.eye(n)[i] * h, np.eye(n)[j] * h
+            hessian[i, j] = (
+                potential(q0 + e_i + e_j)
+                - potential(q0 + e_i - e_j)
+                - potential(q0 - e_i + e_j)
+                + potential(q0 - e_i - e_j)
+            ) / (4 * h * h)
+    expected = np.sort(np.linalg.eigvals(hessian / masses[:, None]).real)
+    omega_squared = np.sort([float(w) for w in member.omega_squared])
+    assert omega_squared == pytest.approx(expected, abs=1e-6)
+    assert sorted(member.zero_modes) == sorted(
+        [
+            "translation of all particles along x (L is invariant)",
+            "translation of all particles along y (L is invariant)",
+            "rotation of all particles about the origin (in their plane) (L is invariant)",
+            "along the family of equilibria",
+        ]
+    )
+
+
+def test_complex_branches_of_a_family_are_not_equilibria():
+    # V = k r^4/4 for a pair: x1 = x2 + i (y1 - y2) solves G = 0 but is no real configuration
+    from lagrangian.model import Particle
+
+    pair = lg.System.from_particles(
+        ["x1", "y1", "x2", "y2"],
+        [Particle("a", "m1", ("x1", "y1")), Particle("b", "m2", ("x2", "y2"))],
+        potential="k*((x1 - x2)**2 + (y1 - y2)**2)**2/4",
+        parameters={"m1": 1.0, "m2": 2.0, "k": 1.0},
+    )
+    (family,) = pair.equilibria()
+    assert all(not v.has(sympy.I) for v in family.point.values())
+    assert len(family.free) == 2
+    # quartic, not flat: the relative motion is neutral to linear order, not a family
+    assert (
+        family.zero_modes.count("neutral direction (zero stiffness; linear theory undecided)") == 2
+    )

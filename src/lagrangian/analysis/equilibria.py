@@ -39,10 +39,14 @@ from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from ..model import System
 from .conditions import stability_verdict
+from .continua import grouped
 from .linear import NormalModes, Stability, linearize
 from .neutral import free_coordinates, representative, zero_mode_names
 from .search import RootSearch
 from .singular import Reduced, regular_modes
+
+#: Share of a stage's remaining time for SymPy's solve (the numerical search gets the rest).
+SYMBOLIC_SHARE = 0.5
 
 
 @dataclass(frozen=True)
@@ -55,6 +59,8 @@ class Equilibrium:
     coordinates that are singular at the point (their row of M vanishes); the
     modes are then those of the regular directions (:mod:`.singular`).
     ``zero_modes``: what each direction with omega^2 = 0 is (:mod:`.neutral`).
+    ``family_dimension``: for a numerical root on a continuum (:mod:`.continua`),
+    the dimension of the family through it (the point is one member).
     ``at_defaults``: the stability verdict holds at the default parameter values;
     ``stability_condition``: the condition on the parameters for stability
     (:mod:`.conditions`), when found.
@@ -69,6 +75,7 @@ class Equilibrium:
     zero_modes: tuple[str, ...] = ()
     at_defaults: bool = False
     stability_condition: sympy.Basic | None = None
+    family_dimension: int = 0  # free directions of a family found numerically (.continua)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "point", MappingProxyType(dict(self.point)))
@@ -106,6 +113,8 @@ class RestPoint:
     point: Mapping[str, sympy.Expr]
     numeric: bool
     everywhere: bool = False
+    dimension: int = 0  # of a family found numerically through the point (see .continua)
+    found: int = 1  # numerical roots found on that family
 
 
 def with_modes(eom: EquationsOfMotion, rest: RestPoint) -> Equilibrium:
@@ -122,7 +131,8 @@ def with_modes(eom: EquationsOfMotion, rest: RestPoint) -> Equilibrium:
     modes, degenerate, linear = _modes(eom, member, rest.numeric)
     zero = ()
     if linear is not None and any(_is_zero_root(w) for w in modes.omega_squared):
-        zero = zero_mode_names(eom, linear.stiffness, member, free, rest.point, linear.basis)
+        family = len(free) or rest.dimension
+        zero = zero_mode_names(eom, linear.stiffness, linear.basis, member, family)
     verdict = stability_verdict(modes)
     return Equilibrium(
         rest.point,
@@ -134,6 +144,7 @@ def with_modes(eom: EquationsOfMotion, rest: RestPoint) -> Equilibrium:
         zero_modes=zero,
         at_defaults=verdict.at_defaults,
         stability_condition=verdict.condition,
+        family_dimension=rest.dimension,
     )
 
 
@@ -176,12 +187,13 @@ def rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> tuple[RestP
     if not unknowns:
         return ()  # the forces at rest never vanish (for generic parameter values)
     search = RootSearch(system, equations, unknowns)
-    left = remaining()
-    points = search.symbolic(timeout if left is None else min(timeout, left))
+    left = remaining()  # SymPy gets a share of a stage's time: the numerical route the rest
+    points = search.symbolic(timeout if left is None else min(timeout, SYMBOLIC_SHARE * left))
     numeric = points is None or not search.confirms(points)
-    if numeric:
-        points = search.numeric()
-    return tuple(RestPoint(p, numeric) for p in points)
+    if not numeric:
+        return tuple(RestPoint(p, False) for p in points)
+    members = grouped(system, equations, unknowns, search.numeric())
+    return tuple(RestPoint(m.point, True, dimension=m.dimension, found=m.found) for m in members)
 
 
 def _flat(system: System, rest: Mapping) -> bool:

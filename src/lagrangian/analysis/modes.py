@@ -137,7 +137,7 @@ class ModeAnalysis:
         _, stiffness, gyro, damp = self.matrices
         self.undamped, self.gyro_free = bool(damp.is_zero_matrix), bool(gyro.is_zero_matrix)
         # Symmetric M0, K0 and no velocity terms: repeated roots are harmless.
-        self.plain = self.gyro_free and (stiffness - stiffness.T).is_zero_matrix is True
+        self.plain = self.gyro_free and _symmetric(stiffness)
         symbols = {s.name for m in self.matrices for s in m.free_symbols}
         self.exact = bool(symbols)
         missing = sorted(symbols - set(self.values))
@@ -375,9 +375,20 @@ def _numeric_sign(z: complex, tol: float) -> str:
     return "+" if z.real > 0 else "-"
 
 
+def _symmetric(matrix: sympy.Matrix) -> bool:
+    """K0 = K0^T exactly, or to rounding when K0 holds numbers (a numerical equilibrium)."""
+    difference = matrix - matrix.T
+    if difference.is_zero_matrix is True:
+        return True
+    if not all(entry.is_number for entry in matrix):
+        return False
+    scale = max((abs(complex(entry)) for entry in matrix), default=0.0)
+    return max(abs(complex(entry)) for entry in difference) <= 1e-9 * max(scale, 1e-300)
+
+
 def _pairs(values: np.ndarray) -> list[complex]:
     """The n values of s = -lambda^2 from 2n exponents, which come in pairs (lambda, -lambda)."""
-    remaining = sorted(complex(v) for v in values)
+    remaining = sorted((complex(v) for v in values), key=lambda z: (z.real, z.imag))
     paired = []
     while remaining:
         first = remaining.pop(0)

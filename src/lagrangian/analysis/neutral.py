@@ -5,15 +5,18 @@ molecule rests wherever x1 = x2 = x3), the equilibria form a family
 parametrized by the free coordinates.  Its modes are computed at one
 *representative* member (the free coordinates set to a value where M is
 regular), and every direction with omega^2 = 0 (a null vector v of K0) is
-named by what it is:
+named by what it is.  The null space of K0 (in the directions used for the
+modes) is compared with the point symmetries of L evaluated at the member
+(:func:`lagrangian.analysis.symmetries.generators`: translations, rotations of
+particles, shifts, any linear change of coordinates L is invariant under):
 
-- for a system of particles, a rigid motion of all of them: the displacements
-  dr_a = (dr_a/dq) v fit u + w x r_a (u = 0: a rotation, w = 0: a translation);
-- a shift along which L is invariant (dL/dq . v = 0 identically): a
-  translation of the coordinates it moves;
-- a direction along the family of equilibria;
-- otherwise a neutral direction (zero stiffness), about which linear theory
-  says nothing.
+- a symmetry inside it names one zero mode ("translation of all particles along
+  x", "rotation of all particles about the origin", "translation of x1, x2, x3
+  together");
+- a combination of symmetries inside it, one more ("shift of phi, psi together"
+  for the spin of a top at its pole);
+- the rest lies along the family of equilibria (for a member of one), or is a
+  neutral direction (zero stiffness), about which linear theory says nothing.
 """
 
 from __future__ import annotations
@@ -23,14 +26,15 @@ from collections.abc import Mapping
 import numpy as np
 import sympy
 
-from ..algebra import as_expression, is_zero
+from ..algebra import as_expression
 from ..derive import EquationsOfMotion
 from ..model import System
+from .symmetries import generators
 
 #: Values tried for a free coordinate of a family (the first where M is regular is used).
 REPRESENTATIVES = (0, 1, sympy.Rational(1, 2))
-#: Relative residual below which displacements count as a rigid motion.
-RIGID_TOLERANCE = 1e-8
+#: Singular values of K0 below this (relative to the largest) count as zero.
+NULL_TOLERANCE = 1e-7
 
 
 def free_coordinates(eom: EquationsOfMotion, point: Mapping[str, sympy.Expr]) -> tuple[str, ...]:
@@ -89,116 +93,93 @@ def _regular(eom: EquationsOfMotion, member: Mapping[str, sympy.Expr]) -> bool:
 def zero_mode_names(
     eom: EquationsOfMotion,
     stiffness: sympy.Matrix,
+    basis: sympy.Matrix,
     member: Mapping[str, sympy.Expr],
-    free: tuple[str, ...],
-    family: Mapping[str, sympy.Expr],
-    basis: sympy.Matrix | None = None,
+    family: int,
 ) -> tuple[str, ...]:
-    """What each null vector of the stiffness K0 is (see the module docstring).
+    """What each direction with omega^2 = 0 is (see the module docstring).
 
-    ``basis``: the directions (columns, over every coordinate) that the rows of
-    ``stiffness`` belong to (all coordinates, unless some are degenerate at the point).
+    ``stiffness`` acts on the directions that are the columns of ``basis`` (all
+    coordinates, unless some are degenerate at the point); ``family``: the
+    dimension of the continuum of equilibria the point belongs to (0: isolated).
+    The null space of K0 (numerically, at the default values) is matched first
+    against the point symmetries of L evaluated at ``member`` (one name per
+    symmetry inside it), then against their combinations; of what is left, up to
+    the family's dimension lies along the family, the rest is merely neutral.
     """
     system = eom.system
-    n = len(system.coordinates)
-    basis = sympy.eye(n) if basis is None else basis
+    table = _numbers_table(system, member)
     try:
-        null = sympy.Matrix(stiffness).nullspace()
-    except (TypeError, ValueError, ZeroDivisionError):
+        k = np.array(sympy.Matrix(stiffness).xreplace(table).evalf(), dtype=float)
+        b = np.array(sympy.Matrix(basis).xreplace(table).evalf(), dtype=float)
+    except (TypeError, ValueError):
         return ()
-    tangent = _family_tangent(system, family, free)
-    return tuple(_name(system, list(basis * vector), member, tangent) for vector in null)
+    null = b @ _null_space(k)
+    if null.shape[1] == 0:
+        return ()
+    names, chosen = [], np.zeros((len(system.coordinates), 0))
+    candidates = []
+    for what, xi in generators(eom):
+        try:
+            v = np.array([float(as_expression(x).xreplace(table)) for x in xi])
+        except (TypeError, ValueError):
+            continue
+        if np.linalg.norm(v) > 0:
+            candidates.append((what, v / np.linalg.norm(v)))
+    # rigid motions of the particles first: at one point a rotation about another centre is
+    # a rotation about the origin plus a translation, and the plainer names should win
+    candidates.sort(key=lambda item: ("all particles" not in item[0], "linear" in item[0]))
+    for what, v in candidates:  # single symmetries inside the null space
+        if _inside(v, null) and not _inside(v, chosen):
+            names.append(what + " (L is invariant)")
+            chosen = np.column_stack([chosen, v])
+    if candidates and len(names) < null.shape[1]:  # their combinations inside it
+        span = np.column_stack([v for _, v in candidates])
+        both = _null_space(np.hstack([span, -null]))
+        for combination in both.T:
+            v = span @ combination[: span.shape[1]]
+            if np.linalg.norm(v) > 0 and not _inside(v, chosen):
+                names.append(_combination(system, v))
+                chosen = np.column_stack([chosen, v / np.linalg.norm(v)])
+    # the family's own directions, beyond the symmetries that move along it too
+    along = min(max(family - len(names), 0), null.shape[1] - len(names))
+    left = null.shape[1] - len(names) - along
+    neutral = "neutral direction (zero stiffness; linear theory undecided)"
+    return (*names, *["along the family of equilibria"] * along, *[neutral] * left)
 
 
-def _name(system: System, v: list[sympy.Expr], member, tangent: list[list[sympy.Expr]]) -> str:
-    rigid = _rigid_motion(system, v, member)
-    if rigid is not None:
-        return rigid
-    moved = [c.name for c, x in zip(system.coordinates, v, strict=True) if x != 0]
-    variation = sum(
-        (
-            sympy.diff(system.lagrangian, c.q) * x
-            for c, x in zip(system.coordinates, v, strict=True)
-        ),
-        sympy.Integer(0),
-    )
-    if is_zero(variation):
-        nonzero = [x for x in v if x != 0]
-        if all(sympy.simplify(x - nonzero[0]) == 0 for x in nonzero):
-            return "translation of " + ", ".join(moved) + " together (L is invariant)"
-        return "shift along (" + ", ".join(map(str, v)) + ") (L is invariant)"
-    if tangent and sympy.Matrix([*tangent, v]).rank() == len(tangent):
-        return "along the family of equilibria"
-    return "neutral direction (zero stiffness; linear theory undecided)"
-
-
-def _family_tangent(system: System, family: Mapping[str, sympy.Expr], free) -> list[list]:
-    """d(point)/d(free coordinate) for each free coordinate: the directions along the family."""
-    rows = []
-    for name in free:
-        symbol = system.symbol(name)
-        rows.append(
-            [
-                sympy.Integer(1)
-                if c.name == name
-                else sympy.diff(as_expression(family.get(c.name, 0)), symbol)
-                for c in system.coordinates
-            ]
-        )
-    return rows
-
-
-def _rigid_motion(system: System, v: list[sympy.Expr], member) -> str | None:
-    """'translation ...' / 'rotation ...' when the particles move as one rigid body along v."""
-    if not system.particles or system.bodies:
-        return None
-    q = [c.q for c in system.coordinates]
+def _numbers_table(system: System, member: Mapping[str, sympy.Expr]) -> dict:
     rng = np.random.default_rng(5)
-    table = {c.q: member.get(c.name, 0) for c in system.coordinates}
-    table |= {
-        p.symbol: p.default if p.default is not None else rng.uniform(0.5, 2)
+    table = {
+        p.symbol: sympy.Float(p.default if p.default is not None else rng.uniform(0.5, 2))
         for p in system.parameters
     }
-    table[system.time] = 0
-    try:
-        positions = [
-            np.array(sympy.Matrix(p.position).xreplace(table).evalf(), dtype=float).ravel()
-            for p in system.particles
-        ]
-        moves = [
-            np.array(
-                (sympy.Matrix(p.position).jacobian(q) * sympy.Matrix(v)).xreplace(table).evalf(),
-                dtype=float,
-            ).ravel()
-            for p in system.particles
-        ]
-    except (TypeError, ValueError):
-        return None
-    dimension = len(positions[0])
-    # unknowns: u (d), w (1 in 2-D, 3 in 3-D); rows: dr_a = u + w x r_a
-    rows, rhs = [], []
-    for r, dr in zip(positions, moves, strict=True):
-        if dimension == 2:
-            cross = np.array([[-r[1]], [r[0]]])
-        else:
-            cross = np.array([[0, r[2], -r[1]], [-r[2], 0, r[0]], [r[1], -r[0], 0]])
-        rows.append(np.hstack([np.eye(dimension), cross]))
-        rhs.append(dr)
-    a, b = np.vstack(rows), np.concatenate(rhs)
-    solution, *_ = np.linalg.lstsq(a, b, rcond=None)
-    scale = max(np.abs(b).max(), 1e-300)
-    if np.abs(a @ solution - b).max() > RIGID_TOLERANCE * scale:
-        return None
-    u, w = solution[:dimension], solution[dimension:]
-    small = RIGID_TOLERANCE * scale
-    # a rotation of all particles about a point off the origin has u = -w x o: still a rotation
-    if np.abs(w).max() <= small:
-        return (
-            "translation of all particles along ("
-            + ", ".join(f"{x / np.abs(u).max():.3g}" for x in u)
-            + ")"
-        )
-    if dimension == 2:
-        return "rotation of all particles in the plane"
-    axis = w / np.linalg.norm(w)
-    return "rotation of all particles about (" + ", ".join(f"{x:.3g}" for x in axis) + ")"
+    table |= {c.q: as_expression(member.get(c.name, 0)).xreplace(table) for c in system.coordinates}
+    table[system.time] = sympy.Integer(0)
+    return table
+
+
+def _null_space(matrix: np.ndarray) -> np.ndarray:
+    """Orthonormal columns spanning the null space (singular values below 1e-7 of the largest)."""
+    if matrix.size == 0:
+        return np.zeros((matrix.shape[1], 0))
+    _, singular, vt = np.linalg.svd(matrix)
+    largest = singular.max() if singular.size else 0.0
+    rank = int(np.sum(singular > NULL_TOLERANCE * max(largest, 1e-300)))
+    return vt[rank:].T
+
+
+def _inside(v: np.ndarray, columns: np.ndarray) -> bool:
+    """Whether v lies in the span of ``columns`` (to rounding)."""
+    if columns.shape[1] == 0:
+        return False
+    coefficients, *_ = np.linalg.lstsq(columns, v, rcond=None)
+    return float(np.linalg.norm(columns @ coefficients - v)) <= 1e-6 * float(np.linalg.norm(v))
+
+
+def _combination(system: System, v: np.ndarray) -> str:
+    v = v / v[np.argmax(np.abs(v))]
+    moved = [c.name for c, x in zip(system.coordinates, v, strict=True) if abs(x) > 1e-9]
+    if all(abs(x - 1) <= 1e-9 for x in v if abs(x) > 1e-9):
+        return "shift of " + ", ".join(moved) + " together (L is invariant)"
+    return "shift along (" + ", ".join(f"{x:.3g}" for x in v) + ") (L is invariant)"

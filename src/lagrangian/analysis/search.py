@@ -70,10 +70,27 @@ class RootSearch:
         for value in point.values():
             if value.is_extended_real is False or value.has(sympy.zoo, sympy.nan):
                 return False
+            if value.has(sympy.I) and not self._real_on_family(value):
+                return False
             if self.complete and not value.has(*(c.q for c in self.unknowns)):
                 number = _number(value, self.defaults)
                 if number is None or abs(number.imag) > 1e-9 * (1 + abs(number.real)):
                     return False
+        return True
+
+    def _real_on_family(self, value: sympy.Expr) -> bool:
+        """A value in terms of free coordinates (a family) is real for real ones: at two
+        random real points (x1 = x2 + I (y1 - y2) is not a real family)."""
+        rng = random.Random(17)
+        for _ in range(2):
+            table = {c.q: sympy.Float(rng.uniform(-1.5, 1.5)) for c in self.system.coordinates}
+            table |= {
+                p.symbol: sympy.Float(p.default if p.default is not None else rng.uniform(0.5, 2.0))
+                for p in self.system.parameters
+            }
+            number = _number(value.xreplace(table), {})
+            if number is None or abs(number.imag) > 1e-9 * (1 + abs(number.real)):
+                return False
         return True
 
     def _solves(self, point: Mapping[str, sympy.Expr]) -> bool:

@@ -32,6 +32,7 @@ for particles, the centre of mass moving uniformly (m X - P t, up to sign)
 from __future__ import annotations
 
 import random
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -89,6 +90,21 @@ def point_symmetries(eom: EquationsOfMotion, cyclic: tuple[str, ...] = ()) -> tu
     return tuple(s for s in results if s.broken or vanishes_along_motion(s.charge, eom))
 
 
+def generators(eom: EquationsOfMotion) -> tuple[tuple[str, tuple[sympy.Expr, ...]], ...]:
+    """Every affine point symmetry of L (cyclic shifts included): (what it is, xi).
+
+    Forces are not consulted: this names directions (a zero mode along which L is
+    invariant), it claims nothing conserved.  Computed once per equations.
+    """
+    if eom not in _GENERATORS:
+        found = _affine_generators(eom.system) or []
+        _GENERATORS[eom] = tuple((_describe(eom.system, xi)[1], xi) for xi in found)
+    return _GENERATORS[eom]
+
+
+_GENERATORS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def _q(system: System) -> set:
     return {c.q for c in system.coordinates}
 
@@ -98,11 +114,12 @@ def _state(system: System) -> tuple[sympy.Symbol, ...]:
 
 
 def _algebraic(system: System) -> list[int]:
-    """Coordinates that appear in L only algebraically (never inside a function call)."""
+    """Coordinates that appear in L, and only algebraically (never inside a function call)."""
     inside = set()
     for call in system.lagrangian.atoms(sympy.Function):
         inside |= call.free_symbols
-    return [i for i, c in enumerate(system.coordinates) if c.q not in inside]
+    present = system.lagrangian.free_symbols
+    return [i for i, c in enumerate(system.coordinates) if c.q in present and c.q not in inside]
 
 
 def _affine_generators(system: System) -> list[tuple[sympy.Expr, ...]] | None:
@@ -263,7 +280,11 @@ def _describe(system: System, xi: tuple[sympy.Expr, ...]) -> tuple[str, str, flo
     if all(not x.free_symbols & _q(system) for x in xi):
         nonzero = [x for x in xi if x != 0]
         if all(is_zero(x - nonzero[0]) for x in nonzero):
-            what = "translation of " + ", ".join(moved) + " together"
+            # "translation" for coordinates that enter L algebraically (positions); an angle,
+            # or a coordinate L does not contain, is only shifted
+            positions = [i for i in _algebraic(system) if xi[i] != 0]
+            kind = "translation" if len(positions) == len(moved) else "shift"
+            what = f"{kind} of " + ", ".join(moved) + (" together" if len(moved) > 1 else "")
             return "P_" + "+".join(moved), what, 1
         combination = sum(
             (x * c.q for c, x in zip(system.coordinates, xi, strict=True)), sympy.Integer(0)

@@ -67,6 +67,8 @@ def _equilibrium_document(e) -> dict:
     if getattr(e, "free", ()):
         document["free"] = list(e.free)
         document["representative"] = {k: str(v) for k, v in e.representative.items()}
+    if getattr(e, "family_dimension", 0):
+        document["family_dimension"] = e.family_dimension
     if getattr(e, "degenerate", ()):
         document["degenerate"] = list(e.degenerate)
     if getattr(e, "zero_modes", ()):
@@ -147,6 +149,11 @@ def _equilibrium_lines(points, show) -> list[str]:
             )
             names = ", ".join(map(unicode_name, free))
             lines.append(f"    a family of equilibria, free: {names}; modes at the member {member}")
+        if getattr(e, "family_dimension", 0):
+            lines.append(
+                f"    one member of a family of equilibria (up to {e.family_dimension} free"
+                " directions; roots found numerically, grouped by the value of V)"
+            )
         if getattr(e, "degenerate", ()):
             names = ", ".join(map(unicode_name, e.degenerate))
             lines.append(
