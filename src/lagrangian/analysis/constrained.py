@@ -28,7 +28,9 @@ from ..algebra import tidy
 from ..budget import remaining
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
+from .conditions import stability_verdict
 from .linear import LinearizedSystem, NormalModes
+from .search import number_at
 from .solving import in_child, solve_factored
 
 
@@ -40,6 +42,8 @@ class ConstrainedEquilibrium:
     multipliers: Mapping[str, sympy.Expr]
     modes: NormalModes
     numeric: bool = False  # always symbolic (as for Equilibrium, where it may be numeric)
+    at_defaults: bool = False  # the stability verdict holds at the default values only
+    stability_condition: sympy.Basic | None = None  # for stability, when found (.conditions)
 
     @property
     def stable(self) -> bool:
@@ -82,8 +86,21 @@ def constrained_equilibria(
             continue  # a family of rest points: not a single equilibrium
         if any(value.is_real is False for value in solution.values()):
             continue
+        if not _real_at_defaults(system, solution.values()):
+            continue  # as for unconstrained equilibria: a point that is not real at the defaults
         results.append(_equilibrium(eom, solution))
     return tuple(results)
+
+
+def _real_at_defaults(system, values) -> bool:
+    defaults = dict(system.parameter_values)
+    if len(defaults) < len(system.parameters):
+        return True  # no values to judge by
+    for value in values:
+        number = number_at(value, defaults)
+        if number is not None and abs(number.imag) > 1e-9 * (1 + abs(number.real)):
+            return False
+    return True
 
 
 def _equilibrium(eom: EquationsOfMotion, solution: Mapping) -> ConstrainedEquilibrium:
@@ -117,4 +134,7 @@ def _equilibrium(eom: EquationsOfMotion, solution: Mapping) -> ConstrainedEquili
     multipliers = {
         lam.name: tidy(value) for lam, value in zip(forms.multipliers, lambdas, strict=True)
     }
-    return ConstrainedEquilibrium(point, multipliers, modes)
+    verdict = stability_verdict(modes)
+    return ConstrainedEquilibrium(
+        point, multipliers, modes, False, verdict.at_defaults, verdict.condition
+    )

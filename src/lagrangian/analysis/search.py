@@ -73,7 +73,7 @@ class RootSearch:
             if value.has(sympy.I) and not self._real_on_family(value):
                 return False
             if self.complete and not value.has(*(c.q for c in self.unknowns)):
-                number = _number(value, self.defaults)
+                number = number_at(value, self.defaults)
                 if number is None or abs(number.imag) > 1e-9 * (1 + abs(number.real)):
                     return False
         return True
@@ -88,7 +88,7 @@ class RootSearch:
                 p.symbol: sympy.Float(p.default if p.default is not None else rng.uniform(0.5, 2.0))
                 for p in self.system.parameters
             }
-            number = _number(value.xreplace(table), {})
+            number = number_at(value.xreplace(table), {})
             if number is None or abs(number.imag) > 1e-9 * (1 + abs(number.real)):
                 return False
         return True
@@ -112,7 +112,7 @@ class RootSearch:
         for point in points:
             if len(point) < len(self.unknowns):
                 return True  # a continuum of equilibria: nothing to compare
-            numbers = [_number(point[c.name], values) for c in self.unknowns]
+            numbers = [number_at(point[c.name], values) for c in self.unknowns]
             if all(z is not None and abs(z.imag) <= 1e-9 * (1 + abs(z.real)) for z in numbers):
                 expected.append(np.array([z.real for z in numbers]))
         found = self._roots(values)
@@ -240,7 +240,7 @@ def _call(function, x: np.ndarray) -> np.ndarray:
     return np.array(function(list(x)), dtype=float).ravel()
 
 
-def _number(expr: sympy.Expr, values: Mapping[str, float]) -> complex | None:
+def number_at(expr: sympy.Expr, values: Mapping[str, float]) -> complex | None:
     if not {s.name for s in expr.free_symbols} <= set(values):
         return None
     table = {s: sympy.Float(values[s.name], 30) for s in expr.free_symbols}
