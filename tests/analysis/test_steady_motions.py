@@ -65,3 +65,21 @@ def test_constrained_systems_have_equilibria_through_the_system():
     assert set(found) == {-l, l}
     assert found[-l].omega_squared == (g / l,) and found[-l].stable
     assert not found[l].stable
+
+
+def test_analyze_takes_values_of_the_cyclic_momenta(capsys):
+    from lagrangian.cli import ExitStatus, main
+
+    analysis = lg.load("spherical_pendulum").analyze(momenta={"p_phi": 1.0})
+    assert len(analysis.steady_motions) == 2
+    for steady in analysis.steady_motions:
+        theta0 = float(steady.point["theta"])
+        assert float(steady.velocities["phi"]) ** 2 == pytest.approx(9.81 / math.cos(theta0))
+    assert main(["analyze", "spherical_pendulum", "--momentum", "p_phi=1", "--json"]) == 0
+    assert "cyclic_velocities" in capsys.readouterr().out
+    status = main(["analyze", "spherical_pendulum", "--momentum", "p_x=1"])
+    assert status == ExitStatus.BAD_INPUT
+    err = capsys.readouterr().err
+    assert err == (
+        "lagrangian: error: not momenta of cyclic coordinates: p_x (cyclic momenta: p_phi)\n"
+    )

@@ -9,11 +9,13 @@ a half-made answer.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 from ..budget import STAGE_SECONDS, Undecided, attempt
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
+from ..symbols import momentum_name
 from .conserved import Conservation, conserved_quantities
 from .constrained import constrained_equilibria
 from .equilibria import Equilibrium, rest_points, with_modes
@@ -63,11 +65,26 @@ class Analysis:
         return latex_analysis(self)
 
 
-def analyze(eom: EquationsOfMotion, *, timeout: float | None = STAGE_SECONDS) -> Analysis:
+def analyze(
+    eom: EquationsOfMotion,
+    *,
+    timeout: float | None = STAGE_SECONDS,
+    momenta: Mapping[str, float] | None = None,
+) -> Analysis:
     """Run every analysis that applies to ``eom``, each stage within ``timeout`` seconds.
 
-    ``timeout=None`` runs every stage to its end.
+    ``timeout=None`` runs every stage to its end.  ``momenta`` gives values to
+    cyclic momenta (``{"p_phi": 1.0}``): the steady motions are then found for
+    them, numerically where SymPy cannot.
     """
+    if momenta:
+        known = {momentum_name(name) for name in cyclic_coordinates(eom)}
+        unknown = sorted(set(momenta) - known)
+        if unknown:
+            raise ModelError(
+                f"not momenta of cyclic coordinates: {', '.join(unknown)}"
+                f" (cyclic momenta: {', '.join(sorted(known)) or 'none'})"
+            )
     notes: list[str] = []
     undecided: list[Undecided] = []
 
@@ -98,7 +115,7 @@ def analyze(eom: EquationsOfMotion, *, timeout: float | None = STAGE_SECONDS) ->
                 notes.append("equilibria: none in general, the system depends explicitly on t")
     reduction, steady = None, ()
     if not constrained and cyclic_coordinates(eom):
-        reduction = stage("Routh reduction", reduce, eom)
+        reduction = stage("Routh reduction", lambda: reduce(eom, momenta=momenta))
     if reduction is not None:
         steady = stage("steady motions", _steady, reduction, notes) or ()
     return Analysis(eom, conservation, h, points, reduction, steady, tuple(notes), tuple(undecided))

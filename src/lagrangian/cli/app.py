@@ -86,6 +86,13 @@ def derive(model: str, as_json: bool, as_latex: bool, steps: bool) -> None:
     metavar="NAME=EXPR",
     help="An output y of --state-space, e.g. tip='x + l*sin(theta)' (default: the state).",
 )
+@click.option(
+    "--momentum",
+    "momenta",
+    multiple=True,
+    metavar="NAME=VALUE",
+    help="A value of a cyclic momentum for the steady motions, e.g. p_phi=1.",
+)
 def analyze(
     model: str,
     as_json: bool,
@@ -94,6 +101,7 @@ def analyze(
     with_state_space: bool,
     at: tuple[str, ...],
     outputs: tuple[str, ...],
+    momenta: tuple[str, ...] = (),
 ) -> None:
     """Conserved quantities, Hamiltonian, equilibria and small oscillations of MODEL
     (inputs held at 0); with --state-space also A, B, C, D."""
@@ -111,7 +119,11 @@ def analyze(
         linear = system.state_space(
             at=_pairs(at, "--at") or None, outputs=_pairs(outputs, "--output") or None
         )
-    analysis = run_analysis(system.without_inputs().equations_of_motion(), timeout=timeout)
+    analysis = run_analysis(
+        system.without_inputs().equations_of_motion(),
+        timeout=timeout,
+        momenta=_numbers(_pairs(momenta, "--momentum"), "--momentum"),
+    )
     if as_json:
         document = analysis_document(analysis)
         if linear is not None:
@@ -143,6 +155,14 @@ def _pairs(values: tuple[str, ...], hint: str) -> dict[str, str]:
             raise click.BadParameter(f"expected NAME=EXPR, got {item!r}", param_hint=hint)
         result[name.strip()] = text
     return result
+
+
+def _numbers(pairs: dict[str, str], hint: str) -> dict[str, float]:
+    """NAME=VALUE pairs with plain numbers (read by float, never evaluated)."""
+    try:
+        return {name: float(text) for name, text in pairs.items()}
+    except ValueError:
+        raise click.BadParameter("expected NAME=NUMBER", param_hint=hint) from None
 
 
 @contextlib.contextmanager

@@ -194,15 +194,21 @@ class System:
 
         return state_space(self.equations_of_motion(), at, **options)
 
-    def analyze(self, *, timeout: float | None = STAGE_SECONDS):
+    def analyze(
+        self,
+        *,
+        timeout: float | None = STAGE_SECONDS,
+        momenta: Mapping[str, float] | None = None,
+    ):
         """Every analysis that applies, each stage within ``timeout`` seconds (None: no limit).
 
         See :func:`lagrangian.analysis.analyze`; stages out of time are in ``undecided``.
-        Inputs are held at 0.
+        Inputs are held at 0; ``momenta`` gives cyclic momenta values for the steady motions.
         """
         from ..analysis import analyze
 
-        return analyze(self.without_inputs().equations_of_motion(), timeout=timeout)
+        eom = self.without_inputs().equations_of_motion()
+        return analyze(eom, timeout=timeout, momenta=momenta)
 
     def simulate(self, **options: object):
         """Integrate the equations of motion -> :class:`~lagrangian.trajectory.Trajectory`.
