@@ -24,6 +24,7 @@ function given as data) are not built here (:func:`midpoint_functions` returns N
 
 from __future__ import annotations
 
+import math
 import threading
 import weakref
 from typing import TYPE_CHECKING, NamedTuple
@@ -40,6 +41,7 @@ if TYPE_CHECKING:
 _BUILT: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 _LOCK = threading.Lock()
 _FILLERS = ("momenta_force", "jacobian", "momenta", "mass")
+_MISSING = object()
 
 
 class Newton(NamedTuple):
@@ -76,6 +78,9 @@ def midpoint_functions(compiled: CompiledSystem) -> MidpointFunctions | None:
         return None
     if not isinstance(compiled.equations, EquationsOfMotion):
         return None  # functions given by hand: no equations to generate code from
+    found = _BUILT.get(compiled, _MISSING)  # every step asks: no lock once built
+    if found is not _MISSING:
+        return found
     with _LOCK:
         if compiled not in _BUILT:
             _BUILT[compiled] = _build(compiled)
@@ -301,9 +306,14 @@ def _converged(size: float, previous: float, scale: float, reach: float, newton:
 def _sizes(residual: np.ndarray, p: np.ndarray, momenta: np.ndarray) -> tuple[float, float]:
     """max |residual| and the scale max(max |p|, max |momenta|), as Python floats
     (a NaN anywhere makes the size NaN, as numpy's max, so a NaN never converges)."""
-    size = float(abs(residual).max())
-    scale = float(max(abs(p).max(), abs(momenta).max()))
-    return size, scale
+    if residual.shape[0] > 4:
+        size = float(abs(residual).max())
+        return size, float(max(abs(p).max(), abs(momenta).max()))
+    values = residual.tolist()  # a few numbers: Python floats are faster than NumPy calls
+    size = max(map(abs, values))
+    if size != size or any(value != value for value in values):
+        size = math.nan  # max() keeps a NaN only where it comes first
+    return size, max(map(abs, p.tolist() + momenta.tolist()))
 
 
 def _solved(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
