@@ -1,0 +1,50 @@
+"""The ``export`` command: the right-hand side as a C, Julia, MATLAB or NumPy file."""
+
+from __future__ import annotations
+
+import click
+
+from .app import MODEL_HELP, _definitions, app, define_option
+
+
+@app.command(epilog=MODEL_HELP)
+@click.argument("model")
+@click.option(
+    "--to",
+    "language",
+    type=click.Choice(["c", "julia", "matlab", "numpy"]),
+    required=True,
+    help="The language of the file.",
+)
+@click.option(
+    "--out",
+    type=click.Path(dir_okay=False),
+    help="Write FILE (a MATLAB function is named after it); default: print.",
+)
+@define_option
+@click.option(
+    "--baumgarte",
+    type=click.FloatRange(min=0),
+    default=None,
+    help="Stabilisation rate alpha of the constraints (default 10; 0: none).",
+)
+def export(model, language, out, definitions, baumgarte) -> None:
+    """Write the right-hand side, mass matrix and forcing of MODEL as self-contained code."""
+    from ..export import export_code, write_code
+    from ..model import load
+    from ..numeric.compile import DEFAULT_BAUMGARTE
+
+    if out is not None:
+        from ..files import check_output_path
+
+        check_output_path(out)  # a bad path fails before the work
+    system = load(model)
+    options = {
+        "definitions": _definitions(definitions),
+        "baumgarte": DEFAULT_BAUMGARTE if baumgarte is None else baumgarte,
+    }
+    if out is None:
+        click.echo(export_code(system, language, **options), nl=False)
+        return
+    write_code(system, language, out, **options)
+    click.echo(f"wrote {out}")

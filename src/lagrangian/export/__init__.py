@@ -1,0 +1,100 @@
+"""Code export: a model's right-hand side as a self-contained C, Julia, MATLAB or NumPy file.
+
+``lagrangian export MODEL --to c|julia|matlab|numpy [--out FILE]`` and
+:func:`export_code` write, for M(q, t) q'' = f(q, q', t, u) (see
+:class:`~lagrangian.derive.EquationsOfMotion`), the functions ``mass_matrix``,
+``forcing`` and ``rhs`` of (t, y, params, u), y = [q, q'], with common
+subexpressions computed once (:func:`sympy.cse`) and printed by SymPy's code
+printers; the file names every argument entry and the default parameter
+values in its header, and depends on nothing of ours.  The right-hand side is
+the same as our own compiled one (:func:`~lagrangian.numeric.compile_equations`):
+the same expressions, M q'' = f solved numerically (Gaussian elimination with
+partial pivoting written out in C; ``numpy.linalg.solve``; ``\\`` in Julia and
+MATLAB).  Constraints are handled with their multipliers and Baumgarte's
+stabilisation, exactly as :mod:`lagrangian.numeric.dynamics` does (see
+:mod:`.program`).  The writers are registered in :data:`LANGUAGES`.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Mapping
+from pathlib import Path
+from types import MappingProxyType
+
+from ..errors import ModelError
+from ..numeric.compile import DEFAULT_BAUMGARTE
+from .c_code import CWriter
+from .julia_code import JuliaWriter
+from .matlab_code import MatlabWriter
+from .numpy_code import NumPyWriter
+from .program import Program, program
+from .writer import AbstractWriter
+
+#: ``--to`` name -> writer class.
+LANGUAGES: Mapping[str, type[AbstractWriter]] = MappingProxyType(
+    {"c": CWriter, "julia": JuliaWriter, "matlab": MatlabWriter, "numpy": NumPyWriter}
+)
+
+#: The name a MATLAB file gets when no output file names it.
+DEFAULT_NAME = "lagrangian_model"
+
+
+def export_code(
+    system,
+    language: str,
+    *,
+    name: str | None = None,
+    definitions: Mapping[str, str] | None = None,
+    baumgarte: float = DEFAULT_BAUMGARTE,
+) -> str:
+    """The text of the exported file of ``system`` (a System or EquationsOfMotion).
+
+    ``language``: a key of :data:`LANGUAGES`; ``name``: the MATLAB function's
+    name (the file must be ``name.m``); ``definitions``: the model's unspecified
+    functions as text (as for ``simulate --define``); ``baumgarte``: the rate
+    alpha of the constraints' stabilisation.
+    """
+    writer_class = LANGUAGES.get(language)
+    if writer_class is None:
+        known = ", ".join(LANGUAGES)
+        raise ModelError(f"unknown language {language!r} (languages: {known})", field="--to")
+    eom = system.equations_of_motion() if hasattr(system, "equations_of_motion") else system
+    made = program(eom, definitions=definitions, baumgarte=baumgarte)
+    writer = writer_class()
+    try:
+        return writer.render(made, _identifier(name or DEFAULT_NAME))
+    except Exception as error:  # SymPy's printers in strict mode: no equivalent in the language
+        if type(error).__name__ != "PrintMethodNotImplementedError":
+            raise
+        raise ModelError(
+            f"cannot export to {writer.language}: {' '.join(str(error).split())[:200]}"
+        ) from None
+
+
+def write_code(system, language: str, path: str | Path, **options: object) -> Path:
+    """Write :func:`export_code` to ``path`` atomically (:mod:`lagrangian.files`); a MATLAB
+    function is named after the file."""
+    from ..files import check_output_path, write_atomically
+
+    check_output_path(path)
+    if language == "matlab" and not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]{0,62}", Path(path).stem):
+        raise ModelError(
+            f"a MATLAB function file needs a name that is an identifier (its function is "
+            f"called by it), not {Path(path).stem!r}",
+            field="--out",
+        )
+    text = export_code(system, language, name=options.pop("name", None) or Path(path).stem,
+                       **options)  # fmt: skip
+    return write_atomically(path, lambda target: Path(target).write_text(text, encoding="utf-8"))
+
+
+def _identifier(name: str) -> str:
+    """``name`` as a MATLAB/Julia identifier: letters, digits, underscores, a letter first."""
+    cleaned = re.sub(r"[^A-Za-z0-9_]", "_", name)
+    if not cleaned or not cleaned[0].isalpha():
+        cleaned = "model_" + cleaned
+    return cleaned[:63]
+
+
+__all__ = ["DEFAULT_NAME", "LANGUAGES", "AbstractWriter", "Program", "export_code", "write_code"]

@@ -1,0 +1,106 @@
+"""Julia: one file of plain functions (``include("model.jl")``), printed by SymPy's Julia
+code printer.
+
+    mass_matrix(t, y, params=DEFAULT_PARAMS, u=DEFAULT_INPUTS) -> M, n x n
+    forcing(t, y, params=DEFAULT_PARAMS, u=DEFAULT_INPUTS) -> f, length n
+    rhs(t, y, params=DEFAULT_PARAMS, u=DEFAULT_INPUTS) -> y' = [q', q''] (M \\ f)
+
+Arrays are allocated with the element type of the arguments, so automatic
+differentiation (ForwardDiff's dual numbers) goes through.  Indices start at 1.
+"""
+
+from __future__ import annotations
+
+import sympy
+from sympy.printing.julia import JuliaCodePrinter
+
+from .header import header_lines
+from .program import Program, Routine
+from .writer import AbstractWriter
+
+_VECTORS = frozenset({"f", "b"})
+_ARGUMENTS = "t, y, params=DEFAULT_PARAMS, u=DEFAULT_INPUTS"
+
+
+class JuliaWriter(AbstractWriter):
+    """The Julia file (see the module docstring)."""
+
+    language = "Julia"
+    suffix = ".jl"
+    base = 1
+
+    def __init__(self) -> None:
+        self._printer = JuliaCodePrinter({"strict": True})
+
+    def expression(self, expr: sympy.Expr) -> str:
+        return self._printer.doprint(expr)
+
+    def render(self, program: Program, name: str) -> str:
+        calls = {
+            "mass_matrix": f"mass_matrix({_ARGUMENTS}) -> M (n x n)",
+            "forcing": f"forcing({_ARGUMENTS}) -> f (length n)",
+            "rhs": f"rhs({_ARGUMENTS}) -> y' = [q', q''] (M \\ f)",
+        }
+        head = header_lines(program, "Julia", base=1, calls=calls)
+        lines = [f"# {line}".rstrip() for line in head]
+        defaults = ", ".join(
+            "NaN" if p.default is None else repr(float(p.default)) for p in program.parameters
+        )
+        lines += [
+            "",
+            f"const COORDINATES = [{', '.join(_quoted(q.name) for q in program.coordinates)}]",
+            f"const PARAMETERS = String[{', '.join(_quoted(p.name) for p in program.parameters)}]",
+            f"const INPUTS = String[{', '.join(_quoted(u.name) for u in program.inputs)}]",
+            f"const DEFAULT_PARAMS = Float64[{defaults}]",
+            f"const DEFAULT_INPUTS = zeros({len(program.inputs)})",
+        ]
+        lines += self._function("_dynamics", program, program.dynamics)
+        lines += self._function("mass_matrix", program, program.mass_matrix)
+        lines += self._function("forcing", program, program.forcing)
+        n, m = program.n, program.constraints
+        names = ", ".join(label for label, _ in program.dynamics.outputs)
+        lines += ["", f"function rhs({_ARGUMENTS})", f"    {names} = _dynamics(t, y, params, u)"]
+        if m:
+            lines += [
+                f"    K = vcat(hcat(M, -transpose(A)), hcat(A, zeros(eltype(A), {m}, {m})))",
+                f"    accelerations = (K \\ vcat(f, b))[1:{n}]",
+            ]
+        else:
+            lines.append("    accelerations = M \\ f")
+        lines += [f"    return vcat(y[{n + 1}:{2 * n}], accelerations)", "end", ""]
+        return "\n".join(lines)
+
+    def _function(self, name: str, program: Program, routine: Routine) -> list[str]:
+        lines = ["", f"function {name}({_ARGUMENTS})"]
+        lines.append("    T = promote_type(eltype(y), eltype(params), eltype(u), typeof(t))")
+        used = self.used_symbols(routine)
+        for i, q in enumerate((*program.coordinates, *program.velocities)):
+            if q.symbol in used:
+                lines.append(f"    {q.symbol} = y[{i + 1}]")
+        for i, p in enumerate(program.parameters):
+            if p.symbol in used:
+                lines.append(f"    {p.symbol} = params[{i + 1}]")
+        for i, u in enumerate(program.inputs):
+            if u.symbol in used:
+                lines.append(f"    {u.symbol} = u[{i + 1}]")
+        for symbol, expr in routine.temporaries:
+            lines.append(f"    {symbol} = {self.expression(expr)}")
+        labels = []
+        for label, matrix in routine.outputs:
+            if label in _VECTORS:
+                lines.append(f"    {label} = zeros(T, {matrix.rows})")
+                for i, entry in enumerate(matrix):
+                    lines.append(f"    {label}[{i + 1}] = {self.expression(entry)}")
+            else:
+                lines.append(f"    {label} = zeros(T, {matrix.rows}, {matrix.cols})")
+                for i in range(matrix.rows):
+                    for j in range(matrix.cols):
+                        text = self.expression(matrix[i, j])
+                        lines.append(f"    {label}[{i + 1}, {j + 1}] = {text}")
+            labels.append(label)
+        lines += [f"    return {', '.join(labels)}", "end"]
+        return lines
+
+
+def _quoted(name: str) -> str:
+    return f'"{name}"'

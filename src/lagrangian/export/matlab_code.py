@@ -1,0 +1,133 @@
+"""MATLAB / GNU Octave: one function file returning a struct of function handles,
+printed by SymPy's Octave code printer (whose output is also MATLAB).
+
+    model = NAME();                  % NAME: the file's name, NAME.m
+    M = model.mass_matrix(t, y, params, u);       % n x n
+    f = model.forcing(t, y, params, u);           % n x 1
+    dydt = model.rhs(t, y, params, u);            % [q'; q''] = [q'; M \\ f]
+    [t, y] = ode45(@(t, y) model.rhs(t, y, model.default_params), [0 10], y0);
+
+``params`` and ``u`` may be omitted or empty (defaults, and every input 0).
+Indices start at 1; vectors are columns.
+"""
+
+from __future__ import annotations
+
+import sympy
+from sympy.printing.octave import OctaveCodePrinter
+
+from .header import header_lines
+from .program import Program, Routine
+from .writer import AbstractWriter
+
+_VECTORS = frozenset({"f", "b"})
+
+
+class MatlabWriter(AbstractWriter):
+    """The MATLAB function file (see the module docstring)."""
+
+    language = "MATLAB"
+    suffix = ".m"
+    base = 1
+
+    def __init__(self) -> None:
+        self._printer = OctaveCodePrinter({"strict": True})
+
+    def expression(self, expr: sympy.Expr) -> str:
+        return self._printer.doprint(expr)
+
+    def render(self, program: Program, name: str) -> str:
+        calls = {
+            "mass_matrix": "M = model.mass_matrix(t, y, params, u): n x n",
+            "forcing": "f = model.forcing(t, y, params, u): n x 1",
+            "rhs": "dydt = model.rhs(t, y, params, u): [q'; q''] (M \\ f)",
+        }
+        head = header_lines(program, "MATLAB / Octave", base=1, calls=calls, brackets="()")
+        head += [
+            f"Use: model = {name}(); then e.g.",
+            "  [t, y] = ode45(@(t, y) model.rhs(t, y, model.default_params), [0 10], y0);",
+            "params and u may be omitted or [] (default values; every input 0).",
+        ]
+        defaults = "; ".join(
+            "NaN" if p.default is None else repr(float(p.default)) for p in program.parameters
+        )
+        lines = [f"function model = {name}()"]
+        lines += [f"% {line}".rstrip() for line in head]
+        lines += [
+            f"model.coordinates = {{{', '.join(_quoted(q.name) for q in program.coordinates)}}};",
+            f"model.parameters = {{{', '.join(_quoted(p.name) for p in program.parameters)}}};",
+            f"model.inputs = {{{', '.join(_quoted(u.name) for u in program.inputs)}}};",
+            "model.default_params = default_params();",
+            "model.mass_matrix = @mass_matrix;",
+            "model.forcing = @forcing;",
+            "model.rhs = @rhs;",
+            "end",
+            "",
+            "function p = default_params()",
+            f"p = [{defaults}];" if defaults else "p = zeros(0, 1);",
+            "end",
+        ]
+        lines += self._function("[M, f, A, b]" if program.constraints else "[M, f]",
+                                "dynamics", program, program.dynamics)  # fmt: skip
+        lines += self._function("M", "mass_matrix", program, program.mass_matrix)
+        lines += self._function("f", "forcing", program, program.forcing)
+        n, m = program.n, program.constraints
+        lines += ["", "function dydt = rhs(t, y, params, u)"]
+        lines += self._defaults(program)
+        if m:
+            lines += [
+                "[M, f, A, b] = dynamics(t, y, params, u);",
+                f"K = [M, -A.'; A, zeros({m}, {m})];",
+                "x = K \\ [f; b];",
+                f"dydt = [y({n + 1}:{2 * n}); x(1:{n})];",
+            ]
+        else:
+            lines += [
+                "[M, f] = dynamics(t, y, params, u);",
+                f"dydt = [y({n + 1}:{2 * n}); M \\ f];",
+            ]
+        lines.append("end")
+        return "\n".join(lines) + "\n"
+
+    def _defaults(self, program: Program) -> list[str]:
+        return [
+            "if nargin < 3 || isempty(params)",
+            "  params = default_params();",
+            "end",
+            "if nargin < 4 || isempty(u)",
+            f"  u = zeros({len(program.inputs)}, 1);",
+            "end",
+        ]
+
+    def _function(self, results: str, name: str, program: Program, routine: Routine) -> list[str]:
+        lines = ["", f"function {results} = {name}(t, y, params, u)", *self._defaults(program)]
+        used = self.used_symbols(routine)
+        for i, q in enumerate((*program.coordinates, *program.velocities)):
+            if q.symbol in used:
+                lines.append(f"{q.symbol} = y({i + 1});")
+        for i, p in enumerate(program.parameters):
+            if p.symbol in used:
+                lines.append(f"{p.symbol} = params({i + 1});")
+        for i, u in enumerate(program.inputs):
+            if u.symbol in used:
+                lines.append(f"{u.symbol} = u({i + 1});")
+        for symbol, expr in routine.temporaries:
+            lines.append(f"{symbol} = {self.expression(expr)};")
+        for label, matrix in routine.outputs:
+            if label in _VECTORS:
+                lines.append(f"{label} = zeros({matrix.rows}, 1);")
+                for i, entry in enumerate(matrix):
+                    lines.append(f"{label}({i + 1}) = {self.expression(entry)};")
+            else:
+                lines.append(f"{label} = zeros({matrix.rows}, {matrix.cols});")
+                for i in range(matrix.rows):
+                    for j in range(matrix.cols):
+                        lines.append(
+                            f"{label}({i + 1}, {j + 1}) = {self.expression(matrix[i, j])};"
+                        )
+        lines.append("end")
+        return lines
+
+
+def _quoted(name: str) -> str:
+    return f"'{name}'"

@@ -1,0 +1,110 @@
+"""Python with NumPy: one module, printed by SymPy's NumPy printer.
+
+    mass_matrix(t, y, params=DEFAULT_PARAMS, u=None) -> M, (n, n)
+    forcing(t, y, params=DEFAULT_PARAMS, u=None) -> f, (n,)
+    rhs(t, y, params=DEFAULT_PARAMS, u=None) -> y' = [q', q''], (2n,)
+
+``u=None`` means every input 0; ``rhs`` solves with ``numpy.linalg.solve`` and
+fits ``scipy.integrate.solve_ivp(rhs, ..., args=(params,))``.
+"""
+
+from __future__ import annotations
+
+import sympy
+from sympy.printing.numpy import NumPyPrinter
+
+from .header import header_lines
+from .program import Program, Routine
+from .writer import AbstractWriter
+
+#: The outputs that are vectors (f, the constraint bias b); the others are matrices.
+_VECTORS = frozenset({"f", "b"})
+
+
+class NumPyWriter(AbstractWriter):
+    """The Python module (see the module docstring)."""
+
+    language = "Python (NumPy)"
+    suffix = ".py"
+    base = 0
+
+    def __init__(self) -> None:
+        self._printer = NumPyPrinter({"fully_qualified_modules": True, "strict": True})
+
+    def expression(self, expr: sympy.Expr) -> str:
+        return self._printer.doprint(expr)
+
+    def render(self, program: Program, name: str) -> str:
+        signature = "(t, y, params=DEFAULT_PARAMS, u=None)"
+        calls = {
+            "mass_matrix": f"mass_matrix{signature} -> M, shape (n, n)",
+            "forcing": f"forcing{signature} -> f, shape (n,)",
+            "rhs": f"rhs{signature} -> y' = [q', q''] (numpy.linalg.solve)",
+        }
+        head = header_lines(program, "Python (NumPy)", base=0, calls=calls)
+        lines = ['"""' + head[0], *head[1:], '"""', "", "import numpy", ""]
+        defaults = ", ".join(
+            "float('nan')" if p.default is None else repr(float(p.default))
+            for p in program.parameters
+        )
+        lines += [
+            f"COORDINATES = {tuple(q.name for q in program.coordinates)!r}",
+            f"PARAMETERS = {tuple(p.name for p in program.parameters)!r}",
+            f"INPUTS = {tuple(u.name for u in program.inputs)!r}",
+            f"DEFAULT_PARAMS = numpy.array([{defaults}], dtype=float)",
+            "",
+        ]
+        lines += self._function("_dynamics", program, program.dynamics)
+        lines += self._function("mass_matrix", program, program.mass_matrix)
+        lines += self._function("forcing", program, program.forcing)
+        n, m = program.n, program.constraints
+        names = ", ".join(name for name, _ in program.dynamics.outputs)
+        lines += [
+            "",
+            "def rhs(t, y, params=DEFAULT_PARAMS, u=None):",
+            "    \"\"\"y' = [q', q'']: M q'' = f solved (with constraints: see the header).\"\"\"",
+            f"    {names} = _dynamics(t, y, params, u)",
+        ]
+        if m:
+            lines += [
+                "    K = numpy.block([[M, -A.T], [A, numpy.zeros((A.shape[0], A.shape[0]))]])",
+                f"    accelerations = numpy.linalg.solve(K, numpy.concatenate([f, b]))[:{n}]",
+            ]
+        else:
+            lines.append("    accelerations = numpy.linalg.solve(M, f)")
+        lines += [
+            "    y = numpy.asarray(y, dtype=float)",
+            f"    return numpy.concatenate([y[{n}:], accelerations])",
+            "",
+        ]
+        return "\n".join(lines)
+
+    def _function(self, name: str, program: Program, routine: Routine) -> list[str]:
+        lines = ["", f"def {name}(t, y, params=DEFAULT_PARAMS, u=None):"]
+        used = self.used_symbols(routine)
+        for i, q in enumerate((*program.coordinates, *program.velocities)):
+            if q.symbol in used:
+                lines.append(f"    {q.symbol} = y[{i}]")
+        for i, p in enumerate(program.parameters):
+            if p.symbol in used:
+                lines.append(f"    {p.symbol} = params[{i}]")
+        for i, u in enumerate(program.inputs):
+            if u.symbol in used:
+                lines.append(f"    {u.symbol} = 0.0 if u is None else u[{i}]")
+        for symbol, expr in routine.temporaries:
+            lines.append(f"    {symbol} = {self.expression(expr)}")
+        results = []
+        for label, matrix in routine.outputs:
+            rows = [
+                "[" + ", ".join(self.expression(e) for e in matrix.row(i)) + "]"
+                for i in range(matrix.rows)
+            ]
+            if label in _VECTORS:
+                text = "[" + ", ".join(self.expression(e) for e in matrix) + "]"
+            else:
+                text = "[" + ", ".join(rows) + "]"
+            shape = f"({matrix.rows},)" if label in _VECTORS else str(matrix.shape)
+            lines.append(f"    {label} = numpy.array({text}, dtype=float).reshape({shape})")
+            results.append(label)
+        lines.append(f"    return {', '.join(results)}")
+        return lines
