@@ -204,6 +204,44 @@ def rotating_wire_bead() -> None:
     save(plot_energy_error(run, system), "rotating_wire_drift.png")
 
 
+def cart_pole() -> None:
+    """The nonlinear cart-pole against its state space x' = A x + B u: the hanging pole
+    pushed by F = 0.2 from rest, and the upright pole released at 0.01 rad."""
+    from scipy.linalg import expm
+
+    system = lg.load("cart_pole")
+    push, tilt = 0.2, 0.01
+    hanging = system.state_space(at={"theta": "pi"}).numeric()
+    upright = system.state_space(at={"theta": 0}).numeric()
+    pushed = system.simulate(t_end=4.0, n_out=401, initial={"theta": np.pi}, params={"F": push},
+                             rtol=1e-10, atol=1e-10)  # fmt: skip
+    falling = system.simulate(t_end=1.3, n_out=401, initial={"theta": tilt}, rtol=1e-10,
+                              atol=1e-10)  # fmt: skip
+    # linear responses: x(t) = integral of exp(A s) B u ds (the exponential of [[A, B u], [0, 0]])
+    # and x(t) = exp(A t) x0
+    block = np.zeros((5, 5))
+    block[:4, :4], block[:4, 4] = hanging.A, hanging.B[:, 0] * push
+    forced = np.array([expm(block * s)[:4, 4] for s in pushed.t])
+    free = np.array([expm(upright.A * s) @ [0.0, tilt, 0.0, 0.0] for s in falling.t])
+    figure, axes = new_figure(3, 1, width=6.4, height=7.0)
+    rows = [
+        (pushed.t, pushed["x"], forced[:, 0], "$x$ (hanging, pushed)"),
+        (pushed.t, pushed["theta"] - np.pi, forced[:, 1], r"$\theta - \pi$ (hanging, pushed)"),
+        (falling.t, falling["theta"], free[:, 1], r"$\theta$ (upright, released)"),
+    ]
+    for ax, (t, nonlinear, linear, label) in zip(axes[:, 0], rows, strict=True):
+        ax.plot(t, nonlinear, color="C0", lw=1.6, label="nonlinear (simulate)")
+        ax.plot(t, linear, "--", color="C3", lw=1.2, label="linear: $x' = A x + B u$")
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+    axes[2, 0].set_ylim(-0.05, 1.2)
+    axes[2, 0].set_xlabel("$t$")
+    axes[0, 0].legend(loc="upper left", fontsize=8)
+    figure.suptitle("Cart-pole: the simulation and the state-space model")
+    save(figure, "cart_pole_state_space.png")
+    still(system, pushed, "cart_pole_frame.png", 80, trail=2.0)
+
+
 def heavy_top() -> None:
     """The disc top: released tilted by 0.4 rad with spin 80 rad/s; nutation and precession."""
     system = lg.load("heavy_top")
@@ -231,6 +269,7 @@ PICTURES = (
     planar_particle_forces,
     rotating_wire_bead,
     heavy_top,
+    cart_pole,
 )
 
 

@@ -147,3 +147,13 @@ def test_a_constraint_force_along_the_shift_breaks_it_one_across_does_not():
 def test_cyclic_coordinates_are_not_reported_twice():
     found = charges(lg.load("central_force"))
     assert set(found) == {"p_theta", "energy"}
+
+
+def test_momenta_already_listed_are_not_repeated_and_single_angles_have_no_boost():
+    # planar particle under constant forces: p_x, p_y are listed (not conserved) once
+    result = conserved_quantities(lg.load("planar_particle_forces").equations_of_motion())
+    names = [q.name for q in (*result.conserved, *result.not_conserved)]
+    assert sorted(names) == ["energy", "p_x", "p_y"]
+    # a rolling disc's cyclic angle turns uniformly, but that is no centre-of-mass charge
+    rolling = conserved_quantities(lg.load("rolling_disc").equations_of_motion())
+    assert not any(q.name.startswith("G") for q in rolling.conserved)

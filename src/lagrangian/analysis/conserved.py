@@ -133,8 +133,12 @@ def conserved_quantities(eom: EquationsOfMotion) -> Conservation:
             )
         )
     notes = []
+    # coordinates L does not contain: their momenta are listed above, conserved or not
+    ignorable = [s.coordinate.name for s in eom.steps if is_zero(s.force_gradient)]
     found, undecided = attempt(
-        "symmetry search", SYMMETRY_SECONDS, lambda: point_symmetries(eom, tuple(cyclic))
+        "symmetry search",
+        SYMMETRY_SECONDS,
+        lambda: point_symmetries(eom, tuple(cyclic), tuple(ignorable)),
     )
     if undecided is not None:
         notes.append(f"{undecided}: Noether charges other than cyclic momenta may be missing")

@@ -62,11 +62,17 @@ class Symmetry:
     broken: str = ""
 
 
-def point_symmetries(eom: EquationsOfMotion, cyclic: tuple[str, ...] = ()) -> tuple[Symmetry, ...]:
+def point_symmetries(
+    eom: EquationsOfMotion, cyclic: tuple[str, ...] = (), reported: tuple[str, ...] = ()
+) -> tuple[Symmetry, ...]:
     """The affine point symmetries of L and the boosts (see the module docstring).
 
-    Shifts of one ``cyclic`` coordinate are left out (their momenta are reported as
-    such); a generator that a force, dissipation or a constraint breaks has ``broken``.
+    Shifts of one coordinate in ``cyclic`` (conserved momenta) or ``reported``
+    (momenta already listed, conserved or not) are left out; a generator that a
+    force, dissipation or a constraint breaks has ``broken``.  Boosts are formed
+    from the shifts that are conserved (a boost cannot be when its shift is not),
+    for translations of all particles or of several coordinates together (a
+    single angle turning uniformly is no centre of mass).
     """
     system = eom.system
     found = _affine_generators(system)
@@ -77,13 +83,14 @@ def point_symmetries(eom: EquationsOfMotion, cyclic: tuple[str, ...] = ()) -> tu
     shifts, others = [], []
     for xi in found:
         (shifts if all(not x.free_symbols & _q(system) for x in xi) else others).append(xi)
-    results = []
-    for xi in _without_cyclic(shifts, [index[name] for name in cyclic], n) + others:
-        results.append(_symmetry(eom, xi))
+    left_out = [index[name] for name in {*cyclic, *reported}]
+    translations = [_symmetry(eom, xi) for xi in _without_cyclic(shifts, left_out, n)]
+    results = translations + [_symmetry(eom, xi) for xi in others]
+    unbroken = [s.generator for s in translations if not s.broken]
     cyclic_shifts = [
         tuple(sympy.Integer(int(i == index[name])) for i in range(n)) for name in cyclic
     ]
-    for c in _independent([*cyclic_shifts, *shifts]):
+    for c in _independent([*cyclic_shifts, *unbroken]):
         boost = _boost(eom, c)
         if boost is not None:
             results.append(boost)
@@ -209,6 +216,8 @@ def _boost(eom: EquationsOfMotion, c: tuple[sympy.Expr, ...]) -> Symmetry | None
     """G = t p.c - c^T M q when M c is constant and p.c = c^T M q' (module docstring)."""
     system = eom.system
     name, what, scale = _describe(system, c)
+    if "all particles" not in what and sum(1 for x in c if x != 0) < 2:
+        return None  # one coordinate turning uniformly: no centre of mass to speak of
     c = tuple(sympy.nsimplify(scale) * x for x in c)
     vector = sympy.Matrix(c)
     weighted = eom.mass_matrix * vector

@@ -174,8 +174,10 @@ def _equilibrium_lines(points, show) -> list[str]:
         if e.modes.periods:
             periods = [p if e.modes.closed_form else p.evalf(6) for p in e.modes.periods]
             lines.append("    periods: " + ", ".join(show(p) for p in periods))
-        for name in getattr(e, "zero_modes", ()):
-            lines.append(f"    ω² = 0: {name}")
+        zero_modes = list(getattr(e, "zero_modes", ()))
+        for name in dict.fromkeys(zero_modes):  # each kind once, with its count
+            count = zero_modes.count(name)
+            lines.append(f"    ω² = 0{f' (×{count})' if count > 1 else ''}: {name}")
         if e.modes.note:
             lines.append(f"    ({e.modes.note})")
     return lines or ["  none found"]
