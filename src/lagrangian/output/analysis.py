@@ -81,6 +81,7 @@ def _equilibrium_document(e) -> dict:
     velocities = getattr(e, "velocities", None)
     if velocities:
         document["cyclic_velocities"] = {k: str(v) for k, v in velocities.items()}
+        document["momenta"] = {k: str(v) for k, v in e.momenta.items()}
     return document
 
 
@@ -214,8 +215,18 @@ def latex_analysis(analysis: Analysis) -> str:
     for e in analysis.equilibria:
         point = ", ".join(f"{latex_name(k)} = {show(v)}" for k, v in e.point.items())
         squares = ", ".join(show(w2) for w2 in e.modes.omega_squared)
+        remarks = []
+        if getattr(e, "free", ()):
+            remarks.append("a family, free: " + ", ".join(f"${latex_name(n)}$" for n in e.free))
+        if getattr(e, "family_dimension", 0):
+            remarks.append(f"a family of up to {e.family_dimension} free directions")
+        if getattr(e, "degenerate", ()):
+            names = ", ".join(f"${latex_name(n)}$" for n in e.degenerate)
+            remarks.append(f"{names} degenerate: the regular directions")
+        remark = "".join(rf"\ \text{{({r})}}" for r in remarks)
         rows.append(
             rf"&{point}: \ \omega^2 \in \{{{squares}\}}\ \text{{({e.modes.stability.value})}}"
+            + remark
         )
         if getattr(e, "at_defaults", False):
             row = r"&\quad\text{stability at the default parameter values}"
