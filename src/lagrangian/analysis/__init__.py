@@ -18,6 +18,7 @@ from .hamiltonian import Hamiltonian, hamiltonian
 from .linear import LinearizedSystem, NormalModes, Stability, linearize
 from .report import Analysis, analyze
 from .routh import Reduction, SteadyMotion, reduce, steady_motions
+from .state_space import NumericStateSpace, StateSpace, state_space
 
 __all__ = [
     "Analysis",
@@ -29,8 +30,10 @@ __all__ = [
     "LinearizedSystem",
     "NormalModes",
     "NotConserved",
+    "NumericStateSpace",
     "Reduction",
     "Stability",
+    "StateSpace",
     "SteadyMotion",
     "analyze",
     "conserved_quantities",
@@ -41,5 +44,6 @@ __all__ = [
     "linearize",
     "noether_charge",
     "reduce",
+    "state_space",
     "steady_motions",
 ]

@@ -25,7 +25,8 @@ class ModelSpec:
     ``{"value": v, "sign": "real"}``; a plain sequence of names declares
     parameters without values; ``None`` takes every undeclared name used in the
     expressions as a positive parameter (Python API only; model files must
-    declare their parameters).
+    declare their parameters).  ``inputs`` maps an input's name to a coordinate
+    name or to {coordinate: generalized force} (see :mod:`.inputs`).
     """
 
     coordinates: tuple[str, ...]

@@ -58,6 +58,9 @@ class System:
     Q_q, ``dissipation`` is Rayleigh's function F; both enter Lagrange's equation
 
         d/dt (dL/dq_dot) - dL/dq = Q_q - dF/dq_dot.
+
+    ``inputs`` (:mod:`lagrangian.model.inputs`) are named signals whose generalized
+    forces are included in ``forces``; each is also a real parameter, default 0.
     """
 
     name: str
