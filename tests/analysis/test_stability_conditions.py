@@ -100,20 +100,19 @@ def test_a_stiffness_of_unknown_sign_is_judged_at_the_defaults_with_its_conditio
     assert agrees(origin.stability_condition, a - b, system, random.Random(3))
 
 
-def test_constrained_hoop_has_the_same_condition(rng):
-    # the turning hoop in (r, theta) with the holonomic constraint r = R
-    bead = lg.Particle(
-        "bead", "m", ("r*sin(theta)*cos(omega*t)", "r*sin(theta)*sin(omega*t)", "-r*cos(theta)")
-    )
+def test_constrained_parabola_has_the_same_condition(rng):
+    # the bead on the turning parabola in (r, z) with the holonomic constraint z = a r^2
+    bead = lg.Particle("bead", "m", ("r*cos(omega*t)", "r*sin(omega*t)", "z"))
     system = lg.System.from_particles(
-        ["r", "theta"],
+        ["r", "z"],
         [bead],
         gravity=lg.Gravity("g", direction=(0, 0, -1)),
-        constraints=["r - R"],
-        parameters={"m": 1.0, "R": 1.0, "g": 9.81, "omega": 2.0},
+        constraints=["z - a*r**2"],
+        parameters={"m": 1.0, "a": 1.0, "g": 9.81, "omega": 2.0},
     )
-    g, R, w = (system.symbol(n) for n in ("g", "R", "omega"))
-    found = {e.point["theta"]: e for e in system.equilibria()}
-    assert set(found) == {0, sympy.pi}  # cos(theta) = g/(R omega^2) > 1 at the defaults: none
-    assert found[0].at_defaults
-    assert agrees(found[0].stability_condition, g - w**2 * R, system, rng)
+    a, g, w = (system.symbol(n) for n in ("a", "g", "omega"))
+    (bottom,) = system.equilibria()
+    assert dict(bottom.point) == {"r": 0, "z": 0}
+    assert sympy.simplify(bottom.omega_squared[0] - (2 * a * g - w**2)) == 0
+    assert bottom.at_defaults
+    assert agrees(bottom.stability_condition, 2 * a * g - w**2, system, rng)
