@@ -71,7 +71,6 @@ PRINTS = {
         "the Jacobi integral",
     ],
     "lagrangian demo": ["2.397", "5.787"],
-    "lagrangian analyze spherical_pendulum --momentum p_phi=1": ["turning at φ̇ = 3.415"],
 }
 
 
