@@ -283,6 +283,30 @@ def test_steady_conical_motion_of_the_spherical_pendulum():
     assert [e.imag**2 for e in oscillating] == pytest.approx([omega_squared] * 2, rel=1e-10)
 
 
+def test_an_equilibrium_held_by_a_nominal_input():
+    """A pendulum held at theta0 by the torque tau0 = m g l sin(theta0): theta'' =
+    (tau - m g l sin(theta))/(m l^2), so A = [[0, 1], [-g cos(theta0)/l, 0]], B = [0, 1/(m l^2)]."""
+    system = lg.System.from_particles(
+        ["theta"],
+        [lg.Particle("bob", "m", ("l*sin(theta)", "-l*cos(theta)"))],
+        gravity=lg.Gravity("g"),
+        parameters={"m": 1.5, "l": 0.7, "g": 9.81},
+        inputs={"tau": "theta"},
+    )
+    linear = system.state_space(at={"theta": "1/2", "tau": "m*g*l*sin(1/2)"})
+    m_, l_, g_ = (system.symbol(n) for n in ("m", "l", "g"))
+    expected_a = sympy.Matrix([[0, 1], [-g_ * sympy.cos(sympy.Rational(1, 2)) / l_, 0]])
+    assert same_matrix(linear.A, expected_a, system)
+    assert same_matrix(linear.B, sympy.Matrix([0, 1 / (m_ * l_**2)]), system)
+    tau0 = 1.5 * 9.81 * 0.7 * math.sin(0.5)
+    params = dict(system.parameter_values) | {"tau": tau0}
+    a, b = finite_difference_matrices(system, [0.5, 0.0], params, inputs=("tau",))
+    numbers = linear.numeric()
+    assert np.allclose(numbers.A, a, rtol=1e-7) and np.allclose(numbers.B, b, rtol=1e-7)
+    with pytest.raises(lg.ModelError, match="not an equilibrium"):
+        system.state_space(at={"theta": "1/2"})  # without the torque it falls
+
+
 # -- python-control --------------------------------------------------------------------
 def test_to_control_poles_of_the_upright_cart_pole():
     control = pytest.importorskip("control")

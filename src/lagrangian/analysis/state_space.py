@@ -100,6 +100,12 @@ class StateSpace:
 
         A parameter without a value is a ModelError naming it.
         """
+        matrices = (self.A, self.B, self.C, self.D)
+        if any(m.has(AppliedUndef, sympy.Derivative) for m in matrices):
+            raise ModelError(
+                "the matrices involve the model's unspecified functions: no numbers without "
+                "their definitions"
+            )
         values = dict(self.values) | dict(params or {})
         missing = [name for name in self.parameters if name not in values]
         if missing:
