@@ -116,9 +116,18 @@ def analyze(
     system = load(model)
     linear = None
     if with_state_space:  # first: a bad --at fails before the long analysis
-        linear = system.state_space(
-            at=_pairs(at, "--at") or None, outputs=_pairs(outputs, "--output") or None
-        )
+        from ..analysis.state_space import state_space
+        from ..budget import OutOfTime, deadline
+        from ..errors import LagrangianError
+
+        eom = system.equations_of_motion()
+        try:
+            with deadline(timeout, "state space"):
+                linear = state_space(
+                    eom, _pairs(at, "--at") or None, outputs=_pairs(outputs, "--output") or None
+                )
+        except OutOfTime as error:
+            raise LagrangianError(f"{error} (more time: --timeout)") from None
     analysis = run_analysis(
         system.without_inputs().equations_of_motion(),
         timeout=timeout,
