@@ -52,7 +52,7 @@ def test_kepler_circular_orbit_symbolic_and_for_a_given_momentum():
 def test_analyze_reports_the_steady_motion_with_its_turning_rate():
     from lagrangian.output.analysis import analysis_document, format_analysis
 
-    analysis = lg.load("central_force").analyze()
+    analysis = lg.load("central_force").analyze(timeout=None)
     assert "turning at θ̇ = " in format_analysis(analysis)
     (steady,) = analysis_document(analysis)["steady_motions"]
     assert set(steady["cyclic_velocities"]) == {"theta"}
@@ -70,12 +70,13 @@ def test_constrained_systems_have_equilibria_through_the_system():
 def test_analyze_takes_values_of_the_cyclic_momenta(capsys):
     from lagrangian.cli import ExitStatus, main
 
-    analysis = lg.load("spherical_pendulum").analyze(momenta={"p_phi": 1.0})
+    analysis = lg.load("spherical_pendulum").analyze(momenta={"p_phi": 1.0}, timeout=None)
     assert len(analysis.steady_motions) == 2
     for steady in analysis.steady_motions:
         theta0 = float(steady.point["theta"])
         assert float(steady.velocities["phi"]) ** 2 == pytest.approx(9.81 / math.cos(theta0))
-    assert main(["analyze", "spherical_pendulum", "--momentum", "p_phi=1", "--json"]) == 0
+    argv = ["analyze", "spherical_pendulum", "--momentum", "p_phi=1", "--json", "--timeout", "600"]
+    assert main(argv) == 0
     assert "cyclic_velocities" in capsys.readouterr().out
     status = main(["analyze", "spherical_pendulum", "--momentum", "p_x=1"])
     assert status == ExitStatus.BAD_INPUT

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import sympy
 
 from ..algebra import is_zero, tidy
-from ..budget import attempt
+from ..budget import attempt, remaining
 from ..derive import EquationsOfMotion
 from ..derive.constraints import constraint_velocity_form
 from ..errors import ModelError
@@ -36,8 +36,10 @@ from ..model import System
 from .motion import contradicted_along_motion, total_derivative
 from .symmetries import point_symmetries
 
-#: Seconds for the automatic search of point symmetries (past it: cyclic momenta only).
+#: Seconds for the automatic search of point symmetries within ``analyze``'s stage (past
+#: it: cyclic momenta only, and a note), and when conserved_quantities is called alone.
 SYMMETRY_SECONDS = 3.0
+SYMMETRY_SECONDS_ALONE = 30.0
 
 
 @dataclass(frozen=True)
@@ -135,9 +137,11 @@ def conserved_quantities(eom: EquationsOfMotion) -> Conservation:
     notes = []
     # coordinates L does not contain: their momenta are listed above, conserved or not
     ignorable = [s.coordinate.name for s in eom.steps if is_zero(s.force_gradient)]
+    # within analyze's stage a short budget; called alone, a generous one (nothing hangs)
+    seconds = SYMMETRY_SECONDS if remaining() is not None else SYMMETRY_SECONDS_ALONE
     found, undecided = attempt(
         "symmetry search",
-        SYMMETRY_SECONDS,
+        seconds,
         lambda: point_symmetries(eom, tuple(cyclic), tuple(ignorable)),
     )
     if undecided is not None:
