@@ -22,6 +22,21 @@ parameter values); when SymPy fails, times out, or misses a root, the numerical
 roots at the default values are reported instead (``numeric=True``).  A
 coordinate on which G depends 2 pi-periodically is an angle: numerical roots of
 it are reduced to (-pi, pi] and compared modulo 2 pi.
+
+What a physicist needs beyond the points (each in its own module):
+
+- V = 0 with nothing acting at rest is seen from L alone: every configuration
+  (a torque-free body), without a search;
+- continua: a solution that leaves coordinates free is a family, linearized at
+  one member (:mod:`.neutral`); numerical roots on one are grouped
+  (:mod:`.continua`); every omega^2 = 0 is named (translation, rotation, along
+  the family, neutral);
+- singular coordinates (M0 singular, theta = 0 of spherical coordinates): the
+  modes of the regular directions, the degenerate coordinates named
+  (:mod:`.singular`);
+- symbolic omega^2 whose signs the assumptions do not decide: the verdict is
+  said to hold at the default values, with the condition for stability
+  (:mod:`.conditions`).
 """
 
 from __future__ import annotations
