@@ -8,15 +8,13 @@ then the model's ``[simulate]`` table, then the integrator's documented default.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import replace
-
-import numpy as np
 
 from .errors import ModelError
 from .integrate import method_class, simulate
+from .integrate.pace import RUN_SECONDS, RunPace
 from .integrate.simulate import DEFAULT_METHOD
 from .model import System
-from .numeric import CompiledSystem, compile_equations, default_backend
+from .numeric import compile_equations, default_backend
 from .trajectory import Trajectory
 
 #: Used when neither the caller nor the model gives an end time.
@@ -37,6 +35,7 @@ def simulate_system(
     progress: Callable[[float], None] | None = None,
     definitions: Mapping[str, str] | None = None,
     backend: str | None = None,
+    timeout: float | None = RUN_SECONDS,
     **options: object,
 ) -> Trajectory:
     """Simulate ``system``; ``assignments`` are NAME=VALUE pairs that may name a parameter
@@ -45,7 +44,10 @@ def simulate_system(
     unspecified functions as expressions of their arguments ({"V": "x^2 + y^2"});
     ``backend`` is the compiled code's (:func:`~lagrangian.numeric.compile_equations`:
     ``"numba"`` runs the right-hand side as generated machine code; by default
-    :func:`~lagrangian.numeric.default_backend`, ``"llvm"`` where SymEngine has it)."""
+    :func:`~lagrangian.numeric.default_backend`, ``"llvm"`` where SymEngine has it);
+    ``timeout``: seconds the integration may take (None: no limit), a run that would
+    take longer ends with :class:`~lagrangian.integrate.pace.RunTooLong` as soon as
+    its pace shows it (:mod:`lagrangian.integrate.pace`)."""
     settings = dict(system.simulate_settings)
     initial = dict(initial or {})
     params = dict(params or {})
@@ -79,28 +81,24 @@ def simulate_system(
     compiled = compile_equations(
         system.equations_of_motion(), backend=backend or default_backend(), definitions=definitions
     )
+    t_final = float(chosen["t_end"])
+    watchers = []
+    if timeout is not None:
+        if not timeout > 0:
+            raise ModelError(f"the time allowed must be a number of seconds > 0, not {timeout}")
+        watchers.append(RunPace((0.0, t_final), timeout))
     if progress is not None:
-        t_final = float(chosen["t_end"])
-        compiled = _reporting_time(compiled, lambda t: progress(min(1.0, t / t_final)))
-    return simulate(compiled, initial=initial, params=params, **chosen, **options)
+        watchers.append(lambda t: progress(min(1.0, t / t_final)))
 
+    def watch(t: float) -> None:
+        for watcher in watchers:
+            watcher(t)
 
-def _reporting_time(compiled: CompiledSystem, progress: Callable[[float], None]) -> CompiledSystem:
-    """The same system, its step functions also telling ``progress`` the time reached.
-
-    Every integrator calls ``rhs`` (explicit and SciPy methods) or
-    ``lagrangian_gradient`` (variational) at least once per step.
-    """
-
-    def reporting(function):
-        def wrapped(t, *args):
-            progress(float(np.max(t)))
-            return function(t, *args)
-
-        return wrapped
-
-    return replace(
+    return simulate(
         compiled,
-        rhs=reporting(compiled.rhs),
-        lagrangian_gradient=reporting(compiled.lagrangian_gradient),
+        initial=initial,
+        params=params,
+        watch=watch if watchers else None,
+        **chosen,
+        **options,
     )

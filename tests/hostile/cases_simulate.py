@@ -179,3 +179,23 @@ CASES = [
         r"of memory, more than the [0-9.]+ GB available: use fewer members",
     ),
 ]
+
+# Runs that would take hours end at once with their projected time: an adaptive run's cost
+# is not known before it starts (integrate.pace)
+CASES += [
+    HostileCase(
+        "simulate-t-end-1e9-refused-by-its-pace",
+        ("simulate", "harmonic_oscillator", "--t-end", "1e9"),
+        error=r"at its pace so far the run would take about [\d,]+ (days|hours)",
+    ),
+    HostileCase(
+        "simulate-over-its-timeout",
+        ("simulate", "double_pendulum", "--t-end", "1000", "--timeout", "0.3"),
+        error=r"did not finish within 0\.3 s: it reached t = ",
+    ),
+    HostileCase(
+        "simulate-timeout-must-be-positive",
+        ("simulate", "harmonic_oscillator", "--timeout", "0"),
+        error=r"--timeout",
+    ),
+]

@@ -9,6 +9,8 @@ import time
 
 import click
 
+from ..integrate.pace import RUN_SECONDS
+
 MODEL_HELP = "MODEL is a model file (TOML) or the name of a built-in example."
 
 
@@ -271,8 +273,16 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
 )
 @click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.csv or FILE.nc.")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON summary.")
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    default=RUN_SECONDS,
+    show_default=True,
+    help="Seconds the integration may take; a run whose pace shows it would take "
+    "longer is stopped at once.",
+)
 def simulate(
-    model, t_end, method, dt, rtol, atol, assignments, definitions, backend, out, as_json
+    model, t_end, method, dt, rtol, atol, assignments, definitions, backend, out, as_json, timeout
 ) -> None:
     """Integrate the equations of motion of MODEL and report the final state and drifts."""
     from ..errors import LagrangianError
@@ -298,6 +308,7 @@ def simulate(
             progress=progress,
             definitions=_definitions(definitions),
             backend=backend,
+            timeout=timeout,
         )
     if trajectory.status == "failed":
         message = trajectory.dataset.attrs.get("message", "")

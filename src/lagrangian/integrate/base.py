@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import abc
 import enum
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar, Literal
 
@@ -142,8 +142,14 @@ class AbstractIntegrator(abc.ABC):
         *,
         t_eval: np.ndarray | None = None,
         events: Sequence[Event] = (),
+        watch: Callable[[float], None] | None = None,
     ) -> IntegrationResult:
-        """Integrate; see the class docstring."""
+        """Integrate; see the class docstring.
+
+        ``watch``, when given, is called with the time reached at least once per
+        step, from Python, and may end the run by raising (a time budget, a
+        progress bar).
+        """
 
 
 def positive_setting(name: str, value: float) -> float:

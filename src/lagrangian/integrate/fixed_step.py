@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import abc
 import itertools
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
@@ -113,6 +113,7 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
         *,
         t_eval: np.ndarray | None = None,
         events: Sequence[Event] = (),
+        watch: Callable[[float], None] | None = None,
     ) -> IntegrationResult:
         self.check(compiled)
         t0, t1 = check_time_span(t_span)
@@ -151,6 +152,8 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
             if project is not None:
                 y_new = project(tb, y_new, params)
             work.steps += 1
+            if watch is not None:
+                watch(tb)
             if watcher is not None:
                 hit = watcher.step(ta, y, tb, y_new, derivative)
                 if hit is not None:

@@ -25,7 +25,7 @@ radau stops where its Jacobian, taken at accepted states, is not finite (see
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
@@ -90,6 +90,7 @@ class AbstractScipyIntegrator(AbstractIntegrator):
         *,
         t_eval: np.ndarray | None = None,
         events: Sequence[Event] = (),
+        watch: Callable[[float], None] | None = None,
     ) -> IntegrationResult:
         from scipy.integrate import solve_ivp
 
@@ -107,6 +108,8 @@ class AbstractScipyIntegrator(AbstractIntegrator):
         undefined: list[float] = []
 
         def fun(t: float, y: np.ndarray) -> np.ndarray:
+            if watch is not None:
+                watch(t)
             slope = compiled.rhs(t, y, params)
             if not np.all(np.isfinite(slope)):
                 undefined[:] = [t]

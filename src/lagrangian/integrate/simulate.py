@@ -52,13 +52,15 @@ def simulate(
     events: Sequence[Event] = (),
     n_out: int | None = None,
     t_eval: Sequence[float] | np.ndarray | None = None,
+    watch: Callable[[float], None] | None = None,
 ) -> Trajectory:
     """Integrate ``compiled`` from t = 0 to ``t_end``; see the module docstring.
 
     ``initial`` maps names ``q`` / ``q_dot`` to values (missing: the model's
     ``[initial]`` table, else 0); ``params`` overrides parameter defaults;
     ``method`` is a registered name or a configured integrator instance (then
-    ``dt``/``rtol``/``atol`` must be left out).
+    ``dt``/``rtol``/``atol`` must be left out); ``watch`` is told the time reached
+    at every step (see :meth:`AbstractIntegrator.solve`).
     """
     t_span = check_time_span((0.0, t_end))
     if isinstance(method, AbstractIntegrator):
@@ -78,7 +80,9 @@ def simulate(
     # them would only repeat that, several lines long.
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         start = time.perf_counter()
-        result = integrator.solve(compiled, t_span, y0, p, t_eval=outputs, events=events)
+        result = integrator.solve(
+            compiled, t_span, y0, p, t_eval=outputs, events=events, watch=watch
+        )
         wall_time = time.perf_counter() - start
         values = dict(zip(compiled.parameter_names, p.tolist(), strict=True))
         return trajectory_of(compiled, result, p, parameters=values, wall_time=wall_time)

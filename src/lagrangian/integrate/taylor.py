@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import threading
 import weakref
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
@@ -93,6 +93,7 @@ class Taylor(AbstractIntegrator):
         *,
         t_eval: np.ndarray | None = None,
         events: Sequence[Event] = (),
+        watch: Callable[[float], None] | None = None,
     ) -> IntegrationResult:
         import heyoka as hy
 
@@ -110,7 +111,9 @@ class Taylor(AbstractIntegrator):
         status, message = Status.SUCCESS, "reached the end time"
         if t_eval is not None:
             grid = np.asarray(t_eval, dtype=float)
-            outcome, _, _, steps, _, states = integrator.propagate_grid(grid)
+            outcome, _, _, steps, _, states = integrator.propagate_grid(
+                grid, **_step_callback(watch)
+            )
             times, values = grid, np.asarray(states).T
             if outcome != hy.taylor_outcome.time_limit:
                 reached = int(np.searchsorted(grid, integrator.time, side="right"))
@@ -120,6 +123,8 @@ class Taylor(AbstractIntegrator):
             while integrator.time < t1:
                 outcome, _ = integrator.step(max_delta_t=t1 - integrator.time)
                 steps += 1
+                if watch is not None:
+                    watch(integrator.time)
                 if outcome not in (hy.taylor_outcome.success, hy.taylor_outcome.time_limit):
                     break
                 times.append(integrator.time)
@@ -196,3 +201,16 @@ def _eliminated(matrix: list, force: list) -> list:
             total = total - matrix[i][j] * x[j]
         x[i] = total / matrix[i][i]
     return x
+
+
+def _step_callback(watch: Callable[[float], None] | None) -> dict:
+    """heyoka's step callback telling ``watch`` the time reached (an exception it raises
+    ends the propagation and reaches the caller)."""
+    if watch is None:
+        return {}
+
+    def told(integrator) -> bool:
+        watch(integrator.time)
+        return True
+
+    return {"callback": told}

@@ -1,0 +1,87 @@
+"""The wall-clock budget of one run, judged from the time the integrator has reached.
+
+A run's cost is not known before it starts: an adaptive method's step follows
+the motion, and ``--t-end 1e9`` of an oscillator is a few billion steps, hours
+of work that would otherwise run until killed.  :class:`RunPace` is told the
+time reached at every step and ends the run with a :class:`RunTooLong` error
+(one line: the time reached, the pace, what to change) as soon as
+
+- the run has spent its ``seconds``, or
+- after ``PROBE_SECONDS`` the pace so far projects a total over ``PROJECTION``
+  times the budget: a run that cannot finish is refused in about a second,
+  not after the whole budget.  The margin allows for a pace that improves
+  (a stiff start, a step size still growing).
+"""
+
+from __future__ import annotations
+
+import time
+
+from ..errors import LagrangianError
+
+#: Default budget of a single run started from the command line or ``System.simulate``.
+RUN_SECONDS = 300.0
+#: Wall time after which the pace so far is trusted enough to project the total.
+PROBE_SECONDS = 1.0
+#: A projected total over this many budgets ends the run at once.
+PROJECTION = 2.0
+
+
+class RunTooLong(LagrangianError):
+    """The run would not finish within its wall-clock budget."""
+
+
+class RunPace:
+    """Called with the time reached (often); raises :class:`RunTooLong` past the budget.
+
+    The budget counts from the first call; the pace from the first call past the
+    start time, so a compile on the way (numba's, seconds long) is not mistaken
+    for slow stepping.
+    """
+
+    def __init__(self, t_span: tuple[float, float], seconds: float):
+        self.t0, self.t1 = float(t_span[0]), float(t_span[1])
+        self.seconds = float(seconds)
+        self.started: float | None = None
+        self.moving: tuple[float, float] | None = None  # (clock, t) when t first moved
+        self.reached = self.t0
+
+    def __call__(self, t: float) -> None:
+        now = time.monotonic()
+        if self.started is None:
+            self.started = now
+        self.reached = max(self.reached, min(float(t), self.t1))
+        if self.moving is None and self.reached > self.t0:
+            self.moving = (now, self.reached)
+        elapsed = now - self.started
+        if elapsed > self.seconds:
+            raise RunTooLong(
+                f"the run did not finish within {self.seconds:g} s: it reached "
+                f"t = {self.reached:.6g} of t_end = {self.t1:g}; {_ADVICE}"
+            )
+        if self.moving is None or now - self.moving[0] < PROBE_SECONDS:
+            return
+        clock, t_moving = self.moving
+        if self.reached <= t_moving:
+            return
+        rate = (self.reached - t_moving) / (now - clock)  # model time per second
+        projected = elapsed + (self.t1 - self.reached) / rate
+        if projected > PROJECTION * self.seconds:
+            raise RunTooLong(
+                f"at its pace so far the run would take {_duration(projected)} "
+                f"(t = {self.reached:.6g} of t_end = {self.t1:g} in {elapsed:.1f} s), "
+                f"more than the {self.seconds:g} s allowed; {_ADVICE}"
+            )
+
+
+_ADVICE = (
+    "give a shorter --t-end, a looser --rtol or a larger --dt, "
+    "or allow more time with --timeout SECONDS"
+)
+
+
+def _duration(seconds: float) -> str:
+    for unit, size in (("days", 86400.0), ("hours", 3600.0), ("minutes", 60.0)):
+        if seconds >= 2 * size:
+            return f"about {seconds / size:,.0f} {unit}"
+    return f"about {seconds:.0f} s"

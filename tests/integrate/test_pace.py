@@ -1,0 +1,80 @@
+"""The wall-clock budget of one run (integrate.pace), on a clock the test moves."""
+
+import pytest
+
+import lagrangian as lg
+from lagrangian.integrate import pace
+from lagrangian.integrate.pace import RunPace, RunTooLong
+
+
+class Clock:
+    def __init__(self):
+        self.now = 100.0
+
+    def __call__(self):
+        return self.now
+
+
+@pytest.fixture
+def clock(monkeypatch):
+    fake = Clock()
+    monkeypatch.setattr(pace.time, "monotonic", fake)
+    return fake
+
+
+def test_a_run_that_keeps_its_pace_is_left_alone(clock):
+    watch = RunPace((0.0, 100.0), seconds=10.0)
+    for k in range(1, 101):  # 1 model second per 0.09 s: 9 s in all
+        clock.now += 0.09
+        watch(float(k))
+
+
+def test_a_hopeless_pace_is_refused_after_the_probe_not_at_the_budget(clock):
+    watch = RunPace((0.0, 1e9), seconds=300.0)
+    watch(0.0)
+    clock.now += 0.5
+    watch(100.0)  # the pace is judged from here, once PROBE_SECONDS have passed
+    clock.now += 0.9
+    watch(190.0)
+    clock.now += 0.2
+    with pytest.raises(RunTooLong, match=r"would take about \d+ days \(t = 220 of t_end = 1e\+09"):
+        watch(220.0)
+
+
+def test_time_before_the_first_step_does_not_count_as_pace(clock):
+    # a numba compile between the first call and the first step: 20 s at t = 0
+    watch = RunPace((0.0, 10.0), seconds=60.0)
+    watch(0.0)
+    clock.now += 20.0
+    watch(0.0)
+    for k in range(1, 11):  # then 1 model second per second: 30 s in all, within 60
+        clock.now += 1.0
+        watch(float(k))
+
+
+def test_the_budget_ends_a_run_whose_pace_looked_fine(clock):
+    watch = RunPace((0.0, 10.0), seconds=5.0)
+    watch(0.0)
+    clock.now += 4.0
+    watch(8.0)
+    clock.now += 1.5  # then it slowed down
+    with pytest.raises(RunTooLong, match=r"did not finish within 5 s: it reached t = 8\.5 of"):
+        watch(8.5)
+
+
+def test_system_simulate_stops_a_run_over_its_budget():
+    system = lg.load("harmonic_oscillator")
+    with pytest.raises(RunTooLong, match=r"did not finish within 0\.2 s"):
+        system.simulate(t_end=1e4, method="rk4", dt=1e-3, timeout=0.2)
+    with pytest.raises(lg.ModelError, match="seconds > 0"):
+        system.simulate(t_end=1.0, timeout=0)
+
+
+@pytest.mark.parametrize("method", ["dop853", "radau", "rk4", "variational"])
+def test_every_method_tells_the_watch_the_time_reached(method):
+    compiled = lg.compile_equations(lg.load("simple_pendulum").equations_of_motion())
+    seen = []
+    options = {"dt": 0.01} if method in ("rk4", "variational") else {}
+    lg.simulate(compiled, t_end=1.0, method=method, watch=seen.append, **options)
+    assert seen and max(seen) == pytest.approx(1.0, abs=0.02)
+    assert seen == sorted(seen) or method in ("dop853", "radau")  # trial stages may step back
