@@ -307,6 +307,19 @@ def test_an_equilibrium_held_by_a_nominal_input():
         system.state_space(at={"theta": "1/2"})  # without the torque it falls
 
 
+def test_text_and_latex_of_the_matrices():
+    from lagrangian.output.state_space import format_state_space, latex_state_space
+
+    linear = lg.loads(CART_POLE).state_space(at={"theta": 0}, outputs={"tip": "x + l*sin(theta)"})
+    text = format_state_space(linear)
+    assert "about θ = 0" in text and "x = (x, θ, ẋ, θ̇)" in text and "y = (tip)" in text
+    rows = [" ".join(line.split()) for line in text.splitlines()]
+    assert "[ 0 -g m/M 0 0 ]" in rows and "[ 1 l 0 0 ]" in rows
+    latex = latex_state_space(linear)
+    assert r"- \frac{g m}{M}" in latex and r"- \frac{1}{M l}" in latex
+    assert latex.count("bmatrix") == 8
+
+
 # -- python-control --------------------------------------------------------------------
 def test_to_control_poles_of_the_upright_cart_pole():
     control = pytest.importorskip("control")

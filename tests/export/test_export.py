@@ -130,6 +130,10 @@ def test_c_matches_our_compiled_rhs(name, compiler, tmp_path, np_rng):
         assert close(mass.reshape(n, n), compiled.mass_matrix(t, y[:n], y[n:], vector))
         _, forcing = call_c(lib.forcing, t, y, params, u, n)
         assert close(forcing, compiled.forcing(t, y[:n], y[n:], vector))
+        if len(u):  # u = NULL: every input 0
+            _, unforced = call_c(lib.rhs, t, y, params, [], 2 * n)
+            at_zero = compiled.parameter_vector(ours | dict.fromkeys(system.input_names, 0.0))
+            assert close(unforced, compiled.rhs(t, y, at_zero))
 
 
 def test_c_reports_a_singular_mass_matrix(compiler, tmp_path):
