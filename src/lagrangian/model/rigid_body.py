@@ -205,19 +205,20 @@ def inertia_matrix(body: RigidBody) -> sympy.Matrix:
 
 
 def angular_velocity(
-    body: RigidBody, coordinates: Sequence[sympy.Symbol], time: sympy.Symbol
+    body: RigidBody, coordinates: Sequence[sympy.Symbol], time: sympy.Symbol, *, trig: bool = True
 ) -> AngularVelocity:
-    """omega_body of a built body: the Euler closed form, else from R^T dR/dt."""
+    """omega_body of a built body: the Euler closed form, else from R^T dR/dt (``trig``:
+    with the trigonometric search when tidying its entries)."""
     if body.euler is not None:
         return euler_angular_velocity(body.euler, body.convention, coordinates, time)
-    return matrix_angular_velocity(rotation_matrix(body), coordinates, time)
+    return matrix_angular_velocity(rotation_matrix(body), coordinates, time, trig=trig)
 
 
 def rotation_piece(
-    body: RigidBody, coordinates: Sequence[sympy.Symbol], time: sympy.Symbol
+    body: RigidBody, coordinates: Sequence[sympy.Symbol], time: sympy.Symbol, *, trig: bool = True
 ) -> tuple[sympy.Matrix, sympy.Matrix, sympy.Matrix]:
     """(I, A, b) with T_rot = (A q' + b)^T I (A q' + b) / 2 (omega_body = A q' + b)."""
-    omega = angular_velocity(body, coordinates, time)
+    omega = angular_velocity(body, coordinates, time, trig=trig)
     return inertia_matrix(body), sympy.Matrix(omega.rates), sympy.Matrix(omega.explicit)
 
 

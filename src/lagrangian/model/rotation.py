@@ -107,9 +107,14 @@ def euler_angular_velocity(
 
 
 def matrix_angular_velocity(
-    rotation: sympy.Matrix, coordinates: Sequence[sympy.Symbol], time: sympy.Symbol
+    rotation: sympy.Matrix,
+    coordinates: Sequence[sympy.Symbol],
+    time: sympy.Symbol,
+    *,
+    trig: bool = True,
 ) -> AngularVelocity:
-    """omega_body from R^T dR/dq_i (column i of ``rates``) and R^T dR/dt, tidied entry by entry."""
+    """omega_body from R^T dR/dq_i (column i of ``rates``) and R^T dR/dt, tidied entry by
+    entry (``trig``: with the trigonometric search, bounded but ~10 ms an entry)."""
     rotation = sympy.Matrix(rotation)
 
     def axial(derivative: sympy.Matrix) -> list[sympy.Expr]:
@@ -118,7 +123,7 @@ def matrix_angular_velocity(
         omega = rotation.T * derivative
         # the skew part only: (Omega_32 - Omega_23)/2 equals Omega_32 for a rotation
         pairs = ((2, 1), (0, 2), (1, 0))
-        return [tidy((omega[i, j] - omega[j, i]) / 2, trig=True) for i, j in pairs]
+        return [tidy((omega[i, j] - omega[j, i]) / 2, trig=trig) for i, j in pairs]
 
     columns = [axial(rotation.diff(q)) for q in coordinates]
     rates = sympy.Matrix(3, len(coordinates), lambda k, i: columns[i][k])
