@@ -69,16 +69,16 @@ def main(argv: list[str] | None = None) -> None:
     )
     for links in (2, args.links):
         label = "double pendulum" if links == 2 else f"{links}-link chain"
-        rows = {}
-        for backend in ("numpy", "llvm", "numba cold", "numba cached"):
-            runs = []
-            for _ in range(args.repeat):
+        backends = ("numpy", "llvm", "numba cold", "numba cached")
+        runs: dict[str, list] = {backend: [] for backend in backends}
+        for _ in range(args.repeat):  # interleaved, so that each backend sees the same load
+            for backend in backends:
                 with tempfile.TemporaryDirectory() as cache:
                     name = backend.split()[0]
                     if backend == "numba cached":
                         child(links, name, cache)  # fills the cache
-                    runs.append(child(links, name, cache))
-            rows[backend] = [statistics.median(r[i] for r in runs) for i in range(3)]
+                    runs[backend].append(child(links, name, cache))
+        rows = {b: [statistics.median(r[i] for r in runs[b]) for i in range(3)] for b in backends}
         fastest = min(compile + run for compile, run, _ in rows.values())
         for backend, (compile, run, calls) in rows.items():
             print(
