@@ -325,3 +325,31 @@ def test_a_rotation_matrix_without_a_finite_value_is_refused():
     where = r"bodies\[0\]\.orientation\.rotation: the matrix has no finite value"
     with pytest.raises(ModelError, match=where):
         lg.loads(TOP.format(orientation=f"orientation = {{rotation = [{nowhere}]}}"))
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "field", "words"),
+    [
+        ('inertia = ["I1", "I1", "I3"]', 'inertia = ["I1", "I1", "I3"]\ncenter = [0, 0]',
+         "bodies[0].center", "unknown key"),
+        ('inertia = ["I1", "I1", "I3"]', "", "bodies[0].inertia", "missing field"),
+        ('inertia = ["I1", "I1", "I3"]', 'inertia = ["I1", "I1", true]', "bodies[0].inertia[2]",
+         "expected an expression"),
+        (EULER, "orientation = 5", "bodies[0].orientation", "expected a table"),
+        (EULER, 'orientation = {euler = "phi"}', "bodies[0].orientation.euler", "expected a list"),
+        (EULER, 'orientation = {euler = ["phi", "theta", "psi"], convention = 3}',
+         "bodies[0].orientation.convention", "expected text"),
+        (EULER, 'orientation = {euler = ["phi", "theta", "psi"], spin = 1}',
+         "bodies[0].orientation.spin", "unknown key"),
+        (EULER, 'orientation = {euler = ["phi", "theta", "psi"], rotation = [[1, 0, 0], '
+         "[0, 1, 0], [0, 0, 1]]}", "bodies[0].orientation", "one of them"),
+        ('mass = "M"', 'mass = "M*theta"', "bodies[0].mass", "not allowed"),
+    ],
+)  # fmt: skip
+def test_malformed_3d_body_fields_name_the_field(old, new, field, words):
+    text = TOP.format(orientation=EULER)
+    assert text.count(old) == 1
+    with pytest.raises(ModelError) as raised:
+        lg.loads(text.replace(old, new), source="top.toml")
+    message = str(raised.value)
+    assert message.startswith(f"top.toml: {field}") and words in message, message
