@@ -199,3 +199,24 @@ CASES += [
         error=r"--timeout",
     ),
 ]
+CASES += [
+    HostileCase(
+        "ensemble-over-its-timeout",
+        (
+            "ensemble",
+            "double_pendulum",
+            "--grid",
+            "theta1=0:1:2000",
+            "--t-end",
+            "100",
+            "--timeout",
+            "0.3",
+        ),
+        error=r"did not finish within 0\.3 s: it reached [\d.]+ % of the runs; give fewer",
+    ),
+    HostileCase(
+        "ensemble-timeout-must-be-positive",
+        ("ensemble", "double_pendulum", "--grid", "theta1=0:1:2", "--timeout", "-1"),
+        error=r"--timeout",
+    ),
+]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 import numpy as np
 
+from ..integrate.pace import RUN_SECONDS
 from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app, define_option
 
 
@@ -82,9 +83,17 @@ def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
     "--chunk-size", type=int, help="Members per chunk (default 65536; 2^20 for jax and cuda)."
 )
 @click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.nc or a map FILE.png.")
+@click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    default=RUN_SECONDS,
+    show_default=True,
+    help="Seconds the runs may take; an ensemble whose pace shows it would take "
+    "longer is stopped at once.",
+)
 def ensemble(
     model, grids, backend, precision, scheduler, observables, t_end, dt, method, assignments,
-    definitions, chunk_size, out,
+    definitions, chunk_size, out, timeout,
 ) -> None:  # fmt: skip
     """Integrate MODEL over a grid of initial values or parameters."""
     from ..ensemble import ensemble_of_system, observable_names
@@ -116,6 +125,7 @@ def ensemble(
             system, t_end=t_end, dt=dt, method=method, initial=initial, params=params,
             backend=backend, precision=precision, scheduler=scheduler, observables=names,
             chunk_size=chunk_size, progress=progress, definitions=_definitions(definitions),
+            timeout=timeout,
         )  # fmt: skip
     if out is not None and out.endswith(".nc"):
         result.to_netcdf(out)

@@ -2,9 +2,11 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
+from ..errors import ModelError
+from ..integrate.pace import ENSEMBLE_ADVICE, RUN_SECONDS, RunPace
 from .core import METHODS, run_ensemble
 from .result import EnsembleTrajectory
 
@@ -19,13 +21,18 @@ def ensemble_of_system(
     method: str | None = None,
     dt: float | None = None,
     definitions: Mapping[str, str] | None = None,
+    timeout: float | None = RUN_SECONDS,
+    progress: Callable[[float], None] | None = None,
     **options: object,
 ) -> EnsembleTrajectory:
     """Run an ensemble of ``system`` (options as :func:`~lagrangian.ensemble.run_ensemble`).
 
     An explicit argument wins, then the model's ``[simulate]`` table (its
     method only when it is rk4 or variational), then t_end = 10, rk4 and
-    dt = t_end / 1000.
+    dt = t_end / 1000.  ``timeout``: seconds the runs may take (None: no limit), judged
+    from their progress (:mod:`lagrangian.integrate.pace`: after a second, an ensemble
+    whose pace projects more than twice that is refused; a backend that compiles the
+    whole loop reports progress per chunk).
     """
     from ..numeric import compile_equations
     from ..simulation import DEFAULT_T_END
@@ -38,4 +45,23 @@ def ensemble_of_system(
     if dt is None and settings.get("dt") is not None:
         dt = float(settings["dt"])
     compiled = compile_equations(system.equations_of_motion(), definitions=definitions)
-    return run_ensemble(compiled, t_end=t_end, method=method, dt=dt, **options)
+    if timeout is not None:
+        if not timeout > 0:
+            raise ModelError(f"the time allowed must be a number of seconds > 0, not {timeout}")
+        pace = RunPace(
+            (0.0, 1.0),
+            timeout,
+            describe=lambda done: f"{100 * done:.3g} % of the runs",
+            advice=ENSEMBLE_ADVICE,
+        )
+        progress = _both(pace, progress)
+    return run_ensemble(compiled, t_end=t_end, method=method, dt=dt, progress=progress, **options)
+
+
+def _both(pace: RunPace, progress: Callable[[float], None] | None) -> Callable[[float], None]:
+    def told(done: float) -> None:
+        pace(done)
+        if progress is not None:
+            progress(done)
+
+    return told

@@ -9,18 +9,28 @@ time reached at every step and ends the run with a :class:`RunTooLong` error
 - the run has spent its ``seconds``, or
 - after ``PROBE_SECONDS`` the pace so far projects a total over ``PROJECTION``
   times the budget: a run that cannot finish is refused in about a second,
-  not after the whole budget.  The margin allows for a pace that improves
+  not after the whole budget (an ensemble tells the fraction of its work
+  done instead of the time).  The margin allows for a pace that improves
   (a stiff start, a step size still growing).
 """
 
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 
 from ..errors import LagrangianError
 
 #: Default budget of a single run started from the command line or ``System.simulate``.
 RUN_SECONDS = 300.0
+RUN_ADVICE = (
+    "give a shorter --t-end, a looser --rtol or a larger --dt, "
+    "or allow more time with --timeout SECONDS"
+)
+ENSEMBLE_ADVICE = (
+    "give fewer members, a shorter --t-end or a larger --dt, a faster --backend, "
+    "or allow more time with --timeout SECONDS"
+)
 #: Wall time after which the pace so far is trusted enough to project the total.
 PROBE_SECONDS = 1.0
 #: A projected total over this many budgets ends the run at once.
@@ -39,9 +49,18 @@ class RunPace:
     for slow stepping.
     """
 
-    def __init__(self, t_span: tuple[float, float], seconds: float):
+    def __init__(
+        self,
+        t_span: tuple[float, float],
+        seconds: float,
+        *,
+        describe: Callable[[float], str] | None = None,
+        advice: str = RUN_ADVICE,
+    ):
         self.t0, self.t1 = float(t_span[0]), float(t_span[1])
         self.seconds = float(seconds)
+        self.describe = describe or (lambda t: f"t = {t:.6g} of t_end = {self.t1:g}")
+        self.advice = advice
         self.started: float | None = None
         self.moving: tuple[float, float] | None = None  # (clock, t) when t first moved
         self.reached = self.t0
@@ -57,7 +76,7 @@ class RunPace:
         if elapsed > self.seconds:
             raise RunTooLong(
                 f"the run did not finish within {self.seconds:g} s: it reached "
-                f"t = {self.reached:.6g} of t_end = {self.t1:g}; {_ADVICE}"
+                f"{self.describe(self.reached)}; {self.advice}"
             )
         if self.moving is None or now - self.moving[0] < PROBE_SECONDS:
             return
@@ -69,15 +88,9 @@ class RunPace:
         if projected > PROJECTION * self.seconds:
             raise RunTooLong(
                 f"at its pace so far the run would take {_duration(projected)} "
-                f"(t = {self.reached:.6g} of t_end = {self.t1:g} in {elapsed:.1f} s), "
-                f"more than the {self.seconds:g} s allowed; {_ADVICE}"
+                f"({self.describe(self.reached)} in {elapsed:.1f} s), "
+                f"more than the {self.seconds:g} s allowed; {self.advice}"
             )
-
-
-_ADVICE = (
-    "give a shorter --t-end, a looser --rtol or a larger --dt, "
-    "or allow more time with --timeout SECONDS"
-)
 
 
 def _duration(seconds: float) -> str:
