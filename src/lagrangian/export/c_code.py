@@ -73,6 +73,16 @@ static int solve_linear(int n, double *a, double *b)
 """
 
 
+class _Printer(C99CodePrinter):
+    """SymPy's C99 printer with pi and e as numbers: M_PI and M_E are POSIX, not C99."""
+
+    def _print_Pi(self, expr) -> str:
+        return "3.14159265358979323846"
+
+    def _print_Exp1(self, expr) -> str:
+        return "2.71828182845904523536"
+
+
 class CWriter(AbstractWriter):
     """The C99 file (see the module docstring)."""
 
@@ -82,7 +92,7 @@ class CWriter(AbstractWriter):
     base = 0
 
     def __init__(self) -> None:
-        self._printer = C99CodePrinter({"strict": True})
+        self._printer = _Printer({"strict": True})
 
     def expression(self, expr: sympy.Expr) -> str:
         return self._printer.doprint(expr)

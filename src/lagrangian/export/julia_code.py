@@ -22,6 +22,14 @@ _VECTORS = frozenset({"f", "b"})
 _ARGUMENTS = "t, y, params=DEFAULT_PARAMS, u=DEFAULT_INPUTS"
 
 
+class _Printer(JuliaCodePrinter):
+    """SymPy's Julia printer, with atan2(y, x) written as Julia's atan(y, x)."""
+
+    def _print_atan2(self, expr) -> str:
+        y, x = expr.args
+        return f"atan({self._print(y)}, {self._print(x)})"
+
+
 class JuliaWriter(AbstractWriter):
     """The Julia file (see the module docstring)."""
 
@@ -30,7 +38,7 @@ class JuliaWriter(AbstractWriter):
     base = 1
 
     def __init__(self) -> None:
-        self._printer = JuliaCodePrinter({"strict": True})
+        self._printer = _Printer({"strict": True})
 
     def expression(self, expr: sympy.Expr) -> str:
         return self._printer.doprint(expr)
