@@ -220,3 +220,11 @@ CASES += [
         error=r"--timeout",
     ),
 ]
+CASES += [
+    HostileCase(
+        # SciPy raised it to 2.2e-14 in a warning, and the summary reported 1e-300
+        "simulate-rtol-below-double-precision",
+        ("simulate", "harmonic_oscillator", "--rtol", "1e-300"),
+        error=r"rtol = 1e-300 is below what dop853 can deliver in double precision",
+    ),
+]

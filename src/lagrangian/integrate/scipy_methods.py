@@ -47,6 +47,9 @@ from .guard import UNDEFINED, describe_state, start_problem, state_problem
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
 
+#: The smallest rtol SciPy's methods honour (100 machine epsilons); below it they use it.
+MIN_RTOL = 100 * float(np.finfo(float).eps)
+
 _STATUS = {0: Status.SUCCESS, 1: Status.EVENT, -1: Status.FAILED}
 
 
@@ -68,6 +71,11 @@ class AbstractScipyIntegrator(AbstractIntegrator):
     def __post_init__(self) -> None:
         positive_setting("rtol", self.rtol)
         positive_setting("atol", self.atol)
+        if self.rtol < MIN_RTOL:  # SciPy would raise it to 100 eps and say so only in a warning
+            raise ModelError(
+                f"rtol = {self.rtol:g} is below what {self.name} can deliver in double "
+                f"precision: give --rtol {MIN_RTOL:.3g} or more (method taylor goes further)"
+            )
 
     @classmethod
     def configure(cls, *, t_span, dt=None, rtol=None, atol=None):
