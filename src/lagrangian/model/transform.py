@@ -86,20 +86,24 @@ def change_coordinates(
         """The expression in the new coordinates (a simultaneous substitution), tidied."""
         return tidy_in_velocities(expr.xreplace(mapping), velocities, state)
 
-    forces = {}
-    for c in new:
-        # Q' = J^T Q: the virtual work Q . dq is the same in both coordinates.
-        force = move(
-            sum(
-                (
-                    system.forces.get(old.name, sympy.Integer(0)) * sympy.diff(phi[old], c.q)
-                    for old in system.coordinates
-                ),
-                sympy.Integer(0),
+    def covector(table) -> dict[str, sympy.Expr]:
+        """Q' = J^T Q: the virtual work Q . dq is the same in both coordinates."""
+        moved = {}
+        for c in new:
+            force = move(
+                sum(
+                    (
+                        table.get(old.name, sympy.Integer(0)) * sympy.diff(phi[old], c.q)
+                        for old in system.coordinates
+                    ),
+                    sympy.Integer(0),
+                )
             )
-        )
-        if force != 0:
-            forces[c.name] = force
+            if force != 0:
+                moved[c.name] = force
+        return moved
+
+    forces = covector(system.forces)
     return replace(
         system,
         name=name or system.name,
@@ -112,6 +116,7 @@ def change_coordinates(
             replace(f, arguments=tuple(move(a) for a in f.arguments)) for f in system.functions
         ),
         forces=forces,
+        inputs=tuple(replace(u, forces=covector(u.forces)) for u in system.inputs),
         dissipation=move(system.dissipation),
         constraints=tuple(move(c) for c in system.constraints),
         particles=tuple(
