@@ -173,3 +173,22 @@ def test_inputs_table_of_wrong_type_and_cli_exit_status(tmp_path, capsys):
     assert main(["derive", str(path)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "inputs: expected a table" in err
+
+
+def test_change_of_coordinates_moves_the_inputs():
+    """F along x on a particle: in polar coordinates Q_r = F cos(theta), Q_theta = -F r sin(theta)
+    (F . dr/dq), for the model's forces and for the input's own table alike."""
+    system = lg.System.from_particles(
+        ["x", "y"],
+        [lg.Particle("p", "m", ("x", "y"))],
+        parameters={"m": 1.0, "g": 9.81},
+        gravity=lg.Gravity("g"),
+        inputs={"F": "x"},
+    )
+    polar = system.change_coordinates(["r", "theta"], {"x": "r*cos(theta)", "y": "r*sin(theta)"})
+    F, r, theta = (polar.symbol(n) for n in ("F", "r", "theta"))
+    expected = {"r": F * sympy.cos(theta), "theta": -F * r * sympy.sin(theta)}
+    assert polar.input_names == ("F",)
+    for table in (polar.forces, polar.inputs[0].forces):
+        assert set(table) == set(expected)
+        assert all(sympy.simplify(table[k] - expected[k]) == 0 for k in expected)
