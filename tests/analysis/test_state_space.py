@@ -318,6 +318,7 @@ def test_text_and_latex_of_the_matrices():
     latex = latex_state_space(linear)
     assert r"- \frac{g m}{M}" in latex and r"- \frac{1}{M l}" in latex
     assert latex.count("bmatrix") == 8
+    assert linear._repr_latex_() == latex  # Jupyter shows the same
 
 
 # -- python-control --------------------------------------------------------------------
