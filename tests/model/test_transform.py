@@ -88,3 +88,14 @@ def test_bad_transformations():
         system.change_coordinates(["r", "theta"], {"x": "r*cos(theta)"})
     with pytest.raises(lg.ModelError, match="not invertible"):
         system.change_coordinates(["r", "theta"], {"x": "r", "y": "2*r"})
+
+
+def test_particles_without_a_potential_change_coordinates():
+    """A free particle (no potential given) in polar coordinates: V stays 0, T = m (r'^2 +
+    r^2 theta'^2)/2."""
+    system = lg.System.from_particles(["x", "y"], [lg.Particle("p", "m", ("x", "y"))])
+    polar = system.change_coordinates(["r", "theta"], {"x": "r*cos(theta)", "y": "r*sin(theta)"})
+    m, r = polar.symbol("m"), polar.symbol("r")
+    r_dot, theta_dot = polar.symbol("r_dot"), polar.symbol("theta_dot")
+    assert polar.potential == 0
+    assert sympy.simplify(polar.kinetic - m * (r_dot**2 + r**2 * theta_dot**2) / 2) == 0

@@ -313,7 +313,9 @@ class _Builder:
             functions=tuple(self.functions.values()),
             lagrangian=lagrangian,
             kinetic=kinetic,
-            potential=potential if potential is not None else (0 if kinetic is not None else None),
+            potential=potential
+            if potential is not None
+            else (sympy.Integer(0) if kinetic is not None else None),
             forces=with_input_forces(self._by_coordinate(spec.forces, "forces", resolved), inputs),
             inputs=inputs,
             dissipation=resolved.get("dissipation", sympy.Integer(0)),
