@@ -18,6 +18,8 @@ import numpy as np
 import symengine
 import sympy
 
+from .algebra import to_symengine
+
 
 def evaluate(expr: sympy.Basic, values: Mapping[sympy.Basic, float]) -> np.ndarray | None:
     """``expr`` (an expression or a matrix) at ``values`` as a float array, or None.
@@ -25,22 +27,29 @@ def evaluate(expr: sympy.Basic, values: Mapping[sympy.Basic, float]) -> np.ndarr
     Keys of ``values`` are symbols or whole subexpressions such as f(x) or
     Derivative(f(x), x) (each replaced as a unit).  None when something of
     ``expr`` has no value, when the result is complex or not finite (overflow,
-    a pole, the root of a negative number) or cannot be evaluated at all.
+    a pole, the root of a negative number) or cannot be evaluated at all (a
+    function SymEngine lacks).
     """
     standing_in = {key: sympy.Dummy() for key in values if not isinstance(key, sympy.Symbol)}
     if standing_in:  # Dummies, not numbers: SymPy must not evaluate anything here
         expr = expr.xreplace(standing_in)
+    if expr.has(sympy.DiracDelta):  # d|u|/du^2 and the like: 0 but on a set of measure zero
+        expr = expr.replace(sympy.DiracDelta, lambda *arguments: sympy.Integer(0))
     numbers = {
-        symengine.sympify(standing_in.get(key, key)): symengine.RealDouble(float(value))
+        symengine.Symbol(standing_in.get(key, key).name): symengine.RealDouble(float(value))
         for key, value in values.items()
     }
-    try:
-        converted = symengine.sympify(expr)
-        is_matrix = isinstance(converted, symengine.MatrixBase)
-        entries, shape = (converted, converted.shape) if is_matrix else ([converted], ())
-        result = np.array(
-            [float(e.subs(numbers).n(53, real=True)) for e in entries], dtype=float
-        ).reshape(shape)
-    except (RuntimeError, TypeError, ValueError, ZeroDivisionError, OverflowError):
-        return None  # a symbol left over, a complex result, or a function SymEngine lacks
-    return result if np.all(np.isfinite(result)) else None
+    is_matrix = isinstance(expr, sympy.MatrixBase)
+    entries, shape = (list(expr), expr.shape) if is_matrix else ([expr], ())
+    cache: dict = {}
+    result = []
+    for entry in entries:
+        converted = to_symengine(entry, cache)
+        if converted is None:
+            return None
+        try:
+            result.append(float(converted.subs(numbers).n(53, real=True)))
+        except (RuntimeError, TypeError, ValueError, ZeroDivisionError, OverflowError):
+            return None  # a symbol left over, or a complex result
+    array = np.array(result, dtype=float).reshape(shape)
+    return array if np.all(np.isfinite(array)) else None

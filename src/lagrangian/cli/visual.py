@@ -13,6 +13,7 @@ from pathlib import Path
 import click
 
 from ..files import check_output_path, output_error
+from ..integrate.pace import RUN_SECONDS
 from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app
 
 PLOT_KINDS = ("timeseries", "phase", "energy", "poincare", "modes")
@@ -36,7 +37,7 @@ def _stem(source: str) -> str:
 
 
 def _run_options(function):
-    """--t-end, --method, --set and --define, as ``simulate`` has them."""
+    """--t-end, --method, --set, --define and --timeout, as ``simulate`` has them."""
     options = [
         click.option("--t-end", type=float, help="End time (default: the model's t_end)."),
         click.option("--method", type=click.Choice(METHODS), help="Integrator."),
@@ -53,6 +54,13 @@ def _run_options(function):
             multiple=True,
             metavar="NAME=EXPR",
             help="Define an unspecified function of the model (repeatable).",
+        ),
+        click.option(
+            "--timeout",
+            type=click.FloatRange(min=0, min_open=True),
+            default=RUN_SECONDS,
+            show_default=True,
+            help="Seconds the run may take (as simulate's).",
         ),
     ]
     for option in reversed(options):
@@ -88,7 +96,7 @@ def _simulate(system, **options):
     help="Write F.png, F.pdf or F.svg (default: <name>-<kind>.png).",
 )
 @_run_options
-def plot(source, kind, out, t_end, method, assignments, definitions) -> None:
+def plot(source, kind, out, t_end, method, assignments, definitions, timeout) -> None:
     """Plot a run of MODEL (simulated with its defaults) or a saved TRAJECTORY.
 
     The options of the run (--t-end, --method, --set, --define) apply to a MODEL.
@@ -118,6 +126,7 @@ def plot(source, kind, out, t_end, method, assignments, definitions) -> None:
             "method": method,
             "assignments": _assignments(assignments),
             "definitions": _definitions(definitions),
+            "timeout": timeout,
         }
         figure = _model_figure(source, kind, options)
     save_figure(figure, out)
@@ -168,7 +177,7 @@ def _model_figure(model: str, kind: str, options: dict):
     show_default=True,
     help="At most this many frames; longer runs play faster than real time.",
 )
-def animate(model, out, t_end, method, assignments, definitions, fps, max_frames) -> None:
+def animate(model, out, t_end, method, assignments, definitions, timeout, fps, max_frames) -> None:
     """Animate the mechanism of MODEL: a run played in real time."""
     from ..model import load
     from ..output.animation import animate as write_animation
@@ -185,6 +194,7 @@ def animate(model, out, t_end, method, assignments, definitions, fps, max_frames
         method=method,
         assignments=_assignments(assignments),
         definitions=_definitions(definitions),
+        timeout=timeout,
     )
     result = write_animation(run, system, out, fps=fps, max_frames=max_frames)
     click.echo(f"wrote {out}: {result.plan.description}")
