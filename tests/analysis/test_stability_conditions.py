@@ -116,3 +116,18 @@ def test_constrained_parabola_has_the_same_condition(rng):
     assert sympy.simplify(bottom.omega_squared[0] - (2 * a * g - w**2)) == 0
     assert bottom.at_defaults
     assert agrees(bottom.stability_condition, 2 * a * g - w**2, system, rng)
+
+
+def test_penning_trap_is_stable_iff_the_magnetic_field_beats_the_radial_hill(rng):
+    # V = k (z^2 - (x^2 + y^2)/2) pushes the charge out radially; the field B along z holds
+    # it when the cyclotron frequency exceeds twice the axial one squared: q^2 B^2 > 4 k m
+    system = lg.System.from_lagrangian(
+        "m*(x_dot**2 + y_dot**2 + z_dot**2)/2 + q*B*(x*y_dot - y*x_dot)/2"
+        " - k*(z**2 - (x**2 + y**2)/2)",
+        coordinates=["x", "y", "z"],
+        parameters={"m": 1.0, "q": 1.0, "B": 3.0, "k": 1.0},
+    )
+    m, q, B, k = (system.symbol(n) for n in ("m", "q", "B", "k"))
+    (centre,) = system.equilibria()
+    assert centre.stable and centre.at_defaults
+    assert agrees(centre.stability_condition, q**2 * B**2 - 4 * k * m, system, rng, samples=80)

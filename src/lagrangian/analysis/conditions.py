@@ -10,8 +10,9 @@ flipping the inequality, and the rest as ``positive terms > negative terms``
 (a bead on a parabola z = a r^2 turning at omega: omega^2 = 2 a g - omega^2 > 0
 reads 2 a g > omega^2; the bottom of a turning hoop: g > R omega^2).
 
-Only roots that are rational functions of the parameters get a condition
-(others, with square roots of a discriminant, would need their reality too).
+Roots that are rational functions of the parameters give root > 0; a pair
+with opposite square roots of a discriminant D (gyroscopic terms) gives D > 0
+and a positive sum and product.  Damped systems get no condition here.
 """
 
 from __future__ import annotations
@@ -36,23 +37,57 @@ class StabilityVerdict:
     condition: sympy.Basic | None = None
 
 
-def stability_verdict(modes: NormalModes) -> StabilityVerdict:
-    """Whether the stability of ``modes`` was judged at the defaults, and the condition."""
+def stability_verdict(modes: NormalModes, *, damped: bool = False) -> StabilityVerdict:
+    """Whether the stability of ``modes`` was judged at the defaults, and the condition.
+
+    Without damping the condition is that every omega^2 be real and positive:
+    rational roots r give r > 0; a pair r+-, r- = (P +- Q sqrt(D))/R (gyroscopic
+    terms: a charge in a Penning trap) gives D > 0, r+ + r- > 0 and r+ r- > 0.
+    """
     if not modes.closed_form or modes.stability is Stability.ASYMPTOTICALLY_STABLE:
         return StabilityVerdict(False)
     undecided = [r for r in modes.omega_squared if r.free_symbols and _sign(r) is None]
     if not undecided:
         return StabilityVerdict(False)
-    if modes.shapes == () or any(_sign(r) in ("-", "0") for r in modes.omega_squared):
-        return StabilityVerdict(True)  # gyroscopic/damped, or never stable: no condition
-    parts = []
-    for root in undecided:
-        part = _positive(root)
-        if part is None:
+    if damped or any(_sign(r) in ("-", "0") for r in modes.omega_squared):
+        return StabilityVerdict(True)  # damped, or never stable: no condition
+    parts: list[sympy.Basic] = []
+    remaining = list(undecided)
+    while remaining:
+        root = remaining.pop(0)
+        found = _positive(root)
+        if found is None:
+            found = _pair(root, remaining)
+        if found is None:
             return StabilityVerdict(True)
-        parts.append(part)
+        parts += [c for c in found if c not in parts]
     condition = sympy.And(*parts) if len(parts) > 1 else parts[0]
     return StabilityVerdict(True, condition)
+
+
+def _pair(root: sympy.Expr, others: list[sympy.Expr]) -> list[sympy.Basic] | None:
+    """Conditions for ``root`` and its partner with the opposite square root (taken out of
+    ``others``) to be real and positive: D > 0, their sum and product positive."""
+    roots_of = [a for a in root.atoms(sympy.Pow) if a.exp == sympy.Rational(1, 2)]
+    if len(roots_of) != 1:
+        return None
+    (radical,) = roots_of
+    partner = sympy.expand(root.xreplace({radical: -radical}))
+    match = next((o for o in others if sympy.expand(o - partner) == 0), None)
+    if match is None:
+        return None
+    others.remove(match)
+    conditions = []
+    for quantity in (radical.base, root + match, root * match):
+        quantity = sympy.cancel(sympy.expand(quantity))
+        sign = _sign(quantity)
+        if sign == "+":
+            continue
+        condition = _positive(quantity)
+        if sign in ("-", "0") or condition is None:
+            return None
+        conditions += condition
+    return conditions
 
 
 def _sign(expr: sympy.Expr) -> str | None:
@@ -66,8 +101,8 @@ def _sign(expr: sympy.Expr) -> str | None:
     return None
 
 
-def _positive(root: sympy.Expr) -> sympy.Basic | None:
-    """``root > 0`` written in the parameters, or None for roots not handled."""
+def _positive(root: sympy.Expr) -> list[sympy.Basic] | None:
+    """``[root > 0]`` written in the parameters, or None for roots not handled."""
     if ops_exceed(root, CONDITION_MAX_OPS) or not root.is_rational_function(*root.free_symbols):
         return None
     numerator, denominator = sympy.fraction(sympy.factor(sympy.together(root)))
@@ -89,4 +124,4 @@ def _positive(root: sympy.Expr) -> sympy.Basic | None:
     terms = sympy.Add.make_args(expr)
     left = sympy.Add(*(t for t in terms if not t.could_extract_minus_sign()))
     right = -sympy.Add(*(t for t in terms if t.could_extract_minus_sign()))
-    return sympy.StrictGreaterThan(left, right, evaluate=False)
+    return [sympy.StrictGreaterThan(left, right, evaluate=False)]

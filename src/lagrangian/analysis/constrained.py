@@ -134,7 +134,7 @@ def _equilibrium(eom: EquationsOfMotion, solution: Mapping) -> ConstrainedEquili
     multipliers = {
         lam.name: tidy(value) for lam, value in zip(forms.multipliers, lambdas, strict=True)
     }
-    verdict = stability_verdict(modes)
+    verdict = stability_verdict(modes, damped=not linear.dissipative.is_zero_matrix)
     return ConstrainedEquilibrium(
         point, multipliers, modes, False, verdict.at_defaults, verdict.condition
     )

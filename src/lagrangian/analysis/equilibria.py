@@ -148,7 +148,7 @@ def with_modes(eom: EquationsOfMotion, rest: RestPoint) -> Equilibrium:
     if linear is not None and any(_is_zero_root(w) for w in modes.omega_squared):
         family = len(free) or rest.dimension
         zero = zero_mode_names(eom, linear.stiffness, linear.basis, member, family)
-    verdict = stability_verdict(modes)
+    verdict = stability_verdict(modes, damped=linear is not None and linear.damped)
     return Equilibrium(
         rest.point,
         rest.numeric,
@@ -242,7 +242,8 @@ def _modes(
         regular = regular_modes(linear)
         if regular is not None:
             return regular
-    return modes, (), Reduced(linear.stiffness, sympy.eye(len(eom.system.coordinates)))
+    damped = not linear.dissipative.is_zero_matrix
+    return modes, (), Reduced(linear.stiffness, sympy.eye(len(eom.system.coordinates)), damped)
 
 
 def _modes_everywhere(eom: EquationsOfMotion) -> NormalModes:

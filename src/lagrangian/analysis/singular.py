@@ -28,10 +28,12 @@ from .linear import LinearizedSystem, NormalModes
 
 @dataclass(frozen=True, eq=False)
 class Reduced:
-    """The stiffness in the directions used for the modes (the columns of ``basis``)."""
+    """The stiffness in the directions used for the modes (the columns of ``basis``), and
+    whether the motion there is damped."""
 
     stiffness: sympy.Matrix
     basis: sympy.Matrix
+    damped: bool = False
 
 
 def degenerate_directions(linear: LinearizedSystem) -> list[sympy.Matrix]:
@@ -84,4 +86,8 @@ def regular_modes(
     if modes.note.startswith("the mass matrix is singular"):
         return None
     shapes = tuple(sympy.ImmutableMatrix(basis * shape) for shape in modes.shapes)
-    return dataclasses.replace(modes, shapes=shapes), degenerate, Reduced(regular.stiffness, basis)
+    return (
+        dataclasses.replace(modes, shapes=shapes),
+        degenerate,
+        Reduced(regular.stiffness, basis, not regular.dissipative.is_zero_matrix),
+    )
