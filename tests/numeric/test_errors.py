@@ -141,7 +141,7 @@ def test_unknown_backend():
     assert set(BACKENDS) == {"numpy", "jax"}
     with pytest.raises(lg.ModelError) as error:
         compile_equations(equations("simple_pendulum"), backend="torch")
-    assert str(error.value) == "unknown backend 'torch' (backends: jax, numba, numpy)"
+    assert str(error.value) == "unknown backend 'torch' (backends: jax, llvm, numba, numpy)"
 
 
 def test_jax_missing(monkeypatch):
