@@ -3,7 +3,7 @@
 ``rhs`` and ``accelerations`` of one state (``y`` of shape ``(2n,)``, ``params``
 ``(P,)``, scalar ``t``) evaluate the entries of M and f of M q'' = f with
 :class:`symengine.Lambdify` (``backend="llvm"``, common subexpressions
-eliminated), then solve M q'' = f with NumPy (closed forms up to n = 2).  The
+eliminated), then solve M q'' = f (closed forms up to n = 2, else LAPACK's ``dgesv``).  The
 code is made on the first call, in milliseconds (a 10-link chain: about 0.05 s,
 where numba compiles for seconds), which is why a single run starts fastest here.
 Everything else, any batched call and any system whose equations SymEngine cannot
@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import math
 import threading
 from collections.abc import Callable
 from typing import Any
@@ -89,10 +90,7 @@ class _Kernel:
         if function is None:
             return None
         n = self._n
-        values = np.empty(1 + 2 * n + self._p)
-        values[0] = t
-        values[1 : 1 + 2 * n] = y
-        values[1 + 2 * n :] = params
+        values = np.concatenate(((float(t),), y, params))
         out = np.empty(n * n + n)
         function.unsafe_real(values, out)
         return out[: n * n].reshape(n, n), out[n * n :]
@@ -118,10 +116,7 @@ class _Kernel:
             accelerations = None if parts is None else _solve(*parts)
             if accelerations is None:
                 return fallback(t, y, params)  # a batch, an error to report, or no LLVM code
-            out = np.empty(2 * n)
-            out[:n] = one[0][n:]
-            out[n:] = accelerations
-            return out
+            return np.concatenate((one[0][n:], accelerations))
 
         return rhs
 
@@ -162,6 +157,13 @@ def _compile(forms: SymbolicForms):
         return None
 
 
+@functools.cache
+def _gesv():
+    from scipy.linalg.lapack import dgesv
+
+    return dgesv
+
+
 def _solve(matrix: np.ndarray, force: np.ndarray) -> np.ndarray | None:
     """q'' with M q'' = f; None where M is singular or the values are not finite."""
     n = force.shape[0]
@@ -176,10 +178,9 @@ def _solve(matrix: np.ndarray, force: np.ndarray) -> np.ndarray | None:
         f, g = force.tolist()
         result = np.array([(d * f - b * g) / det, (a * g - c * f) / det])
     else:
-        try:
-            result = np.linalg.solve(matrix, force)
-        except np.linalg.LinAlgError:
+        _, _, result, info = _gesv()(matrix, force)  # LAPACK's LU solve, without numpy's wrapper
+        if info != 0:
             return None
-    if result is None or not np.all(np.isfinite(result)):
-        return None  # the NumPy function gives its own inf, NaN or error
+    if result is None or not math.isfinite(result.sum()):
+        return None  # the NumPy function gives its own inf, NaN or error (or a huge sum)
     return result
