@@ -113,3 +113,27 @@ CASES += [
         model=_one_coordinate("(sin(x) + x_dot)^1000"),
     ),
 ]
+
+
+def _dense_coupling(n: int) -> str:
+    """n coordinates all coupled through the kinetic energy: H has M's full inverse."""
+    coordinates = ", ".join(f'"x{i}"' for i in range(n))
+    momentum = " + ".join(f"(1 + x{i}^2)*x{i}_dot" for i in range(n))
+    own = " + ".join(f"x{i}_dot^2*cos(x{(i + 1) % n})^2" for i in range(n))
+    potential = " + ".join(f"sin(x{i}*x{(i + 1) % n})" for i in range(n))
+    return (
+        f'coordinates = [{coordinates}]\nkinetic = "({momentum})^2/2 + {own}"\n'
+        f'potential = "{potential}"\n'
+    )
+
+
+CASES += [
+    HostileCase(
+        # printing its Hamiltonian (SymPy's term ordering) took 100 s after the stages ended
+        "analyze-dense-six-coordinates-prints-in-time",
+        ("analyze", "{dir}/model.toml", "--timeout", "1"),
+        exit_code=0,
+        output=r"H = too long to print; analyze --json gives it",
+        model=_dense_coupling(6),
+    ),
+]

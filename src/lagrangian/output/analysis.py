@@ -3,39 +3,48 @@
 from __future__ import annotations
 
 from ..analysis import Analysis
-from .latex import latex_expression
-from .notation import latex_name, unicode_name
-from .text import unicode_expression
+from .large import latex_printer, plain_printer, unicode_printer
+from .notation import latex_name, too_long_to_print, unicode_name
+
+#: What text and LaTeX say instead of an expression too long to read (the Hamiltonian of
+#: a densely coupled 6-coordinate system printed for minutes): JSON has them all.
+TOO_LONG = "too long to print; analyze --json gives it"
+
+
+def _readable(printer):
+    return lambda expr: TOO_LONG if too_long_to_print(expr) else printer(expr)
 
 
 def analysis_document(analysis: Analysis) -> dict:
-    """The ``analyze --json`` document; expressions are SymPy ``str()`` text.
+    """The ``analyze --json`` document; expressions are SymPy ``str()`` text (SymEngine's,
+    which parses back the same, for large ones).
 
     A stage that ran out of time is listed in ``undecided`` ({stage, reason}); its
     fields are null (conserved quantities, Hamiltonian) or empty, never a guess.
     """
     conservation = analysis.conservation
     decided = conservation is not None
+    text = plain_printer(analysis.equations.system)  # SymEngine's str for large ones
     document: dict = {
         "name": analysis.equations.system.name,
         "cyclic_coordinates": list(conservation.cyclic_coordinates) if decided else None,
         "conserved": [
-            {"name": q.name, "expression": str(q.expression), "description": q.description}
+            {"name": q.name, "expression": text(q.expression), "description": q.description}
             for q in conservation.conserved
         ]
         if decided
         else None,
         "not_conserved": [
-            {"name": q.name, "expression": str(q.expression), "reason": q.reason}
+            {"name": q.name, "expression": text(q.expression), "reason": q.reason}
             for q in conservation.not_conserved
         ]
         if decided
         else None,
         "hamiltonian": None
         if analysis.hamiltonian is None
-        else str(analysis.hamiltonian.expression),
-        "equilibria": [_equilibrium_document(e) for e in analysis.equilibria],
-        "steady_motions": [_equilibrium_document(e) for e in analysis.steady_motions],
+        else text(analysis.hamiltonian.expression),
+        "equilibria": [_equilibrium_document(e, text) for e in analysis.equilibria],
+        "steady_motions": [_equilibrium_document(e, text) for e in analysis.steady_motions],
         "notes": list(analysis.notes),
         "undecided": [{"stage": u.stage, "reason": u.reason} for u in analysis.undecided],
     }
@@ -43,22 +52,22 @@ def analysis_document(analysis: Analysis) -> dict:
         reduction = analysis.reduction
         document["reduction"] = {
             "cyclic": list(reduction.cyclic),
-            "momenta": {name: str(p) for name, p in reduction.momenta.items()},
-            "routhian": str(reduction.routhian),
-            "effective_potential": str(reduction.effective_potential),
+            "momenta": {name: text(p) for name, p in reduction.momenta.items()},
+            "routhian": text(reduction.routhian),
+            "effective_potential": text(reduction.effective_potential),
         }
     return document
 
 
-def _equilibrium_document(e) -> dict:
+def _equilibrium_document(e, text) -> dict:
     multipliers = getattr(e, "multipliers", None)
-    extra = {"multipliers": {k: str(v) for k, v in multipliers.items()}} if multipliers else {}
+    extra = {"multipliers": {k: text(v) for k, v in multipliers.items()}} if multipliers else {}
     document = extra | {
-        "point": {name: str(value) for name, value in e.point.items()},
+        "point": {name: text(value) for name, value in e.point.items()},
         "stable": e.stable,
         "stability": e.modes.stability.value,
-        "omega_squared": [str(w2) for w2 in e.modes.omega_squared],
-        "periods": [str(p) for p in e.modes.periods],
+        "omega_squared": [text(w2) for w2 in e.modes.omega_squared],
+        "periods": [text(p) for p in e.modes.periods],
         "numeric": e.numeric,
         "closed_form": e.modes.closed_form,
     }
@@ -66,7 +75,7 @@ def _equilibrium_document(e) -> dict:
     # coordinates, named zero modes, and how the verdict depends on the parameters
     if getattr(e, "free", ()):
         document["free"] = list(e.free)
-        document["representative"] = {k: str(v) for k, v in e.representative.items()}
+        document["representative"] = {k: text(v) for k, v in e.representative.items()}
     if getattr(e, "family_dimension", 0):
         document["family_dimension"] = e.family_dimension
     if getattr(e, "degenerate", ()):
@@ -77,18 +86,18 @@ def _equilibrium_document(e) -> dict:
         document["stability_at_defaults"] = True
     condition = getattr(e, "stability_condition", None)
     if condition is not None:
-        document["stability_condition"] = str(condition)
+        document["stability_condition"] = text(condition)
     velocities = getattr(e, "velocities", None)
     if velocities:
-        document["cyclic_velocities"] = {k: str(v) for k, v in velocities.items()}
-        document["momenta"] = {k: str(v) for k, v in e.momenta.items()}
+        document["cyclic_velocities"] = {k: text(v) for k, v in velocities.items()}
+        document["momenta"] = {k: text(v) for k, v in e.momenta.items()}
     return document
 
 
 def format_analysis(analysis: Analysis) -> str:
     """The analysis as readable Unicode text."""
     system = analysis.equations.system
-    show = lambda expr: unicode_expression(expr, system)  # noqa: E731
+    show = _readable(unicode_printer(system))
     conservation = analysis.conservation
     missing = {u.stage: u.reason for u in analysis.undecided}
     lines = [
@@ -207,7 +216,7 @@ def _relation(condition, show, latex: bool = False) -> str:
 def latex_analysis(analysis: Analysis) -> str:
     """The conserved quantities, H, equilibria and V_eff as one ``align*`` block."""
     system = analysis.equations.system
-    show = lambda expr: latex_expression(expr, system)  # noqa: E731
+    show = _readable(latex_printer(system))
     conserved = analysis.conservation.conserved if analysis.conservation is not None else ()
     rows = [rf"{_latex_quantity(q.name)} &= {show(q.expression)}" for q in conserved]
     if analysis.hamiltonian is not None:
