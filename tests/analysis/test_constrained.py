@@ -72,3 +72,12 @@ def test_analyze_reports_constrained_equilibria():
 def test_nonholonomic_constraints_are_refused():
     with pytest.raises(lg.ModelError, match="linear in the velocities"):
         constrained_equilibria(lg.load("rolling_disc").equations_of_motion())
+
+
+def test_text_says_equilibria_not_computed_rather_than_none_found():
+    from lagrangian.output import format_analysis
+
+    text = format_analysis(lg.load("rolling_disc").analyze())
+    block = text.split("Equilibria (at rest, staying at rest):")[1].split("\n\n")[0]
+    assert "none found" not in block
+    assert "not computed: equilibria with constraints linear in the velocities" in block

@@ -122,8 +122,11 @@ def format_analysis(analysis: Analysis) -> str:
     elif "Hamiltonian" in missing:
         lines += ["", f"Hamiltonian: {missing['Hamiltonian']}"]
     lines += ["", "Equilibria (at rest, staying at rest):"]
+    not_applied = [n for n in analysis.notes if n.startswith("equilibria: ")]
     if "equilibria" in missing:
         lines.append(f"  {missing['equilibria']}")
+    elif not analysis.equilibria and not_applied:  # not searched is not "none found"
+        lines.append(f"  not computed: {not_applied[0].removeprefix('equilibria: ')}")
     else:
         lines += _equilibrium_lines(analysis.equilibria, show)
     if analysis.reduction is not None:
