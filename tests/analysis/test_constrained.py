@@ -75,7 +75,7 @@ def test_nonholonomic_constraints_are_refused():
 
 
 def test_text_says_equilibria_not_computed_rather_than_none_found():
-    from lagrangian.output import format_analysis
+    from lagrangian.output.analysis import format_analysis
 
     text = format_analysis(lg.load("rolling_disc").analyze())
     block = text.split("Equilibria (at rest, staying at rest):")[1].split("\n\n")[0]
