@@ -80,8 +80,15 @@ class Conservation:
         return tuple(q.name for q in self.conserved)
 
 
-def conserved_quantities(eom: EquationsOfMotion) -> Conservation:
-    """Cyclic momenta and the energy function of a system, with reasons for what is not."""
+def conserved_quantities(
+    eom: EquationsOfMotion, *, symmetry_seconds: float | None = None
+) -> Conservation:
+    """Cyclic momenta, Noether charges of point symmetries and the energy function of a
+    system, with reasons for what is not conserved.
+
+    ``symmetry_seconds``: the time for the symmetry search (default: 3 s inside
+    ``analyze``'s stage, 30 s when called alone); past it, a note says so.
+    """
     system = eom.system
     state = system.state_symbols
     cyclic, conserved, not_conserved = [], [], []
@@ -138,7 +145,9 @@ def conserved_quantities(eom: EquationsOfMotion) -> Conservation:
     # coordinates L does not contain: their momenta are listed above, conserved or not
     ignorable = [s.coordinate.name for s in eom.steps if is_zero(s.force_gradient)]
     # within analyze's stage a short budget; called alone, a generous one (nothing hangs)
-    seconds = SYMMETRY_SECONDS if remaining() is not None else SYMMETRY_SECONDS_ALONE
+    seconds = symmetry_seconds
+    if seconds is None:
+        seconds = SYMMETRY_SECONDS if remaining() is not None else SYMMETRY_SECONDS_ALONE
     found, undecided = attempt(
         "symmetry search",
         seconds,

@@ -18,7 +18,7 @@ import sympy
 from sympy.core.function import AppliedUndef
 
 from ..algebra import is_zero
-from ..analysis.conserved import conserved_quantities
+from ..analysis.conserved import SYMMETRY_SECONDS, conserved_quantities
 from ..derive import EquationsOfMotion
 from .definitions import (
     Definitions,
@@ -108,7 +108,10 @@ class SymbolicForms:
         """
         found = {
             quantity.name: substitute(quantity.expression, self.definitions)
-            for quantity in conserved_quantities(self.equations).conserved
+            # a run reports drifts, it does not wait on a long search for more charges
+            for quantity in conserved_quantities(
+                self.equations, symmetry_seconds=SYMMETRY_SECONDS
+            ).conserved
         }
         _check_no_functions_left(list(found.values()))
         return found
