@@ -24,7 +24,7 @@ import dataclasses
 import sympy
 
 from ..algebra import FAST_MIN_COORDINATES, positive_content, tidy
-from ..budget import within
+from ..budget import attempt, within
 from ..errors import ModelError, SingularMassMatrixError
 from ..model import System
 from .constraints import ConstraintForms, constraint_forms, solve_constrained
@@ -36,6 +36,11 @@ from .solve import check_independent, check_regular, plain_solution, solve_accel
 READABLE_SECONDS = 10.0
 #: Seconds for each attempt at q'' (and lambda): tidied, then untidied.
 SOLVE_SECONDS = 5.0
+#: Seconds for the large route, the last one: past it the model is refused.  The size
+#: limits (model.limits) count the work of T before it starts, but not how many distinct
+#: terms each entry of M gathers: 4 particles each moving with the sines of the same 200
+#: coordinates took 80 s, where the 100-link chain (more pairs, alike terms) takes 5.
+LARGE_SECONDS = 60.0
 
 
 def derive(system: System) -> EquationsOfMotion:
@@ -53,12 +58,12 @@ def derive(system: System) -> EquationsOfMotion:
         check_independent(forms.matrix, [f"constraints[{j}]" for j in range(forms.matrix.rows)])
     parts = None
     if len(coordinates) >= FAST_MIN_COORDINATES:
-        large = derive_large(system, forms)
+        large = _bounded_large(system, forms)
         if large is not None:
             return large
     else:
         parts = within(READABLE_SECONDS, "derive", lambda: _parts(system, forms), _none)
-        large = None if parts is not None else derive_large(system, forms)
+        large = None if parts is not None else _bounded_large(system, forms)
         if large is not None:  # the readable route was too slow: the same M and f, untidied
             solved = _solved(large.mass_matrix, large.forcing, forms, system)
             return dataclasses.replace(large, accelerations=solved[0], multipliers=solved[1])
@@ -80,6 +85,16 @@ def derive(system: System) -> EquationsOfMotion:
 
 def _none() -> None:
     return None
+
+
+def _bounded_large(system: System, forms: ConstraintForms | None) -> EquationsOfMotion | None:
+    large, undecided = attempt("derive", LARGE_SECONDS, lambda: derive_large(system, forms))
+    if undecided is not None:
+        raise ModelError(
+            f"the equations of motion were not derived within {LARGE_SECONDS:g} s "
+            f"({len(system.coordinates)} coordinates): the model is too large to derive"
+        )
+    return large
 
 
 def _parts(system: System, forms: ConstraintForms | None) -> tuple:
