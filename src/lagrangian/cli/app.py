@@ -234,6 +234,16 @@ define_option = click.option(
 )
 
 
+timeout_option = click.option(
+    "--timeout",
+    type=click.FloatRange(min=0, min_open=True),
+    default=RUN_SECONDS,
+    show_default=True,
+    help="Seconds the runs may take; a run whose pace shows it would take longer is "
+    "stopped at once.",
+)
+
+
 def _definitions(values: tuple[str, ...]) -> dict[str, str]:
     """NAME=EXPR pairs of --define (the expression is parsed later by the safe parser)."""
     result = {}
@@ -273,14 +283,7 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
 )
 @click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.csv or FILE.nc.")
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON summary.")
-@click.option(
-    "--timeout",
-    type=click.FloatRange(min=0, min_open=True),
-    default=RUN_SECONDS,
-    show_default=True,
-    help="Seconds the integration may take; a run whose pace shows it would take "
-    "longer is stopped at once.",
-)
+@timeout_option
 def simulate(
     model, t_end, method, dt, rtol, atol, assignments, definitions, backend, out, as_json, timeout
 ) -> None:

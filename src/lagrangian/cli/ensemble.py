@@ -5,8 +5,15 @@ from __future__ import annotations
 import click
 import numpy as np
 
-from ..integrate.pace import RUN_SECONDS
-from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app, define_option
+from .app import (
+    MODEL_HELP,
+    _assignments,
+    _definitions,
+    _progress_bar,
+    app,
+    define_option,
+    timeout_option,
+)
 
 
 def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
@@ -83,14 +90,7 @@ def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
     "--chunk-size", type=int, help="Members per chunk (default 65536; 2^20 for jax and cuda)."
 )
 @click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.nc or a map FILE.png.")
-@click.option(
-    "--timeout",
-    type=click.FloatRange(min=0, min_open=True),
-    default=RUN_SECONDS,
-    show_default=True,
-    help="Seconds the runs may take; an ensemble whose pace shows it would take "
-    "longer is stopped at once.",
-)
+@timeout_option
 def ensemble(
     model, grids, backend, precision, scheduler, observables, t_end, dt, method, assignments,
     definitions, chunk_size, out, timeout,

@@ -13,8 +13,7 @@ from pathlib import Path
 import click
 
 from ..files import check_output_path, output_error
-from ..integrate.pace import RUN_SECONDS
-from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app
+from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app, timeout_option
 
 PLOT_KINDS = ("timeseries", "phase", "energy", "poincare", "modes")
 TRAJECTORY_SUFFIXES = (".csv", ".nc")
@@ -55,13 +54,7 @@ def _run_options(function):
             metavar="NAME=EXPR",
             help="Define an unspecified function of the model (repeatable).",
         ),
-        click.option(
-            "--timeout",
-            type=click.FloatRange(min=0, min_open=True),
-            default=RUN_SECONDS,
-            show_default=True,
-            help="Seconds the run may take (as simulate's).",
-        ),
+        timeout_option,
     ]
     for option in reversed(options):
         function = option(function)
