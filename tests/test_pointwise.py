@@ -32,3 +32,22 @@ def test_function_values_replace_whole_subexpressions():
     expr = f(x) ** 2 + 3 * sympy.Derivative(f(x), x) + sympy.DiracDelta(x)
     value = evaluate(expr, {f(x): 2.0, sympy.Derivative(f(x), x): 5.0, x: 0.5})
     assert float(value) == 19.0
+
+
+def test_surely_nonzero_is_quick_and_never_wrong_about_identities():
+    from lagrangian.pointwise import surely_nonzero
+
+    m = sympy.Symbol("m", positive=True)
+    n = sympy.Symbol("n", negative=True)
+    assert surely_nonzero(sympy.sin(x) + 1)
+    big = sympy.Integer(10**9)
+    assert surely_nonzero(big * sympy.sin(x) - big * sympy.cos(x) * sympy.Rational(1, 10**6))
+    for identity in (
+        sympy.sin(x) ** 2 + sympy.cos(x) ** 2 - 1,
+        sympy.sqrt(m**2) - m + 0 * x,
+        sympy.Abs(n) + n + 0 * x,
+        10**12 * sympy.cos(x) ** 2 - 10**12 * (1 - sympy.sin(x) ** 2),
+        sympy.Float(2.5) * x,  # floats are not converted: no claim
+        f(x) - f(x) + sympy.Derivative(f(x), x),  # not decidable here: no claim
+    ):
+        assert not surely_nonzero(identity)

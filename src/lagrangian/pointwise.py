@@ -53,3 +53,26 @@ def evaluate(expr: sympy.Basic, values: Mapping[sympy.Basic, float]) -> np.ndarr
             return None  # a symbol left over, or a complex result
     array = np.array(result, dtype=float).reshape(shape)
     return array if np.all(np.isfinite(array)) else None
+
+
+def surely_nonzero(expr: sympy.Expr, *, seed: int = 7) -> bool:
+    """True when ``expr`` is clearly not 0 at a random point (symbols by their signs).
+
+    A quick answer before a symbolic test: ``is_zero`` tidies the expression, which
+    for a large dL/dq takes seconds.  "Clearly": larger than 1e-8 of its largest
+    term, far above the rounding of an identity that cancels.  False when the point
+    cannot be evaluated (declared functions, overflow): the symbolic test decides.
+    """
+    import random
+
+    rng = random.Random(seed)
+    values = {}
+    for s in expr.free_symbols:
+        value = rng.uniform(0.3, 1.3)
+        values[s] = -value if s.is_negative else value
+    terms = sympy.Add.make_args(expr)
+    numbers = [evaluate(term, values) for term in terms]
+    if any(n is None for n in numbers):
+        return False
+    scale = max(abs(float(n)) for n in numbers)
+    return abs(sum(float(n) for n in numbers)) > 1e-8 * scale

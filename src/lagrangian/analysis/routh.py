@@ -34,6 +34,7 @@ from ..derive import EquationsOfMotion
 from ..derive.solve import solve_linear
 from ..errors import ModelError
 from ..model import System
+from ..pointwise import surely_nonzero
 from .equilibria import Equilibrium, equilibria
 
 
@@ -67,7 +68,8 @@ def cyclic_coordinates(eom: EquationsOfMotion) -> tuple[str, ...]:
     return tuple(
         step.coordinate.name
         for step in eom.steps
-        if is_zero(step.force_gradient)
+        if not surely_nonzero(step.force_gradient)  # seconds faster than is_zero alone
+        and is_zero(step.force_gradient)
         and step.generalized_force == 0
         and is_zero(step.dissipation_force)
         and not any(part.has(step.coordinate.q) for part in others)
