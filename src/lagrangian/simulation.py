@@ -11,7 +11,7 @@ from collections.abc import Callable, Mapping
 
 from .errors import ModelError
 from .integrate import method_class, simulate
-from .integrate.pace import RUN_SECONDS, RunPace
+from .integrate.pace import RUN_SECONDS, RunPace, watching
 from .integrate.simulate import DEFAULT_METHOD
 from .model import System
 from .numeric import compile_equations, default_backend
@@ -78,27 +78,17 @@ def simulate_system(
         "atol": atol,
     }
     chosen = {key: value for key, value in chosen.items() if value is not None}
+    t_final = float(chosen["t_end"])
+    pace = None if timeout is None else RunPace((0.0, t_final), timeout)
+    share = None if progress is None else (lambda t: progress(min(1.0, t / t_final)))
     compiled = compile_equations(
         system.equations_of_motion(), backend=backend or default_backend(), definitions=definitions
     )
-    t_final = float(chosen["t_end"])
-    watchers = []
-    if timeout is not None:
-        if not timeout > 0:
-            raise ModelError(f"the time allowed must be a number of seconds > 0, not {timeout}")
-        watchers.append(RunPace((0.0, t_final), timeout))
-    if progress is not None:
-        watchers.append(lambda t: progress(min(1.0, t / t_final)))
-
-    def watch(t: float) -> None:
-        for watcher in watchers:
-            watcher(t)
-
     return simulate(
         compiled,
         initial=initial,
         params=params,
-        watch=watch if watchers else None,
+        watch=watching(pace, share),
         **chosen,
         **options,
     )

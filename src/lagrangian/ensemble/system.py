@@ -5,8 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
-from ..errors import ModelError
-from ..integrate.pace import ENSEMBLE_ADVICE, RUN_SECONDS, RunPace
+from ..integrate.pace import ENSEMBLE_ADVICE, RUN_SECONDS, RunPace, watching
 from .core import METHODS, run_ensemble
 from .result import EnsembleTrajectory
 
@@ -44,24 +43,14 @@ def ensemble_of_system(
         t_end = float(settings.get("t_end", DEFAULT_T_END))
     if dt is None and settings.get("dt") is not None:
         dt = float(settings["dt"])
-    compiled = compile_equations(system.equations_of_motion(), definitions=definitions)
+    pace = None
     if timeout is not None:
-        if not timeout > 0:
-            raise ModelError(f"the time allowed must be a number of seconds > 0, not {timeout}")
         pace = RunPace(
             (0.0, 1.0),
             timeout,
             describe=lambda done: f"{100 * done:.3g} % of the runs",
             advice=ENSEMBLE_ADVICE,
         )
-        progress = _both(pace, progress)
+    compiled = compile_equations(system.equations_of_motion(), definitions=definitions)
+    progress = watching(pace, progress)
     return run_ensemble(compiled, t_end=t_end, method=method, dt=dt, progress=progress, **options)
-
-
-def _both(pace: RunPace, progress: Callable[[float], None] | None) -> Callable[[float], None]:
-    def told(done: float) -> None:
-        pace(done)
-        if progress is not None:
-            progress(done)
-
-    return told

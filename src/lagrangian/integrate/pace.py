@@ -19,7 +19,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
-from ..errors import LagrangianError
+from ..errors import LagrangianError, ModelError
 
 #: Default budget of a single run started from the command line or ``System.simulate``.
 RUN_SECONDS = 300.0
@@ -57,6 +57,8 @@ class RunPace:
         describe: Callable[[float], str] | None = None,
         advice: str = RUN_ADVICE,
     ):
+        if not seconds > 0:
+            raise ModelError(f"the time allowed must be a number of seconds > 0, not {seconds}")
         self.t0, self.t1 = float(t_span[0]), float(t_span[1])
         self.seconds = float(seconds)
         self.describe = describe or (lambda t: f"t = {t:.6g} of t_end = {self.t1:g}")
@@ -98,3 +100,17 @@ def _duration(seconds: float) -> str:
         if seconds >= 2 * size:
             return f"about {seconds / size:,.0f} {unit}"
     return f"about {seconds:.0f} s"
+
+
+def watching(*watchers: Callable[[float], None] | None) -> Callable[[float], None] | None:
+    """One watch telling each given watcher (None ones left out) what it is told; None
+    when there is none, so a run without budget or progress bar pays nothing."""
+    present = [w for w in watchers if w is not None]
+    if not present:
+        return None
+
+    def told(reached: float) -> None:
+        for watcher in present:
+            watcher(reached)
+
+    return told
