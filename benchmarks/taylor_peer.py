@@ -39,6 +39,7 @@ from rhs import chain_pendulum
 import lagrangian as lg
 from lagrangian.integrate.registry import method_class
 from lagrangian.integrate.scipy_methods import MIN_RTOL
+from lagrangian.integrate.taylor import eliminated
 from lagrangian.numeric import compile_equations, default_backend
 
 TOLERANCES = (1e-10, 1e-15)
@@ -62,18 +63,7 @@ def heyoka_ode(eom):
             replace[symbol] = hy.expression(float(values[symbol.name]))
     matrix = [[hy.from_sympy(eom.mass_matrix[i, j], replace) for j in range(n)] for i in range(n)]
     force = [hy.from_sympy(eom.forcing[i, 0], replace) for i in range(n)]
-    for k in range(n):  # elimination, then back substitution
-        for i in range(k + 1, n):
-            factor = matrix[i][k] / matrix[k][k]
-            for j in range(k + 1, n):
-                matrix[i][j] = matrix[i][j] - factor * matrix[k][j]
-            force[i] = force[i] - factor * force[k]
-    accelerations = [None] * n
-    for i in range(n - 1, -1, -1):
-        total = force[i]
-        for j in range(i + 1, n):
-            total = total - matrix[i][j] * accelerations[j]
-        accelerations[i] = total / matrix[i][i]
+    accelerations = eliminated(matrix, force)  # the taylor method's own elimination
     return [(q[i], v[i]) for i in range(n)] + [(v[i], accelerations[i]) for i in range(n)]
 
 

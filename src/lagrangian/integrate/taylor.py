@@ -178,14 +178,14 @@ def _build(compiled: CompiledSystem, tol: float):
         force = [hy.from_sympy(forcing[i, 0], replace) for i in range(n)]
     except (TypeError, ValueError) as error:
         raise ModelError(f"method 'taylor' cannot express the equations: {error}") from None
-    accelerations = _eliminated(matrix, force)
+    accelerations = eliminated(matrix, force)
     ode = [(q[i], v[i]) for i in range(n)] + [(v[i], accelerations[i]) for i in range(n)]
     state = np.zeros(2 * n)
     parameters = np.zeros(len(forms.parameters))
     return hy.taylor_adaptive(ode, state, tol=tol, pars=parameters, compact_mode=n > 2)
 
 
-def _eliminated(matrix: list, force: list) -> list:
+def eliminated(matrix: list, force: list) -> list:
     """x with matrix x = force, as expressions: elimination without pivoting, back substitution."""
     n = len(force)
     for k in range(n):
