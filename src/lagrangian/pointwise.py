@@ -12,6 +12,7 @@ substitution for a small mass matrix.
 
 from __future__ import annotations
 
+import random
 from collections.abc import Mapping
 
 import numpy as np
@@ -63,8 +64,6 @@ def surely_nonzero(expr: sympy.Expr, *, seed: int = 7) -> bool:
     term, far above the rounding of an identity that cancels.  False when the point
     cannot be evaluated (declared functions, overflow): the symbolic test decides.
     """
-    import random
-
     rng = random.Random(seed)
     values = {}
     for s in expr.free_symbols:
