@@ -206,3 +206,17 @@ def test_handlers_are_restored_after_a_write(tmp_path):
     with pytest.raises(Boom):
         write_atomically(tmp_path / "b.txt", lambda temporary: (_ for _ in ()).throw(Boom()))
     assert {s: signal.getsignal(s) for s in before} == before
+
+
+def test_a_fifo_that_appears_during_the_write_is_not_replaced(tmp_path):
+    # check_output_path ran before; the node appears while the content is written
+    target = tmp_path / "out.csv"
+
+    def write(temporary):
+        temporary.write_text("data")
+        os.mkfifo(target)
+
+    with pytest.raises(FileError, match=r"out\.csv: cannot write: it is a FIFO"):
+        write_atomically(target, write)
+    assert stat.S_ISFIFO(os.stat(target).st_mode)
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["out.csv"]

@@ -68,6 +68,7 @@ def write_atomically(path: str | os.PathLike, write: Callable[[Path], object]) -
             _keep_permissions(target, temporary)
             with open(temporary, "rb+") as stream:
                 os.fsync(stream.fileno())
+            _refuse_special(target)  # again: it may have appeared during the write
             os.replace(temporary, target)
         except BaseException as error:
             temporary.unlink(missing_ok=True)
@@ -84,8 +85,9 @@ def check_output_path(path: str | os.PathLike) -> Path:
     """The path a file will be written to (links resolved), or a FileError saying why not.
 
     Cheap checks only (the folder exists and is one, the target is not a
-    folder): the write itself finds the rest (permissions, space).  Call it
-    before long work, so that a typo in ``--out`` fails at once.
+    folder, nor a device, FIFO or socket, which the rename would replace):
+    the write itself finds the rest (permissions, space).  Call it before long
+    work, so that a typo in ``--out`` fails at once.
     """
     target = Path(path)
     try:
@@ -94,6 +96,7 @@ def check_output_path(path: str | os.PathLike) -> Path:
         folder = target.parent
         if target.is_dir():
             raise OSError(errno.EISDIR, os.strerror(errno.EISDIR))
+        _refuse_special(target)
         if not folder.is_dir():
             code = errno.ENOTDIR if _exists_as_file(folder) else errno.ENOENT
             raise OSError(code, os.strerror(code))
@@ -142,6 +145,35 @@ def check_input_file(path: str | os.PathLike, *, what: str, max_bytes: int) -> i
 
 
 # -- the parts of a write ----------------------------------------------------------------
+#: What a path that exists but is no regular file is, by its ``stat`` mode.
+_SPECIAL_KINDS = (
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISFIFO, "a FIFO (named pipe)"),
+    (stat.S_ISSOCK, "a socket"),
+)
+
+
+def _refuse_special(target: Path) -> None:
+    """A FileError when ``target`` exists and is a device, FIFO or socket.
+
+    The rename of an atomic write would unlink such a node and put a file in
+    its place (``--out /dev/null`` would replace the null device when run as
+    root), so it is never written to.
+    """
+    try:
+        mode = os.stat(target).st_mode
+    except OSError:
+        return  # absent (or unreadable: the write says why)
+    for is_kind, kind in _SPECIAL_KINDS:
+        if is_kind(mode):
+            raise FileError(
+                target, f"cannot write: it is {kind}, not a regular file; give a file path"
+            )
+    if not stat.S_ISREG(mode) and not stat.S_ISDIR(mode):
+        raise FileError(target, "cannot write: it is not a regular file; give a file path")
+
+
 def _new_temporary(target: Path, pending: list[Path]) -> Path:
     """A new empty file beside ``target``: ``.<name>.<random>.tmp``, mode 0o666 & ~umask.
 

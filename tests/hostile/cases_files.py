@@ -8,6 +8,8 @@ the read-only case then points into /sys (which refuses even root) instead.
 from __future__ import annotations
 
 import os
+import re
+import stat
 from pathlib import Path
 
 from hostile.case import HostileCase
@@ -82,6 +84,53 @@ def _edited_cache_entry(folder: Path) -> None:
     (cache / f"{digest}.py").write_text(_HEADER + "0" * 64 + "\nraise SystemExit(3)\n")
 
 
+def _fifo(name: str):
+    def setup(folder: Path) -> None:
+        os.mkfifo(folder / name)
+
+    return setup
+
+
+def _device(name: str):
+    """{dir}/name: a character device (a copy of the null device as root, else a link to it)."""
+
+    def setup(folder: Path) -> None:
+        if os.geteuid() == 0:
+            os.mknod(folder / name, 0o666 | stat.S_IFCHR, os.makedev(1, 3))
+        else:  # pragma: no cover - a user cannot replace /dev/null anyway
+            (folder / name).symlink_to("/dev/null")
+
+    return setup
+
+
+def _special_cases() -> list[HostileCase]:
+    """Every command that writes a file refuses a FIFO or a device as its target."""
+    commands = {
+        "simulate": ("simulate", MODEL, *SHORT, "--out"),
+        "export": ("export", MODEL, "--to", "c", "--out"),
+        "plot": ("plot", MODEL, "--kind", "phase", *SHORT, "--out"),
+        "animate": ("animate", MODEL, *SHORT, "--out"),
+        "ensemble": ("ensemble", MODEL, "--grid", "x=0:1:2", *SHORT, "--out"),
+    }
+    suffixes = {"simulate": ".csv", "export": ".c", "plot": ".png", "animate": ".gif"}
+    cases = []
+    for command, argv in commands.items():
+        name = "out" + suffixes.get(command, ".nc")
+        for kind, setup, shown in (
+            ("fifo", _fifo(name), "a FIFO"),
+            ("device", _device(name), "a character device"),
+        ):
+            cases.append(
+                HostileCase(
+                    f"files-{command}-out-onto-{kind}",
+                    (*argv, f"{{dir}}/{name}"),
+                    error=rf"{re.escape(name)}: cannot write: it is {shown}.*not a regular file",
+                    setup=setup,
+                )
+            )
+    return cases
+
+
 def _file(name: str):
     return _text(name, "a file, not a folder\n")
 
@@ -119,6 +168,18 @@ CASES = [
         "{dir}/" + "x" * 300 + ".csv",
         r"x+\.csv: cannot write: the file name is too long",
         "files-out-name-too-long",
+    ),
+    *_special_cases(),
+    HostileCase(
+        "files-export-out-dev-null",
+        ("export", MODEL, "--to", "c", "--out", "/dev/null"),
+        error=r"/dev/null: cannot write: it is a character device, not a regular file",
+    ),
+    HostileCase(
+        "files-export-out-link-to-dev-null",
+        ("export", MODEL, "--to", "numpy", "--out", "{dir}/link.py"),
+        error=r"/dev/null: cannot write: it is a character device",
+        setup=lambda folder: (folder / "link.py").symlink_to("/dev/null"),
     ),
     _out(
         "{dir}/run.csv",
