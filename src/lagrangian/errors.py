@@ -2,7 +2,11 @@
 
 Every error a user can cause derives from :class:`LagrangianError`; the CLI
 prints ``str(error)`` on one line and exits with status 2.  Anything else that
-escapes is a bug in the toolkit (exit status 1).
+escapes is a bug in the toolkit (exit status 1).  The kinds are also the
+built-in exceptions a Python caller expects: a :class:`ModelError` (bad
+values, a model that cannot be built) is a ``ValueError``, a
+:class:`MissingDependencyError` (an optional package not installed) an
+``ImportError``; file problems are :class:`FileError`.
 """
 
 from __future__ import annotations
@@ -47,7 +51,7 @@ class UnknownNameError(ParseError):
         super().__init__(f"unknown symbol '{name}'{hint}", text, position)
 
 
-class ModelError(LagrangianError):
+class ModelError(LagrangianError, ValueError):
     """A model that cannot be built: names the file, the field and the offending text."""
 
     def __init__(
@@ -94,6 +98,26 @@ class FileError(LagrangianError):
         self.message = message
         shown = self.path if len(self.path) <= 120 else self.path[:58] + "..." + self.path[-59:]
         super().__init__(_single_line(f"{_visible(shown)}: {message}"))
+
+
+class MissingDependencyError(LagrangianError, ImportError):
+    """An optional package a feature needs is not installed: names the extra that brings it.
+
+    ``feature`` says what needs it (``"method 'taylor'"``), ``package`` what is
+    missing (``"heyoka"``), ``extra`` the optional dependency group of
+    lagrangian that installs it (``"taylor"``), if there is one.
+    """
+
+    def __init__(self, feature: str, package: str, extra: str | None = None):
+        self.feature = feature
+        self.package = package
+        self.extra = extra
+        how = (
+            f'pip install ".[{extra}]" in a clone of lagrangian'
+            if extra
+            else f"pip install {package}"
+        )
+        super().__init__(f"{feature} needs {package}: {how}")
 
 
 class LagrangianWarning(UserWarning):

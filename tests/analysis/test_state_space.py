@@ -336,7 +336,7 @@ def test_to_control_poles_of_the_upright_cart_pole():
 def test_to_control_without_python_control_says_what_to_install(monkeypatch):
     monkeypatch.setitem(sys.modules, "control", None)  # import control -> ImportError
     linear = lg.loads(CART_POLE).state_space(at={"theta": 0})
-    with pytest.raises(lg.LagrangianError, match=r"python-control is not installed"):
+    with pytest.raises(lg.MissingDependencyError, match=r"needs python-control: pip install"):
         linear.to_control()
 
 

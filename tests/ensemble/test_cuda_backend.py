@@ -22,7 +22,7 @@ from lagrangian.ensemble.cuda_backend import integrate_cuda, source_of
 from lagrangian.ensemble.cuda_cpu import compiler, integrate_on_cpu
 from lagrangian.ensemble.cuda_source import kernel_source
 from lagrangian.ensemble.members import members
-from lagrangian.errors import ModelError
+from lagrangian.errors import MissingDependencyError, ModelError
 from lagrangian.integrate import method_class
 from lagrangian.numeric import compile_equations
 
@@ -243,10 +243,11 @@ def test_errors_are_one_line(compiled_systems, monkeypatch):
     integrator = method_class("rk4").configure(t_span=(0.0, 1.0), dt=0.1)
     y0, params = np.zeros((2, 1)), compiled.parameter_vector()
     monkeypatch.setitem(sys.modules, "cupy", None)  # import cupy raises ImportError
-    with pytest.raises(ModelError) as caught:
+    with pytest.raises(MissingDependencyError) as caught:
         integrate_cuda(compiled, integrator, y0, params, 1.0, ("final_state",))
     assert str(caught.value) == (
-        "backend 'cuda' needs CuPy and an NVIDIA GPU: pip install 'lagrangian[cuda]'"
+        "backend 'cuda' needs CuPy and an NVIDIA GPU: "
+        'pip install ".[cuda]" in a clone of lagrangian'
     )
     with pytest.raises(ModelError, match=r"^unknown precision 'half' \(precisions: float64, "):
         integrate_on_cpu(compiled, integrator, y0, params, 1.0, ("final_state",), precision="half")

@@ -9,7 +9,7 @@ import xarray as xr
 import lagrangian as lg
 from lagrangian.cli import ExitStatus, main
 from lagrangian.ensemble import EnsembleTrajectory, ensemble_of_system, run_ensemble
-from lagrangian.errors import ModelError
+from lagrangian.errors import MissingDependencyError, ModelError
 from lagrangian.integrate import simulate
 from lagrangian.numeric import compile_equations
 
@@ -108,7 +108,9 @@ def test_cuda_without_a_gpu_says_what_to_install(pendulum1, monkeypatch):
     import sys
 
     monkeypatch.setitem(sys.modules, "cupy", None)  # as if CuPy were not installed
-    with pytest.raises(ModelError, match=r"^backend 'cuda' needs CuPy and an NVIDIA GPU"):
+    with pytest.raises(
+        MissingDependencyError, match=r"^backend 'cuda' needs CuPy and an NVIDIA GPU"
+    ):
         run_ensemble(pendulum1, initial={"theta": [0.1]}, t_end=1, backend="cuda")
 
 

@@ -11,7 +11,7 @@ import lagrangian as lg
 from lagrangian.ensemble import jax_backend
 from lagrangian.ensemble.jax_backend import integrate_jax
 from lagrangian.ensemble.numpy_backend import integrate_chunk
-from lagrangian.errors import ModelError
+from lagrangian.errors import MissingDependencyError, ModelError
 from lagrangian.integrate import method_class
 from lagrangian.integrate.variational import Variational
 from lagrangian.numeric import compile_equations
@@ -182,6 +182,8 @@ def test_without_jax_the_error_names_the_extra(monkeypatch):
 
     monkeypatch.setattr(builtins, "__import__", no_jax)
     system = compiled("simple_pendulum")
-    with pytest.raises(ModelError) as error:
+    with pytest.raises(MissingDependencyError) as error:
         integrate_jax(system, Variational(dt=0.1), members(system), [9.81, 1.0], 1.0, ALL)
-    assert str(error.value) == "backend 'jax' needs JAX: pip install 'lagrangian[jax]'"
+    assert str(error.value) == (
+        "backend 'jax' needs JAX: pip install \".[jax]\" in a clone of lagrangian"
+    )

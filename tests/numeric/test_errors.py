@@ -147,9 +147,11 @@ def test_unknown_backend():
 def test_jax_missing(monkeypatch):
     monkeypatch.setitem(sys.modules, "jax", None)  # import jax now raises ImportError
     monkeypatch.setitem(sys.modules, "jax.numpy", None)
-    with pytest.raises(lg.ModelError) as error:
+    with pytest.raises(lg.MissingDependencyError) as error:
         compile_equations(equations("simple_pendulum"), backend="jax")
-    assert str(error.value) == "backend 'jax' needs JAX: pip install 'lagrangian[jax]'"
+    assert str(error.value) == (
+        "backend 'jax' needs JAX: pip install \".[jax]\" in a clone of lagrangian"
+    )
 
 
 def test_numpy_backend_does_not_import_jax():

@@ -7,7 +7,7 @@ import sys
 import numpy as np
 import pytest
 
-from lagrangian.errors import ModelError
+from lagrangian.errors import MissingDependencyError
 from lagrangian.integrate import simulate
 from lagrangian.numeric import compile_equations
 
@@ -117,6 +117,8 @@ def test_constrained_systems_keep_numpy_with_a_warning():
 
 def test_missing_numba_is_an_error_naming_the_extra(monkeypatch):
     monkeypatch.setitem(sys.modules, "numba", None)  # import numba raises ImportError
-    with pytest.raises(ModelError) as error:
+    with pytest.raises(MissingDependencyError) as error:
         compile_equations(equations("harmonic_oscillator"), backend="numba")
-    assert str(error.value) == "backend 'numba' needs numba: pip install 'lagrangian[numba]'"
+    assert str(error.value) == (
+        "backend 'numba' needs numba: pip install \".[numba]\" in a clone of lagrangian"
+    )

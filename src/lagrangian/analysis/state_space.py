@@ -36,7 +36,7 @@ from sympy.core.function import AppliedUndef
 
 from ..algebra import tidy
 from ..derive import EquationsOfMotion
-from ..errors import LagrangianError, ModelError
+from ..errors import MissingDependencyError, ModelError
 from ..model import System
 from .modes import vanishes
 from .operating_point import OperatingPoint, chosen_inputs, chosen_outputs, first_equilibrium
@@ -136,7 +136,7 @@ class StateSpace:
         try:
             import control
         except ImportError:
-            raise LagrangianError("python-control is not installed (pip install control)") from None
+            raise MissingDependencyError("to_control()", "python-control", "control") from None
         numbers = self.numeric(params)
         return control.ss(
             numbers.A,

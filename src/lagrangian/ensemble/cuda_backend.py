@@ -15,7 +15,7 @@ tolerance of 1e-14; they use ``FLOAT32_NEWTON_TOL`` and ``FLOAT32_ROUNDING_FLOOR
 (a few float32 ulps) unless the integrator asks for more.  The module is
 compiled by NVRTC through ``cupy.RawModule`` once per process and text
 (CuPy keeps the machine code on disk itself).  CuPy is imported only when a
-kernel runs (``pip install 'lagrangian[cuda]'``).
+kernel runs (``pip install ".[cuda]"``).
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import MissingDependencyError, ModelError
 from ..integrate.fixed_step import step_grid
 from ..integrate.variational import ROUNDING_FLOOR
 from .cuda_source import KERNEL_PARAMETERS, PRECISIONS, kernel_source
@@ -176,9 +176,7 @@ def _cupy():
     try:
         import cupy
     except ImportError:
-        raise ModelError(
-            "backend 'cuda' needs CuPy and an NVIDIA GPU: pip install 'lagrangian[cuda]'"
-        ) from None
+        raise MissingDependencyError("backend 'cuda'", "CuPy and an NVIDIA GPU", "cuda") from None
     try:
         count = cupy.cuda.runtime.getDeviceCount()
     except Exception:  # CUDARuntimeError without a driver; its text spans lines

@@ -11,7 +11,7 @@ back in chunk order.
 Without ``scheduler`` a ``LocalCluster`` of two worker processes, one thread
 each, is started for the run and closed after it; with an address
 (``tcp://host:port``) the run uses that cluster.  dask is imported here only
-(``pip install 'lagrangian[dask]'``).
+(``pip install ".[dask]"``).
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import MissingDependencyError, ModelError
 from .numpy_backend import integrate_chunk
 
 if TYPE_CHECKING:
@@ -38,9 +38,7 @@ def _distributed():
         import cloudpickle
         import distributed
     except ImportError:  # pragma: no cover - depends on the environment
-        raise ModelError(
-            "backend 'dask' needs dask.distributed: pip install 'lagrangian[dask]'"
-        ) from None
+        raise MissingDependencyError("backend 'dask'", "dask.distributed", "dask") from None
     return distributed, cloudpickle
 
 

@@ -30,7 +30,7 @@ In float32 the Newton tolerances are raised to float32 rounding (see
 :func:`_tolerances`).  One jitted loop is kept per compiled system and
 integrator settings (and precision, saving, flip tracking); JAX retraces it
 only for a new chunk shape (the last chunk is padded to the others' size).
-JAX is imported here only (``pip install 'lagrangian[jax]'``).
+JAX is imported here only (``pip install ".[jax]"``).
 """
 
 from __future__ import annotations
@@ -42,11 +42,10 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import MissingDependencyError, ModelError
 from ..integrate.explicit_rk import AbstractExplicitRungeKutta
 from ..integrate.fixed_step import step_grid
 from ..integrate.variational import ROUNDING_FLOOR, STALL_RATIO, Variational
-from ..numeric.backends import JAX_MISSING
 from .observables import finish
 
 if TYPE_CHECKING:
@@ -66,7 +65,7 @@ def _jax():
     try:
         import jax
     except ImportError:
-        raise ModelError(JAX_MISSING) from None
+        raise MissingDependencyError("backend 'jax'", "JAX", "jax") from None
     return jax
 
 

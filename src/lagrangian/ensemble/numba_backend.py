@@ -12,7 +12,7 @@ numba caches the loop's machine code on disk too) follow the numpy backend step
 for step on the same step grid, so results agree with it to rounding.  One member per ``prange``
 iteration; a member asking only for ``flip_time`` stops when it has flipped.
 
-numba is imported here only (``pip install 'lagrangian[numba]'``).
+numba is imported here only (``pip install ".[numba]"``).
 Constrained systems are not handled (use the numpy backend).
 """
 
@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import MissingDependencyError, ModelError
 from ..integrate.fixed_step import step_grid
 from ..integrate.variational import ROUNDING_FLOOR
 from .observables import finish, stops_early
@@ -43,7 +43,7 @@ def _numba():
     try:
         import numba
     except ImportError:  # pragma: no cover - depends on the environment
-        raise ModelError("backend 'numba' needs numba: pip install 'lagrangian[numba]'") from None
+        raise MissingDependencyError("backend 'numba'", "numba", "numba") from None
     return numba
 
 

@@ -3,7 +3,7 @@
 ``simulate(compiled, t_end=..., method=...)`` is the entry point; the methods
 (registry ``METHODS``) are ``dop853`` and ``radau`` (SciPy, adaptive),
 ``rk4`` (fixed step), ``variational`` (fixed step, symplectic) and ``taylor``
-(heyoka's Taylor method, optional: ``pip install 'lagrangian[taylor]'``).
+(heyoka's Taylor method, optional: ``pip install ".[taylor]"``).
 """
 
 from .base import AbstractIntegrator, IntegrationResult, Status

@@ -2,7 +2,7 @@
 
 heyoka (F. Biscani and D. Izzo, "Revisiting high-order Taylor methods for
 astrodynamics and celestial mechanics", MNRAS 504 (2021) 2614-2628;
-``pip install 'lagrangian[taylor]'``) integrates an explicit ODE by adaptive
+``pip install ".[taylor]"``) integrates an explicit ODE by adaptive
 Taylor series of high order (15 to 25 here), generated as machine code by LLVM.
 It is fed from our equations: M and f of M q'' = f (:mod:`lagrangian.numeric.forms`,
 declared functions replaced by their definitions) converted with
@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import MissingDependencyError, ModelError
 from .base import (
     AbstractIntegrator,
     IntegrationResult,
@@ -45,7 +45,6 @@ from .events import Event
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
 
-HEYOKA_MISSING = "method 'taylor' needs heyoka: pip install 'lagrangian[taylor]'"
 _BUILT: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 _LOCK = threading.Lock()
 
@@ -80,7 +79,7 @@ class Taylor(AbstractIntegrator):
         try:
             import heyoka  # noqa: F401
         except ImportError:
-            raise ModelError(HEYOKA_MISSING) from None
+            raise MissingDependencyError("method 'taylor'", "heyoka", "taylor") from None
         if compiled.has_constraints:
             raise ModelError("method 'taylor' does not handle constraints: use dop853 or radau")
 

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import MissingDependencyError, ModelError
 
 Array = Any  # numpy.ndarray or jax.Array
 
@@ -146,9 +146,6 @@ def numpy_backend() -> ArrayBackend:
 
 
 # -- JAX -------------------------------------------------------------------------
-JAX_MISSING = "backend 'jax' needs JAX: pip install 'lagrangian[jax]'"
-
-
 def jax_backend() -> ArrayBackend:
     """The JAX backend: the same functions, traceable by ``jax.jit`` and ``jax.vmap``.
 
@@ -158,7 +155,7 @@ def jax_backend() -> ArrayBackend:
         import jax
         import jax.numpy as jnp
     except ImportError:
-        raise ModelError(JAX_MISSING) from None
+        raise MissingDependencyError("backend 'jax'", "JAX", "jax") from None
 
     def stack(values: Sequence[Any], batch_shape: tuple[int, ...]):
         dtype = jnp.result_type(float)  # float64 with x64 enabled, else float32

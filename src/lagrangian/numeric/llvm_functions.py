@@ -26,11 +26,10 @@ import numpy as np
 
 from ..algebra import to_symengine
 from ..distributions import without_distributions
-from ..errors import ModelError
+from ..errors import MissingDependencyError
 from .compiled import CompiledSystem
 from .forms import SymbolicForms
 
-LLVM_MISSING = "backend 'llvm' needs SymEngine built with LLVM (the symengine wheels are)"
 SCALARS = (float, int, np.float64)
 
 
@@ -48,9 +47,11 @@ def llvm_available() -> bool:
 
 
 def check_llvm() -> None:
-    """A ModelError naming what is missing when SymEngine has no LLVM."""
+    """A MissingDependencyError naming what is missing when SymEngine has no LLVM."""
     if not llvm_available():
-        raise ModelError(LLVM_MISSING)
+        raise MissingDependencyError(
+            "backend 'llvm'", "SymEngine built with LLVM (the symengine wheels are)"
+        )
 
 
 def with_llvm_functions(forms: SymbolicForms, compiled: CompiledSystem) -> CompiledSystem:

@@ -14,7 +14,7 @@ result: inf or NaN, which the integrators report, or its singular-matrix error.
 
 Constrained systems keep the NumPy functions for now (a warning says so).
 numba is imported only when a numba function is first called with one state,
-or by :func:`check_numba` (``pip install 'lagrangian[numba]'``).
+or by :func:`check_numba` (``pip install ".[numba]"``).
 """
 
 from __future__ import annotations
@@ -27,11 +27,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import LagrangianWarning, ModelError
+from ..errors import LagrangianWarning, MissingDependencyError
 from .compiled import CompiledSystem
 from .forms import SymbolicForms
-
-NUMBA_MISSING = "backend 'numba' needs numba: pip install 'lagrangian[numba]'"
 
 #: The CompiledSystem fields the numba kernels provide, with their argument form.
 STATE_FUNCTIONS = ("rhs", "energy")  # (t, y, params)
@@ -45,11 +43,11 @@ SCALARS = (
 
 
 def check_numba() -> None:
-    """A ModelError naming the extra to install when numba is missing."""
+    """A MissingDependencyError naming the extra to install when numba is missing."""
     try:
         import numba  # noqa: F401
     except ImportError:
-        raise ModelError(NUMBA_MISSING) from None
+        raise MissingDependencyError("backend 'numba'", "numba", "numba") from None
 
 
 def with_numba_functions(forms: SymbolicForms, compiled: CompiledSystem) -> CompiledSystem:
