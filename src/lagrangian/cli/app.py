@@ -10,6 +10,8 @@ import time
 import click
 
 from ..integrate.pace import RUN_SECONDS
+from ..integrate.registry import METHODS
+from ..numeric.compile import RUN_BACKENDS
 
 MODEL_HELP = "MODEL is a model file (TOML) or the name of a built-in example."
 
@@ -260,7 +262,7 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
 @click.option("--t-end", type=float, help="End time (default: the model's [simulate] t_end).")
 @click.option(
     "--method",
-    type=click.Choice(["dop853", "radau", "rk4", "variational", "taylor"]),
+    type=click.Choice(list(METHODS)),
     help="Integrator (default: the model's, else dop853).",
 )
 @click.option("--dt", type=float, help="Step of the fixed-step methods (rk4, variational).")
@@ -276,7 +278,7 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
 @define_option
 @click.option(
     "--backend",
-    type=click.Choice(["llvm", "numpy", "numba"]),
+    type=click.Choice(sorted(RUN_BACKENDS)),
     default=None,
     help="Compiled code: llvm (the default where SymEngine has it, else numpy) compiles "
     "in milliseconds; numba generates machine code, cached on disk (pip install numba).",

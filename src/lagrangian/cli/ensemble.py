@@ -5,6 +5,7 @@ from __future__ import annotations
 import click
 import numpy as np
 
+from ..ensemble.core import BACKENDS, METHODS, PRECISIONS
 from .app import (
     MODEL_HELP,
     _assignments,
@@ -55,14 +56,14 @@ def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
 )
 @click.option(
     "--backend",
-    type=click.Choice(["numpy", "numba", "jax", "cuda", "dask"]),
+    type=click.Choice(list(BACKENDS)),
     default="numpy",
     show_default=True,
     help="How the members are integrated (jax and cuda: on a GPU).",
 )
 @click.option(
     "--precision",
-    type=click.Choice(["float64", "float32"]),
+    type=click.Choice(list(PRECISIONS)),
     default="float64",
     show_default=True,
     help="Floating point of backends jax and cuda.",
@@ -77,7 +78,7 @@ def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
 )
 @click.option("--t-end", type=float, help="End time (default: the model's t_end).")
 @click.option("--dt", type=float, help="Step (default: the model's dt, else t_end / 1000).")
-@click.option("--method", type=click.Choice(["rk4", "variational"]), help="Integrator.")
+@click.option("--method", type=click.Choice(list(METHODS)), help="Integrator.")
 @click.option(
     "--set",
     "assignments",

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import click
 
+from ..export import LANGUAGES
 from .app import MODEL_HELP, _definitions, app, define_option
 
 
@@ -12,7 +13,7 @@ from .app import MODEL_HELP, _definitions, app, define_option
 @click.option(
     "--to",
     "language",
-    type=click.Choice(["c", "julia", "matlab", "numpy"]),
+    type=click.Choice(list(LANGUAGES)),
     required=True,
     help="The language of the file.",
 )

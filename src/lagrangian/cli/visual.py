@@ -13,11 +13,11 @@ from pathlib import Path
 import click
 
 from ..files import check_output_path, output_error
+from ..integrate.registry import METHODS
 from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app, timeout_option
 
 PLOT_KINDS = ("timeseries", "phase", "energy", "poincare", "modes")
 TRAJECTORY_SUFFIXES = (".csv", ".nc")
-METHODS = ("dop853", "radau", "rk4", "variational")
 #: The demo: the double pendulum released from theta1 = 2, theta2 = 0.5 (chaotic).
 DEMO_MODEL = "double_pendulum"
 DEMO_INITIAL = {"theta1": 2.0, "theta2": 0.5}

@@ -52,6 +52,11 @@ JIT_BACKENDS: Mapping[
 )
 
 
+#: The backends a single run may use: NumPy and the generated kernels.  JAX is for
+#: ensembles (``jax.vmap``): called one state at a time it is far slower.
+RUN_BACKENDS: tuple[str, ...] = ("numpy", *JIT_BACKENDS)
+
+
 def default_backend() -> str:
     """The backend a single run uses unless told: ``"llvm"`` where SymEngine has LLVM.
 

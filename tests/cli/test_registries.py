@@ -1,0 +1,112 @@
+"""Every registered method, backend and language runs through every command that offers it.
+
+The CLI's choice lists are read from the registries (a method added to the
+registry is offered by every command at once): the choices are compared with
+the registries, and each one is run on a small model.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+
+import click
+import pytest
+
+from lagrangian.cli import ExitStatus, main
+from lagrangian.cli.app import app
+from lagrangian.ensemble import core as ensemble_core
+from lagrangian.export import LANGUAGES
+from lagrangian.integrate.registry import METHODS
+from lagrangian.numeric.compile import RUN_BACKENDS
+
+MODEL = "simple_pendulum"
+SHORT = ("--t-end", "0.3")
+
+
+def _choices(command: str, option: str) -> list[str]:
+    for parameter in app.commands[command].params:
+        if f"--{option}" in parameter.opts:
+            assert isinstance(parameter.type, click.Choice)
+            return list(parameter.type.choices)
+    raise AssertionError(f"{command} has no --{option}")
+
+
+@pytest.mark.parametrize(
+    ("command", "option", "registry"),
+    [
+        ("simulate", "method", METHODS),
+        ("plot", "method", METHODS),
+        ("animate", "method", METHODS),
+        ("simulate", "backend", RUN_BACKENDS),
+        ("ensemble", "method", ensemble_core.METHODS),
+        ("ensemble", "backend", ensemble_core.BACKENDS),
+        ("ensemble", "precision", ensemble_core.PRECISIONS),
+        ("export", "to", LANGUAGES),
+    ],
+)
+def test_choices_are_the_registries(command, option, registry):
+    assert sorted(_choices(command, option)) == sorted(registry)
+
+
+def _run(capsys, *argv) -> str:
+    status = main(list(argv))
+    captured = capsys.readouterr()
+    assert status == ExitStatus.SUCCESS, captured.err
+    return captured.out
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+def test_every_method_simulates(capsys, method):
+    summary = json.loads(_run(capsys, "simulate", MODEL, *SHORT, "--method", method, "--json"))
+    assert summary["method"] == method
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+@pytest.mark.parametrize(("command", "suffix"), [("plot", ".png"), ("animate", ".html")])
+def test_every_method_plots_and_animates(capsys, tmp_path, method, command, suffix):
+    out = tmp_path / f"figure{suffix}"
+    _run(capsys, command, MODEL, *SHORT, "--method", method, "--out", str(out))
+    assert out.stat().st_size > 0
+
+
+def test_every_run_backend_simulates_the_same_motion(capsys):
+    finals = {}
+    for backend in sorted(RUN_BACKENDS):
+        argv = ("simulate", MODEL, *SHORT, "--backend", backend, "--json")
+        finals[backend] = json.loads(_run(capsys, *argv))["final_state"]["theta"]
+    assert finals == pytest.approx({backend: finals["numpy"] for backend in finals}, rel=1e-9)
+
+
+def _ensemble_backend_missing(backend: str) -> str:
+    """Why ``backend`` cannot run here ("" when it can)."""
+    if backend == "cuda":
+        if importlib.util.find_spec("cupy") is None:
+            return "CuPy is not installed"
+        import cupy
+
+        try:
+            if cupy.cuda.runtime.getDeviceCount() < 1:
+                return "no NVIDIA GPU"
+        except Exception:  # no driver
+            return "no NVIDIA GPU"
+    return ""
+
+
+@pytest.mark.parametrize("backend", sorted(ensemble_core.BACKENDS))
+@pytest.mark.parametrize("method", sorted(ensemble_core.METHODS))
+def test_every_ensemble_backend_and_method(capsys, tmp_path, backend, method):
+    reason = _ensemble_backend_missing(backend)
+    if reason:
+        pytest.skip(f"backend {backend}: {reason}")
+    out = tmp_path / "runs.nc"
+    argv = ("ensemble", MODEL, "--grid", "theta=0.1:0.2:2", *SHORT, "--dt", "0.01")
+    _run(capsys, *argv, "--backend", backend, "--method", method, "--out", str(out))
+    assert out.stat().st_size > 0
+
+
+@pytest.mark.parametrize("language", sorted(LANGUAGES))
+def test_every_language_exports(capsys, tmp_path, language):
+    out = tmp_path / ("model" + LANGUAGES[language].suffix)
+    _run(capsys, "export", MODEL, "--to", language, "--out", str(out))
+    assert out.read_text().strip()
