@@ -40,3 +40,65 @@ def test_what_taylor_does_not_handle_is_refused():
     system = lg.load("double_pendulum")
     with pytest.raises(ModelError, match="does not apply to method 'taylor'"):
         system.simulate(t_end=1.0, method="taylor", dt=0.01)
+
+
+@pytest.mark.parametrize(
+    ("settings", "match"),
+    [
+        ({"rtol": 0.0}, "rtol must be a finite number > 0"),
+        ({"atol": 0.0}, "atol must be a finite number > 0"),
+        ({"rtol": float("nan")}, "rtol must be a finite number > 0"),
+        ({"rtol": 1e-300}, r"below what taylor can deliver in double precision: give --rtol"),
+        ({"atol": 1e-17}, r"below what taylor can deliver in double precision: give --atol"),
+    ],
+)
+def test_tolerances_it_cannot_use_are_refused(settings, match):
+    with pytest.raises(ModelError, match=match):
+        Taylor.configure(t_span=(0.0, 1.0), **settings)
+
+
+def test_the_tolerance_is_echoed_as_rtol_and_atol():
+    settings = Taylor.configure(t_span=(0.0, 1.0), rtol=1e-9, atol=1e-11).settings()
+    assert settings == {"method": "taylor", "tol": 1e-11, "rtol": 1e-11, "atol": 1e-11}
+
+
+def test_an_indefinite_mass_matrix_is_refused_naming_dop853():
+    # M = [[a, 1], [1, -1]]: elimination without pivoting on the tiny pivot a loses 9 digits
+    system = lg.System.from_lagrangian(
+        "a*x_dot**2/2 + x_dot*y_dot - y_dot**2/2 - x**2/2 - y**2/2",
+        coordinates=["x", "y"],
+        parameters={"a": 1e-9},
+    )
+    with pytest.raises(ModelError, match=r"needs a definite mass matrix .*: use dop853$"):
+        system.simulate(t_end=1.0, method="taylor", initial={"x": 1.0})
+    assert system.simulate(t_end=1.0, method="dop853", initial={"x": 1.0}).status == "success"
+
+
+def test_a_negative_definite_mass_matrix_is_solved():
+    # L = -(T - V): the same motion, M = -1 (every pivot negative: no pivoting needed)
+    system = lg.System.from_lagrangian("-x_dot**2/2 + x**2/2", coordinates=["x"])
+    trajectory = system.simulate(t_end=3.0, method="taylor", initial={"x": 1.0})
+    assert abs(trajectory.final_state["x"] - np.cos(3.0)) < 1e-12
+
+
+def test_rationals_heyoka_cannot_hold_exactly_become_doubles():
+    # x/10: heyoka takes only rationals with a power of 2 below the line
+    system = lg.System.from_lagrangian(
+        "x_dot**2/2 + y_dot**2/3 + x_dot*y_dot/10 - x**2/2 - y**2/2 - x*y/7",
+        coordinates=["x", "y"],
+    )
+    trajectory = system.simulate(t_end=5.0, method="taylor", initial={"x": 1.0})
+    reference = system.simulate(
+        t_end=5.0, method="dop853", rtol=1e-13, atol=1e-13, initial={"x": 1.0}
+    )
+    for name in ("x", "y", "x_dot", "y_dot"):
+        assert abs(trajectory.final_state[name] - reference.final_state[name]) < 1e-10
+
+
+def test_a_failure_names_the_last_finite_state():
+    system = lg.System.from_lagrangian("x_dot**2/2 - sqrt(x)", coordinates=["x"])
+    trajectory = system.simulate(t_end=3.0, method="taylor", initial={"x": 1.0})
+    assert trajectory.status == "failed"
+    message = trajectory.dataset.attrs["message"]
+    assert message.startswith("the state is not finite after t = 1.8856")
+    assert "x_dot = -1.4142" in message

@@ -163,6 +163,20 @@ def positive_setting(name: str, value: float) -> float:
     return number
 
 
+def tolerance_setting(name: str, value: float, *, method: str, floor: float, further: str) -> float:
+    """``value`` as a float, or ModelError when it is not finite and > 0 or below ``floor``,
+    the smallest tolerance ``method`` can use in double precision (``further``: where to go
+    for less).  A smaller one would be raised to the floor (SciPy) or cost without bound
+    (heyoka's Taylor order grows with -log(tol)) for no gain in accuracy."""
+    number = positive_setting(name, value)
+    if number < floor:
+        raise ModelError(
+            f"{name} = {number:g} is below what {method} can deliver in double precision: "
+            f"give --{name} {floor:.3g} or more{further}"
+        )
+    return number
+
+
 def reject_settings(method: str, kind: str, **given: float | None) -> None:
     """ModelError naming the settings in ``given`` that were set but do not apply."""
     extra = [name for name, value in given.items() if value is not None]

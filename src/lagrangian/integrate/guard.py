@@ -7,6 +7,9 @@ the motion reaches a singularity (V = -k/x at x = 0) a fixed-step method steps
 over it onto a finite but meaningless state.  The drivers of every method ask
 this module, and end the run with status ``failed`` and the message it gives:
 
+- :func:`parameter_problem`: L and M at the start are finite, unless a parameter's
+  value is the reason (``m = 0`` in ``x_dot^2/(2*m)``: y' = 0/inf is finite, so the
+  run would "succeed" with the energy NaN);
 - :func:`start_problem`: the state and y' = rhs(t0, y0) at the start are finite;
 - :func:`state_problem`: the state after a step is finite (every accepted step);
 - :func:`energy_jump`: on the steps of a fixed-step run of an unconstrained
@@ -50,6 +53,40 @@ def describe_state(compiled: CompiledSystem, y: np.ndarray) -> str:
         y = y[:, int(np.argmax(bad))]
     names = [*compiled.coordinate_names, *(f"{q}_dot" for q in compiled.coordinate_names)]
     return ", ".join(f"{name} = {value:.6g}" for name, value in zip(names, y.tolist(), strict=True))
+
+
+#: Where L or M is not finite at the start, each parameter in turn is given this value (a
+#: generic one: no division by it is zero, no root of it negative) to find the culprit.
+_GENERIC_VALUE = 1.2345
+
+
+def parameter_problem(
+    compiled: CompiledSystem, t: float, y: np.ndarray, params: np.ndarray
+) -> str | None:
+    """Why the parameters' values leave L or M without a finite value at the start (t, y),
+    naming the parameter whose value is the cause, or None (also where the state is)."""
+
+    def finite(values: np.ndarray) -> bool:
+        n = compiled.n
+        q, v = y[:n], y[n:]
+        with np.errstate(all="ignore"):
+            lagrangian = np.asarray(compiled.lagrangian(t, q, v, values), dtype=float)
+            mass = np.asarray(compiled.mass_matrix(t, q, v, values), dtype=float)
+        return bool(np.all(np.isfinite(lagrangian)) and np.all(np.isfinite(mass)))
+
+    params = np.asarray(params, dtype=float)
+    if params.ndim != 1 or finite(params):
+        return None
+    for j, name in enumerate(compiled.parameter_names):
+        changed = params.copy()
+        changed[j] = _GENERIC_VALUE
+        if finite(changed):
+            return (
+                f"parameter {name} = {params[j]:g} leaves the Lagrangian or the mass matrix "
+                f"undefined or infinite at the initial state ({describe_state(compiled, y)}), "
+                f"e.g. by a division by zero: give {name} another value"
+            )
+    return None
 
 
 def start_problem(

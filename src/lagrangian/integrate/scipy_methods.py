@@ -40,6 +40,7 @@ from .base import (
     check_time_span,
     positive_setting,
     reject_settings,
+    tolerance_setting,
 )
 from .events import Event, named, scipy_event
 from .guard import UNDEFINED, describe_state, start_problem, state_problem
@@ -69,13 +70,15 @@ class AbstractScipyIntegrator(AbstractIntegrator):
     needs: ClassVar[str] = "first_order"
 
     def __post_init__(self) -> None:
-        positive_setting("rtol", self.rtol)
+        # SciPy would raise rtol to 100 eps and say so only in a warning
+        tolerance_setting(
+            "rtol",
+            self.rtol,
+            method=self.name,
+            floor=MIN_RTOL,
+            further=" (method taylor goes further)",
+        )
         positive_setting("atol", self.atol)
-        if self.rtol < MIN_RTOL:  # SciPy would raise it to 100 eps and say so only in a warning
-            raise ModelError(
-                f"rtol = {self.rtol:g} is below what {self.name} can deliver in double "
-                f"precision: give --rtol {MIN_RTOL:.3g} or more (method taylor goes further)"
-            )
 
     @classmethod
     def configure(cls, *, t_span, dt=None, rtol=None, atol=None):

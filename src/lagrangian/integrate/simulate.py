@@ -30,6 +30,7 @@ from ..errors import ModelError
 from ..trajectory import Trajectory
 from .base import AbstractIntegrator, IntegrationResult, check_time_span
 from .events import Event
+from .guard import parameter_problem
 from .memory import check_fits, count_text, run_bytes
 from .registry import method_class
 
@@ -74,6 +75,9 @@ def simulate(
     p = compiled.parameter_vector(params)
     if compiled.has_constraints and compiled.project is not None:
         y0 = np.asarray(compiled.project(t_span[0], y0, p), dtype=float)
+    problem = parameter_problem(compiled, t_span[0], y0, p)
+    if problem is not None:
+        raise ModelError(problem)
     _check_memory(integrator, t_span, 2 * compiled.n, n_out=n_out, t_eval=t_eval)
     outputs = output_times(t_span, n_out=n_out, t_eval=t_eval)
     # Non-finite values are found and reported (integrate.guard): NumPy's warnings about

@@ -7,18 +7,29 @@ Taylor series of high order (15 to 25 here), generated as machine code by LLVM.
 It is fed from our equations: M and f of M q'' = f (:mod:`lagrangian.numeric.forms`,
 declared functions replaced by their definitions) converted with
 ``heyoka.from_sympy``, the parameters as heyoka's runtime parameters, and q'' =
-M^{-1} f written out as Gaussian elimination in heyoka's expressions (M of an
-unconstrained system is symmetric positive definite: no pivoting).
+M^{-1} f written out as Gaussian elimination in heyoka's expressions.  Those are
+symbolic, so the elimination cannot pivot on the values met along the motion; it
+is exact and backward stable without pivoting where M is definite (the pivots are
+ratios of leading principal minors; Higham, *Accuracy and Stability of Numerical
+Algorithms*, 2nd ed. 2002, 10.1), as M of a kinetic energy is.  M stays definite
+along a motion that starts where it is, until M is singular (an eigenvalue would
+have to pass 0), where no method goes on; so a start where M is indefinite (a
+legitimate but unusual Lagrangian, L = x'y' - V) is refused, naming dop853,
+which solves with pivoting at every step.
 
-One tolerance ``tol`` (heyoka's: relative and absolute at once; default 1e-15)
-sets the order and the step.  Measured (benchmarks/simulate.py --taylor): at
+One tolerance ``tol`` (heyoka's: relative and absolute at once; default 1e-15,
+echoed as ``rtol`` and ``atol``) sets the order and the step.  The order heyoka
+picks grows as -ln(tol)/2 (20 at machine epsilon, 346 at 1e-300, which builds for
+minutes), so tolerances below machine epsilon, which double precision cannot
+deliver, are refused (:data:`MIN_TOL`); the build counts against the run's time
+budget (``watch`` is told the start time before it).  Measured (benchmarks/simulate.py --taylor): at
 1e-15 it is 2-3 orders of magnitude faster than DOP853 for the same or smaller
 error, at 1e-10 still about 100x.  Outputs are heyoka's steps, or with
 ``t_eval`` its dense output there.  Not handled: constraints, events, batches (use
 dop853, radau or rk4).  The compiled integrator is kept per system and tolerance
 (its first build takes 0.1 s for the double pendulum, about 1.5 s for a 10-link
 chain).  A run fails with status ``failed`` where heyoka meets a state or a
-derivative that is not finite.
+derivative that is not finite, naming the last finite state.
 """
 
 from __future__ import annotations
@@ -37,16 +48,19 @@ from .base import (
     IntegrationResult,
     Status,
     check_time_span,
-    positive_setting,
     reject_settings,
+    tolerance_setting,
 )
 from .events import Event
+from .guard import UNDEFINED, describe_state, start_problem
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
 
 _BUILT: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 _LOCK = threading.Lock()
+#: The smallest tolerance, heyoka's default: machine epsilon (Taylor order 20).
+MIN_TOL = float(np.finfo(float).eps)
 
 
 @dataclass(frozen=True)
@@ -62,18 +76,23 @@ class Taylor(AbstractIntegrator):
     needs: ClassVar[str] = "first_order"
 
     def __post_init__(self) -> None:
-        positive_setting("tol", self.tol)
+        _tolerance("tol", self.tol)
 
     @classmethod
     def configure(cls, *, t_span, dt=None, rtol=None, atol=None):
         """``tol`` is the smaller of rtol and atol where given (heyoka has one tolerance)."""
         reject_settings(cls.name, "an adaptive method: give --rtol/--atol", dt=dt)
         check_time_span(t_span)
-        given = [positive_setting(n, v) for n, v in (("rtol", rtol), ("atol", atol)) if v]
+        given = [
+            _tolerance(name, value)
+            for name, value in (("rtol", rtol), ("atol", atol))
+            if value is not None
+        ]
         return cls(tol=min(given) if given else cls.tol)
 
     def settings(self) -> dict[str, object]:
-        return {"method": self.name, "tol": self.tol}
+        """heyoka's one tolerance is relative and absolute at once: echoed as both."""
+        return {"method": self.name, "tol": self.tol, "rtol": self.tol, "atol": self.tol}
 
     def check(self, compiled: CompiledSystem) -> None:
         try:
@@ -103,35 +122,53 @@ class Taylor(AbstractIntegrator):
         y0 = np.array(y0, dtype=float)
         if y0.ndim != 1:
             raise ModelError("method 'taylor' integrates one trajectory, not a batch")
+        params = np.asarray(params, dtype=float)
+        problem = start_problem(compiled, t0, y0, params)
+        if problem is not None:  # as dop853 reports it
+            return self._result(compiled, np.array([t0]), y0[:, None], Status.FAILED, problem, 0)
+        _check_definite(compiled, t0, y0, params)
+        if watch is not None:  # the budget's clock starts before the build, which counts
+            watch(t0)
         integrator = _integrator(compiled, self.tol)
+        if watch is not None:
+            watch(t0)
         integrator.time = t0
         integrator.state[:] = y0
-        integrator.pars[:] = np.asarray(params, dtype=float)
-        status, message = Status.SUCCESS, "reached the end time"
+        integrator.pars[:] = params
+        last = _LastState(t0, y0, watch)
         if t_eval is not None:
             grid = np.asarray(t_eval, dtype=float)
-            outcome, _, _, steps, _, states = integrator.propagate_grid(
-                grid, **_step_callback(watch)
-            )
+            outcome, _, _, steps, _, states = integrator.propagate_grid(grid, callback=last)
             times, values = grid, np.asarray(states).T
             if outcome != hy.taylor_outcome.time_limit:
-                reached = int(np.searchsorted(grid, integrator.time, side="right"))
+                reached = int(np.searchsorted(grid, last.t, side="right"))
                 times, values = grid[:reached], values[:, :reached]
         else:
             times, values, steps, outcome = [t0], [y0], 0, hy.taylor_outcome.time_limit
             while integrator.time < t1:
                 outcome, _ = integrator.step(max_delta_t=t1 - integrator.time)
                 steps += 1
-                if watch is not None:
-                    watch(integrator.time)
                 if outcome not in (hy.taylor_outcome.success, hy.taylor_outcome.time_limit):
                     break
+                last(integrator)
                 times.append(integrator.time)
                 values.append(np.array(integrator.state))
             times, values = np.array(times), np.stack(values, axis=-1)
-        if outcome not in (hy.taylor_outcome.success, hy.taylor_outcome.time_limit):
-            status = Status.FAILED
-            message = f"heyoka stopped ({outcome.name}) at t = {float(integrator.time):.17g}"
+        if outcome in (hy.taylor_outcome.success, hy.taylor_outcome.time_limit):
+            return self._result(
+                compiled, times, values, Status.SUCCESS, "reached the end time", steps
+            )
+        where = f"t = {last.t:.6g} ({describe_state(compiled, last.y)})"
+        if outcome == hy.taylor_outcome.err_nf_state:
+            message = (
+                f"the state is not finite after {where}: {UNDEFINED}, "
+                "or the motion reaches a singularity"
+            )
+        else:
+            message = f"heyoka stopped ({outcome.name}) after {where}"
+        return self._result(compiled, times, values, Status.FAILED, message, steps)
+
+    def _result(self, compiled, times, values, status, message, steps) -> IntegrationResult:
         return IntegrationResult(
             t=np.asarray(times, dtype=float),
             y=values,
@@ -173,8 +210,8 @@ def _build(compiled: CompiledSystem, tol: float):
     replace |= {symbol: hy.par[j] for j, symbol in enumerate(forms.parameters)}
     mass, forcing = forms.mass_matrix, forms.forcing
     try:
-        matrix = [[hy.from_sympy(mass[i, j], replace) for j in range(n)] for i in range(n)]
-        force = [hy.from_sympy(forcing[i, 0], replace) for i in range(n)]
+        matrix = [[_from_sympy(mass[i, j], replace) for j in range(n)] for i in range(n)]
+        force = [_from_sympy(forcing[i, 0], replace) for i in range(n)]
     except (TypeError, ValueError) as error:
         raise ModelError(f"method 'taylor' cannot express the equations: {error}") from None
     accelerations = eliminated(matrix, force)
@@ -182,6 +219,21 @@ def _build(compiled: CompiledSystem, tol: float):
     state = np.zeros(2 * n)
     parameters = np.zeros(len(forms.parameters))
     return hy.taylor_adaptive(ode, state, tol=tol, pars=parameters, compact_mode=n > 2)
+
+
+def _from_sympy(expression, replace: dict):
+    """heyoka's expression of a SymPy one; a rational heyoka cannot hold exactly (a
+    denominator that is not a power of 2, as in x/10) becomes the nearest double, as in
+    every other compiled form."""
+    import heyoka as hy
+    import sympy
+
+    inexact = {
+        number: sympy.Float(number, precision=53)
+        for number in expression.atoms(sympy.Rational)
+        if number.q & (number.q - 1)
+    }
+    return hy.from_sympy(expression.xreplace(inexact) if inexact else expression, replace)
 
 
 def eliminated(matrix: list, force: list) -> list:
@@ -202,14 +254,41 @@ def eliminated(matrix: list, force: list) -> list:
     return x
 
 
-def _step_callback(watch: Callable[[float], None] | None) -> dict:
-    """heyoka's step callback telling ``watch`` the time reached (an exception it raises
-    ends the propagation and reaches the caller)."""
-    if watch is None:
-        return {}
+def _tolerance(name: str, value: float) -> float:
+    return tolerance_setting(name, value, method="taylor", floor=MIN_TOL, further="")
 
-    def told(integrator) -> bool:
-        watch(integrator.time)
+
+def _check_definite(compiled: CompiledSystem, t: float, y: np.ndarray, params: np.ndarray) -> None:
+    """ModelError unless M at (t, y) is definite, as the elimination without pivoting needs
+    (see the module docstring)."""
+    n = compiled.n
+    mass = np.asarray(compiled.mass_matrix(t, y[:n], y[n:], params), dtype=float)
+    if not np.all(np.isfinite(mass)):
+        raise ModelError(
+            f"the mass matrix is not finite at the initial state ({describe_state(compiled, y)})"
+        )
+    eigenvalues = np.linalg.eigvalsh((mass + mass.T) / 2)
+    if eigenvalues[0] > 0 or eigenvalues[-1] < 0:
+        return
+    raise ModelError(
+        "method 'taylor' solves M q'' = f without pivoting, which needs a definite mass "
+        f"matrix M (as a kinetic energy gives), and M at the initial state is not "
+        f"(eigenvalues from {eigenvalues[0]:.3g} to {eigenvalues[-1]:.3g}): use dop853"
+    )
+
+
+class _LastState:
+    """heyoka's step callback: keeps the last finite (time, state) reached, which names
+    where a failed run stopped (heyoka leaves NaN there), and tells ``watch`` the time (an
+    exception it raises ends the propagation and reaches the caller)."""
+
+    def __init__(self, t: float, y: np.ndarray, watch: Callable[[float], None] | None):
+        self.t, self.y, self.watch = float(t), np.array(y, dtype=float), watch
+
+    def __call__(self, integrator) -> bool:
+        state = np.array(integrator.state, dtype=float)
+        if np.isfinite(integrator.time) and np.all(np.isfinite(state)):
+            self.t, self.y = float(integrator.time), state
+        if self.watch is not None:
+            self.watch(integrator.time)
         return True
-
-    return {"callback": told}
