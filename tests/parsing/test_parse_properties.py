@@ -140,6 +140,34 @@ def test_random_expressions_with_constants_anywhere(text):
     check(text)
 
 
+# -- huge constants under the functions whose value SymPy decides by evaluating ----------
+# (atan2(x, -cosh(cosh(123456789))) evaluated at ever higher precision, for minutes)
+
+_BIG = st.sampled_from(["123456789", "1000", "710", "-800", "10**99", "1e300", "x", "pi"])
+_GROWTH = st.sampled_from(["exp", "cosh", "sinh", "-exp", "-cosh", "1 - cosh", "1/exp"])
+
+
+def _grown(children):
+    return st.tuples(_GROWTH, children).map(lambda c: f"{c[0]}({c[1]})")
+
+
+huge_constants = st.recursive(_BIG, _grown, max_leaves=4)
+deciders = st.one_of(
+    st.tuples(st.sampled_from(["sign", "Abs", "acos", "asin", "log", "sqrt", "atan", "sin"]),
+              huge_constants).map(lambda c: f"{c[0]}({c[1]})"),
+    st.tuples(huge_constants, huge_constants).map(lambda c: f"atan2({c[0]}, {c[1]})"),
+    st.tuples(huge_constants, st.sampled_from(["2", "(1/2)", "E", "x", "(-2)"])).map(
+        lambda c: f"{c[1]}**({c[0]})"
+    ),
+)  # fmt: skip
+
+
+@settings(SETTINGS, max_examples=300)
+@given(deciders)
+def test_huge_constants_where_sympy_decides_by_evaluating(text):
+    check(text)
+
+
 @settings(SETTINGS, max_examples=150)
 @given(random_expressions)
 def test_random_expressions_in_a_model(text):

@@ -7,12 +7,18 @@ sum and function call the size of the exact numbers it could create is
 estimated (:mod:`.limits`) and refused above the limits.  Division by zero and
 other infinite or undefined results are refused where they arise, and so is
 every power or function value that is not real (``sqrt(-1)``, ``acos(2)``:
-:mod:`.constants`), the only places where real arguments can give one.
+:mod:`.constants`), the only places where real arguments can give one.  A
+constant beyond the range of double precision (``cosh(123456789)``,
+``exp(-10**6)``, ``2**exp(700)``) is refused where ``exp``, ``sinh``, ``cosh`` or a
+power make it: no numerical stage could use it, and SymPy deciding the sign of
+one (``sign``, ``Abs``, ``atan2``) evaluates it at ever higher precision, for
+minutes.
 """
 
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Callable, Sequence
 
 import sympy
@@ -46,6 +52,12 @@ _NON_FINITE = (sympy.S.ComplexInfinity, sympy.S.NaN, sympy.S.Infinity, sympy.S.N
 _TRIGONOMETRIC = frozenset({"sin", "cos", "tan", "cot", "sec", "csc"})
 _INVERSE_TRIGONOMETRIC = (sympy.asin, sympy.acos, sympy.atan, sympy.atan2)
 _HALF = sympy.Rational(1, 2)
+#: ln of the largest double and of the smallest (subnormal) one: e**x beyond them is not
+#: a double (inf or 0).
+_LOG_LARGEST = math.log(sys.float_info.max)
+_LOG_SMALLEST = math.log(math.ulp(0.0))
+#: For ``sinh`` and ``cosh`` (e**|x| / 2): only their size can leave the range.
+_GROWING = {"sinh", "cosh"}
 
 
 def build_expression(
@@ -150,6 +162,9 @@ class _Builder:
             return self.power(args[0], _HALF, position, shown=shown)
         if name == "exp":
             self.check_exp(args[0], position)
+            self.check_range(args[0], sympy.S.One, shown, position)
+        elif name in _GROWING:
+            self.check_range(sympy.Abs(args[0]), sympy.S.One, shown, position, growing=True)
         elif name in _TRIGONOMETRIC and isinstance(args[0], _INVERSE_TRIGONOMETRIC):
             # cos(asin(r)) is sqrt(1 - r**2): a root of a number twice as long as r.
             self.check_root(2 * sum(numeric_size(arg) for arg in args[0].args), position)
@@ -197,6 +212,10 @@ class _Builder:
     def power(
         self, base: sympy.Expr, exponent: sympy.Expr, position: int, shown: str = ""
     ) -> sympy.Expr:
+        exact = base.is_Rational and exponent.is_Rational  # bounded by its digits instead
+        if base.is_number and exponent.is_number and not exact:
+            log_base = sympy.log(sympy.Abs(base, evaluate=False), evaluate=False)
+            self.check_range(exponent, log_base, shown or f"({base})**({exponent})", position)
         if exponent.is_Rational:
             self.check_power(base, exponent, position)
             if base == 0 and exponent < 0:
@@ -247,6 +266,36 @@ class _Builder:
         self.check_digits(exp_size(argument), position)
         if roots > ROOT_DIGITS_LIMIT:
             self.check_root(roots, position)
+
+    def check_range(
+        self,
+        exponent: sympy.Expr,
+        log_base: sympy.Expr,
+        shown: str,
+        position: int,
+        *,
+        growing: bool = False,
+    ) -> None:
+        """Refuse the constant ``shown``, of size e**(exponent*log_base) (``growing``: about
+        half that, as cosh), where it is certainly beyond the range of double precision."""
+        if not exponent.is_number:
+            return
+        try:
+            bounds = self.constants.bounds(sympy.Mul(exponent, log_base, evaluate=False))
+        except NotRealError:
+            return  # not real: refused as such where it is built
+        if bounds is None:
+            return
+        low, high = bounds
+        if growing:
+            low, high = low - math.log(2), high - math.log(2)
+        if low > _LOG_LARGEST or (high < _LOG_SMALLEST and not growing):
+            size = low if low > _LOG_LARGEST else high
+            raise self.error(
+                f"the number {_clip(shown)} is beyond double precision "
+                f"(about 10^{size / math.log(10):.4g})",
+                position,
+            )
 
     def check_real(self, result: sympy.Expr, shown: str, position: int) -> None:
         """Refuse a value that is not real: ``shown`` is the call or power as built."""

@@ -113,6 +113,14 @@ class RealConstants:
             known[node] = value if value is None or self._finite(value) else None
         return known[expr]
 
+    def bounds(self, expr: sympy.Basic) -> tuple[float, float] | None:
+        """The ends of the enclosure of ``expr`` as floats (beyond double: +-inf), or ``None``."""
+        value = self.enclosure(expr)
+        if value is None:
+            return None
+        low, high = self._ends(value)
+        return float(low), float(high)
+
     # -- one node from the enclosures of its arguments ----------------------------------
 
     def _evaluate(self, node: sympy.Basic, values: Sequence[object]):
