@@ -22,6 +22,10 @@ from .budget import exceeds, ops_exceed
 
 #: Largest operation count handed to ``trigsimp`` (tens of milliseconds at this size).
 TRIGSIMP_MAX_OPS = 120
+#: Longest number (digits) handed to ``trigsimp``: it factors polynomials by Wang's
+#: algorithm, which looks for a prime above the coefficients (``nextprime`` of a
+#: 600-digit bound took minutes for an inertia of 10**300).
+TRIGSIMP_MAX_DIGITS = 30
 #: Largest operation count for which ``expand`` and grouping are attempted at all.
 EXPAND_MAX_OPS = 4_000
 #: Largest coefficient (operation count) that is factored.
@@ -61,7 +65,8 @@ def tidy(expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = F
     if trig and expanded.has(sympy.sin, sympy.cos) and not _expands_far(expanded):
         expanded = _angle_sums_combined(expanded)
         ops = sympy.count_ops(expanded)
-        if ops <= TRIGSIMP_MAX_OPS and _has_trig_products(expanded):
+        short = not _has_long_numbers(expanded, TRIGSIMP_MAX_DIGITS)
+        if ops <= TRIGSIMP_MAX_OPS and short and _has_trig_products(expanded):
             candidate = sympy.trigsimp(expanded)
             if sympy.count_ops(candidate) < ops:
                 expanded = expand_products(candidate)
@@ -69,6 +74,12 @@ def tidy(expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = F
     if state and isinstance(expanded, sympy.Add):
         return group_by_state(expanded, state)
     return sympy.factor_terms(expanded)
+
+
+def _has_long_numbers(expr: sympy.Expr, digits: int) -> bool:
+    """Some rational of ``expr`` has a numerator or denominator longer than ``digits``."""
+    bound = 10**digits
+    return any(abs(r.p) >= bound or r.q >= bound for r in expr.atoms(sympy.Rational))
 
 
 def _angle_sums_combined(expr: sympy.Expr) -> sympy.Expr:

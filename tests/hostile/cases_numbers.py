@@ -29,3 +29,46 @@ CASES = [
         )
     ),
 ]
+
+BODY = """coordinates = ["phi", "theta", "psi"]
+[parameters]
+m = 1.0
+I = 1e200
+[[bodies]]
+name = "top"
+mass = "m"
+position = [0, 0, 0]
+inertia = [{inertia}]
+orientation = {{ euler = ["phi", "theta", "psi"] }}
+"""
+
+CASES += [
+    *(
+        HostileCase(
+            f"body-inertia-{name}",
+            ("derive", "{dir}/model.toml"),
+            error=r"model\.toml: bodies\[0\]\.inertia.*" + error,
+            model=BODY.format(inertia=inertia),
+        )
+        for name, inertia, error in (
+            ("10-to-400", '"10**400", "1", "1"', r"the number 1000.* beyond double precision"),
+            ("1e400-text", '"1e400", "1", "1"', r"the number 1000.* beyond double precision"),
+            ("1e400-literal", "1e400, 1, 1", r"expected a finite number, got inf"),
+            ("nan-literal", "nan, 1, 1", r"expected a finite number, got nan"),
+            ("square-beyond", '"I*I", "I", "I"', r"the inertia I\*\*2 = inf .* not a finite"),
+        )
+    ),
+    HostileCase(
+        "body-inertia-10-to-300-derived-quickly",
+        ("derive", "{dir}/model.toml", "--json"),
+        exit_code=0,
+        output=r'"mass_matrix"',
+        model=BODY.format(inertia='"10**300", "10**300 + 1", "3"'),
+    ),
+    HostileCase(
+        "spring-constant-beyond-double",
+        ("derive", "{dir}/model.toml"),
+        error=r"model\.toml: potential.*the number 1/1000.* beyond double precision",
+        model=_potential("x^2/10**400"),
+    ),
+]

@@ -2,19 +2,23 @@
 
 The TOML loader and the Python constructors both produce a :class:`ModelSpec`
 (:mod:`.spec`); :func:`build_system` checks its size, validates names, parses
-every expression with the safe parser, checks what each field may depend on,
-and assembles L = T - V.
+every expression with the safe parser, checks what each field may depend on
+and that its numbers are doubles (``10**400`` or ``1e-400`` cannot be simulated,
+and SymPy factors such integers in the simplifications that follow), and
+assembles L = T - V, within :data:`BUILD_SECONDS` (a deadline, as derive's).
 """
 
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 import sympy
 from sympy.core.function import AppliedUndef
 
+from ..budget import attempt
 from ..errors import ModelError, ParseError
 from ..parsing import (
     DeclaredFunction,
@@ -48,6 +52,13 @@ from .system import FunctionDeclaration, Parameter, System
 
 __all__ = ["ModelSpec", "build_system"]
 
+#: Seconds the model may take to build (the kinetic energy of bodies is simplified as it
+#: is assembled): the same bound as derive's, so that no model build runs unbounded.
+BUILD_SECONDS = 60.0
+#: log10 of the largest double and of the smallest (subnormal) one.
+_LARGEST_DIGITS = math.log10(sys.float_info.max)
+_SMALLEST_DIGITS = math.log10(math.ulp(0.0))
+
 
 def build_system(spec: ModelSpec) -> System:
     """Validate ``spec`` and build the frozen :class:`System` it describes.
@@ -56,7 +67,13 @@ def build_system(spec: ModelSpec) -> System:
     """
     try:
         check_size(spec)
-        return _Builder(spec).build()
+        system, undecided = attempt("model", BUILD_SECONDS, _Builder(spec).build)
+        if undecided is not None:
+            raise ModelError(
+                f"the model was not built within {BUILD_SECONDS:g} s: its expressions are "
+                "too costly to assemble"
+            )
+        return system
     except ModelError as error:
         raise error.located(source=spec.source) from None
 
@@ -185,6 +202,13 @@ class _Builder:
         else:
             raise ModelError(
                 f"expected an expression, got {type(value).__name__}", field=where, text=str(value)
+            )
+        beyond = _beyond_double(result)
+        if beyond is not None:
+            raise ModelError(
+                f"the number {beyond} is beyond double precision",
+                field=where,
+                text=value if isinstance(value, str) else str(value),
             )
         for symbol in result.free_symbols:
             category = self._category(symbol)
@@ -417,3 +441,18 @@ class _Builder:
                 )
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise ModelError(f"expected a number, got {value!r}", field=f"initial.{name}")
+
+
+def _beyond_double(expr: sympy.Expr) -> str | None:
+    """A number of ``expr`` outside the range of doubles (shown short), or None."""
+    for number in expr.atoms(sympy.Number):
+        if number == 0 or not number.is_finite:
+            continue
+        if number.is_Rational:
+            digits = math.log10(abs(number.p)) - math.log10(number.q)
+        else:
+            digits = float(sympy.log(abs(number), 10).evalf(15))
+        if digits > _LARGEST_DIGITS or digits < _SMALLEST_DIGITS:
+            shown = str(number)
+            return shown if len(shown) <= 24 else f"{shown[:12]}... (about 10^{digits:.4g})"
+    return None

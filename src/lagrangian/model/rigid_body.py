@@ -140,19 +140,29 @@ def resolve_body(
     )
 
 
-def _numbers(expressions, values) -> np.ndarray | None:
-    """The expressions at the parameters' values, or None where one has no value."""
+def _numbers(expressions, values, field: str) -> np.ndarray | None:
+    """The expressions at the parameters' values, or None where one has no value; a value
+    that is not a finite double is an error (the checks compare numbers: inf and nan pass
+    every comparison that refuses)."""
     try:
-        return np.array([float(as_expression(x).xreplace(values)) for x in expressions])
+        numbers = np.array([float(as_expression(x).xreplace(values)) for x in expressions])
     except (TypeError, ValueError):
         return None
+    if not np.all(np.isfinite(numbers)):
+        k = int(np.argmin(np.isfinite(numbers)))
+        raise ModelError(
+            f"the inertia {expressions[k]} = {numbers[k]:g} at the parameters' values is not "
+            "a finite number",
+            field=field,
+        )
+    return numbers
 
 
 def _check_moments(moments, values, field: str) -> None:
     for k, moment in enumerate(moments):
         if moment.is_negative:
             raise ModelError(f"principal moment {k + 1} ({moment}) is negative", field=field)
-    numbers = _numbers(moments, values)
+    numbers = _numbers(moments, values, field)
     if numbers is None:
         return
     if np.any(numbers < 0):
@@ -182,7 +192,7 @@ def _check_tensor(tensor, values, field: str) -> None:
                     f"the tensor is not symmetric (entries [{j}][{k}] and [{k}][{j}] differ)",
                     field=field,
                 )
-    numbers = _numbers([x for row in tensor for x in row], values)
+    numbers = _numbers([x for row in tensor for x in row], values, field)
     if numbers is None:
         return
     moments = np.linalg.eigvalsh(numbers.reshape(3, 3))
