@@ -72,3 +72,17 @@ CASES += [
         model=_potential("x^2/10**400"),
     ),
 ]
+
+CASES += [
+    HostileCase(
+        f"simulate-table-t-end-{name}",
+        ("simulate", "{dir}/model.toml"),
+        error=rf"model\.toml: simulate\.t_end: expected a {kind}, got {shown}$",
+        model=f'coordinates = ["x"]\nlagrangian = "x_dot^2/2 - x^2/2"\n[simulate]\nt_end = {value}\n',
+    )
+    for name, value, kind, shown in (
+        ("text", '"abc"', "number", "'abc'"),
+        ("boolean", "true", "number", "True"),
+        ("inf", "inf", "finite number", "inf"),
+    )
+]

@@ -9,6 +9,7 @@ folder or a socket is refused by its type, never read), up to its size limit.
 
 from __future__ import annotations
 
+import math
 import os
 import stat
 import tomllib
@@ -38,6 +39,22 @@ TOP_LEVEL_KEYS = frozenset(
     }
 )  # fmt: skip
 SIMULATE_KEYS = frozenset({"t_end", "dt", "rtol", "atol", "method", "steps"})
+#: The [simulate] keys that hold text; the others are numbers (true is not 1.0 here).
+_SIMULATE_TEXT = frozenset({"method"})
+
+
+def _check_simulate_value(key: str, value: object) -> None:
+    """ModelError naming ``simulate.key`` when its value is not of the key's type."""
+    if key in _SIMULATE_TEXT:
+        if not isinstance(value, str):
+            raise ModelError(f"expected a name, got {value!r}", field=f"simulate.{key}")
+        return
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        raise ModelError(f"expected a number, got {value!r}", field=f"simulate.{key}")
+    if not math.isfinite(value):
+        raise ModelError(f"expected a finite number, got {value!r}", field=f"simulate.{key}")
+
+
 _COUNTED = (
     "coordinates", "parameters", "particles", "bodies", "springs", "constraints", "functions",
     "forces", "conservative_forces", "initial", "inputs",
@@ -134,6 +151,7 @@ def _spec(data: Mapping[str, object], source: str | None) -> ModelSpec:
                 f"unknown key (expected one of {', '.join(sorted(SIMULATE_KEYS))})",
                 field=f"simulate.{key}",
             )
+        _check_simulate_value(key, simulate[key])
     return ModelSpec(
         name=_string(data, "name", ""),
         description=_string(data, "description", ""),
