@@ -78,7 +78,7 @@ CASES += [
         f"simulate-table-t-end-{name}",
         ("simulate", "{dir}/model.toml"),
         error=rf"model\.toml: simulate\.t_end: expected a {kind}, got {shown}$",
-        model=f'coordinates = ["x"]\nlagrangian = "x_dot^2/2 - x^2/2"\n[simulate]\nt_end = {value}\n',
+        model=_potential("x^2/2") + f"[simulate]\nt_end = {value}\n",
     )
     for name, value, kind, shown in (
         ("text", '"abc"', "number", "'abc'"),
