@@ -38,6 +38,11 @@ def main() -> int:
     if command is None:
         print("no 'lagrangian' on the path: pip install . first")
         return 1
+    # each case runs in its own folder: a relative PYTHONPATH (src) would name nothing there
+    environment = dict(os.environ)
+    if environment.get("PYTHONPATH"):
+        paths = environment["PYTHONPATH"].split(os.pathsep)
+        environment["PYTHONPATH"] = os.pathsep.join(str(Path(p).resolve()) for p in paths if p)
     times: dict[str, float] = {}
     failed = []
     for case in all_cases():
@@ -52,7 +57,7 @@ def main() -> int:
                     done = subprocess.run(
                         [command, *argv], capture_output=True, text=True, stdin=subprocess.DEVNULL,
                         timeout=max(60.0, 4 * args.limit), cwd=folder,
-                        env={**os.environ, **case.environment(Path(folder))},
+                        env={**environment, **case.environment(Path(folder))},
                     )  # fmt: skip
                 except subprocess.TimeoutExpired:
                     runs.append(float("inf"))

@@ -69,7 +69,7 @@ class ModelError(LagrangianError, ValueError):
         super().__init__(self._render())
 
     def _render(self) -> str:
-        where = ": ".join(part for part in (self.source, self.field) if part)
+        where = ": ".join(_shortened(part) for part in (self.source, self.field) if part)
         quoted = ""
         if self.text is not None:
             shown = self.text if len(self.text) <= 60 else self.text[:57] + "..."
@@ -96,8 +96,7 @@ class FileError(LagrangianError):
     def __init__(self, path: object, message: str):
         self.path = str(path)
         self.message = message
-        shown = self.path if len(self.path) <= 120 else self.path[:58] + "..." + self.path[-59:]
-        super().__init__(_single_line(f"{_visible(shown)}: {message}"))
+        super().__init__(_single_line(f"{_visible(_shortened(self.path))}: {message}"))
 
 
 class MissingDependencyError(LagrangianError, ImportError):
@@ -156,6 +155,11 @@ class SingularMassMatrixError(LagrangianError):
 def _visible(text: str) -> str:
     """The text as typed (LaTeX backslashes intact), control characters escaped."""
     return "".join(ch if ch.isprintable() else ascii(ch)[1:-1] for ch in text)
+
+
+def _shortened(name: str) -> str:
+    """A path or name of any length as at most 120 characters: its start and its end."""
+    return name if len(name) <= 120 else name[:58] + "..." + name[-59:]
 
 
 def _single_line(message: str) -> str:

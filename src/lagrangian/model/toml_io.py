@@ -341,7 +341,7 @@ def load(model: str | Path) -> System:
     from ..examples import example_names, example_path
 
     path = Path(model)
-    if path.suffix == ".toml" or path.exists():
+    if path.suffix == ".toml" or _exists(path):
         return load_file(path)
     builtin = example_path(str(model))
     if builtin is None:
@@ -351,3 +351,11 @@ def load(model: str | Path) -> System:
         )
     system = load_file(builtin)
     return system
+
+
+def _exists(path: Path) -> bool:
+    """Whether ``path`` names something; a name the system cannot look up (too long) does not."""
+    try:
+        return path.exists()
+    except OSError:  # ENAMETOOLONG and kin: no file has that name
+        return False

@@ -52,6 +52,7 @@ class TokenList:
 
     def __init__(self, text: str, limits: ParseLimits):
         self.text = text
+        self.limits = limits
         self.limit = limits.max_nodes
         self.tokens: list[Token] = []
 
@@ -209,6 +210,13 @@ def scan_superscript(text: str, start: int, out: TokenList) -> int:
         i += 1
     if i == digits_start:
         raise ParseError("expected superscript digits", text, i)
+    most = out.limits.max_number_digits
+    if i - digits_start > most:
+        raise ParseError(
+            f"superscript number with {i - digits_start} digits too long (limit {most})",
+            text,
+            digits_start,
+        )
     value = "".join(SUPERSCRIPT_DIGITS[c] for c in text[digits_start:i])
     out.add(Kind.NUMBER, digits_start, i, sympy.Integer(int(value)))
     return i
