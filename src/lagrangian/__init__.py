@@ -4,6 +4,30 @@
 >>> eom = lg.load("simple_pendulum").equations_of_motion()
 >>> eom.accelerations["theta"]
 -g*sin(theta)/l
+
+Layers.  The package is a stack; a module imports only from its own layer and the ones
+below it, inside functions too, so data flows up and nothing reaches back down:
+
+    cli          the command line: a thin shell, no physics
+    facade       lagrangian.System (the model's System with equations_of_motion,
+                 simulate, equilibria, ...), load/loads, and the pictures and Jupyter
+                 display of results (Trajectory.plot, _repr_latex_, ...): see facade.py
+    output       text, LaTeX, JSON, plots and animations of the results
+    ensemble     many runs at once (numpy, numba, jax, dask, cuda)
+    simulation   one System run: derive, compile, integrate with the model's settings
+    integrate    the integrators and simulate(CompiledSystem) -> Trajectory
+    trajectory   Trajectory (xarray-backed) and its files (trajectory_files)
+    export       today's code writers; codegen/ (issue 17) goes between analysis and numeric
+    numeric      CompiledSystem: the equations as numerical functions
+    analysis     conserved quantities, Hamiltonian, equilibria, modes, state space, Routh
+    derive       EquationsOfMotion, the one object every later layer reads
+    model        System as frozen data (parsed text, TOML, Python objects)
+    parsing      the safe expression parser
+    utilities    examples, pointwise, distributions, files, algebra, budget, symbols, errors
+
+Inside the CLI, the command modules (ensemble, export, visual) register their commands
+on the app of ``cli.app``; ``cli/__init__`` imports them all.  ``lint-imports`` (the
+contracts in pyproject.toml, run by .ci/run) checks both orders, with no exceptions.
 """
 
 from .derive import CoordinateDerivation, EquationsOfMotion, derive
@@ -16,18 +40,9 @@ from .errors import (
     ParseError,
     SingularMassMatrixError,
 )
+from .facade import System, load, loads
 from .integrate import Event, simulate
-from .model import (
-    Gravity,
-    Parameter,
-    Particle,
-    RigidBody,
-    RigidBody2D,
-    Spring,
-    System,
-    load,
-    loads,
-)
+from .model import Gravity, Parameter, Particle, RigidBody, RigidBody2D, Spring
 from .numeric import CompiledSystem, compile_equations
 from .trajectory import Trajectory
 

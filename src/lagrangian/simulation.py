@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 
+from .derive import derive
 from .errors import ModelError
 from .integrate import method_class, simulate
 from .integrate.pace import RUN_SECONDS, RunPace, watching
@@ -82,7 +83,7 @@ def simulate_system(
     pace = None if timeout is None else RunPace((0.0, t_final), timeout)
     share = None if progress is None else (lambda t: progress(min(1.0, t / t_final)))
     compiled = compile_equations(
-        system.equations_of_motion(), backend=backend or default_backend(), definitions=definitions
+        derive(system), backend=backend or default_backend(), definitions=definitions
     )
     return simulate(
         compiled,

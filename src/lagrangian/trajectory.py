@@ -41,6 +41,7 @@ import numpy as np
 
 from .errors import ModelError
 from .files import write_atomically
+from .trajectory_files import name_list, read_csv, read_netcdf
 
 if TYPE_CHECKING:
     import xarray
@@ -133,7 +134,7 @@ class Trajectory:
 
     @property
     def coordinates(self) -> tuple[str, ...]:
-        return _names(self.dataset.attrs.get("coordinate_names", ""))
+        return name_list(self.dataset.attrs.get("coordinate_names", ""))
 
     @property
     def velocities(self) -> tuple[str, ...]:
@@ -141,11 +142,11 @@ class Trajectory:
 
     @property
     def invariants(self) -> tuple[str, ...]:
-        return _names(self.dataset.attrs.get("invariants", ""))
+        return name_list(self.dataset.attrs.get("invariants", ""))
 
     @property
     def multipliers(self) -> tuple[str, ...]:
-        return _names(self.dataset.attrs.get("multipliers", ""))
+        return name_list(self.dataset.attrs.get("multipliers", ""))
 
     @property
     def status(self) -> str:
@@ -169,7 +170,7 @@ class Trajectory:
         """{name: EventRecord} for every event watched, in order (empty records included)."""
         records = {}
         size = 2 * len(self.coordinates)
-        for name in _names(self.dataset.attrs.get("events", "")):
+        for name in name_list(self.dataset.attrs.get("events", "")):
             dim = f"event__{name}"
             if f"{dim}__t" not in self.dataset:
                 records[name] = EventRecord(name, np.empty(0), np.empty((size, 0)))
@@ -214,26 +215,8 @@ class Trajectory:
         document["events"] = {name: r.times.tolist() for name, r in self.events.items()}
         return document
 
-    # -- pictures (matplotlib is imported only here) ----------------------------------
-    def plot(self, kind: str = "timeseries"):
-        """A matplotlib Figure: ``kind`` is timeseries, phase, energy or poincare."""
-        from .output.plots import plot
-
-        return plot(self, kind, self.system)
-
-    def animate(self, path: str | os.PathLike | None = None, **options: object):
-        """The mechanism in motion; written to ``path`` (.gif, .html, .mp4) when given,
-        shown inline in Jupyter otherwise (see :func:`lagrangian.output.animation.animate`)."""
-        from .output.animation import animate
-
-        if self.system is None:
-            raise ModelError("this trajectory has no model to draw (loaded from a file?)")
-        return animate(self, self.system, path, **options)
-
-    def _repr_html_(self) -> str:
-        from .output.display import trajectory_html
-
-        return trajectory_html(self)
+    # -- pictures: plot, animate and _repr_html_ are added by lagrangian.facade, above
+    # output/ (this layer is below the printers)
 
     # -- files --------------------------------------------------------------------
     def columns(self) -> list[str]:
@@ -276,9 +259,7 @@ class Trajectory:
         A file that is not one (another program's, damaged, empty, too large, a
         folder) is a :class:`~lagrangian.errors.FileError` naming it and what is wrong.
         """
-        from .trajectory_files import read_csv, read_netcdf
-
-        return _by_suffix(path, {".csv": read_csv, ".nc": read_netcdf})(path)
+        return cls(_by_suffix(path, {".csv": read_csv, ".nc": read_netcdf})(path))
 
 
 def _by_suffix(path: str | os.PathLike, table: Mapping[str, Callable]) -> Callable:
@@ -287,10 +268,6 @@ def _by_suffix(path: str | os.PathLike, table: Mapping[str, Callable]) -> Callab
         known = ", ".join(table)
         raise ModelError(f"unknown trajectory file type '{suffix or path}' (use {known})")
     return table[suffix]
-
-
-def _names(text: str) -> tuple[str, ...]:
-    return tuple(name for name in str(text).split(",") if name)
 
 
 def _netcdf_attrs(attrs: Mapping[str, object]) -> dict[str, object]:

@@ -17,12 +17,15 @@ from __future__ import annotations
 import csv
 import os
 import warnings
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+if TYPE_CHECKING:
+    import xarray
+
 from .errors import FileError
 from .files import check_input_file
-from .trajectory import Trajectory, _names
 
 #: Largest trajectory file read (bytes): the whole file is held in memory,
 #: a CSV file several times over while it is parsed.
@@ -32,8 +35,13 @@ _NETCDF3_MAGIC = (b"CDF\x01", b"CDF\x02", b"CDF\x05")
 _HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
 
 
-def read_netcdf(path: str | os.PathLike) -> Trajectory:
-    """A trajectory from a netCDF-3 file written by :meth:`Trajectory.to_netcdf`."""
+def name_list(text: str) -> tuple[str, ...]:
+    """The names of a comma-separated list attribute (``coordinate_names``, ...)."""
+    return tuple(name for name in str(text).split(",") if name)
+
+
+def read_netcdf(path: str | os.PathLike) -> xarray.Dataset:
+    """The dataset of a netCDF-3 file written by :meth:`Trajectory.to_netcdf`, checked."""
     import xarray as xr
 
     check_input_file(path, what="a trajectory file", max_bytes=MAX_TRAJECTORY_BYTES)
@@ -49,11 +57,11 @@ def read_netcdf(path: str | os.PathLike) -> Trajectory:
     except Exception as error:  # scipy's and xarray's many kinds of "damaged"
         raise FileError(path, f"is a damaged netCDF file ({_first_line(error)})") from None
     _check_netcdf(path, dataset)
-    return Trajectory(dataset)
+    return dataset
 
 
-def read_csv(path: str | os.PathLike) -> Trajectory:
-    """A trajectory from a CSV file written by :meth:`Trajectory.to_csv`."""
+def read_csv(path: str | os.PathLike) -> xarray.Dataset:
+    """The dataset of a CSV file written by :meth:`Trajectory.to_csv`, checked."""
     import xarray as xr
 
     check_input_file(path, what="a trajectory file", max_bytes=MAX_TRAJECTORY_BYTES)
@@ -73,7 +81,7 @@ def read_csv(path: str | os.PathLike) -> Trajectory:
     extra = [name for name in names if name not in known]
     data_vars = {name: ("t", table[:, i + 1]) for i, name in enumerate(names)}
     attrs = {"coordinate_names": ",".join(coordinates), "invariants": ",".join(extra), "events": ""}
-    return Trajectory(xr.Dataset(data_vars, coords={"t": table[:, 0]}, attrs=attrs))
+    return xr.Dataset(data_vars, coords={"t": table[:, 0]}, attrs=attrs)
 
 
 # -- CSV -------------------------------------------------------------------------------
@@ -141,7 +149,7 @@ def _check_netcdf(path, dataset) -> None:
     if t.dims != ("t",) or not np.issubdtype(t.dtype, np.number):
         raise FileError(path, "has a time t that is not a list of numbers")
     _check_time(path, np.asarray(t.values, dtype=float))
-    coordinates = _names(dataset.attrs.get("coordinate_names", ""))
+    coordinates = name_list(dataset.attrs.get("coordinate_names", ""))
     if not coordinates:
         raise FileError(path, "lists no coordinates (attribute coordinate_names)")
     attrs = dataset.attrs
@@ -149,8 +157,8 @@ def _check_netcdf(path, dataset) -> None:
         *coordinates,
         *(f"{q}_dot" for q in coordinates),
         "energy",
-        *_names(attrs.get("invariants", "")),
-        *_names(attrs.get("multipliers", "")),
+        *name_list(attrs.get("invariants", "")),
+        *name_list(attrs.get("multipliers", "")),
     ]
     for name in expected:
         if name not in dataset.data_vars:
@@ -158,7 +166,7 @@ def _check_netcdf(path, dataset) -> None:
         variable = dataset[name]
         if variable.dims != ("t",) or not np.issubdtype(variable.dtype, np.number):
             raise FileError(path, f"has a variable '{name}' that is not numbers along t")
-    for event in _names(attrs.get("events", "")):
+    for event in name_list(attrs.get("events", "")):
         dim = f"event__{event}"
         if f"{dim}__t" in dataset.data_vars and f"{dim}__y" not in dataset.data_vars:
             raise FileError(path, f"has the times of event '{event}' but not its states")

@@ -12,7 +12,7 @@ from .conserved import (
     energy_function,
     noether_charge,
 )
-from .constrained import ConstrainedEquilibrium, constrained_equilibria
+from .constrained import ConstrainedEquilibrium, constrained_equilibria, rest_points
 from .equilibria import Equilibrium, equilibria
 from .hamiltonian import Hamiltonian, hamiltonian
 from .linear import LinearizedSystem, NormalModes, Stability, linearize
@@ -44,6 +44,7 @@ __all__ = [
     "linearize",
     "noether_charge",
     "reduce",
+    "rest_points",
     "state_space",
     "steady_motions",
 ]

@@ -29,6 +29,7 @@ from ..budget import remaining
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from .conditions import stability_verdict
+from .equilibria import Equilibrium, equilibria
 from .linear import LinearizedSystem, NormalModes
 from .search import number_at
 from .solving import in_child, solve_factored
@@ -52,6 +53,12 @@ class ConstrainedEquilibrium:
     @property
     def omega_squared(self) -> tuple[sympy.Expr, ...]:
         return self.modes.omega_squared
+
+
+def rest_points(eom: EquationsOfMotion) -> tuple[Equilibrium | ConstrainedEquilibrium, ...]:
+    """The equilibria of ``eom``: with holonomic constraints on the constraint surface with
+    the multipliers (:func:`constrained_equilibria`), else :func:`equilibria`."""
+    return constrained_equilibria(eom) if eom.constraints is not None else equilibria(eom)
 
 
 def constrained_equilibria(

@@ -38,11 +38,6 @@ class Hamiltonian:
     velocities: Mapping[str, sympy.Expr]  # coordinate name -> q'(q, p, t)
     equations: Mapping[str, tuple[sympy.Expr, sympy.Expr]]  # name -> (q', p')
 
-    def _repr_latex_(self) -> str:
-        from ..output.latex import latex_expression
-
-        return f"$H = {latex_expression(self.expression)}$"
-
 
 def hamiltonian(eom: EquationsOfMotion) -> Hamiltonian:
     """The Legendre transform of L (requires a Lagrangian at most quadratic in q')."""

@@ -15,6 +15,7 @@ import numpy as np
 import sympy
 from sympy.core.function import AppliedUndef
 
+from ..derive import derive
 from ..errors import ModelError, ParseError
 from ..model import System
 from ..parsing import Namespace, parse_expression
@@ -83,7 +84,7 @@ def first_equilibrium(system: System) -> dict[str, sympy.Expr]:
     """The first equilibrium :func:`~lagrangian.analysis.equilibria` finds, inputs at 0."""
     from .equilibria import equilibria
 
-    found = equilibria(system.without_inputs().equations_of_motion())
+    found = equilibria(derive(system.without_inputs()))
     if not found:
         raise ModelError("no equilibrium found: give the operating point (at=..., --at)")
     return dict(found[0].point)

@@ -59,11 +59,6 @@ class Analysis:
         """Whether ``stage`` (one of ``STAGES``) finished within its time."""
         return all(u.stage != stage for u in self.undecided)
 
-    def _repr_latex_(self) -> str:
-        from ..output.analysis import latex_analysis
-
-        return latex_analysis(self)
-
 
 def analyze(
     eom: EquationsOfMotion,

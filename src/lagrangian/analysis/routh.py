@@ -30,7 +30,7 @@ from types import MappingProxyType
 import sympy
 
 from ..algebra import is_zero, tidy
-from ..derive import EquationsOfMotion
+from ..derive import EquationsOfMotion, derive
 from ..derive.solve import solve_linear
 from ..errors import ModelError
 from ..model import System
@@ -140,7 +140,7 @@ def reduce(eom: EquationsOfMotion, *, momenta: Mapping[str, float] | None = None
         for f in system.functions
         if not any(a in {*positions, *velocities} for a in f.arguments)
     }
-    reduced_system = System.from_lagrangian(
+    reduced_system = type(system).from_lagrangian(  # the caller's class: lagrangian.System
         routhian,
         coordinates=[c.name for c in kept],
         parameters=parameters,
@@ -207,7 +207,7 @@ def steady_motions_of(reduction: Reduction, *, timeout: float = 10.0) -> tuple[S
         if str(p) in reduction.system.parameter_values
     }
     found = []
-    for e in equilibria(reduction.system.equations_of_motion(), timeout=timeout):
+    for e in equilibria(derive(reduction.system), timeout=timeout):
         at = {reduction.system.symbol(name): value for name, value in e.point.items()}
         numbers = {}  # a numerical point holds at the default values: so do its velocities
         if e.numeric:

@@ -126,11 +126,6 @@ class StateSpace:
                 ) from None
         return NumericStateSpace(*arrays, self.states, self.inputs, self.outputs)
 
-    def _repr_latex_(self) -> str:
-        from ..output.state_space import latex_state_space
-
-        return latex_state_space(self)
-
     def to_control(self, params: Mapping[str, float] | None = None):
         """``control.ss(A, B, C, D)`` of python-control (numbers: :meth:`numeric`)."""
         try:

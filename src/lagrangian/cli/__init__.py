@@ -3,6 +3,10 @@
 ``main(argv) -> ExitStatus`` runs in-process (tests call it directly);
 ``run()`` is the console script.  Exit status 0 on success, 2 on bad input
 (one line on stderr naming the problem), 1 on an internal error.
+
+:mod:`.app` holds the click group, its shared options and the core commands;
+:mod:`.ensemble`, :mod:`.export` and :mod:`.visual` add theirs to it when they are
+imported, here (never the other way round: ``lint-imports`` checks it).
 """
 
 from __future__ import annotations
@@ -16,6 +20,7 @@ from enum import IntEnum
 import click
 
 from ..errors import LagrangianError, LagrangianWarning
+from . import ensemble, export, visual  # noqa: F401  (each registers its commands on app)
 from .app import app
 
 

@@ -30,7 +30,7 @@ def app() -> None:
 def examples() -> None:
     """List the built-in example models."""
     from ..examples import example_names
-    from ..model import load
+    from ..facade import load
 
     for name in example_names():
         system = load(name)  # built, not just listed: a broken example shows up here
@@ -45,7 +45,7 @@ def examples() -> None:
 def derive(model: str, as_json: bool, as_latex: bool, steps: bool) -> None:
     """Derive Lagrange's equations of motion of MODEL."""
     from .. import output
-    from ..model import load
+    from ..facade import load
 
     if as_json and as_latex:
         raise click.UsageError("choose one of --json and --latex")
@@ -110,7 +110,7 @@ def analyze(
     """Conserved quantities, Hamiltonian, equilibria and small oscillations of MODEL
     (inputs held at 0); with --state-space also A, B, C, D."""
     from ..analysis import analyze as run_analysis
-    from ..model import load
+    from ..facade import load
     from ..output.analysis import analysis_document, format_analysis, latex_analysis
 
     if as_json and as_latex:
@@ -291,7 +291,7 @@ def simulate(
 ) -> None:
     """Integrate the equations of motion of MODEL and report the final state and drifts."""
     from ..errors import LagrangianError
-    from ..model import load
+    from ..facade import load
     from ..simulation import simulate_system
 
     system = load(model)
@@ -338,8 +338,3 @@ def simulate(
         click.echo(f"  {name}: {value:.3e}")
     if out is not None:
         click.echo(f"wrote {out}")
-
-
-from . import ensemble as _ensemble  # noqa: E402, F401
-from . import export as _export  # noqa: E402, F401
-from . import visual  # noqa: E402, F401  (registers plot, animate, demo)

@@ -99,7 +99,7 @@ def ensemble(
     """Integrate MODEL over a grid of initial values or parameters."""
     from ..ensemble import ensemble_of_system, observable_names
     from ..errors import ModelError
-    from ..model import load
+    from ..facade import load
 
     if out is not None and not out.endswith((".nc", ".png")):
         raise click.BadParameter("the output file must end in .nc or .png", param_hint="--out")

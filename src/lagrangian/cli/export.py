@@ -32,7 +32,7 @@ from .app import MODEL_HELP, _definitions, app, define_option
 def export(model, language, out, definitions, baumgarte) -> None:
     """Write the right-hand side, mass matrix and forcing of MODEL as self-contained code."""
     from ..export import export_code, write_code
-    from ..model import load
+    from ..facade import load
     from ..numeric.compile import DEFAULT_BAUMGARTE
 
     if out is not None:

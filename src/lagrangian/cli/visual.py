@@ -127,7 +127,7 @@ def plot(source, kind, out, t_end, method, assignments, definitions, timeout) ->
 
 
 def _model_figure(model: str, kind: str, options: dict):
-    from ..model import load
+    from ..facade import load
     from ..output.plots import PLOTS
 
     system = load(model)
@@ -172,7 +172,7 @@ def _model_figure(model: str, kind: str, options: dict):
 )
 def animate(model, out, t_end, method, assignments, definitions, timeout, fps, max_frames) -> None:
     """Animate the mechanism of MODEL: a run played in real time."""
-    from ..model import load
+    from ..facade import load
     from ..output.animation import animate as write_animation
     from ..output.animation import check_animation_path
 
@@ -204,8 +204,8 @@ def animate(model, out, t_end, method, assignments, definitions, timeout, fps, m
 def demo(out_dir: str) -> None:
     """Derive, analyse, simulate and animate the double pendulum; say where the files went."""
     from ..analysis import linearize
+    from ..facade import load
     from ..integrate import simulate
-    from ..model import load
     from ..numeric import compile_equations
     from ..output import format_equations
     from ..output.animation import animate as write_animation

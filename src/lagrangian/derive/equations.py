@@ -111,8 +111,3 @@ class EquationsOfMotion:
         if self.accelerations is None:
             raise ValueError("accelerations were not solved symbolically for this system")
         return self.accelerations[coordinate]
-
-    def _repr_latex_(self) -> str:
-        from ..output.latex import latex_equations
-
-        return latex_equations(self)

@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
+from ..derive import derive
 from ..integrate.pace import ENSEMBLE_ADVICE, RUN_SECONDS, RunPace, watching
 from .core import METHODS, run_ensemble
 from .result import EnsembleTrajectory
@@ -51,6 +52,6 @@ def ensemble_of_system(
             describe=lambda done: f"{100 * done:.3g} % of the runs",
             advice=ENSEMBLE_ADVICE,
         )
-    compiled = compile_equations(system.equations_of_motion(), definitions=definitions)
+    compiled = compile_equations(derive(system), definitions=definitions)
     progress = watching(pace, progress)
     return run_ensemble(compiled, t_end=t_end, method=method, dt=dt, progress=progress, **options)

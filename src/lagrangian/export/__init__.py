@@ -22,7 +22,9 @@ from collections.abc import Mapping
 from pathlib import Path
 from types import MappingProxyType
 
+from ..derive import derive
 from ..errors import ModelError
+from ..model import System
 from ..numeric.compile import DEFAULT_BAUMGARTE
 from .c_code import CWriter
 from .julia_code import JuliaWriter
@@ -59,7 +61,7 @@ def export_code(
     if writer_class is None:
         known = ", ".join(LANGUAGES)
         raise ModelError(f"unknown language {language!r} (languages: {known})", field="--to")
-    eom = system.equations_of_motion() if hasattr(system, "equations_of_motion") else system
+    eom = derive(system) if isinstance(system, System) else system
     made = program(eom, definitions=definitions, baumgarte=baumgarte)
     writer = writer_class()
     try:

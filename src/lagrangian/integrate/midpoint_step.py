@@ -72,11 +72,9 @@ class MidpointFunctions:
 
 def midpoint_functions(compiled: CompiledSystem) -> MidpointFunctions | None:
     """The fillers of ``compiled`` (built on first use, then kept), or None where there are none."""
-    from ..derive import EquationsOfMotion
-
     if compiled.backend not in ("numpy", "numba", "llvm") or compiled.has_constraints:
         return None
-    if not isinstance(compiled.equations, EquationsOfMotion):
+    if not compiled.derived:
         return None  # functions given by hand: no equations to generate code from
     found = _BUILT.get(compiled, _MISSING)  # every step asks: no lock once built
     if found is not _MISSING:

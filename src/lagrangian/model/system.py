@@ -3,19 +3,17 @@
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from types import MappingProxyType
 from typing import TYPE_CHECKING
 
 import sympy
 
-from ..budget import STAGE_SECONDS
 from ..errors import ModelError
 from ..symbols import Coordinate, time_symbol
 from .components import ExprLike, Gravity, Particle, RigidBody, RigidBody2D, Spring
 
 if TYPE_CHECKING:
-    from ..derive import EquationsOfMotion
     from .inputs import Input
 
 PARAMETER_SIGNS = ("positive", "nonnegative", "real", "negative")
@@ -61,6 +59,12 @@ class System:
 
     ``inputs`` (:mod:`lagrangian.model.inputs`) are named signals whose generalized
     forces are included in ``forces``; each is also a real parameter, default 0.
+
+    This is the data of the model layer: it derives, analyses and simulates nothing.
+    ``lagrangian.System`` (:mod:`lagrangian.facade`, above every layer) is this class
+    with the convenient methods ``equations_of_motion``, ``simulate``, ``equilibria``, ...
+    The constructors here return an instance of the class they are called on, and
+    ``without_inputs`` and ``change_coordinates`` keep it.
     """
 
     name: str
@@ -148,97 +152,6 @@ class System:
         parts = [self.lagrangian, self.dissipation, *self.forces.values(), *self.constraints]
         return not any(part.has(self.time) for part in parts)
 
-    # -- stages ----------------------------------------------------------------
-    def equations_of_motion(self) -> EquationsOfMotion:
-        """Lagrange's equations (see :class:`~lagrangian.derive.EquationsOfMotion`)."""
-        from ..derive import derive
-
-        return derive(self)
-
-    # -- analysis (DESIGN section 6) ------------------------------------------------
-    def conserved_quantities(self):
-        """Cyclic momenta and the energy function, with reasons for what is not conserved
-        (inputs held at 0)."""
-        from ..analysis import conserved_quantities
-
-        return conserved_quantities(self.without_inputs().equations_of_motion())
-
-    def hamiltonian(self):
-        """H(q, p, t) by Legendre transform, with Hamilton's equations."""
-        from ..analysis import hamiltonian
-
-        return hamiltonian(self.equations_of_motion())
-
-    def equilibria(self):
-        """Points at rest that stay at rest, each with its normal modes (inputs held at 0);
-        with holonomic constraints, on the constraint surface with the multipliers."""
-        from ..analysis import constrained_equilibria, equilibria
-
-        eom = self.without_inputs().equations_of_motion()
-        return constrained_equilibria(eom) if eom.constraints is not None else equilibria(eom)
-
-    def steady_motions(self, momenta: Mapping[str, float] | None = None):
-        """Steady motions (cyclic coordinates turning uniformly at the momenta p_c, given
-        or symbolic; the others at rest), each with the small oscillations about it."""
-        from ..analysis import steady_motions
-
-        return steady_motions(self.without_inputs().equations_of_motion(), momenta=momenta)
-
-    def linearize(self, at: Mapping[str, object]):
-        """M0 x'' + C0 x' + K0 x = 0 about the equilibrium ``at``; ``.normal_modes()``."""
-        from ..analysis import linearize
-
-        return linearize(self.without_inputs().equations_of_motion(), at)
-
-    def state_space(self, at: Mapping[str, object] | None = None, **options: object):
-        """x' = A x + B u, y = C x + D u about an equilibrium or steady motion, x = [q, q']
-        (options ``outputs``, ``inputs``: see :func:`lagrangian.analysis.state_space`)."""
-        from ..analysis.state_space import state_space
-
-        return state_space(self.equations_of_motion(), at, **options)
-
-    def analyze(
-        self,
-        *,
-        timeout: float | None = STAGE_SECONDS,
-        momenta: Mapping[str, float] | None = None,
-    ):
-        """Every analysis that applies, each stage within ``timeout`` seconds (None: no limit).
-
-        See :func:`lagrangian.analysis.analyze`; stages out of time are in ``undecided``.
-        Inputs are held at 0; ``momenta`` gives cyclic momenta values for the steady motions.
-        """
-        from ..analysis import analyze
-
-        eom = self.without_inputs().equations_of_motion()
-        return analyze(eom, timeout=timeout, momenta=momenta)
-
-    def simulate(self, **options: object):
-        """Integrate the equations of motion -> :class:`~lagrangian.trajectory.Trajectory`.
-
-        Options: t_end, method ("dop853", "radau", "rk4", "variational"), dt,
-        rtol, atol, initial ({q: value, q_dot: value}), params, events, n_out,
-        backend ("llvm", the default where SymEngine has LLVM, "numpy", or "numba"
-        for generated machine code).
-        """
-        from ..simulation import simulate_system
-
-        return simulate_system(self, **options)
-
-    def ensemble(self, **options: object):
-        """Many runs at once -> EnsembleTrajectory (options: lagrangian.ensemble.run_ensemble)."""
-        from ..ensemble import ensemble_of_system
-
-        return ensemble_of_system(self, **options)
-
-    def animate(self, path=None, *, trajectory=None, **options: object):
-        """The mechanism in motion (default: a run with the model's simulate settings)."""
-        from ..output.animation import animate
-
-        return animate(
-            trajectory if trajectory is not None else self.simulate(), self, path, **options
-        )
-
     def change_coordinates(
         self, coordinates: Sequence[str], substitution: Mapping[str, ExprLike], **options: object
     ) -> System:
@@ -247,11 +160,6 @@ class System:
         from .transform import change_coordinates
 
         return change_coordinates(self, coordinates, substitution, **options)
-
-    def _repr_latex_(self) -> str:
-        from ..output.latex import latex_expression
-
-        return f"$L = {latex_expression(self.lagrangian)}$"
 
     # -- constructors ----------------------------------------------------------
     @classmethod
@@ -268,8 +176,10 @@ class System:
         """
         from .build import ModelSpec, build_system
 
-        return build_system(
-            ModelSpec(coordinates=tuple(coordinates), lagrangian=lagrangian, **options)
+        return cls.adopt(
+            build_system(
+                ModelSpec(coordinates=tuple(coordinates), lagrangian=lagrangian, **options)
+            )
         )
 
     @classmethod
@@ -283,9 +193,11 @@ class System:
         """A system given by its kinetic energy T and potential energy V (L = T - V)."""
         from .build import ModelSpec, build_system
 
-        return build_system(
-            ModelSpec(
-                coordinates=tuple(coordinates), kinetic=kinetic, potential=potential, **options
+        return cls.adopt(
+            build_system(
+                ModelSpec(
+                    coordinates=tuple(coordinates), kinetic=kinetic, potential=potential, **options
+                )
             )
         )
 
@@ -300,6 +212,16 @@ class System:
         depend on the coordinates and time; T and V follow from the geometry."""
         from .build import ModelSpec, build_system
 
-        return build_system(
-            ModelSpec(coordinates=tuple(coordinates), particles=tuple(particles), **options)
+        return cls.adopt(
+            build_system(
+                ModelSpec(coordinates=tuple(coordinates), particles=tuple(particles), **options)
+            )
         )
+
+    @classmethod
+    def adopt(cls, system: System) -> System:
+        """``system`` as an instance of ``cls`` (the same fields): how ``lagrangian.System``
+        takes over a system built by the model layer."""
+        if type(system) is cls:
+            return system
+        return cls(**{f.name: getattr(system, f.name) for f in fields(system)})

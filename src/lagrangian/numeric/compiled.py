@@ -77,6 +77,12 @@ class CompiledSystem:
     definitions: Mapping[str, sympy.Lambda] = field(default_factory=dict)  # functions given
 
     @property
+    def derived(self) -> bool:
+        """True when the functions were compiled from derived equations (code can be
+        generated from them), False for functions given by hand."""
+        return isinstance(self.equations, EquationsOfMotion)
+
+    @property
     def n(self) -> int:
         return len(self.coordinate_names)
 

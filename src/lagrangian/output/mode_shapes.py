@@ -17,6 +17,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..algebra import as_expression
+from ..analysis import linearize, rest_points
+from ..derive import derive
 from ..errors import ModelError
 from ..model import System
 from .geometry import ORIGIN, geometry, rods
@@ -47,7 +49,7 @@ def mode_numbers(
     values.update(parameters or {})
     substitution = {p.symbol: values[p.name] for p in system.parameters if p.name in values}
     if at is None:
-        stable = [e for e in system.equilibria() if e.stable]
+        stable = [e for e in rest_points(derive(system.without_inputs())) if e.stable]
         if not stable:
             raise ModelError("the model has no stable equilibrium to show normal modes about")
         # the equilibrium's own modes: a family's are those at its representative member,
@@ -57,7 +59,7 @@ def mode_numbers(
         if modes is None and shapes and len(shapes[0]) == len(system.coordinates):
             modes = stable[0].modes
     if modes is None:
-        modes = system.linearize(at).normal_modes()
+        modes = linearize(derive(system.without_inputs()), at).normal_modes()
     if not modes.shapes:
         raise ModelError(
             f"no mode shapes about this point{': ' + modes.note if modes.note else ''}"

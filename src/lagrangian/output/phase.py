@@ -26,8 +26,13 @@ import sympy
 from sympy.core.function import AppliedUndef
 
 from ..algebra import as_expression
+from ..analysis import energy_function
+from ..derive import derive
 from ..errors import ModelError
+from ..integrate import simulate
 from ..model import System
+from ..numeric import compile_equations
+from ..simulation import DEFAULT_T_END
 from ..trajectory import Trajectory
 from .plots import math, model_name, new_figure
 
@@ -118,8 +123,6 @@ def conservative_one_dof(system: System | None) -> bool:
 
 def energy_levels(system: System, parameters=None):
     """h(q, q') of a one-coordinate model as a NumPy function, at the parameter values."""
-    from ..analysis import energy_function
-
     c = system.coordinates[0]
     values = dict(system.parameter_values)
     values.update(parameters or {})
@@ -306,10 +309,6 @@ def phase_family(
     """
     from scipy.optimize import brentq
 
-    from ..integrate import simulate
-    from ..numeric import compile_equations
-    from ..simulation import DEFAULT_T_END
-
     if not conservative_one_dof(system):
         raise ModelError("a phase family needs one coordinate and a conservative model")
     name = system.coordinate_names[0]
@@ -340,7 +339,7 @@ def phase_family(
             starts.append((centre, speed))
             if levels and f > 1:  # a rotation: the one the other way round too
                 starts.append((centre, -speed))
-    compiled = compile_equations(system.equations_of_motion())
+    compiled = compile_equations(derive(system))
     t_end = t_end or float(system.simulate_settings.get("t_end", DEFAULT_T_END))
     return [
         simulate(

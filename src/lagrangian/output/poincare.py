@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError
+from ..integrate import Event
 from ..model import System
 from ..trajectory import Trajectory
 from .notation import latex_name
@@ -24,8 +25,6 @@ from .plots import math, model_name, new_figure
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
-
-    from ..integrate import Event
 
 #: Events named ``section_<q>`` hold the crossings of the section q = 0 (mod 2π).
 SECTION_PREFIX = "section_"
@@ -40,8 +39,6 @@ def section_coordinate(system: System) -> str:
 def section_event(system: System, coordinate: str | None = None) -> Event:
     """The event ``section_<q_c>``: q_c crosses 0 (sin q_c for an angle, so every
     multiple of 2π, and π too: :func:`poincare_points` keeps the upward crossings of 0)."""
-    from ..integrate import Event
-
     name = coordinate or section_coordinate(system)
     index = system.coordinate_names.index(name)
     if name in angle_coordinates(system):

@@ -1,0 +1,218 @@
+"""The facade: the short spellings of the public API, above every layer.
+
+The layers (see :mod:`lagrangian`) hold data and the functions over it, and import only
+downward: :class:`lagrangian.model.System` knows nothing of derivation, analysis,
+simulation or pictures, and a :class:`~lagrangian.trajectory.Trajectory` knows no
+plotting.  This module sees them all and gives the user the convenient forms:
+
+- :class:`System`: the model's ``System`` with the methods ``equations_of_motion``,
+  ``simulate``, ``equilibria``, ... that call the layers.  :func:`load`, :func:`loads`
+  and ``System.from_lagrangian`` (``from_energies``, ``from_particles``) return one, and
+  what is made from one stays one (``change_coordinates``, ``without_inputs`` and a
+  Routh reduction build the class they are given).
+- The pictures and the Jupyter display of results: a trajectory's ``plot``, ``animate``
+  and ``_repr_html_``, and the ``_repr_latex_`` of equations of motion, a Hamiltonian, an
+  analysis report and a state space.  Those objects are made inside the layers (a
+  Trajectory by integrate, ensemble and ``Trajectory.load``), so no constructor here can
+  hand out a subclass; their printers are in output/, above them.  This module adds the
+  methods to those classes, once, when ``lagrangian`` is imported, which Python does
+  before it runs any module of the package.
+
+The layers are imported inside the methods, as the CLI does, so that ``import
+lagrangian`` loads no analysis, ensemble, xarray or matplotlib until they are used.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping
+from pathlib import Path
+
+from .budget import STAGE_SECONDS
+from .derive import EquationsOfMotion, derive
+from .model import System as ModelSystem
+from .model import load as load_model
+from .model import load_file as load_model_file
+from .model import loads as loads_model
+from .trajectory import Trajectory
+
+__all__ = ["System", "load", "load_file", "loads"]
+
+
+class System(ModelSystem):
+    """A mechanical system with the convenient methods of each stage (see
+    :class:`lagrangian.model.System` for the data it holds and its constructors)."""
+
+    # -- stages ----------------------------------------------------------------------
+    def equations_of_motion(self) -> EquationsOfMotion:
+        """Lagrange's equations (see :class:`~lagrangian.derive.EquationsOfMotion`)."""
+        return derive(self)
+
+    # -- analysis (DESIGN section 6) ------------------------------------------------
+    def conserved_quantities(self):
+        """Cyclic momenta and the energy function, with reasons for what is not conserved
+        (inputs held at 0)."""
+        from .analysis import conserved_quantities
+
+        return conserved_quantities(derive(self.without_inputs()))
+
+    def hamiltonian(self):
+        """H(q, p, t) by Legendre transform, with Hamilton's equations."""
+        from .analysis import hamiltonian
+
+        return hamiltonian(derive(self))
+
+    def equilibria(self):
+        """Points at rest that stay at rest, each with its normal modes (inputs held at 0);
+        with holonomic constraints, on the constraint surface with the multipliers."""
+        from .analysis import rest_points
+
+        return rest_points(derive(self.without_inputs()))
+
+    def steady_motions(self, momenta: Mapping[str, float] | None = None):
+        """Steady motions (cyclic coordinates turning uniformly at the momenta p_c, given
+        or symbolic; the others at rest), each with the small oscillations about it."""
+        from .analysis import steady_motions
+
+        return steady_motions(derive(self.without_inputs()), momenta=momenta)
+
+    def linearize(self, at: Mapping[str, object]):
+        """M0 x'' + C0 x' + K0 x = 0 about the equilibrium ``at``; ``.normal_modes()``."""
+        from .analysis import linearize
+
+        return linearize(derive(self.without_inputs()), at)
+
+    def state_space(self, at: Mapping[str, object] | None = None, **options: object):
+        """x' = A x + B u, y = C x + D u about an equilibrium or steady motion, x = [q, q']
+        (options ``outputs``, ``inputs``: see :func:`lagrangian.analysis.state_space`)."""
+        from .analysis.state_space import state_space
+
+        return state_space(derive(self), at, **options)
+
+    def analyze(
+        self,
+        *,
+        timeout: float | None = STAGE_SECONDS,
+        momenta: Mapping[str, float] | None = None,
+    ):
+        """Every analysis that applies, each stage within ``timeout`` seconds (None: no limit).
+
+        See :func:`lagrangian.analysis.analyze`; stages out of time are in ``undecided``.
+        Inputs are held at 0; ``momenta`` gives cyclic momenta values for the steady motions.
+        """
+        from .analysis import analyze
+
+        return analyze(derive(self.without_inputs()), timeout=timeout, momenta=momenta)
+
+    # -- motion -----------------------------------------------------------------------
+    def simulate(self, **options: object) -> Trajectory:
+        """Integrate the equations of motion -> :class:`~lagrangian.trajectory.Trajectory`.
+
+        Options: t_end, method ("dop853", "radau", "rk4", "variational"), dt,
+        rtol, atol, initial ({q: value, q_dot: value}), params, events, n_out,
+        backend ("llvm", the default where SymEngine has LLVM, "numpy", or "numba"
+        for generated machine code).
+        """
+        from .simulation import simulate_system
+
+        return simulate_system(self, **options)
+
+    def ensemble(self, **options: object):
+        """Many runs at once -> EnsembleTrajectory (options: lagrangian.ensemble.run_ensemble)."""
+        from .ensemble import ensemble_of_system
+
+        return ensemble_of_system(self, **options)
+
+    def animate(self, path=None, *, trajectory=None, **options: object):
+        """The mechanism in motion (default: a run with the model's simulate settings)."""
+        from .output.animation import animate
+
+        return animate(
+            trajectory if trajectory is not None else self.simulate(), self, path, **options
+        )
+
+    def _repr_latex_(self) -> str:
+        from .output.latex import latex_expression
+
+        return f"$L = {latex_expression(self.lagrangian)}$"
+
+
+def load(model: str | Path) -> System:
+    """A model file (TOML) or the name of a built-in example -> :class:`System`."""
+    return System.adopt(load_model(model))
+
+
+def load_file(path: str | Path) -> System:
+    """The model file at ``path`` -> :class:`System`."""
+    return System.adopt(load_model_file(path))
+
+
+def loads(text: str, *, source: str = "<model>") -> System:
+    """The system described by the TOML ``text``; ``source`` names it in errors."""
+    return System.adopt(loads_model(text, source=source))
+
+
+# -- pictures and Jupyter display of the results the layers make -------------------------
+def _plot(self: Trajectory, kind: str = "timeseries"):
+    """A matplotlib Figure: ``kind`` is timeseries, phase, energy or poincare."""
+    from .output.plots import plot
+
+    return plot(self, kind, self.system)
+
+
+def _animate(self: Trajectory, path: str | os.PathLike | None = None, **options: object):
+    """The mechanism in motion; written to ``path`` (.gif, .html, .mp4) when given,
+    shown inline in Jupyter otherwise (see :func:`lagrangian.output.animation.animate`)."""
+    from .errors import ModelError
+    from .output.animation import animate
+
+    if self.system is None:
+        raise ModelError("this trajectory has no model to draw (loaded from a file?)")
+    return animate(self, self.system, path, **options)
+
+
+def _trajectory_html(self: Trajectory) -> str:
+    from .output.display import trajectory_html
+
+    return trajectory_html(self)
+
+
+def _equations_latex(self) -> str:
+    from .output.latex import latex_equations
+
+    return latex_equations(self)
+
+
+def _hamiltonian_latex(self) -> str:
+    from .output.latex import latex_expression
+
+    return f"$H = {latex_expression(self.expression)}$"
+
+
+def _report_latex(self) -> str:
+    from .output.analysis import latex_analysis
+
+    return latex_analysis(self)
+
+
+def _state_space_latex(self) -> str:
+    from .output.state_space import latex_state_space
+
+    return latex_state_space(self)
+
+
+def _add_display_methods() -> None:
+    from .analysis.hamiltonian import Hamiltonian
+    from .analysis.report import Analysis
+    from .analysis.state_space import StateSpace
+
+    Trajectory.plot = _plot
+    Trajectory.animate = _animate
+    Trajectory._repr_html_ = _trajectory_html
+    EquationsOfMotion._repr_latex_ = _equations_latex
+    Hamiltonian._repr_latex_ = _hamiltonian_latex
+    Analysis._repr_latex_ = _report_latex
+    StateSpace._repr_latex_ = _state_space_latex
+
+
+_add_display_methods()
