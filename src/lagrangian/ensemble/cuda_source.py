@@ -40,11 +40,12 @@ from ..errors import ModelError
 from ..integrate import tableaus
 from ..integrate.variational import STALL_RATIO
 from ..numeric.forms import SymbolicForms
+from ..numeric.literals import machine_numbers
 from ..numeric.numba_source import _fingerprint
 from ..numeric.scheme_expressions import SCHEMES, STEP, scheme_expressions
 
 #: Bump when the generated text changes.
-GENERATOR_VERSION = "3"
+GENERATOR_VERSION = "4"
 PRECISIONS = ("float64", "float32")
 
 #: The kernel's parameters in order, (C type, name); hosts pass arguments by these names.
@@ -398,7 +399,8 @@ class _Printer(C99CodePrinter):
 
     def __init__(self, precision: str):
         self.precision = precision
-        settings: dict[str, object] = {"strict": True}
+        # no math macros: M_SQRT2, M_LN2, ... are POSIX, not C99, and NVRTC has none
+        settings: dict[str, object] = {"strict": True, "math_macros": {}}
         if precision == "float32":
             settings["type_aliases"] = {real: float32}
         super().__init__(settings)
@@ -412,6 +414,13 @@ class _Printer(C99CodePrinter):
         if exponent == sympy.Rational(-1, 2):
             return f"(1/{self._print(sympy.sqrt(base))})"
         return super()._print_Pow(expr)
+
+    def _print_Infinity(self, expr):
+        # a coefficient beyond double range (machine_numbers); INFINITY needs <math.h>
+        return "(1.0f/0.0f)" if self.precision == "float32" else "(1.0/0.0)"
+
+    def _print_NegativeInfinity(self, expr):
+        return f"(-{self._print_Infinity(expr)})"
 
     def _print_Integer(self, expr):
         # beyond int range C would need a long literal; a real one is what we mean
@@ -491,7 +500,7 @@ def _renaming(forms: SymbolicForms):
     known = {*replace.values(), STEP}
 
     def rename(expression: sympy.Expr) -> sympy.Expr:
-        result = without_distributions(expression).xreplace(replace)
+        result = machine_numbers(without_distributions(expression).xreplace(replace))
         constants = {c: sympy.Float(c.evalf(20), 20) for c in result.atoms(sympy.NumberSymbol)}
         result = result.xreplace(constants)
         unknown = result.free_symbols - known
