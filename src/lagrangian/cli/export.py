@@ -25,16 +25,17 @@ from .app import MODEL_HELP, _definitions, app, define_option
 @define_option
 @click.option(
     "--baumgarte",
-    type=click.FloatRange(min=0),
+    type=float,  # its range is checked by the library, which names it
     default=None,
-    help="Stabilisation rate alpha of the constraints (default 10; 0: none).",
+    help="Stabilisation rate alpha of the constraints, 0 (none) to 1e6 (default 10).",
 )
 def export(model, language, out, definitions, baumgarte) -> None:
     """Write the right-hand side, mass matrix and forcing of MODEL as self-contained code."""
     from ..export import export_code, write_code
     from ..facade import load
-    from ..numeric.compile import DEFAULT_BAUMGARTE
+    from ..numeric.compile import DEFAULT_BAUMGARTE, checked_baumgarte
 
+    baumgarte = checked_baumgarte(DEFAULT_BAUMGARTE if baumgarte is None else baumgarte)
     if out is not None:
         from ..files import check_output_path
 
@@ -42,7 +43,7 @@ def export(model, language, out, definitions, baumgarte) -> None:
     system = load(model)
     options = {
         "definitions": _definitions(definitions),
-        "baumgarte": DEFAULT_BAUMGARTE if baumgarte is None else baumgarte,
+        "baumgarte": baumgarte,
     }
     if out is None:
         click.echo(export_code(system, language, **options), nl=False)

@@ -17,6 +17,7 @@ pays only for what it uses.
 from __future__ import annotations
 
 import functools
+import math
 from collections.abc import Callable, Mapping
 from types import MappingProxyType
 
@@ -38,6 +39,28 @@ from .projection import ConstraintFunctions
 #: like exp(-alpha t).  About 10 / (the shortest time scale of the motion) keeps
 #: the drift small without making the equations stiff; 0 turns it off.
 DEFAULT_BAUMGARTE = 10.0
+
+#: The largest rate accepted: alpha^2 enters the equations, and a residual that decays in
+#: a microsecond of model time already makes them as stiff as any solver can follow.
+MAX_BAUMGARTE = 1e6
+
+
+def checked_baumgarte(alpha: float) -> float:
+    """``alpha`` as a float when it is a usable stabilisation rate: finite, from 0 (none)
+    to :data:`MAX_BAUMGARTE`; a :class:`~lagrangian.errors.ModelError` otherwise."""
+    try:
+        value = float(alpha)
+        shown = repr(value)
+    except (TypeError, ValueError):
+        value, shown = math.nan, repr(alpha)[:40]
+    if not 0.0 <= value <= MAX_BAUMGARTE:  # NaN fails this too
+        raise ModelError(
+            f"the Baumgarte stabilisation rate alpha must be a number from 0 (none) to "
+            f"{MAX_BAUMGARTE:g} (1 / time unit), not {shown}",
+            field="baumgarte",
+        )
+    return value
+
 
 #: Backends that replace functions of an array backend's compiled system with
 #: generated, jitted kernels: name -> (the array backend, a check that it can run
@@ -110,6 +133,7 @@ def compile_equations(
     defined = function_definitions(system, definitions)
     forms = symbolic_forms(eom, defined)
     signature = Signature(arrays, system.coordinate_names, system.parameter_names)
+    baumgarte = checked_baumgarte(baumgarte)
     dynamics = Dynamics(forms, signature, baumgarte)
     constraint_functions = (
         ConstraintFunctions(forms, signature) if forms.constraints is not None else None
