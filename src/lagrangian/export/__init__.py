@@ -69,23 +69,23 @@ def export_code(
     except Exception as error:  # SymPy's printers in strict mode: no equivalent in the language
         if type(error).__name__ != "PrintMethodNotImplementedError":
             raise
+        # "Unsupported by <class ...>: DiracDelta" and advice on the printer's settings
+        what = str(error).splitlines()[0].rsplit(": ", 1)[-1][:100] if str(error) else "?"
         raise ModelError(
-            f"cannot export to {writer.language}: {' '.join(str(error).split())[:200]}"
+            f"cannot export to {writer.language}: it has no equivalent of {what}"
         ) from None
 
 
 def write_code(system, language: str, path: str | Path, **options: object) -> Path:
     """Write :func:`export_code` to ``path`` atomically (:mod:`lagrangian.files`); a MATLAB
-    function is named after the file."""
+    function is named after the file, and a name the language would misread (a Python
+    module that shadows one it imports, a MATLAB keyword...) is refused."""
     from ..files import check_output_path, write_atomically
 
     check_output_path(path)
-    if language == "matlab" and not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]{0,62}", Path(path).stem):
-        raise ModelError(
-            f"a MATLAB function file needs a name that is an identifier (its function is "
-            f"called by it), not {Path(path).stem!r}",
-            field="--out",
-        )
+    writer_class = LANGUAGES.get(language)
+    if writer_class is not None:
+        writer_class().check_file_name(Path(path))
     text = export_code(system, language, name=options.pop("name", None) or Path(path).stem,
                        **options)  # fmt: skip
     return write_atomically(path, lambda target: Path(target).write_text(text, encoding="utf-8"))

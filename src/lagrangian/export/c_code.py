@@ -14,9 +14,13 @@ or 1 when the matrix is singular (``dydt`` is then left unspecified).
 
 from __future__ import annotations
 
+import math
+
 import sympy
 from sympy.printing.c import C99CodePrinter
 
+from ..numeric.literals import FloatLiterals
+from .comments import C_COMMENT, commented
 from .header import header_lines
 from .program import Program, Routine
 from .writer import AbstractWriter
@@ -73,14 +77,18 @@ static int solve_linear(int n, double *a, double *b)
 """
 
 
-class _Printer(C99CodePrinter):
-    """SymPy's C99 printer with pi and e as numbers: M_PI and M_E are POSIX, not C99."""
+class _Printer(FloatLiterals, C99CodePrinter):
+    """SymPy's C99 printer without its math macros (M_PI, M_SQRT2, M_LN2, M_2_PI... are
+    POSIX, not C99): pi and e as numbers, sqrt(2) and log(2) as calls."""
+
+    def __init__(self) -> None:
+        super().__init__({"strict": True, "math_macros": {}})
 
     def _print_Pi(self, expr) -> str:
-        return "3.14159265358979323846"
+        return repr(math.pi)
 
     def _print_Exp1(self, expr) -> str:
-        return "2.71828182845904523536"
+        return repr(math.e)
 
 
 class CWriter(AbstractWriter):
@@ -92,7 +100,7 @@ class CWriter(AbstractWriter):
     base = 0
 
     def __init__(self) -> None:
-        self._printer = _Printer({"strict": True})
+        self._printer = _Printer()
 
     def expression(self, expr: sympy.Expr) -> str:
         return self._printer.doprint(expr)
@@ -106,7 +114,7 @@ class CWriter(AbstractWriter):
         }
         head = header_lines(program, "C99", base=0, calls=calls)
         head.append("u may be NULL (every input 0). Compile: cc -O2 -c FILE.c (link with -lm).")
-        parts = ["/*", *[f" * {line}".rstrip() for line in head], " */", ""]
+        parts = [*commented(head, C_COMMENT), ""]
         parts += ["#include <math.h>", "#include <stddef.h>", ""]
         parts += [
             f"#define LAGRANGIAN_N_COORDINATES {n}",

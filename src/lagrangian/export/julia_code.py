@@ -14,6 +14,8 @@ from __future__ import annotations
 import sympy
 from sympy.printing.julia import JuliaCodePrinter
 
+from ..numeric.literals import FloatLiterals
+from .comments import JULIA_COMMENT, commented
 from .header import header_lines
 from .program import Program, Routine
 from .writer import AbstractWriter
@@ -22,7 +24,7 @@ _VECTORS = frozenset({"f", "b"})
 _ARGUMENTS = "t, y, params=DEFAULT_PARAMS, u=DEFAULT_INPUTS"
 
 
-class _Printer(JuliaCodePrinter):
+class _Printer(FloatLiterals, JuliaCodePrinter):
     """SymPy's Julia printer, with atan2(y, x) written as Julia's atan(y, x)."""
 
     def _print_atan2(self, expr) -> str:
@@ -50,7 +52,7 @@ class JuliaWriter(AbstractWriter):
             "rhs": f"rhs({_ARGUMENTS}) -> y' = [q', q''] (M \\ f)",
         }
         head = header_lines(program, "Julia", base=1, calls=calls)
-        lines = [f"# {line}".rstrip() for line in head]
+        lines = commented(head, JULIA_COMMENT)
         defaults = ", ".join(
             "NaN" if p.default is None else repr(float(p.default)) for p in program.parameters
         )

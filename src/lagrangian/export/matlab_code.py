@@ -13,14 +13,51 @@ Indices start at 1; vectors are columns.
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import sympy
 from sympy.printing.octave import OctaveCodePrinter
 
+from ..errors import ModelError
+from ..numeric.literals import FloatLiterals
+from .comments import MATLAB_COMMENT, commented
 from .header import header_lines
 from .program import Program, Routine
 from .writer import AbstractWriter
 
 _VECTORS = frozenset({"f", "b"})
+
+#: Keywords of MATLAB (``iskeyword``) and of GNU Octave: no function can be named by one.
+KEYWORDS = frozenset(
+    """
+    break case catch classdef continue else elseif end for function global if otherwise
+    parfor persistent return spmd switch try while arguments do until unwind_protect
+    unwind_protect_cleanup end_try_catch end_unwind_protect endclassdef endenumeration
+    endevents endfor endfunction endif endmethods endparfor endproperties endspmd
+    endswitch endwhile enumeration events methods properties __FILE__ __LINE__
+    """.split()  # noqa: SIM905 - a list of words
+)
+
+#: Built-ins a generated file may call (SymPy's Octave printer, the file's own code),
+#: whichever of them this model uses: a function file named like one shadows it for every
+#: caller on the path, and inside the file a call of it would call the file's function.
+BUILTINS = frozenset(
+    """
+    sin cos tan cot sec csc asin acos atan atan2 sinh cosh tanh exp log sqrt abs sign pi e
+    inf Inf nan NaN zeros nargin isempty
+    """.split()  # noqa: SIM905 - a list of words
+)
+
+#: The file's own functions and its result.
+OWN_NAMES = frozenset({"model", "default_params", "dynamics", "mass_matrix", "forcing", "rhs"})
+
+#: A name MATLAB can give a function: a letter, then letters, digits, underscores (63 at most).
+_FUNCTION_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,62}")
+
+
+class _Printer(FloatLiterals, OctaveCodePrinter):
+    """SymPy's Octave printer, floats written to read back exactly."""
 
 
 class MatlabWriter(AbstractWriter):
@@ -31,10 +68,19 @@ class MatlabWriter(AbstractWriter):
     base = 1
 
     def __init__(self) -> None:
-        self._printer = OctaveCodePrinter({"strict": True})
+        self._printer = _Printer({"strict": True})
 
     def expression(self, expr: sympy.Expr) -> str:
         return self._printer.doprint(expr)
+
+    def check_file_name(self, path: Path) -> None:
+        if not _FUNCTION_NAME.fullmatch(path.stem):
+            raise ModelError(
+                f"a MATLAB function file needs a name that is an identifier (its function is "
+                f"called by it), not {path.stem!r}",
+                field="--out",
+            )
+        _check_function_name(path.stem, used=BUILTINS | OWN_NAMES)
 
     def render(self, program: Program, name: str) -> str:
         calls = {
@@ -52,7 +98,7 @@ class MatlabWriter(AbstractWriter):
             "NaN" if p.default is None else repr(float(p.default)) for p in program.parameters
         )
         lines = [f"function model = {name}()"]
-        lines += [f"% {line}".rstrip() for line in head]
+        lines += commented(head, MATLAB_COMMENT)
         lines += [
             f"model.coordinates = {{{', '.join(_quoted(q.name) for q in program.coordinates)}}};",
             f"model.parameters = {{{', '.join(_quoted(p.name) for p in program.parameters)}}};",
@@ -87,6 +133,7 @@ class MatlabWriter(AbstractWriter):
                 f"dydt = [y({n + 1}:{2 * n}); M \\ f];",
             ]
         lines.append("end")
+        _check_function_name(name, used=BUILTINS | _identifiers(lines[1:]))
         return "\n".join(lines) + "\n"
 
     def _defaults(self, program: Program) -> list[str]:
@@ -127,6 +174,23 @@ class MatlabWriter(AbstractWriter):
                         )
         lines.append("end")
         return lines
+
+
+def _check_function_name(name: str, used: frozenset[str] | set[str]) -> None:
+    """Refuse a function name that is a keyword or a name the file itself uses."""
+    if name in KEYWORDS:
+        raise ModelError(f"the MATLAB function cannot be named {name!r}: it is a keyword")
+    if name in used:
+        raise ModelError(
+            f"the MATLAB function cannot be named {name!r}: the file uses {name!r} itself "
+            f"(a built-in, a variable or one of its functions), which the name would shadow"
+        )
+
+
+def _identifiers(lines: list[str]) -> set[str]:
+    """The names the code uses: its identifiers outside comments and quoted names."""
+    code = "\n".join(line for line in lines if not line.lstrip().startswith("%"))
+    return set(re.findall(r"\b[A-Za-z]\w*", re.sub(r"'[A-Za-z]\w*'", "", code)))
 
 
 def _quoted(name: str) -> str:

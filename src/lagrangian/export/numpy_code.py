@@ -10,15 +10,30 @@ fits ``scipy.integrate.solve_ivp(rhs, ..., args=(params,))``.
 
 from __future__ import annotations
 
+import keyword
+import sys
+from pathlib import Path
+
 import sympy
 from sympy.printing.numpy import NumPyPrinter
 
+from ..errors import ModelError
+from ..numeric.literals import FloatLiterals
+from .comments import PYTHON_COMMENT, commented
 from .header import header_lines
 from .program import Program, Routine
 from .writer import AbstractWriter
 
+#: Modules a generated file imports, directly or through NumPy and SciPy (the standard
+#: library's): a module file named like one is imported in its place from its folder.
+SHADOWED = frozenset({"numpy", "scipy", *sys.stdlib_module_names})
+
 #: The outputs that are vectors (f, the constraint bias b); the others are matrices.
 _VECTORS = frozenset({"f", "b"})
+
+
+class _Printer(FloatLiterals, NumPyPrinter):
+    """SymPy's NumPy printer, floats written to read back exactly."""
 
 
 class NumPyWriter(AbstractWriter):
@@ -29,10 +44,27 @@ class NumPyWriter(AbstractWriter):
     base = 0
 
     def __init__(self) -> None:
-        self._printer = NumPyPrinter({"fully_qualified_modules": True, "strict": True})
+        self._printer = _Printer({"fully_qualified_modules": True, "strict": True})
 
     def expression(self, expr: sympy.Expr) -> str:
         return self._printer.doprint(expr)
+
+    def check_file_name(self, path: Path) -> None:
+        if path.suffix != ".py":
+            return  # not importable as a module: no name to clash
+        stem = path.stem
+        if not stem.isidentifier() or keyword.iskeyword(stem):
+            raise ModelError(
+                f"a Python module needs a name that is an identifier and not a keyword "
+                f"(import NAME), not {stem!r}",
+                field="--out",
+            )
+        if stem in SHADOWED:
+            raise ModelError(
+                f"a module named {stem!r} would be imported instead of Python's {stem!r} "
+                f"(which the file and NumPy import): choose another name",
+                field="--out",
+            )
 
     def render(self, program: Program, name: str) -> str:
         signature = "(t, y, params=DEFAULT_PARAMS, u=None)"
@@ -42,7 +74,10 @@ class NumPyWriter(AbstractWriter):
             "rhs": f"rhs{signature} -> y' = [q', q''] (numpy.linalg.solve)",
         }
         head = header_lines(program, "Python (NumPy)", base=0, calls=calls)
-        lines = ['"""' + head[0], *head[1:], '"""', "", "import numpy", ""]
+        # the first line fixes the encoding: a comment there or on line 2 could declare one
+        # (PEP 263), and a model named "coding: utf-7" would then decode "+AAo-" as a newline
+        lines = ["# -*- coding: utf-8 -*-", *commented(head, PYTHON_COMMENT), ""]
+        lines += ["import numpy", ""]
         defaults = ", ".join(
             "float('nan')" if p.default is None else repr(float(p.default))
             for p in program.parameters

@@ -31,9 +31,11 @@ from dataclasses import dataclass
 import sympy
 
 from ..derive import EquationsOfMotion
-from ..numeric.compile import DEFAULT_BAUMGARTE
+from ..distributions import without_distributions
+from ..numeric.compile import DEFAULT_BAUMGARTE, checked_baumgarte
 from ..numeric.definitions import Definition, function_definitions
 from ..numeric.forms import symbolic_forms
+from ..numeric.literals import machine_numbers
 
 
 @dataclass(frozen=True)
@@ -98,6 +100,7 @@ def program(
 ) -> Program:
     """The :class:`Program` of ``eom``; unspecified functions must be given in
     ``definitions`` (as for :func:`~lagrangian.numeric.compile_equations`)."""
+    baumgarte = checked_baumgarte(baumgarte)
     system = eom.system
     forms = symbolic_forms(eom, function_definitions(system, definitions))
     inputs = set(system.input_names)
@@ -125,7 +128,11 @@ def program(
     renamed[forms.time] = time
 
     def rename(matrix) -> sympy.ImmutableMatrix:
-        return sympy.ImmutableMatrix(sympy.Matrix(matrix).xreplace(renamed))
+        """Renamed, with what no language has taken out: the delta functions (0 but where
+        a force is not differentiable, as our own compiled functions take them) and exact
+        numbers beyond a double (see :mod:`lagrangian.numeric.literals`)."""
+        matrix = without_distributions(sympy.Matrix(matrix).xreplace(renamed))
+        return sympy.ImmutableMatrix(matrix.applyfunc(machine_numbers))
 
     mass, forcing = rename(forms.mass_matrix), rename(forms.forcing)
     blocks = [("M", mass), ("f", forcing)]

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import abc
+from pathlib import Path
 
 import sympy
 
@@ -24,6 +25,10 @@ class AbstractWriter(abc.ABC):
     def render(self, program, name: str) -> str:
         """The complete file; ``name`` names it where the language needs one (MATLAB's
         function, after the file)."""
+
+    def check_file_name(self, path: Path) -> None:  # noqa: B027 - optional, no-op by default
+        """Raise a :class:`~lagrangian.errors.ModelError` when the file cannot be called so
+        (a name its language would misread); any name will do unless a writer says so."""
 
     @abc.abstractmethod
     def expression(self, expr: sympy.Expr) -> str:

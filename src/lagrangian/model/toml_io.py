@@ -13,6 +13,7 @@ import math
 import os
 import stat
 import tomllib
+import unicodedata
 from collections.abc import Mapping
 from pathlib import Path
 
@@ -154,7 +155,7 @@ def _spec(data: Mapping[str, object], source: str | None) -> ModelSpec:
         _check_simulate_value(key, simulate[key])
     return ModelSpec(
         name=_string(data, "name", ""),
-        description=_string(data, "description", ""),
+        description=_string(data, "description", "", breaks="\n\t"),
         coordinates=tuple(_list(data, "coordinates")),
         parameters=_table(data, "parameters"),
         lagrangian=_scalar(data, "lagrangian"),
@@ -176,11 +177,23 @@ def _spec(data: Mapping[str, object], source: str | None) -> ModelSpec:
     )
 
 
-def _string(data, key, default):
+def _string(data, key, default, breaks=""):
+    """Text without control characters (but those in ``breaks``): a name is one line of
+    plain text, and what ends a line or hides text does not belong in the files it reaches."""
     value = data.get(key, default)
     if not isinstance(value, str):
         raise ModelError(f"expected text, got {type(value).__name__}", field=key)
+    for character in value:
+        if unicodedata.category(character) in _CONTROLS and character not in breaks:
+            raise ModelError(
+                f"control character U+{ord(character):04X} not allowed in text", field=key
+            )
     return value
+
+
+#: Unicode categories refused in text: controls (NUL, CR, ...), format characters
+#: (bidirectional overrides, ...) and the line and paragraph separators.
+_CONTROLS = frozenset({"Cc", "Cf", "Zl", "Zp"})
 
 
 def _scalar(data, key, where=None):
