@@ -120,7 +120,7 @@ CASES = [
             ("export", "simple_pendulum", "--to", "matlab", "--out", f"{{dir}}/{stem}.m"),
             rf"the MATLAB function cannot be named '{stem}': it is a keyword"
             if keyword
-            else rf"the MATLAB function cannot be named '{stem}': the file uses '{stem}'",
+            else rf"the MATLAB function cannot be named '{stem}': the file calls '{stem}'",
         )
         for stem, keyword in (
             ("end", True),

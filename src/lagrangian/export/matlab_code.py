@@ -17,7 +17,7 @@ import re
 from pathlib import Path
 
 import sympy
-from sympy.printing.octave import OctaveCodePrinter
+from sympy.printing.octave import OctaveCodePrinter, known_fcns_src1, known_fcns_src2
 
 from ..errors import ModelError
 from ..numeric.literals import FloatLiterals
@@ -39,18 +39,20 @@ KEYWORDS = frozenset(
     """.split()  # noqa: SIM905 - a list of words
 )
 
-#: Built-ins a generated file may call (SymPy's Octave printer, the file's own code),
-#: whichever of them this model uses: a function file named like one shadows it for every
-#: caller on the path, and inside the file a call of it would call the file's function.
+#: Built-ins a generated file may call: the functions and constants SymPy's Octave
+#: printer writes, and those of the file's own code.  A function file named like one
+#: shadows it for every caller on the path, and inside the file a call of it would call
+#: the file's own function.
 BUILTINS = frozenset(
-    """
-    sin cos tan cot sec csc asin acos atan atan2 sinh cosh tanh exp log sqrt abs sign pi e
-    inf Inf nan NaN zeros nargin isempty
-    """.split()  # noqa: SIM905 - a list of words
-)
+    {*known_fcns_src1, *known_fcns_src2.values(), "sqrt", "pi", "e", "i", "j", "inf", "Inf",
+     "nan", "NaN", "eps", "true", "false", "zeros", "nargin", "isempty"}
+)  # fmt: skip
 
-#: The file's own functions and its result.
-OWN_NAMES = frozenset({"model", "default_params", "dynamics", "mass_matrix", "forcing", "rhs"})
+#: The file's own functions (besides the main one, named after the file).
+OWN_FUNCTIONS = frozenset({"default_params", "dynamics", "mass_matrix", "forcing", "rhs"})
+
+#: The file's variables: indexed like calls (``y(1)``), but they shadow nothing.
+_VARIABLES = frozenset({"model", "t", "y", "params", "u", "p", "M", "f", "A", "b", "K", "x"})
 
 #: A name MATLAB can give a function: a letter, then letters, digits, underscores (63 at most).
 _FUNCTION_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,62}")
@@ -80,7 +82,7 @@ class MatlabWriter(AbstractWriter):
                 f"called by it), not {path.stem!r}",
                 field="--out",
             )
-        _check_function_name(path.stem, used=BUILTINS | OWN_NAMES)
+        _check_function_name(path.stem, called=BUILTINS | OWN_FUNCTIONS)
 
     def render(self, program: Program, name: str) -> str:
         calls = {
@@ -133,7 +135,7 @@ class MatlabWriter(AbstractWriter):
                 f"dydt = [y({n + 1}:{2 * n}); M \\ f];",
             ]
         lines.append("end")
-        _check_function_name(name, used=BUILTINS | _identifiers(lines[1:]))
+        _check_function_name(name, called=BUILTINS | OWN_FUNCTIONS | _calls(lines[1:]))
         return "\n".join(lines) + "\n"
 
     def _defaults(self, program: Program) -> list[str]:
@@ -176,21 +178,21 @@ class MatlabWriter(AbstractWriter):
         return lines
 
 
-def _check_function_name(name: str, used: frozenset[str] | set[str]) -> None:
-    """Refuse a function name that is a keyword or a name the file itself uses."""
+def _check_function_name(name: str, called: frozenset[str] | set[str]) -> None:
+    """Refuse a function name that is a keyword or that of a function the file calls."""
     if name in KEYWORDS:
         raise ModelError(f"the MATLAB function cannot be named {name!r}: it is a keyword")
-    if name in used:
+    if name in called:
         raise ModelError(
-            f"the MATLAB function cannot be named {name!r}: the file uses {name!r} itself "
-            f"(a built-in, a variable or one of its functions), which the name would shadow"
+            f"the MATLAB function cannot be named {name!r}: the file calls {name!r} (a "
+            f"built-in or one of its own functions), which the name would shadow"
         )
 
 
-def _identifiers(lines: list[str]) -> set[str]:
-    """The names the code uses: its identifiers outside comments and quoted names."""
+def _calls(lines: list[str]) -> set[str]:
+    """The functions the code calls: names before "(" outside comments, but its variables."""
     code = "\n".join(line for line in lines if not line.lstrip().startswith("%"))
-    return set(re.findall(r"\b[A-Za-z]\w*", re.sub(r"'[A-Za-z]\w*'", "", code)))
+    return set(re.findall(r"\b([A-Za-z]\w*)\(", code)) - _VARIABLES
 
 
 def _quoted(name: str) -> str:
