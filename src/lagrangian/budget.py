@@ -22,6 +22,8 @@ one (SymPy's ``count_ops`` walks the whole tree, shared parts again and again).
 from __future__ import annotations
 
 import contextlib
+import math
+import numbers
 import signal
 import threading
 import time
@@ -31,8 +33,13 @@ from typing import TypeVar
 
 import sympy
 
+from .errors import ModelError
+
 #: Default seconds for each stage of ``analyze`` (conserved quantities, H, equilibria, ...).
 STAGE_SECONDS = 5.0
+#: The longest time budget a caller may give (a week): more is a typo, and infinity would
+#: switch the budget off (``None`` says "no limit" where a library function allows it).
+MAX_SECONDS = 7 * 86400.0
 
 T = TypeVar("T")
 
@@ -54,6 +61,28 @@ class Undecided:
 
     def __str__(self) -> str:
         return f"{self.stage}: {self.reason}"
+
+
+def checked_seconds(value: object, name: str = "timeout") -> float:
+    """``value`` as the seconds of a time budget: a number > 0 and at most :data:`MAX_SECONDS`.
+
+    Anything else (NaN, infinity, 0, a negative number, a string, True) is a one-line
+    :class:`~lagrangian.errors.ModelError` naming the parameter ``name``; the command
+    line's ``--timeout`` is checked by this same function.
+    """
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, numbers.Real)
+        or not math.isfinite(value)
+        or not 0 < value <= MAX_SECONDS
+    ):
+        number = isinstance(value, numbers.Real) and not isinstance(value, bool)
+        shown = f"{value:g}" if number else repr(value)
+        raise ModelError(
+            f"must be a number of seconds > 0 and at most {MAX_SECONDS:g} (a week), not {shown}",
+            field=name,
+        )
+    return float(value)
 
 
 # The armed deadlines, innermost last: (end on the monotonic clock, the exception to raise).
@@ -94,18 +123,22 @@ def deadline(seconds: float | None, stage: str) -> Iterator[None]:
         if state["armed"]:
             raise error
 
-    signal.signal(signal.SIGALRM, expired)
-    _active.append((mine, error))
-    end = mine if outer is None else min(mine, outer)
-    signal.setitimer(signal.ITIMER_REAL, max(end - now, 1e-6))
+    # Everything from installing the handler on is inside the try: an alarm due at once
+    # (a deadline of microseconds, or the outer one) may fire before the first line of the
+    # guarded block, and must still leave through the finally, which undoes all of it.
     try:
+        signal.signal(signal.SIGALRM, expired)
+        _active.append((mine, error))
+        end = mine if outer is None else min(mine, outer)
+        signal.setitimer(signal.ITIMER_REAL, max(end - now, 1e-6))
         yield
     finally:
         # First, before any call (where a pending signal could be delivered): a late
         # alarm from here on is ignored rather than raised inside this cleanup.
         state["armed"] = False
         signal.setitimer(signal.ITIMER_REAL, 0)
-        _active.pop()
+        if _active and _active[-1][1] is error:
+            _active.pop()
         signal.signal(signal.SIGALRM, previous_handler)
         if outer is not None and not state["handed_on"]:  # re-arm what was armed before
             delay = max(outer - time.monotonic(), 1e-6)

@@ -20,7 +20,15 @@ from derive.test_chain_pendulum import chain_pendulum
 from helpers import assert_close, evaluate, random_point
 from lagrangian.analysis import analyze
 from lagrangian.analysis.hamiltonian import hamiltonian
-from lagrangian.budget import OutOfTime, Undecided, attempt, deadline, exceeds, remaining
+from lagrangian.budget import (
+    OutOfTime,
+    Undecided,
+    attempt,
+    checked_seconds,
+    deadline,
+    exceeds,
+    remaining,
+)
 from lagrangian.output.analysis import analysis_document, format_analysis, latex_analysis
 
 TOP_KINETIC = (
@@ -93,6 +101,62 @@ def test_an_outer_alarm_of_someone_else_still_fires():
 
 def test_out_of_time_is_not_an_exception_that_library_code_swallows():
     assert not issubclass(OutOfTime, Exception)
+
+
+def test_an_alarm_due_before_the_guarded_block_starts_is_still_this_stages(monkeypatch):
+    """A deadline of microseconds can fire as the timer is armed, before the block's first
+    line: it is still reported undecided, and leaves nothing armed (it escaped as a
+    traceback when the arming stood outside the try)."""
+    import signal
+
+    import lagrangian.budget as budget
+
+    real = signal.setitimer
+    calls = []
+
+    def due_at_once(which, delay, interval=0.0):
+        calls.append(delay)
+        if len(calls) == 1:  # the arming: the alarm is delivered as the call returns
+            signal.raise_signal(signal.SIGALRM)
+            return (0.0, 0.0)
+        return real(which, delay, interval)
+
+    before = signal.getsignal(signal.SIGALRM)
+    monkeypatch.setattr(budget.signal, "setitimer", due_at_once)
+    outcome = attempt("instant", 1e-5, lambda: 42)
+    assert outcome == (None, Undecided("instant", "not decided within 1e-05 s"))
+    assert remaining() is None
+    assert signal.getsignal(signal.SIGALRM) is before
+
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), 0, -1.0, 1e9, True, "5", None])
+def test_a_time_budget_is_a_finite_number_of_seconds_up_to_a_week(value):
+    with pytest.raises(lg.ModelError) as error:
+        checked_seconds(value, "timeout")
+    assert str(error.value).startswith(
+        "timeout: must be a number of seconds > 0 and at most 604800 (a week), not "
+    )
+
+
+def test_every_library_entry_with_a_time_budget_checks_it():
+    from lagrangian.analysis import constrained_equilibria, equilibria, steady_motions
+
+    system = lg.load("simple_pendulum")
+    eom = system.equations_of_motion()
+    calls = [
+        lambda t: system.analyze(timeout=t),
+        lambda t: analyze(eom, timeout=t),
+        lambda t: equilibria(eom, timeout=t),
+        lambda t: steady_motions(lg.load("central_force").equations_of_motion(), timeout=t),
+        lambda t: constrained_equilibria(eom, timeout=t),
+        lambda t: system.simulate(t_end=1.0, timeout=t),
+        lambda t: system.ensemble(initial={"theta": [0.1, 0.2]}, t_end=1.0, timeout=t),
+    ]
+    for call in calls:
+        for value in (float("nan"), float("inf"), 0.0):
+            with pytest.raises(lg.ModelError, match=r"^timeout: must be a number of seconds"):
+                call(value)
+    assert checked_seconds(1e-4) == 1e-4 and checked_seconds(604800) == 604800.0
 
 
 def test_sizes_are_counted_only_up_to_the_limit():

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import sympy
 
 from ..algebra import tidy
-from ..budget import remaining
+from ..budget import checked_seconds, remaining
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from .conditions import stability_verdict
@@ -65,6 +65,7 @@ def constrained_equilibria(
     eom: EquationsOfMotion, *, timeout: float = 10.0
 ) -> tuple[ConstrainedEquilibrium, ...]:
     """Rest points of a system with holonomic constraints (see the module docstring)."""
+    timeout = checked_seconds(timeout, "timeout")
     system, forms = eom.system, eom.constraints
     if forms is None:
         raise ModelError("the system has no constraints: use equilibria()")

@@ -49,7 +49,7 @@ import sympy
 from sympy.core.function import AppliedUndef
 
 from ..algebra import is_zero, tidy
-from ..budget import remaining
+from ..budget import checked_seconds, remaining
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from ..model import System
@@ -179,6 +179,7 @@ def rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> tuple[RestP
     ``timeout`` bounds SymPy's solve (and less when a deadline of
     :mod:`lagrangian.budget` ends sooner); past it, the numerical roots.
     """
+    timeout = checked_seconds(timeout, "timeout")
     system = eom.system
     if system.constraints:
         raise ModelError("equilibria with constraints are not supported", field="constraints")

@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 
-from ..budget import STAGE_SECONDS, Undecided, attempt
+from ..budget import STAGE_SECONDS, Undecided, attempt, checked_seconds
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from ..symbols import momentum_name
@@ -72,6 +72,8 @@ def analyze(
     cyclic momenta (``{"p_phi": 1.0}``): the steady motions are then found for
     them, numerically where SymPy cannot.
     """
+    if timeout is not None:
+        timeout = checked_seconds(timeout, "timeout")
     if momenta:
         known = {momentum_name(name) for name in cyclic_coordinates(eom)}
         unknown = sorted(set(momenta) - known)

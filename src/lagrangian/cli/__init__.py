@@ -19,6 +19,7 @@ from enum import IntEnum
 
 import click
 
+from ..budget import OutOfTime
 from ..errors import LagrangianError, LagrangianWarning
 from . import ensemble, export, visual  # noqa: F401  (each registers its commands on app)
 from .app import app
@@ -55,6 +56,8 @@ def _run(argv: Sequence[str] | None) -> ExitStatus:
         )
     except LagrangianError as error:
         return _fail(ExitStatus.BAD_INPUT, str(error))
+    except OutOfTime as error:  # a BaseException: a deadline no stage caught is the user's budget
+        return _fail(ExitStatus.BAD_INPUT, f"{error} (allow more time with --timeout SECONDS)")
     except click.ClickException as error:
         return _fail(ExitStatus.BAD_INPUT, error.format_message())
     except click.Abort:

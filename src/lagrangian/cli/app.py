@@ -9,6 +9,7 @@ import time
 
 import click
 
+from ..budget import STAGE_SECONDS, checked_seconds
 from ..integrate.pace import RUN_SECONDS
 from ..integrate.registry import METHODS
 from ..numeric.compile import RUN_BACKENDS
@@ -64,10 +65,12 @@ def derive(model: str, as_json: bool, as_latex: bool, steps: bool) -> None:
 @click.option("--latex", "as_latex", is_flag=True, help="Print LaTeX.")
 @click.option(
     "--timeout",
-    type=click.FloatRange(min=0, min_open=True),
-    default=5.0,
+    type=float,
+    callback=lambda ctx, param, value: _seconds(value),
+    metavar="SECONDS",
+    default=STAGE_SECONDS,
     show_default=True,
-    help="Seconds for each stage; a stage out of time is reported undecided.",
+    help="Seconds for each stage (> 0, at most a week); a stage out of time is reported undecided.",
 )
 @click.option(
     "--state-space",
@@ -236,13 +239,27 @@ define_option = click.option(
 )
 
 
+def _seconds(value: float) -> float:
+    """A --timeout checked by the library's own rule (:func:`lagrangian.budget.checked_seconds`):
+    NaN, infinity (which would switch the budget off), 0 or over a week is a usage error."""
+    from ..errors import ModelError
+
+    try:
+        return checked_seconds(value, "timeout")
+    except ModelError as error:
+        raise click.BadParameter(error.message) from None
+
+
+#: --timeout of every command that runs an integration (simulate, ensemble, plot, animate).
 timeout_option = click.option(
     "--timeout",
-    type=click.FloatRange(min=0, min_open=True),
+    type=float,
+    callback=lambda ctx, param, value: _seconds(value),
+    metavar="SECONDS",
     default=RUN_SECONDS,
     show_default=True,
-    help="Seconds the runs may take; a run whose pace shows it would take longer is "
-    "stopped at once.",
+    help="Seconds the runs may take (> 0, at most a week); a run whose pace shows it would "
+    "take longer is stopped at once.",
 )
 
 

@@ -19,7 +19,8 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
-from ..errors import LagrangianError, ModelError
+from ..budget import checked_seconds
+from ..errors import LagrangianError
 
 #: Default budget of a single run started from the command line or ``System.simulate``.
 RUN_SECONDS = 300.0
@@ -57,10 +58,8 @@ class RunPace:
         describe: Callable[[float], str] | None = None,
         advice: str = RUN_ADVICE,
     ):
-        if not seconds > 0:
-            raise ModelError(f"the time allowed must be a number of seconds > 0, not {seconds}")
         self.t0, self.t1 = float(t_span[0]), float(t_span[1])
-        self.seconds = float(seconds)
+        self.seconds = checked_seconds(seconds, "timeout")
         self.describe = describe or (lambda t: f"t = {t:.6g} of t_end = {self.t1:g}")
         self.advice = advice
         self.started: float | None = None
