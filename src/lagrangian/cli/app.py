@@ -138,7 +138,7 @@ def analyze(
     analysis = run_analysis(
         system.without_inputs().equations_of_motion(),
         timeout=timeout,
-        momenta=_numbers(_pairs(momenta, "--momentum"), "--momentum"),
+        momenta=_numbers(_pairs(momenta, "--momentum", "NAME=NUMBER"), "--momentum"),
     )
     if as_json:
         document = analysis_document(analysis)
@@ -162,23 +162,36 @@ def analyze(
             click.echo(format_state_space(linear))
 
 
-def _pairs(values: tuple[str, ...], hint: str) -> dict[str, str]:
-    """NAME=EXPR pairs (the expressions are read later by the safe parser)."""
-    result = {}
+def _pairs(values: tuple[str, ...], hint: str, metavar: str = "NAME=EXPR") -> dict[str, str]:
+    """The NAME=TEXT items of a repeatable option (--set, --define, --at, --output,
+    --momentum, --grid), in order; the one parser of them all.
+
+    A malformed item, or a name given twice (which would keep the last silently), is a
+    usage error naming it.  The text is read later: by ``float`` or by the safe parser.
+    """
+    result: dict[str, str] = {}
     for item in values:
         name, sep, text = item.partition("=")
-        if not sep or not name.strip() or not text.strip():
-            raise click.BadParameter(f"expected NAME=EXPR, got {item!r}", param_hint=hint)
-        result[name.strip()] = text
+        name = name.strip()
+        if not sep or not name or not text.strip():
+            raise click.BadParameter(f"expected {metavar}, got {item!r}", param_hint=hint)
+        if name in result:
+            raise click.BadParameter(f"'{name}' is given twice", param_hint=hint)
+        result[name] = text
     return result
 
 
 def _numbers(pairs: dict[str, str], hint: str) -> dict[str, float]:
     """NAME=VALUE pairs with plain numbers (read by float, never evaluated)."""
-    try:
-        return {name: float(text) for name, text in pairs.items()}
-    except ValueError:
-        raise click.BadParameter("expected NAME=NUMBER", param_hint=hint) from None
+    numbers = {}
+    for name, text in pairs.items():
+        try:
+            numbers[name] = float(text)
+        except ValueError:
+            raise click.BadParameter(
+                f"expected NAME=NUMBER, got {f'{name}={text}'!r}", param_hint=hint
+            ) from None
+    return numbers
 
 
 @contextlib.contextmanager
@@ -215,18 +228,7 @@ def _progress_bar(*, enabled: bool):
 
 def _assignments(values: tuple[str, ...]) -> dict[str, float]:
     """NAME=VALUE pairs of --set as numbers (a bad one is a usage error naming it)."""
-    result = {}
-    for item in values:
-        name, sep, text = item.partition("=")
-        try:
-            if not sep or not name.strip():
-                raise ValueError
-            result[name.strip()] = float(text)
-        except ValueError:
-            raise click.BadParameter(
-                f"expected NAME=NUMBER, got {item!r}", param_hint="--set"
-            ) from None
-    return result
+    return _numbers(_pairs(values, "--set", "NAME=NUMBER"), "--set")
 
 
 #: --define NAME=EXPR, read by :func:`_definitions` (simulate, ensemble).
@@ -265,13 +267,7 @@ timeout_option = click.option(
 
 def _definitions(values: tuple[str, ...]) -> dict[str, str]:
     """NAME=EXPR pairs of --define (the expression is parsed later by the safe parser)."""
-    result = {}
-    for item in values:
-        name, sep, text = item.partition("=")
-        if not sep or not name.strip() or not text.strip():
-            raise click.BadParameter(f"expected NAME=EXPR, got {item!r}", param_hint="--define")
-        result[name.strip()] = text
-    return result
+    return _pairs(values, "--define")
 
 
 @app.command(epilog=MODEL_HELP)

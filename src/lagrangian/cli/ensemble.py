@@ -10,6 +10,7 @@ from .app import (
     MODEL_HELP,
     _assignments,
     _definitions,
+    _pairs,
     _progress_bar,
     app,
     define_option,
@@ -20,22 +21,20 @@ from .app import (
 def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
     """NAME=LO:HI:N of --grid as a linspace each, on its own axis (a bad one: usage error)."""
     grids: dict[str, np.ndarray] = {}
-    for item in values:
-        name, sep, text = item.partition("=")
+    for name, text in _pairs(values, "--grid", "NAME=LO:HI:N").items():
         parts = text.split(":")
         try:
-            if not sep or not name.strip() or len(parts) != 3:
+            if len(parts) != 3:
                 raise ValueError
             low, high, count = float(parts[0]), float(parts[1]), int(parts[2])
             if count < 1 or not (np.isfinite(low) and np.isfinite(high)):
                 raise ValueError
         except ValueError:
             raise click.BadParameter(
-                f"expected NAME=LO:HI:N (N a whole number >= 1), got {item!r}", param_hint="--grid"
+                f"expected NAME=LO:HI:N (N a whole number >= 1), got {f'{name}={text}'!r}",
+                param_hint="--grid",
             ) from None
-        if name.strip() in grids:
-            raise click.BadParameter(f"'{name.strip()}' is given twice", param_hint="--grid")
-        grids[name.strip()] = np.linspace(low, high, count)
+        grids[name] = np.linspace(low, high, count)
     ndim = len(grids)
     return {
         name: values.reshape([-1 if k == axis else 1 for k in range(ndim)])
@@ -109,6 +108,9 @@ def ensemble(
         check_output_path(out)  # before the runs: a typo in --out fails at once
     grid = _grids(grids)
     fixed = _assignments(assignments)
+    both = sorted(set(grid) & set(fixed))
+    if both:  # one would silently win over the other
+        raise click.BadParameter(f"'{both[0]}' is given by --grid too", param_hint="--set")
     names = observable_names(observables or ("final_state",))
     system = load(model)
     initial, params = {}, {}
