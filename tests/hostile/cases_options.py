@@ -33,3 +33,97 @@ CASES = [
         output=r"not decided within 1e-05 s",
     ),
 ]
+
+# -- assignment lists: one parser, a name given twice is refused (it kept the last) ---------
+CASES += [
+    HostileCase(
+        "state-space-at-given-twice",
+        ("analyze", "cart_pole", "--state-space", "--at", "theta=0", "--at", "theta=pi"),
+        error=r"Invalid value for --at: 'theta' is given twice$",
+    ),
+    HostileCase(
+        "state-space-output-given-twice",
+        (
+            "analyze",
+            "cart_pole",
+            "--state-space",
+            "--at",
+            "theta=0",
+            "--output",
+            "y=x",
+            "--output",
+            "y=theta",
+        ),
+        error=r"Invalid value for --output: 'y' is given twice$",
+    ),
+    HostileCase(
+        "simulate-set-given-twice",
+        ("simulate", "harmonic_oscillator", "--set", "m=1", "--set", "m=2"),
+        error=r"Invalid value for --set: 'm' is given twice$",
+    ),
+    HostileCase(
+        "simulate-define-given-twice",
+        ("simulate", "velocity_dependent_potential", "--define", "B=x", "--define", "B=0"),
+        error=r"Invalid value for --define: 'B' is given twice$",
+    ),
+    HostileCase(
+        "analyze-momentum-given-twice",
+        ("analyze", "central_force", "--momentum", "p_theta=1", "--momentum", " p_theta=2"),
+        error=r"Invalid value for --momentum: 'p_theta' is given twice$",
+    ),
+    HostileCase(
+        "ensemble-set-and-grid-of-one-name",
+        ("ensemble", "simple_pendulum", "--grid", "theta=0:1:3", "--set", "theta=1"),
+        error=r"Invalid value for --set: 'theta' is given by --grid too$",
+    ),
+]
+
+# -- an output's name: an identifier that means nothing else in the model -------------------
+CASES += [
+    HostileCase(
+        f"state-space-output-named-{label}",
+        ("analyze", "cart_pole", "--state-space", "--at", "theta=0", "--output", f"{name}=x"),
+        error=error,
+    )
+    for label, name, error in (
+        ("with-a-space", "bad name", r"outputs: invalid output name 'bad name'"),
+        ("sin", "sin", r"outputs\.sin: 'sin' is a built-in name: give the output another name"),
+        ("pi", "pi", r"outputs\.pi: 'pi' is a built-in name"),
+        ("t", "t", r"outputs\.t: 't' is a built-in name"),
+        ("a-coordinate", "theta", r"outputs\.theta: 'theta' is a coordinate"),
+        ("a-velocity", "x_dot", r"outputs\.x_dot: 'x_dot' is a velocity"),
+        ("a-parameter", "M", r"outputs\.M: 'M' is a parameter"),
+        ("an-input", "F", r"outputs\.F: 'F' is an input"),
+    )
+]
+
+# -- values given in place of the defaults pass the model file's own checks ------------------
+TRIANGLE = r"bodies\[0\]\.inertia: the principal moments 0\.01, 0\.01, {I3} violate the triangle"
+POSITIVE_M = r"parameter M = -1 breaks the model's assumption that M is positive"
+CASES += [
+    HostileCase(
+        "simulate-set-breaks-the-triangle-inequality",
+        ("simulate", "heavy_top", "--t-end", "0.1", "--set", "I3=1"),
+        error=TRIANGLE.format(I3="1") + r".*\(with I3 = 1\)$",
+    ),
+    HostileCase(
+        "plot-set-breaks-the-triangle-inequality",
+        ("plot", "heavy_top", "--set", "I3=0.5", "--out", "{dir}/top.png"),
+        error=TRIANGLE.format(I3="0.5"),
+    ),
+    HostileCase(
+        "state-space-at-breaks-the-triangle-inequality",
+        ("analyze", "heavy_top", "--state-space", "--at", "theta=0", "--at", "I3=1"),
+        error=TRIANGLE.format(I3="1"),
+    ),
+    HostileCase(
+        "state-space-at-breaks-the-sign",
+        ("analyze", "cart_pole", "--state-space", "--at", "theta=0", "--at", "M=-1"),
+        error=POSITIVE_M,
+    ),
+    HostileCase(
+        "state-space-at-expression-breaks-the-sign",
+        ("analyze", "cart_pole", "--state-space", "--at", "theta=0", "--at", "M=-m"),
+        error=r"parameter M = -\S+ breaks the model's assumption that M is positive",
+    ),
+]

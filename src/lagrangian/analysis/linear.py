@@ -38,6 +38,7 @@ from ..algebra import tidy
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from ..model import System
+from ..model.values import check_parameter_expressions
 from .modes import ModeAnalysis, NormalModes, Stability, vanishes  # noqa: F401  (re-exported)
 
 
@@ -119,6 +120,7 @@ def linearize(
         elif name not in values:
             known = ", ".join((*system.coordinate_names, *parameters))
             raise ModelError(f"'{name}' is not a coordinate or parameter (known: {known})")
+    check_parameter_expressions(system, fixed)  # the model's checks of the values given
     q = [c.q for c in system.coordinates]
     qdot = [c.q_dot for c in system.coordinates]
     missing = [

@@ -18,7 +18,10 @@ from sympy.core.function import AppliedUndef
 from ..derive import derive
 from ..errors import ModelError, ParseError
 from ..model import System
+from ..model.naming import RESERVED
+from ..model.values import check_parameter_expressions
 from ..parsing import Namespace, parse_expression
+from ..symbols import is_identifier
 
 
 class OperatingPoint:
@@ -57,6 +60,9 @@ class OperatingPoint:
         }
         for name in system.input_names:
             self.defaults.pop(name, None)
+        check_parameter_expressions(
+            system, {name: value for name, value in self.given.items() if name in parameters}
+        )
 
     def check_steady(self, mass: sympy.MatrixBase, forcing: sympy.MatrixBase) -> None:
         """Every coordinate in M or f is given; only coordinates absent from them move."""
@@ -122,6 +128,9 @@ def chosen_outputs(
                 raise ModelError(f"'{name}' is not a coordinate or velocity (known: {known})",
                                  field="outputs")  # fmt: skip
         outputs = {name: name for name in outputs}
+    else:
+        for name in outputs:
+            _check_output_name(system, name)
     allowed = dict(state) | {p.name: p.symbol for p in system.parameters}
     namespace = Namespace(symbols=allowed)
     expressions = []
@@ -140,6 +149,27 @@ def chosen_outputs(
             raise ModelError("an output may not use unspecified functions", field=where)
         expressions.append(expression)
     return tuple(str(name) for name in outputs), expressions
+
+
+def _check_output_name(system: System, name: object) -> None:
+    """An output's own name: an identifier that means nothing else in the model (a name
+    taken would read as that thing in y = C x + D u and in every document of it)."""
+    where = f"outputs.{name}"
+    if not isinstance(name, str) or not is_identifier(name):
+        raise ModelError(
+            f"invalid output name {name!r} (a letter, then letters, digits or _)", field="outputs"
+        )
+    taken = {
+        **{c.name: "a coordinate" for c in system.coordinates},
+        **{c.q_dot.name: "a velocity" for c in system.coordinates},
+        **{c.q_ddot.name: "an acceleration" for c in system.coordinates},
+        **{p.name: "a parameter" for p in system.parameters},
+        **{name: "an input" for name in system.input_names},
+        **{f.name: "a declared function" for f in system.functions},
+        **dict.fromkeys(RESERVED, "a built-in name"),
+    }
+    if name in taken:
+        raise ModelError(f"'{name}' is {taken[name]}: give the output another name", field=where)
 
 
 def point_value(

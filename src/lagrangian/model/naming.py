@@ -17,6 +17,7 @@ from ..symbols import (
     is_identifier,
 )
 from .system import PARAMETER_SIGNS
+from .values import SIGN_BREAKS
 
 #: Names a model may not declare: time and the expression language's built-ins.
 RESERVED = frozenset({TIME_NAME, *BUILTIN_FUNCTIONS, *BUILTIN_CONSTANTS})
@@ -73,12 +74,8 @@ def parameter_entry(entry: object, where: str) -> tuple[float | None, str]:
         value = float(value)
     if sign is None:
         sign = "positive" if value is None or value > 0 else "real"
-    violated = {
-        "positive": value is not None and value <= 0,
-        "nonnegative": value is not None and value < 0,
-        "negative": value is not None and value >= 0,
-    }.get(sign, False)
-    if violated:
+    breaks = SIGN_BREAKS.get(sign)
+    if value is not None and breaks is not None and breaks(value):  # as for values given later
         raise ModelError(f"value {value} contradicts sign '{sign}'", field=where)
     return value, sign
 

@@ -114,12 +114,11 @@ def resolve_body(
         tensor = tuple(
             tuple(resolved[f"{where}.inertia[{j}][{k}]"] for k in range(3)) for j in range(3)
         )
-        _check_tensor(tensor, values, f"{where}.inertia")
     else:
         moments = [resolved[f"{where}.inertia[{k}]"] for k in range(3)]
-        _check_moments(moments, values, f"{where}.inertia")
         zero = sympy.Integer(0)
         tensor = tuple(tuple(moments[j] if j == k else zero for k in range(3)) for j in range(3))
+    check_inertia(tensor, values, f"{where}.inertia")
     if body.euler is not None:
         euler = tuple(resolved[f"{where}.orientation.euler[{k}]"] for k in range(3))
         matrix = euler_matrix(euler, body.convention)
@@ -156,6 +155,21 @@ def _numbers(expressions, values, field: str) -> np.ndarray | None:
             field=field,
         )
     return numbers
+
+
+def check_inertia(
+    tensor: Sequence[Sequence[sympy.Expr]], values: Mapping[sympy.Symbol, float], field: str
+) -> None:
+    """ModelError (naming ``field``) unless the inertia ``tensor`` (3 x 3, body frame) is
+    one some body has at the parameter ``values``: symmetric, principal moments not
+    negative and within the triangle inequalities.  Entries without a value are not
+    judged numerically.  The model's own check, and that of every value given later
+    (:func:`lagrangian.model.values.check_parameter_values`)."""
+    diagonal = all(tensor[j][k] == 0 for j in range(3) for k in range(3) if j != k)
+    if diagonal:  # the principal moments themselves: checked symbolically as well
+        _check_moments([tensor[k][k] for k in range(3)], values, field)
+    else:
+        _check_tensor(tensor, values, field)
 
 
 def _check_moments(moments, values, field: str) -> None:

@@ -32,6 +32,7 @@ import sympy
 
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
+from ..model.values import check_parameter_value, check_parameter_values
 
 StateFunction = Callable[[float, np.ndarray, np.ndarray], np.ndarray]  # (t, y, params)
 SplitFunction = Callable[[float, np.ndarray, np.ndarray, np.ndarray], np.ndarray]  # (t, q, v, p)
@@ -103,6 +104,8 @@ class CompiledSystem:
             )
         for name in self.parameter_names:
             self.check_parameter(name, values[name])
+        # the model file's checks of the values given, its 3-D bodies' inertia included
+        check_parameter_values(self.equations.system, overrides or {})
         return np.array([values[name] for name in self.parameter_names], dtype=float)
 
     def check_parameter(self, name: str, values: float | np.ndarray) -> None:
@@ -111,20 +114,7 @@ class CompiledSystem:
         The equations were derived with the model's assumptions (a positive m makes
         sqrt(m**2) = m), so they are wrong, silently, for a value that breaks one.
         """
-        values = np.ravel(np.asarray(values, dtype=float))
-        bad = ~np.isfinite(values)
-        if bad.any():
-            value = values[int(np.argmax(bad))]
-            raise ModelError(f"parameter {name} = {value:g} is not a finite number")
-        sign = self.parameter_signs.get(name, "real")
-        bad = _BREAKS_SIGN.get(sign, lambda v: np.zeros(v.shape, bool))(values)
-        if bad.any():
-            value = values[int(np.argmax(bad))]
-            raise ModelError(
-                f"parameter {name} = {value:g} breaks the model's assumption that {name} is "
-                f"{sign} (the equations were derived with it): give a value {_SIGN_RANGE[sign]}, "
-                f'or declare {name} = {{value = ..., sign = "real"}} in the model'
-            )
+        check_parameter_value(name, values, self.parameter_signs.get(name, "real"))
 
     def state_vector(self, initial: Mapping[str, float] | None = None) -> np.ndarray:
         """y0 from ``{q: value, q_dot: value}``; missing entries are 0 (DESIGN section 2)."""
@@ -145,12 +135,3 @@ def check_initial(name: str, values: float | np.ndarray) -> None:
     bad = ~np.isfinite(values)
     if bad.any():
         raise ModelError(f"initial {name} = {values[int(np.argmax(bad))]:g} is not a finite number")
-
-
-#: Per assumed sign: which values break it, and the range to say instead.
-_BREAKS_SIGN = {
-    "positive": lambda values: values <= 0,
-    "nonnegative": lambda values: values < 0,
-    "negative": lambda values: values >= 0,
-}
-_SIGN_RANGE = {"positive": "> 0", "nonnegative": ">= 0", "negative": "< 0"}
