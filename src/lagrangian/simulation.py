@@ -15,6 +15,7 @@ from .integrate import method_class, simulate
 from .integrate.pace import RUN_SECONDS, RunPace, watching
 from .integrate.simulate import DEFAULT_METHOD
 from .model import System
+from .model.values import check_parameter_values
 from .numeric import compile_equations, default_backend
 from .trajectory import Trajectory
 
@@ -62,6 +63,7 @@ def simulate_system(
             raise ModelError(
                 f"'{name}' is neither a parameter nor a coordinate or velocity", field="--set"
             )
+    check_parameter_values(system, params)  # before the derivation: a bad value fails at once
     method = method or settings.get("method") or DEFAULT_METHOD
     # The model's defaults apply where they fit the method; the caller's settings always
     # go through, so a misfit (--dt for an adaptive method) is reported, not ignored.
