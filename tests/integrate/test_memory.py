@@ -93,3 +93,63 @@ def test_the_ensemble_estimate_counts_members_paths_and_steps(pendulum, availabl
         run_ensemble(
             pendulum, t_end=1.0, dt=0.01, initial={"theta1": np.linspace(0, 1, 5)}, save_every=10
         )
+
+
+def test_the_address_space_limit_counts_what_is_in_use(tmp_path):
+    import resource
+
+    status = tmp_path / "status"
+    status.write_text("Name:\tpython\nVmSize:\t 1000000 kB\nVmRSS:\t 1000 kB\n")
+    limit = 3 * 1024**3
+
+    def limited(which):
+        assert which == resource.RLIMIT_AS
+        return limit, resource.RLIM_INFINITY
+
+    assert memory.address_space_left(limited, status) == limit - 1000000 * 1024
+    unlimited = lambda which: (resource.RLIM_INFINITY, resource.RLIM_INFINITY)  # noqa: E731
+    assert memory.address_space_left(unlimited, status) is None
+
+
+@pytest.mark.parametrize(
+    ("files", "left"),
+    [
+        ({"memory.max": "2147483648\n", "memory.current": "1073741824\n"}, 1 << 30),
+        ({"memory.max": "max\n", "memory.current": "1073741824\n"}, None),
+        (
+            {
+                "memory/memory.limit_in_bytes": "2147483648\n",
+                "memory/memory.usage_in_bytes": "536870912\n",
+            },
+            3 << 29,
+        ),
+        ({"memory/memory.limit_in_bytes": "9223372036854771712\n"}, None),
+        ({}, None),
+    ],
+)
+def test_the_cgroup_limit_is_read_from_v2_and_v1_files(tmp_path, files, left):
+    for name, text in files.items():
+        (tmp_path / name).parent.mkdir(exist_ok=True)
+        (tmp_path / name).write_text(text)
+    assert memory.cgroup_left(tmp_path) == left
+
+
+def test_the_smallest_limit_is_the_one_checked_and_named(monkeypatch):
+    monkeypatch.setattr(memory, "system_available", lambda: 8 * 10**9)
+    monkeypatch.setattr(memory, "address_space_left", lambda: 2 * 10**9)
+    monkeypatch.setattr(memory, "cgroup_left", lambda: 4 * 10**9)
+    assert memory.available_memory() == 2 * 10**9
+    with pytest.raises(ModelError) as error:
+        memory.check_fits(3e9, "the run", "do less")
+    assert str(error.value) == (
+        "the run needs about 3 GB of memory, more than the 2 GB available under the "
+        "address-space limit (RLIMIT_AS): do less"
+    )
+
+
+def test_a_huge_grid_is_refused_before_its_values_are_made(pendulum):
+    from lagrangian.ensemble.members import GridAxis
+
+    axis = GridAxis(0.0, 1.0, 10**12)  # 8 TB of values if they were made
+    with pytest.raises(ModelError, match=r"^an ensemble of 1,000,000,000,000 members"):
+        run_ensemble(pendulum, initial={"theta1": axis}, t_end=1.0, dt=0.1)

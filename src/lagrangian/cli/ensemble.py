@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import click
 import numpy as np
 
@@ -17,10 +19,16 @@ from .app import (
     timeout_option,
 )
 
+if TYPE_CHECKING:
+    from ..ensemble.members import GridAxis
 
-def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
-    """NAME=LO:HI:N of --grid as a linspace each, on its own axis (a bad one: usage error)."""
-    grids: dict[str, np.ndarray] = {}
+
+def _grids(values: tuple[str, ...]) -> dict[str, GridAxis]:
+    """NAME=LO:HI:N of --grid, each on its own axis (a bad one: usage error); the values are
+    made only once the ensemble is known to fit in memory."""
+    from ..ensemble.members import GridAxis
+
+    specs: dict[str, tuple[float, float, int]] = {}
     for name, text in _pairs(values, "--grid", "NAME=LO:HI:N").items():
         parts = text.split(":")
         try:
@@ -34,11 +42,11 @@ def _grids(values: tuple[str, ...]) -> dict[str, np.ndarray]:
                 f"expected NAME=LO:HI:N (N a whole number >= 1), got {f'{name}={text}'!r}",
                 param_hint="--grid",
             ) from None
-        grids[name] = np.linspace(low, high, count)
-    ndim = len(grids)
+        specs[name] = (low, high, count)
+    ndim = len(specs)
     return {
-        name: values.reshape([-1 if k == axis else 1 for k in range(ndim)])
-        for axis, (name, values) in enumerate(grids.items())
+        name: GridAxis(low, high, count, axis, ndim)
+        for axis, (name, (low, high, count)) in enumerate(specs.items())
     }
 
 

@@ -4,11 +4,14 @@
 together (NumPy rules) to the member shape.  A 1-D (or scalar) shape gives the
 dimension ``member``; a grid (ndim >= 2) names each axis after the first
 input that varies along that axis only (``theta1`` x ``theta2``), else
-``axis<k>``.
+``axis<k>``.  A :class:`GridAxis` (the CLI's ``--grid NAME=LO:HI:N``) is such a
+grid axis given by its range, made into values only once the members are known to
+fit in memory.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -20,6 +23,25 @@ from ..numeric.compiled import check_initial
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
+
+
+@dataclass(frozen=True)
+class GridAxis:
+    """``count`` values from ``low`` to ``high`` (a linspace) along axis ``axis`` of ``ndim``."""
+
+    low: float
+    high: float
+    count: int
+    axis: int = 0
+    ndim: int = 1
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return tuple(self.count if k == self.axis else 1 for k in range(self.ndim))
+
+    def __array__(self, dtype=None, copy=None) -> np.ndarray:
+        values = np.linspace(self.low, self.high, self.count).reshape(self.shape)
+        return values if dtype is None else values.astype(dtype)
 
 
 @dataclass(frozen=True)
@@ -62,16 +84,17 @@ def members(
     if len(given) != len(initial) + len(params):
         raise ModelError("a name is given both as an initial value and as a parameter")
     try:
-        arrays = {name: np.asarray(value, dtype=float) for name, value in given.items()}
-        shape = np.broadcast_shapes(*(a.shape for a in arrays.values())) if arrays else ()
+        shapes = {name: _shape(value) for name, value in given.items()}
+        shape = np.broadcast_shapes(*shapes.values()) if shapes else ()
     except (TypeError, ValueError) as error:
         raise ModelError(f"the initial values and parameters do not broadcast: {error}") from None
     shape = shape or (1,)
-    count = int(np.prod(shape))
+    count = math.prod(shape)  # a Python int: no overflow for a hostile grid
     if count == 0:
         raise ModelError("the ensemble has no members")
     if before_allocating is not None:
         before_allocating(count)
+    arrays = {name: np.asarray(value, dtype=float) for name, value in given.items()}
     for name in initial:
         check_initial(name, arrays[name])
     for name in params:  # before the defaults are read, so the error names the value given
@@ -88,6 +111,13 @@ def members(
         p = base
     dims, coords = _dims(shape, arrays)
     return Members(y0=y0, params=p, shape=shape, dims=dims, coords=coords)
+
+
+def _shape(value: object) -> tuple[int, ...]:
+    """The shape of an input, without making the values of a :class:`GridAxis`."""
+    if isinstance(value, GridAxis):
+        return value.shape
+    return np.asarray(value, dtype=float).shape
 
 
 def _dims(shape, arrays):

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Callable
+from pathlib import Path
 
 from ..errors import ModelError
 
@@ -23,7 +25,30 @@ STEP_OVERHEAD_BYTES = 160
 STATE_COPIES = 4
 
 
+#: A limit at or above this many bytes means "no limit" (cgroup v1 writes 2^63 rounded down).
+NO_LIMIT = 1 << 60
+
+
 def available_memory() -> int | None:
+    """Bytes this process can still allocate, or None if unknown: the smallest of the
+    memory the system can give without swapping (:func:`system_available`), what the
+    address-space limit leaves (:func:`address_space_left`, ``ulimit -v``) and what the
+    process's cgroup leaves (:func:`cgroup_left`, a container's memory limit)."""
+    limits = [limit for limit, _ in memory_limits()]
+    return min(limits) if limits else None
+
+
+def memory_limits() -> list[tuple[int, str]]:
+    """(bytes left, where the limit comes from) of every limit that applies; smallest first."""
+    found = [
+        (system_available(), ""),
+        (address_space_left(), " under the address-space limit (RLIMIT_AS)"),
+        (cgroup_left(), " in this process's cgroup"),
+    ]
+    return sorted((size, source) for size, source in found if size is not None)
+
+
+def system_available() -> int | None:
     """Bytes the system can give without swapping (Linux: MemAvailable), or None if unknown.
 
     Elsewhere the free physical pages (``os.sysconf``), which undercounts the
@@ -42,14 +67,82 @@ def available_memory() -> int | None:
         return None
 
 
+def address_space_left(
+    getrlimit: Callable[[int], tuple[int, int]] | None = None,
+    status: str | os.PathLike = "/proc/self/status",
+) -> int | None:
+    """RLIMIT_AS (soft) minus the address space in use (VmSize), or None without a limit.
+
+    ``getrlimit`` (default :func:`resource.getrlimit`) and ``status`` are for tests."""
+    try:
+        import resource
+    except ImportError:  # pragma: no cover - not on Windows
+        return None
+    try:
+        soft, _ = (getrlimit or resource.getrlimit)(resource.RLIMIT_AS)
+    except (OSError, ValueError):
+        return None
+    if soft == resource.RLIM_INFINITY or soft < 0 or soft >= NO_LIMIT:
+        return None
+    used = _status_kilobytes(status, "VmSize:")
+    return max(0, soft - (used or 0))
+
+
+def cgroup_left(root: str | os.PathLike = "/sys/fs/cgroup") -> int | None:
+    """The cgroup's memory limit minus its usage, or None without a limit.
+
+    cgroup v2: ``memory.max`` and ``memory.current``; v1: ``memory/memory.limit_in_bytes``
+    and ``memory/memory.usage_in_bytes`` (the folders as mounted in a container, where
+    the process's own cgroup is the root; ``root`` is for tests)."""
+    base = Path(root)
+    for limit_file, usage_file in (
+        (base / "memory.max", base / "memory.current"),
+        (base / "memory" / "memory.limit_in_bytes", base / "memory" / "memory.usage_in_bytes"),
+    ):
+        limit = _number(limit_file)
+        if limit is None:
+            continue
+        if limit >= NO_LIMIT:
+            return None
+        return max(0, limit - (_number(usage_file) or 0))
+    return None
+
+
+def _number(path: Path) -> int | None:
+    """The integer in a one-line file; NO_LIMIT for "max"; None if unreadable."""
+    try:
+        text = path.read_text(encoding="ascii").strip()
+    except (OSError, UnicodeDecodeError):
+        return None
+    if text == "max":
+        return NO_LIMIT
+    try:
+        return int(text)
+    except ValueError:
+        return None
+
+
+def _status_kilobytes(path: str | os.PathLike, field: str) -> int | None:
+    try:
+        with open(path, encoding="ascii") as status:
+            for line in status:
+                if line.startswith(field):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return None
+
+
 def check_fits(estimate: float, what: str, advice: str) -> None:
-    """ModelError when ``estimate`` bytes exceed the memory available (unknown: no check)."""
+    """ModelError when ``estimate`` bytes exceed the memory available (unknown: no check),
+    naming the limit that is smallest when it is not the system's memory."""
     available = available_memory()
     if available is None or estimate <= available:
         return
+    source = next((where for size, where in memory_limits() if size == available), "")
     raise ModelError(
         f"{what} needs about {_gigabytes(estimate)} GB of memory, more than the "
-        f"{_gigabytes(available)} GB available: {advice}"
+        f"{_gigabytes(available)} GB available{source}: {advice}"
     )
 
 
