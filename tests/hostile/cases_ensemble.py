@@ -18,3 +18,57 @@ CASES = [
         r"of memory, more than the [0-9.]+ GB available[^:]*: use fewer members",
     ),
 ]
+
+# dask: addresses checked before anything runs, a refused connection reported at once
+CASES += [
+    *(
+        HostileCase(
+            f"ensemble-dask-scheduler-malformed-{label}",
+            (
+                "ensemble",
+                "harmonic_oscillator",
+                "--grid",
+                "x=0:1:2",
+                "--backend",
+                "dask",
+                "--scheduler",
+                address,
+            ),
+            error=r"the dask scheduler address must be tcp://HOST:PORT \(PORT 1-65535\), not ",
+        )
+        for label, address in (
+            ("no-port", "foo"),
+            ("port-out-of-range", "tcp://127.0.0.1:99999"),
+            ("ipv6-unclosed", "tcp://[::1"),
+            ("inproc", "inproc://x"),
+        )
+    ),
+    HostileCase(
+        # distributed retried for its 10 s timeout
+        "ensemble-dask-scheduler-refused-loopback-port",
+        (
+            "ensemble",
+            "harmonic_oscillator",
+            "--grid",
+            "x=0:1:2",
+            "--backend",
+            "dask",
+            "--scheduler",
+            "tcp://127.0.0.1:1",
+        ),
+        error=r"cannot reach the dask scheduler tcp://127\.0\.0\.1:1 within 5 s: .*refused",
+    ),
+    HostileCase(
+        # was silently ignored
+        "ensemble-scheduler-without-backend-dask",
+        (
+            "ensemble",
+            "harmonic_oscillator",
+            "--grid",
+            "x=0:1:2",
+            "--scheduler",
+            "tcp://127.0.0.1:1",
+        ),
+        error=r"--scheduler needs --backend dask",
+    ),
+]

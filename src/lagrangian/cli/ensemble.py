@@ -108,6 +108,12 @@ def ensemble(
     from ..errors import ModelError
     from ..facade import load
 
+    if scheduler is not None and backend != "dask":
+        raise click.BadParameter("--scheduler needs --backend dask", param_hint="--scheduler")
+    if scheduler is not None:
+        from ..ensemble.dask_backend import check_scheduler
+
+        check_scheduler(scheduler)  # before the model is built
     if out is not None and not out.endswith((".nc", ".png")):
         raise click.BadParameter("the output file must end in .nc or .png", param_hint="--out")
     if out is not None:

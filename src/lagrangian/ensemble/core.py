@@ -94,6 +94,12 @@ def run_ensemble(
         raise ModelError(f"unknown precision '{precision}' (precisions: {', '.join(PRECISIONS)})")
     if precision != "float64" and backend not in ("jax", "cuda"):
         raise ModelError(f"precision {precision} needs backend jax or cuda (not {backend})")
+    if scheduler is not None and backend != "dask":
+        raise ModelError(f"a dask scheduler needs backend dask (not {backend})")
+    if scheduler is not None:
+        from .dask_backend import check_scheduler
+
+        check_scheduler(scheduler)  # before the model is compiled and the members made
     if chunk_size is None:
         chunk_size = GPU_CHUNK_SIZE if backend in ("jax", "cuda") else DEFAULT_CHUNK_SIZE
     names = observable_names(observables)

@@ -9,20 +9,27 @@ and each worker process compiles them on first use and keeps the result
 back in chunk order.
 
 Without ``scheduler`` a ``LocalCluster`` of two worker processes, one thread
-each, is started for the run and closed after it; with an address
-(``tcp://host:port``) the run uses that cluster.  dask is imported here only
+each, is started for the run (its scratch files in a temporary folder) and closed
+after it; with an address (``tcp://host:port`` or ``tls://``) the run uses that
+cluster, after a check of the address's form and a connection within
+``CONNECT_SECONDS``.  A cluster that fails (workers that do not start or are
+killed, a scheduler that goes away) ends the run with one
+:class:`ClusterError` line.  dask is imported here only
 (``pip install ".[dask]"``).
 """
 
 from __future__ import annotations
 
 import hashlib
+import re
+import socket
+import tempfile
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import MissingDependencyError, ModelError
+from ..errors import LagrangianError, MissingDependencyError, ModelError
 from .numpy_backend import integrate_chunk
 
 if TYPE_CHECKING:
@@ -31,6 +38,26 @@ if TYPE_CHECKING:
 
 #: Compiled systems of this worker process, by payload hash.
 _WORKER_SYSTEMS: dict[str, CompiledSystem] = {}
+#: Seconds a scheduler has to accept the connection (a refused one fails at once).
+CONNECT_SECONDS = 5.0
+_ADDRESS = re.compile(r"(tcp|tls)://(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9._-]+):([0-9]{1,5})")
+
+
+class ClusterError(LagrangianError):
+    """The dask cluster cannot be reached or could not run the ensemble."""
+
+
+def check_scheduler(address: str) -> tuple[str, int]:
+    """(host, port) of a scheduler address ``tcp://HOST:PORT`` (or ``tls://``); ModelError
+    naming the expected form otherwise."""
+    match = _ADDRESS.fullmatch(address)
+    port = int(match.group(3)) if match else 0
+    if match is None or not 1 <= port <= 65535:
+        shown = address if len(address) <= 80 else address[:77] + "..."
+        raise ModelError(
+            f"the dask scheduler address must be tcp://HOST:PORT (PORT 1-65535), not {shown!r}"
+        )
+    return match.group(2).strip("[]"), port
 
 
 def _distributed():
@@ -86,32 +113,67 @@ def integrate_dask(
 ) -> list[dict[str, np.ndarray]]:
     """The chunks' results (in order), integrated on a dask cluster; see the module."""
     distributed, _ = _distributed()
+    import dask.config
+
     payload = model_payload(compiled)
     key = hashlib.sha256(payload).hexdigest()
-    cluster = None
-    if scheduler:
+    failures = (OSError, TimeoutError, distributed.KilledWorker)  # CommClosedError is an OSError
+    with (
+        tempfile.TemporaryDirectory(prefix="lagrangian-dask-") as scratch,
+        dask.config.set({"temporary-directory": scratch}),  # the scheduler's scratch too
+    ):
+        client, cluster = _connect(distributed, scheduler, scratch)
         try:
-            client = distributed.Client(scheduler, timeout="10s")
+            return _run(distributed, client, key, payload, integrator, chunks, t_end, names,
+                        save_every, progress)  # fmt: skip
+        except failures as error:
+            raise ClusterError(
+                f"the dask cluster failed during the run: {_first_line(error)}"
+            ) from None
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+
+
+def _connect(distributed, scheduler: str | None, scratch: str):
+    """(client, the local cluster or None) for ``scheduler``; ClusterError when none runs."""
+    if scheduler:
+        host, port = check_scheduler(scheduler)
+        try:  # a refused port fails here at once; distributed would retry until its timeout
+            socket.create_connection((host, port), timeout=CONNECT_SECONDS).close()
+            return distributed.Client(scheduler, timeout=f"{CONNECT_SECONDS:g}s"), None
         except (OSError, TimeoutError) as error:
-            raise ModelError(f"cannot reach the dask scheduler {scheduler}: {error}") from None
-    else:
-        cluster = distributed.LocalCluster(
-            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
-        )
-        client = distributed.Client(cluster)
+            raise ClusterError(
+                f"cannot reach the dask scheduler {scheduler} within {CONNECT_SECONDS:g} s: "
+                f"{_first_line(error)}"
+            ) from None
     try:
-        shared = client.scatter(payload, broadcast=True)
-        futures = [
-            client.submit(
-                _task, key, shared, integrator, y0, p, t_end, names, save_every, pure=False
-            )
-            for y0, p in chunks
-        ]
-        for done, _ in enumerate(distributed.as_completed(futures), start=1):
-            if progress is not None:
-                progress(done / len(futures))
-        return client.gather(futures)
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        cluster = distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None,
+            local_directory=scratch,
+        )  # fmt: skip
+    except (RuntimeError, OSError, TimeoutError) as error:  # "Nanny failed to start"
+        raise ClusterError(f"the local dask cluster did not start: {_first_line(error)}") from None
+    try:
+        return distributed.Client(cluster), cluster
+    except (OSError, TimeoutError) as error:
+        cluster.close()
+        raise ClusterError(f"the local dask cluster did not start: {_first_line(error)}") from None
+
+
+def _first_line(error: BaseException) -> str:
+    text = (str(error).strip().splitlines() or [type(error).__name__])[0]
+    return text if len(text) <= 160 else text[:157] + "..."
+
+
+def _run(distributed, client, key, payload, integrator, chunks, t_end, names, save_every, progress):
+    shared = client.scatter(payload, broadcast=True)
+    futures = [
+        client.submit(_task, key, shared, integrator, y0, p, t_end, names, save_every, pure=False)
+        for y0, p in chunks
+    ]
+    for done, _ in enumerate(distributed.as_completed(futures), start=1):
+        if progress is not None:
+            progress(done / len(futures))
+    return client.gather(futures)
