@@ -157,6 +157,8 @@ def ensemble(
         f"{attrs['wall_time']:.3f} s, {attrs['trajectory_steps_per_second']:.3g} "
         "trajectory-steps/s"
     )
+    if attrs["failed"]:
+        click.echo(f"failed: {attrs['failed']} of {attrs['members']} members (state not finite)")
     for name in names:
         if name == "flip_time":
             values = result["flip_time"]

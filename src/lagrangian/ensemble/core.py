@@ -30,17 +30,19 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from collections.abc import Callable, Iterable, Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
 import xarray as xr
 
-from ..errors import ModelError
+from ..errors import LagrangianError, LagrangianWarning, ModelError
 from ..integrate import method_class
 from ..integrate.base import check_time_span
 from ..integrate.fixed_step import AbstractFixedStepIntegrator, step_grid
 from ..integrate.memory import check_fits, count_text, step_count
+from ..integrate.step_size import fixed_step_for
 from .members import Members, members
 from .numpy_backend import integrate_chunk
 from .observables import observable_names
@@ -124,6 +126,10 @@ def run_ensemble(
     batch = members(compiled, initial, params, before_allocating=fits)
     if compiled.has_constraints and compiled.project is not None:
         batch = _projected(compiled, batch)
+    # the step from the members' time scale (or the given one checked against it)
+    integrator = fixed_step_for(type(integrator), compiled, (t0, t1), dt, batch.y0, batch.params)
+    steps = step_count(t0, t1, integrator.dt)
+    fits(batch.count)  # again with the step chosen
     options = {"save_every": save_every, "progress": progress}
     start = time.perf_counter()
     if backend == "numpy":
@@ -145,8 +151,30 @@ def run_ensemble(
             save_every=save_every, scheduler=scheduler, progress=progress,
         )  # fmt: skip
     wall_time = time.perf_counter() - start
-    return _assemble(
+    result = _assemble(
         compiled, integrator, batch, parts, names, t1, backend, wall_time, save_every, precision
+    )
+    _report_failures(result, integrator)
+    return result
+
+
+def _report_failures(result: EnsembleTrajectory, integrator: AbstractFixedStepIntegrator) -> None:
+    """All members failed: the run failed (an error, as a failed single run); some: a warning."""
+    failed = int(result.attrs["failed"])
+    if not failed:
+        return
+    count = int(result.attrs["members"])
+    what = f"the state is not finite by t_end with {integrator.name} dt = {integrator.dt:.3g}"
+    if failed == count:
+        raise LagrangianError(
+            f"the ensemble integration failed for all {count_text(count)} members: {what}"
+        )
+    warnings.warn(
+        LagrangianWarning(
+            f"{count_text(failed)} of {count_text(count)} members failed ({what}); their "
+            "results are NaN and the variable 'failed' marks them"
+        ),
+        stacklevel=3,
     )
 
 
@@ -254,5 +282,6 @@ def _assemble(
         "wall_time": float(wall_time),
         "trajectory_steps_per_second": trajectory_steps / wall_time if wall_time > 0 else 0.0,
         "observables": ",".join(names),
+        "failed": int(np.count_nonzero(data_vars["failed"][1])),
     }
     return EnsembleTrajectory(xr.Dataset(data_vars, coords=coords, attrs=attrs))

@@ -13,6 +13,9 @@ implementation of the physics:
   double pendulum that is the time the first arm flips over.  It needs no
   state at t_end, so a run asking only for it stops each member when it has
   flipped.
+
+Every run also reports ``failed``: the members whose state at the end (or where
+they stopped) is not finite, NaN or overflowed.
 """
 
 from __future__ import annotations
@@ -84,8 +87,9 @@ def finish(
     params: np.ndarray,
     flip_time: np.ndarray | None,
 ) -> dict[str, np.ndarray]:
-    """The observables' values (each of shape (B,)) from the start, the end and the flips."""
-    values: dict[str, np.ndarray] = {}
+    """The observables' values (each of shape (B,)) from the start, the end and the flips,
+    and ``failed`` (a state that is not finite at the end)."""
+    values: dict[str, np.ndarray] = {"failed": ~np.all(np.isfinite(y1), axis=0)}
     state_names = (*compiled.coordinate_names, *(f"{q}_dot" for q in compiled.coordinate_names))
     for name in names:
         if name == "final_state":

@@ -64,6 +64,8 @@ class RK4(AbstractExplicitRungeKutta):
 
     name: ClassVar[str] = "rk4"
     order: ClassVar[int] = 4
+    default_omega_dt: ClassVar[float] = 0.05  # phase error (ω dt)^4/120 = 5e-8 per radian
+    stability_limit: ClassVar[float] = 2.8  # 2 sqrt(2) on the imaginary axis
     tableau: ClassVar[tableaus.ButcherTableau] = tableaus.RK4
 
 
@@ -73,4 +75,6 @@ class RK38(AbstractExplicitRungeKutta):
 
     name: ClassVar[str] = "rk38"
     order: ClassVar[int] = 4
+    default_omega_dt: ClassVar[float] = 0.05
+    stability_limit: ClassVar[float] = 2.8
     tableau: ClassVar[tableaus.ButcherTableau] = tableaus.RK38

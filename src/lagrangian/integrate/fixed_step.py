@@ -11,7 +11,10 @@ the constraint manifold (``compiled.project``), so the constraint drift stays
 at the projection's accuracy instead of growing.  Outputs are the step points,
 or, with ``t_eval``, the cubic Hermite interpolant between them (values and
 y' = rhs at both ends; error O(dt^4), below the error of the methods here).
-The default step is (t_end - t0) / 1000 (``DEFAULT_STEPS``).
+Without a given step, :func:`~lagrangian.integrate.step_size.fixed_step_for` chooses
+it from the motion's time scale (``default_omega_dt`` / ω, at most
+(t_end - t0) / 1000, ``DEFAULT_STEPS``), and checks a given one against the
+method's ``stability_limit``; ``configure`` alone takes (t_end - t0) / 1000.
 
 The run fails (status ``failed``, the message naming the time and the state;
 see :mod:`lagrangian.integrate.guard`) where y' is not finite at the start, where
@@ -69,6 +72,10 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
     adaptive: ClassVar[bool] = False
     batched: ClassVar[bool] = True
     DEFAULT_STEPS: ClassVar[int] = 1000
+    #: ω·dt of the step chosen when none is given (ω: the motion's rate; integrate.step_size)
+    default_omega_dt: ClassVar[float]
+    #: ω·dt at which the method stops being stable on an oscillation of angular frequency ω
+    stability_limit: ClassVar[float]
 
     def __post_init__(self) -> None:
         positive_setting("dt", self.dt)

@@ -12,7 +12,9 @@ multipliers at the output times.
 
 Defaults (all echoed in the trajectory's attributes): method ``dop853``
 (rtol 1e-10, atol 1e-12); ``radau`` rtol 1e-8, atol 1e-10; ``rk4`` and
-``variational`` dt = t_end / 1000.  Outputs: ``t_eval`` if given, else
+``variational`` dt from the motion's time scale (:mod:`.step_size`: a fixed
+fraction of its period, at most t_end / 1000; a given dt past the method's
+stability limit is refused, a coarse one warned about).  Outputs: ``t_eval`` if given, else
 ``n_out`` equally spaced times from 0 to t_end, else every step of the
 method; the last output is the state at ``t_end`` (or where a terminal event
 or a failure stopped the run).
@@ -30,9 +32,11 @@ from ..errors import ModelError
 from ..trajectory import Trajectory
 from .base import AbstractIntegrator, IntegrationResult, check_time_span
 from .events import Event
+from .fixed_step import AbstractFixedStepIntegrator
 from .guard import parameter_problem
 from .memory import check_fits, count_text, run_bytes
 from .registry import method_class
+from .step_size import fixed_step_for
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -78,6 +82,10 @@ def simulate(
     problem = parameter_problem(compiled, t_span[0], y0, p)
     if problem is not None:
         raise ModelError(problem)
+    if isinstance(integrator, AbstractFixedStepIntegrator) and not isinstance(
+        method, AbstractIntegrator
+    ):  # the step from the motion's time scale, or a given one checked against it
+        integrator = fixed_step_for(type(integrator), compiled, t_span, dt, y0, p)
     _check_memory(integrator, t_span, 2 * compiled.n, n_out=n_out, t_eval=t_eval)
     outputs = output_times(t_span, n_out=n_out, t_eval=t_eval)
     # Non-finite values are found and reported (integrate.guard): NumPy's warnings about

@@ -86,6 +86,8 @@ class Variational(AbstractFixedStepIntegrator):
     explicit_when_separable: bool = True
     name: ClassVar[str] = "variational"
     order: ClassVar[int] = 2
+    default_omega_dt: ClassVar[float] = 0.02  # phase error (ω dt)^2/24 = 2e-5 per radian
+    stability_limit: ClassVar[float] = 2.0  # Stormer-Verlet's; the midpoint's Newton too
     symplectic: ClassVar[bool] = True
     needs: ClassVar[str] = "lagrangian"
 
