@@ -72,3 +72,23 @@ CASES += [
         error=r"--scheduler needs --backend dask",
     ),
 ]
+
+
+def _open_cache(folder):
+    cache = folder / "cache" / "numba"
+    cache.mkdir(parents=True)
+    cache.chmod(0o777)  # anyone could plant a module or numba's pickled machine code here
+
+
+# the numba code cache (numeric.code_cache): a folder others may write is not used
+CASES += [
+    HostileCase(
+        "numba-cache-folder-writable-by-others-not-used",
+        ("simulate", "harmonic_oscillator", "--backend", "numba", "--t-end", "0.1"),
+        setup=_open_cache,
+        env=(("LAGRANGIAN_CACHE", "{dir}/cache"),),
+        exit_code=0,
+        warning=r"lagrangian: warning: the code cache .*cache/numba cannot be used \(others may "
+        r"write to it \(mode 0777\)\)",
+    ),
+]

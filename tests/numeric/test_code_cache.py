@@ -60,16 +60,63 @@ def test_a_damaged_or_edited_entry_is_rebuilt_never_run(cache, monkeypatch, dama
     assert path.read_text() == text
 
 
-def test_an_intact_entry_is_not_generated_again(cache, monkeypatch):
+def test_an_intact_entry_is_kept_as_it_is(cache, monkeypatch):
     digest = _digest("X = 1\n")
     code_cache.load_text(digest, "X = 1\n")
+    path = cache / f"{digest}.py"
+    os.utime(path, ns=(0, 0))
     monkeypatch.setattr(code_cache, "_MODULES", {})
+    assert code_cache.load_text(digest, "X = 1\n").X == 1
+    assert path.stat().st_mtime_ns == 0  # not written again: numba's files stay usable
 
-    class Refuse:
-        def __str__(self):
-            raise AssertionError("generated again")
 
-    assert code_cache.load_text(digest, Refuse()).X == 1
+def test_a_replanted_module_with_a_recomputed_digest_is_never_run(cache, monkeypatch, tmp_path):
+    digest = _digest("X = 1\n")
+    code_cache.load_text(digest, "X = 1\n")
+    marker = tmp_path / "marker"
+    body = f"open({str(marker)!r}, 'w').close()\nX = 1\n"
+    path = cache / f"{digest}.py"
+    path.write_text("# lagrangian code cache: sha256=" + _digest(body) + "\n" + body)
+    monkeypatch.setattr(code_cache, "_MODULES", {})  # as a new process would
+    assert code_cache.load_text(digest, "X = 1\n").X == 1
+    assert not marker.exists()
+    assert "marker" not in path.read_text()  # replaced by the generated text
+
+
+def test_the_cache_folder_is_private(cache):
+    code_cache.load_text(_digest("X = 1\n"), "X = 1\n")
+    assert cache.stat().st_mode & 0o777 == 0o700
+
+
+@pytest.mark.parametrize("danger", ["mode-0777", "mode-0775", "foreign-owner"])
+def test_a_folder_others_can_write_or_own_is_not_used(cache, danger):
+    digest = _digest("X = 1\n")
+    code_cache.load_text(digest, "X = 1\n")
+    code_cache._CHOSEN.clear()
+    code_cache._MODULES.clear()
+    if danger == "foreign-owner":
+        if os.geteuid() != 0:
+            pytest.skip("changing a folder's owner needs root")
+        os.chown(cache, 12345, 12345)
+        expected = r"it is owned by another user \(uid 12345\)"
+    else:
+        cache.chmod(int(danger[-4:], 8))
+        expected = rf"others may write to it \(mode {danger[-4:]}\)"
+    with pytest.warns(CacheWarning, match=rf"cache/numba cannot be used \({expected}\)"):
+        module = code_cache.load_text(digest, "X = 1\n")
+    assert module.X == 1
+    assert not module.__file__.startswith(str(cache))
+
+
+def test_numba_files_others_can_write_are_forgotten(cache, monkeypatch):
+    digest = _digest("X = 1\n")
+    code_cache.load_text(digest, "X = 1\n")
+    files = [_numba_file(cache, digest, ".nbi"), _numba_file(cache, digest, ".1.nbc")]
+    code_cache._list_numba_files()
+    files[0].chmod(0o666)
+    monkeypatch.setattr(code_cache, "_MODULES", {})
+    code_cache.load_text(digest, "X = 1\n")
+    assert not any(f.exists() for f in files)
 
 
 def test_a_cache_path_through_a_file_falls_back_with_one_warning(tmp_path, cache):

@@ -6,10 +6,17 @@ Its first line holds the sha256 of the rest::
 
     # lagrangian code cache: sha256=<64 hex digits>
 
-and a file whose text does not match it (damaged by a full disk, a crash, an
-editor) is generated again, never imported.  The verified text itself is what
-runs (handed to the import system from memory under the file's name, so that
-numba finds the file): nothing read after the check can differ from it.
+The digest is only the key: a hash that sits in the file it protects vouches
+for nothing (whoever can write the file can write the hash).  What runs is the
+text this process generates (tens of milliseconds: 25-70 ms for the double
+pendulum's and the heavy top's modules), handed to the import system from
+memory under the file's name so that numba finds its machine code; the file is
+compared with it byte for byte, and one that differs (damaged, edited,
+replanted) is written again and numba's files beside it are forgotten.
+
+The folder is made private (0700), and a folder or file of the cache that is
+not owned by this user or that others may write is not used: its machine code
+(pickles numba loads) could be anyone's.
 
 numba keeps the machine code beside the module (``__pycache__/<digest>.*.nbi``,
 ``.nbc``), pickles it reads without checking: a damaged index stops every
@@ -19,8 +26,9 @@ process inside LLVM.  So at exit the sha256 of those files goes into
 compared with it; files that do not match, or that no list vouches for (a run
 killed before its exit), are deleted and numba compiles again.
 
-A cache folder that cannot be written (read-only, a path through a file) is
-replaced by a private temporary folder for this process, with one
+A cache folder that cannot be written (read-only, a path through a file), or
+that is another user's or writable by others, is replaced by a private
+temporary folder for this process, with one
 :class:`~lagrangian.errors.CacheWarning`.
 """
 
@@ -33,6 +41,7 @@ import importlib.machinery
 import importlib.util
 import os
 import shutil
+import stat
 import sys
 import tempfile
 import threading
@@ -77,41 +86,35 @@ def usable_directory() -> Path:
 
 
 def load_text(digest: str, source: object) -> ModuleType:
-    """The module ``<digest>.py``: from this process, from disk if intact, else ``str(source)``
-    written now (``source`` is made into text only when needed)."""
+    """The module ``<digest>.py`` of the text ``str(source)``: from this process, else the
+    text generated now, run from memory; the file on disk is kept when it holds the same
+    bytes (numba's machine code beside it stays usable), else written again."""
     path = usable_directory() / f"{digest}.py"
     with _LOCK:
         module = _MODULES.get(str(path))
         if module is not None:
             return module
-        text = verified_text(path)
-        if text is None:
-            text = _HEADER + hashlib.sha256(str(source).encode()).hexdigest() + "\n" + str(source)
+        body = str(source)
+        text = _HEADER + hashlib.sha256(body.encode()).hexdigest() + "\n" + body
+        if _cached_bytes(path) == text.encode("utf-8"):
+            _check_numba_files(path)
+        else:
             _forget_numba_files(path)  # machine code of whatever was there before
             _write(path, text)
-        else:
-            _check_numba_files(path)
         module = _import(path, text)
         _MODULES[str(path)] = module
         _LOADED.add(path)
         return module
 
 
-def verified_text(path: Path) -> str | None:
-    """The text of ``path`` if its first line holds the sha256 of the rest, else None."""
+def _cached_bytes(path: Path) -> bytes | None:
+    """The bytes of ``path`` when it is this user's regular file that others cannot write."""
     try:
-        data = path.read_bytes()
+        if _foreign(path.lstat(), regular=True) is None:
+            return path.read_bytes()
     except OSError:
-        return None
-    first, newline, body = data.partition(b"\n")
-    if not newline or not first.startswith(_HEADER.encode()):
-        return None
-    if first[len(_HEADER) :].decode("ascii", "replace") != hashlib.sha256(body).hexdigest():
-        return None
-    try:
-        return data.decode("utf-8")
-    except UnicodeDecodeError:  # pragma: no cover - the hash matched text we wrote
-        return None
+        pass
+    return None
 
 
 def _import(path: Path, text: str) -> ModuleType:
@@ -159,13 +162,34 @@ def _write(path: Path, text: str) -> None:
 
 # -- the folder ------------------------------------------------------------------------
 def _unwritable(folder: Path) -> str | None:
-    """Why ``folder`` cannot hold the cache, or None when a file can be made in it."""
+    """Why ``folder`` cannot hold the cache, or None when it is this user's private folder
+    and a file can be made in it."""
     try:
-        folder.mkdir(parents=True, exist_ok=True)
+        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+        status = folder.lstat()
+        problem = _foreign(status, regular=False)
+        if problem is not None:
+            return problem
+        if stat.S_IMODE(status.st_mode) & 0o077:  # ours, from an older version: made private
+            folder.chmod(0o700)
         with tempfile.TemporaryFile(dir=folder):
             pass
     except OSError as error:
         return error.strerror or str(error)
+    return None
+
+
+def _foreign(status: os.stat_result, *, regular: bool) -> str | None:
+    """Why a cache folder (or file) of this ``status`` is not to be trusted, or None."""
+    kind = "file" if regular else "folder"
+    expected = stat.S_ISREG(status.st_mode) if regular else stat.S_ISDIR(status.st_mode)
+    if not expected:
+        return f"it is not a {kind}"
+    owner = os.getuid() if hasattr(os, "getuid") else None
+    if owner is not None and status.st_uid != owner:
+        return f"it is owned by another user (uid {status.st_uid})"
+    if status.st_mode & (stat.S_IWGRP | stat.S_IWOTH):
+        return f"others may write to it (mode {stat.S_IMODE(status.st_mode):04o})"
     return None
 
 
@@ -187,6 +211,16 @@ def _numba_files(path: Path) -> list[Path]:
     return sorted((path.parent / "__pycache__").glob(f"{path.stem}.*.nb[ic]"))
 
 
+def _trusted(files: list[Path]) -> bool:
+    """Whether numba's folder and ``files`` are this user's and no one else may write them."""
+    try:
+        statuses = [(path.parent.lstat(), False) for path in files[:1]]
+        statuses += [(path.lstat(), True) for path in files]
+    except OSError:
+        return False
+    return all(_foreign(status, regular=regular) is None for status, regular in statuses)
+
+
 def _manifest(path: Path) -> Path:
     return path.with_name(f"{path.stem}.numba-sha256")
 
@@ -201,7 +235,8 @@ def _check_numba_files(path: Path) -> None:
     if not files:
         return
     try:
-        if _manifest(path).read_text(encoding="utf-8") == _listing(files):
+        listing = _cached_bytes(_manifest(path))
+        if _trusted(files) and listing is not None and listing.decode() == _listing(files):
             return
     except (OSError, UnicodeDecodeError):
         pass
