@@ -1,5 +1,5 @@
 """Ensembles: grids too large to make, steps too large for the motion, members that fail,
-dask clusters that cannot be reached (issue 21)."""
+dask clusters that cannot be reached; the numba code cache; the pace message (issue 21)."""
 
 from hostile.case import HostileCase
 
@@ -90,5 +90,14 @@ CASES += [
         exit_code=0,
         warning=r"lagrangian: warning: the code cache .*cache/numba cannot be used \(others may "
         r"write to it \(mode 0777\)\)",
+    ),
+]
+
+# a pace message of 629 characters (the projected days written out in full)
+CASES += [
+    HostileCase(
+        "simulate-t-end-1e300-pace-message-short",
+        ("simulate", "harmonic_oscillator", "--t-end", "1e300"),
+        error=r"^.{0,250}$",
     ),
 ]

@@ -95,9 +95,12 @@ class RunPace:
 
 
 def _duration(seconds: float) -> str:
-    for unit, size in (("days", 86400.0), ("hours", 3600.0), ("minutes", 60.0)):
+    """About 5 minutes, 3 hours, 12 days, 4,000 years, 1.3e+290 years: a short number."""
+    units = (("years", 365.25 * 86400.0), ("days", 86400.0), ("hours", 3600.0), ("minutes", 60.0))
+    for unit, size in units:
         if seconds >= 2 * size:
-            return f"about {seconds / size:,.0f} {unit}"
+            amount = seconds / size
+            return f"about {amount:,.0f} {unit}" if amount < 1e6 else f"about {amount:.2g} {unit}"
     return f"about {seconds:.0f} s"
 
 
