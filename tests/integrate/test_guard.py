@@ -12,6 +12,7 @@ import pytest
 import lagrangian as lg
 from lagrangian.integrate import simulate
 from lagrangian.integrate.guard import ENERGY_JUMP
+from lagrangian.integrate.step_size import CoarseStepWarning
 from lagrangian.numeric import compile_equations
 
 METHODS = ("dop853", "radau", "rk4", "variational")
@@ -30,6 +31,7 @@ COULOMB = "m*x_dot**2/2 + k/x"  # V = -k/x: falls into x = 0 in finite time
 def run(lagrangian, method, forces=(), **options):
     with warnings.catch_warnings():  # NaN and inf are reported, not warned about
         warnings.simplefilter("error")
+        warnings.simplefilter("ignore", CoarseStepWarning)  # coarse steps are the point here
         return simulate(compiled(lagrangian, forces), method=method, **options)
 
 
@@ -68,16 +70,17 @@ def test_a_fixed_step_run_leaving_the_domain_fails_with_the_last_finite_state(me
 
 @pytest.mark.parametrize("method", ["rk4", "variational"])
 def test_stepping_across_a_singularity_is_a_failure_not_a_success(method):
-    # from x = 0.01 at rest, V = -1/x reaches x = 0 at t = 1.1e-3: the step of 0.01 lands
-    # beyond it on a finite state, with the energy -100 turned into about +1250.
-    trajectory = run(COULOMB, method, t_end=10.0, initial={"x": 0.01}, params={"m": 1, "k": 1})
+    # from x = 0.01 at rest, V = -1/x reaches x = 0 at t = 1.1e-3: the second step of 1e-3
+    # (stable at the start, omega dt = 1.4) lands beyond it on a finite state.
+    trajectory = run(
+        COULOMB, method, t_end=10.0, dt=1e-3, initial={"x": 0.01}, params={"m": 1, "k": 1}
+    )
     assert trajectory.status == "failed"
     message = trajectory.dataset.attrs["message"]
-    assert message.startswith("the energy jumped from -100 to ")
-    assert "in the step from t = 0 (x = 0.01, x_dot = 0): the motion passes a singularity" in (
-        message
-    )
-    assert trajectory.t.tolist() == [0.0]  # the output ends before the broken step
+    assert message.startswith("the energy jumped from ")  # -100, or the first step's
+    assert "in the step from t = 0.001 (x = " in message
+    assert "the motion passes a singularity" in message
+    assert trajectory.t.tolist() == [0.0, 0.001]  # the output ends before the broken step
 
 
 @pytest.mark.parametrize("method", ["rk4", "variational"])
@@ -85,11 +88,13 @@ def test_an_infinite_force_stepped_across_breaks_the_work_energy_balance(method)
     # no potential: h = T changes by the work of Q = -k/x^2, which one step across x = 0
     # does not follow (the trapezoidal work of its ends is nowhere near the change of T).
     trajectory = run(
-        "m*x_dot**2/2", method, forces=(("x", "-k/x**2"),), t_end=10.0, initial={"x": 0.01},
-        params={"m": 1, "k": 1},
+        "m*x_dot**2/2", method, forces=(("x", "-k/x**2"),), t_end=10.0, dt=1e-3,
+        initial={"x": 0.01}, params={"m": 1, "k": 1},
     )  # fmt: skip
     assert trajectory.status == "failed"
-    assert trajectory.dataset.attrs["message"].startswith("the energy jumped from 0 to ")
+    message = trajectory.dataset.attrs["message"]
+    # rk4 lands beyond x = 0; the midpoint's Newton finds no step across it
+    assert message.startswith("the energy jumped from 0 to ") or "did not converge" in message
 
 
 def test_a_forced_run_that_follows_its_forces_is_not_flagged():

@@ -20,13 +20,15 @@ Then, for a method of class ``cls``:
 
 - no dt given: dt = ``cls.default_omega_dt`` / ω (rk4 0.05: a phase error of
   about (ω dt)^4 / 120 = 5e-8 per radian of motion; variational, of order 2,
-  0.02: (ω dt)^2 / 24 = 2e-5 per radian), and never more than t_end / 1000 (the
-  output's resolution, the step of a slow motion);
-- a dt given with ω dt at or beyond ``cls.stability_limit`` (rk4: 2.8, the
-  edge of its stability region on the imaginary axis, 2 sqrt 2; the
+  0.02: (ω dt)^2 / 24 = 2e-5 per radian), never more than t_end / 1000 (the
+  output's resolution, the step of a slow motion) and, to bound the work, not
+  less than t_end / ``MAX_DEFAULT_STEPS`` unless that step would be unstable
+  (then a coarse step is warned about, as a given one);
+- a dt with ω dt at or beyond ``cls.stability_limit`` at the start (rk4: 2.8,
+  the edge of its stability region on the imaginary axis, 2 sqrt 2; the
   Störmer-Verlet / midpoint scheme: 2): refused, one line naming dt, ω and
   the largest stable dt;
-- a dt given with ω dt above ``COARSE_OMEGA_DT`` (0.1): one
+- a dt with ω dt above ``COARSE_OMEGA_DT`` (0.1): one
   :class:`~lagrangian.errors.LagrangianWarning` line.
 """
 
@@ -53,6 +55,9 @@ PROBE_GROWTH = 10.0
 COARSE_OMEGA_DT = 0.1
 #: The largest default step, as a fraction of the time span (the former default).
 DEFAULT_STEPS = 1000
+#: The smallest default step, as a fraction of the time span: a motion faster than that
+#: (a long span, a start next to a singularity) gets this step and a warning when coarse.
+MAX_DEFAULT_STEPS = 100_000
 
 
 class CoarseStepWarning(LagrangianWarning):
@@ -71,29 +76,49 @@ def fixed_step_for(
     ((P,) or (P, B)): dt chosen, or checked, against the rate ω (see the module)."""
     t0, t1 = t_span
     integrator = cls.configure(t_span=t_span, dt=dt)  # the settings checked first
-    longest = (t1 - t0) / DEFAULT_STEPS
-    omega = motion_rate(compiled, t0, y0, params, probe_step=longest, target=cls.default_omega_dt)
-    if dt is None:
-        if omega > 0 and cls.default_omega_dt / omega < longest:
-            integrator = cls.configure(t_span=t_span, dt=cls.default_omega_dt / omega)
-        return integrator
-    check_step(cls, integrator.dt, omega)
+    longest, shortest = (t1 - t0) / DEFAULT_STEPS, (t1 - t0) / MAX_DEFAULT_STEPS
+    initial, omega = motion_rate(
+        compiled, t0, y0, params, probe_step=longest, target=cls.default_omega_dt
+    )
+    if dt is None and omega > 0 and cls.default_omega_dt / omega < longest:
+        step = max(cls.default_omega_dt / omega, shortest)
+        if initial * step >= cls.stability_limit:  # never an unstable default: a long run
+            step = cls.default_omega_dt / initial
+        integrator = cls.configure(t_span=t_span, dt=step)
+    check_step(cls, integrator.dt, initial, omega, given=dt is not None)
     return integrator
 
 
-def check_step(cls: type[AbstractFixedStepIntegrator], dt: float, omega: float) -> None:
-    """ModelError past ``cls``'s stability limit, a warning above ``COARSE_OMEGA_DT``."""
+def check_step(
+    cls: type[AbstractFixedStepIntegrator],
+    dt: float,
+    initial: float,
+    omega: float,
+    *,
+    given: bool = True,
+) -> None:
+    """ModelError when ``dt`` is past ``cls``'s stability limit at the initial rate, a
+    warning when it is above ``COARSE_OMEGA_DT`` at the probed rate ``omega``."""
     product = omega * dt
     rate = f"ω = {_short(omega)}, the fastest rate of the linearized motion"
-    if product >= cls.stability_limit:
-        stable = cls.stability_limit / omega
+    if initial * dt >= cls.stability_limit:
+        stable = cls.stability_limit / initial
         raise ModelError(
             f"{cls.name} with dt = {_short(dt)} is unstable for this motion: ω·dt = "
-            f"{_short(product)} reaches the stability limit {cls.stability_limit:g} of "
-            f"{cls.name} ({rate}); give a --dt below {_short(stable)}, or leave --dt out "
-            "to have it chosen"
+            f"{_short(initial * dt)} reaches the stability limit {cls.stability_limit:g} of "
+            f"{cls.name} (ω = {_short(initial)}, the fastest rate of the linearized motion at "
+            f"the start); give a --dt below {_short(stable)}, or leave --dt out to have it chosen"
         )
-    if product > COARSE_OMEGA_DT:
+    if product > COARSE_OMEGA_DT and not given:
+        warnings.warn(
+            CoarseStepWarning(
+                f"the default dt = {_short(dt)} (t_end / {MAX_DEFAULT_STEPS:,}) is coarse for this "
+                f"motion: ω·dt = {_short(product)} > {COARSE_OMEGA_DT:g} ({rate}); the results "
+                f"lose accuracy (give --dt {_short(cls.default_omega_dt / omega)} for accuracy)"
+            ),
+            stacklevel=3,
+        )
+    elif product > COARSE_OMEGA_DT:
         warnings.warn(
             CoarseStepWarning(
                 f"dt = {_short(dt)} is coarse for this motion: ω·dt = {_short(product)} > "
@@ -112,10 +137,10 @@ def motion_rate(
     *,
     probe_step: float,
     target: float,
-) -> float:
-    """ω: the largest |eigenvalue| of d rhs / dy at the sampled initial states and along a
-    probe run of ``PROBE_STEPS`` rk4 steps (of ``target``/ω, at most ``probe_step``);
-    0 when every eigenvalue is 0 or none is finite."""
+) -> tuple[float, float]:
+    """(ω at the start, ω probed): the largest |eigenvalue| of d rhs / dy at the sampled
+    initial states, and that or larger along a probe run of ``PROBE_STEPS`` rk4 steps (of
+    ``target``/ω, at most ``probe_step``); 0 when every eigenvalue is 0 or none is finite."""
     y, p = _sample(np.asarray(y0, dtype=float), np.asarray(params, dtype=float))
     with np.errstate(all="ignore"):
         initial = omega = _rate(compiled, t0, y, p)
@@ -129,7 +154,7 @@ def motion_rate(
                 break
             if k % PROBE_EVERY == 0:
                 omega = max(omega, _rate(compiled, t, y[:, alive], _members(p, alive)))
-    return min(omega, PROBE_GROWTH * initial) if initial > 0 else omega
+    return initial, (min(omega, PROBE_GROWTH * initial) if initial > 0 else omega)
 
 
 def _sample(y: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
