@@ -101,3 +101,50 @@ CASES += [
         error=r"^.{0,250}$",
     ),
 ]
+
+# V = k sqrt(x): from x <= 1 at rest the motion reaches x < 0, where V is undefined, by t = 1.9
+SQRT = """coordinates = ["x"]
+kinetic = "x_dot^2/2"
+potential = "k*sqrt(x)"
+[parameters]
+k = 1.0
+[simulate]
+t_end = 3.0
+"""
+
+# fixed steps against the motion's time scale (integrate.step_size); failed members counted
+CASES += [
+    HostileCase(
+        # dt = t_end/1000 = 10: every member NaN, exit 0
+        "ensemble-step-past-the-stability-limit",
+        ("ensemble", "harmonic_oscillator", "--grid", "x=0.5:1:3", "--t-end", "1e4", "--dt", "10"),
+        error=r"rk4 with dt = 10 is unstable for this motion: ω·dt = 10 reaches the stability "
+        r"limit 2\.8 of rk4 \(ω = 1, .*\); give a --dt below 2\.8",
+    ),
+    HostileCase(
+        "simulate-variational-step-at-the-stability-limit",
+        ("simulate", "harmonic_oscillator", "--method", "variational", "--dt", "2"),
+        error=r"variational with dt = 2 is unstable for this motion: .* stability limit 2 ",
+    ),
+    HostileCase(
+        # a default dt = 1: the oscillator damped to nothing, silently
+        "ensemble-coarse-step-warned-about",
+        ("ensemble", "harmonic_oscillator", "--grid", "x=0.5:1:2", "--dt", "0.5"),
+        exit_code=0,
+        warning=r"lagrangian: warning: dt = 0\.5 is coarse for this motion: ω·dt = 0\.5 > 0\.1",
+    ),
+    HostileCase(
+        "ensemble-every-member-failed",
+        ("ensemble", "{dir}/model.toml", "--grid", "x=0.5:1:3"),
+        model=SQRT,
+        error=r"the ensemble integration failed for all 3 members: the state is not finite",
+    ),
+    HostileCase(
+        "ensemble-some-members-failed",
+        ("ensemble", "{dir}/model.toml", "--grid", "x=1:20:3"),
+        model=SQRT,
+        exit_code=0,
+        output=r"failed: 1 of 3 members \(state not finite\)",
+        warning=r"lagrangian: warning: 1 of 3 members failed \(the state is not finite",
+    ),
+]

@@ -51,6 +51,8 @@ SAMPLE_MEMBERS = 64
 PROBE_STEPS = 96
 PROBE_EVERY = 8
 PROBE_GROWTH = 10.0
+#: Relative accuracy of ω (central differences): a step this close to the limit is at it.
+RATE_ACCURACY = 1e-6
 #: Above this ω dt a given step loses accuracy visibly: one warning.
 COARSE_OMEGA_DT = 0.1
 #: The largest default step, as a fraction of the time span (the former default).
@@ -101,7 +103,7 @@ def check_step(
     warning when it is above ``COARSE_OMEGA_DT`` at the probed rate ``omega``."""
     product = omega * dt
     rate = f"ω = {_short(omega)}, the fastest rate of the linearized motion"
-    if initial * dt >= cls.stability_limit:
+    if initial * dt >= cls.stability_limit * (1 - RATE_ACCURACY):
         stable = cls.stability_limit / initial
         raise ModelError(
             f"{cls.name} with dt = {_short(dt)} is unstable for this motion: ω·dt = "
