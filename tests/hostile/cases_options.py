@@ -116,6 +116,11 @@ CASES += [
         ("analyze", "heavy_top", "--state-space", "--at", "theta=0", "--at", "I3=1"),
         error=TRIANGLE.format(I3="1"),
     ),
+    HostileCase(  # the first member is a valid top, a later one is not
+        "ensemble-grid-breaks-the-triangle-inequality",
+        ("ensemble", "heavy_top", "--grid", "I3=0.01:0.5:4", "--t-end", "0.1", "--dt", "0.01"),
+        error=TRIANGLE.format(I3=r"0\.17\d*") + r".*\(with I3 = 0\.17\d*\)$",
+    ),
     HostileCase(
         "state-space-at-breaks-the-sign",
         ("analyze", "cart_pole", "--state-space", "--at", "theta=0", "--at", "M=-1"),
