@@ -19,7 +19,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError
-from ..model.values import check_parameter_values
 from ..numeric.compiled import check_initial
 
 if TYPE_CHECKING:
@@ -100,7 +99,7 @@ def members(
         check_initial(name, arrays[name])
     # the model file's own checks (sign, 3-D bodies' inertia) for every member, before the
     # defaults are read, so the error names the value given
-    check_parameter_values(compiled.equations.system, {name: arrays[name] for name in params})
+    compiled.check_parameters({name: arrays[name] for name in params})
     y0 = np.repeat(compiled.state_vector({})[:, None], count, axis=1)
     for name in initial:
         y0[state_names.index(name)] = np.broadcast_to(arrays[name], shape).ravel()

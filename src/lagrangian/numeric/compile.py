@@ -25,6 +25,7 @@ import sympy
 
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
+from ..model.values import check_parameter_values
 from .backends import BACKENDS, ArrayBackend, array_backend
 from .compiled import CompiledSystem
 from .definitions import Definition, function_definitions
@@ -176,6 +177,7 @@ def compile_equations(
         ),
         baumgarte=float(baumgarte) if constraint_functions else 0.0,
         definitions=MappingProxyType({f.__name__: body for f, body in defined.items()}),
+        model_checks=functools.partial(check_parameter_values, system),
         **functions,
     )
     return compiled if jit is None else jit[2](forms, compiled)

@@ -32,7 +32,7 @@ import sympy
 
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
-from ..model.values import check_parameter_value, check_parameter_values
+from ..model.values import check_parameter_value
 
 StateFunction = Callable[[float, np.ndarray, np.ndarray], np.ndarray]  # (t, y, params)
 SplitFunction = Callable[[float, np.ndarray, np.ndarray, np.ndarray], np.ndarray]  # (t, q, v, p)
@@ -76,6 +76,9 @@ class CompiledSystem:
     constraint_velocity_residual: StateFunction | None = None  # A q' + a0 of every constraint
     baumgarte: float = 0.0  # stabilisation rate alpha used in rhs (1 / time; 0: none)
     definitions: Mapping[str, sympy.Lambda] = field(default_factory=dict)  # functions given
+    # the model file's checks of parameter values given in place of its defaults (3-D
+    # bodies' inertia): model.values.check_parameter_values of the system; None: none
+    model_checks: Callable[[Mapping[str, float | np.ndarray]], None] | None = None
 
     @property
     def derived(self) -> bool:
@@ -104,9 +107,18 @@ class CompiledSystem:
             )
         for name in self.parameter_names:
             self.check_parameter(name, values[name])
-        # the model file's checks of the values given, its 3-D bodies' inertia included
-        check_parameter_values(self.equations.system, overrides or {})
+        if self.model_checks is not None:  # the model file's checks, 3-D bodies' inertia
+            self.model_checks(dict(overrides or {}))
         return np.array([values[name] for name in self.parameter_names], dtype=float)
+
+    def check_parameters(self, given: Mapping[str, float | np.ndarray]) -> None:
+        """ModelError naming the first given value (a number, or an array of an ensemble's
+        members) that is not finite, breaks its parameter's sign, or fails the model's
+        own checks (:attr:`model_checks`)."""
+        for name, values in given.items():
+            self.check_parameter(name, values)
+        if self.model_checks is not None:
+            self.model_checks(given)
 
     def check_parameter(self, name: str, values: float | np.ndarray) -> None:
         """ModelError naming the first value that is not finite or breaks the parameter's sign.
