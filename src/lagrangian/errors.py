@@ -11,8 +11,57 @@ values, a model that cannot be built) is a ``ValueError``, a
 
 from __future__ import annotations
 
+import re
+from collections.abc import Mapping
 
-class LagrangianError(Exception):
+#: How the library names its settings in a message (:func:`setting`): the Python
+#: keyword arguments.  The command line spells the same settings as its flags
+#: (``lagrangian.cli.FLAGS``), by :meth:`Spelled.spelled`.
+PYTHON_SPELLING: Mapping[str, str] = {
+    "t_end": "t_end",
+    "dt": "dt",
+    "rtol": "rtol",
+    "atol": "atol",
+    "timeout": "timeout",
+    "backend": "backend",
+    "params": "params",
+    "params=": "params={NAME: VALUE}",
+    "definitions=": "definitions={NAME: EXPR}",
+    "grid": "initial/params arrays",
+    "at": "at",
+    "at=": "at={NAME: VALUE}",
+    "language": "language",
+    "path": "path",
+}
+_SETTING = re.compile(r"\u27e6([a-z_=]+)\u27e7")
+
+
+def setting(name: str) -> str:
+    """A setting named in a message (a key of :data:`PYTHON_SPELLING`): ``dt`` when
+    the message is read in Python, ``--dt`` when the command line prints it."""
+    return f"\u27e6{name}\u27e7"
+
+
+def spelled(text: str, spelling: Mapping[str, str]) -> str:
+    """``text`` with every :func:`setting` written as ``spelling`` says (Python's
+    keyword where ``spelling`` has no entry)."""
+    return _SETTING.sub(
+        lambda found: spelling.get(found[1], PYTHON_SPELLING.get(found[1], found[1])), text
+    )
+
+
+class Spelled:
+    """A message that names settings: ``str()`` spells them as Python does,
+    :meth:`spelled` as the caller says (the CLI: as its flags)."""
+
+    def __str__(self) -> str:
+        return spelled(super().__str__(), PYTHON_SPELLING)
+
+    def spelled(self, spelling: Mapping[str, str]) -> str:
+        return spelled(super().__str__(), spelling)
+
+
+class LagrangianError(Spelled, Exception):
     """Base of every error caused by the user's input."""
 
 
@@ -119,7 +168,7 @@ class MissingDependencyError(LagrangianError, ImportError):
         super().__init__(f"{feature} needs {package}: {how}")
 
 
-class LagrangianWarning(UserWarning):
+class LagrangianWarning(Spelled, UserWarning):
     """Base of the toolkit's own warnings: the CLI prints each as one line
     (``lagrangian: warning: ...``); warnings of other libraries it keeps quiet."""
 

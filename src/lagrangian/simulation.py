@@ -10,7 +10,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 
 from .derive import derive
-from .errors import ModelError
+from .errors import ModelError, setting
 from .integrate import method_class, simulate
 from .integrate.pace import RUN_SECONDS, RunPace, watching
 from .integrate.simulate import DEFAULT_METHOD
@@ -61,7 +61,8 @@ def simulate_system(
             initial[name] = value
         else:
             raise ModelError(
-                f"'{name}' is neither a parameter nor a coordinate or velocity", field="--set"
+                f"'{name}' is neither a parameter nor a coordinate or velocity",
+                field=setting("params"),
             )
     check_parameter_values(system, params)  # before the derivation: a bad value fails at once
     method = method or settings.get("method") or DEFAULT_METHOD

@@ -104,8 +104,7 @@ def test_missing_parameter_values_are_named():
     with pytest.raises(lg.ModelError) as error:
         result.parameter_vector()
     assert (
-        str(error.value) == "no value for parameter(s) k, m (give them with --set NAME=VALUE,"
-        " or params={NAME: VALUE} in Python)"
+        str(error.value) == "no value for parameter(s) k, m (give them with params={NAME: VALUE})"
     )
     with pytest.raises(lg.ModelError) as error:
         result.rhs(0.0, [1.0, 0.0], [2.0])

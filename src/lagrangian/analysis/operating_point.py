@@ -16,7 +16,7 @@ import sympy
 from sympy.core.function import AppliedUndef
 
 from ..derive import derive
-from ..errors import ModelError, ParseError
+from ..errors import ModelError, ParseError, setting
 from ..model import System
 from ..model.naming import RESERVED
 from ..model.values import check_parameter_expressions
@@ -92,7 +92,7 @@ def first_equilibrium(system: System) -> dict[str, sympy.Expr]:
 
     found = equilibria(derive(system.without_inputs()))
     if not found:
-        raise ModelError("no equilibrium found: give the operating point (at=..., --at)")
+        raise ModelError(f"no equilibrium found: give the operating point ({setting('at=')})")
     return dict(found[0].point)
 
 

@@ -20,9 +20,9 @@ from enum import IntEnum
 import click
 
 from ..budget import OutOfTime
-from ..errors import LagrangianError, LagrangianWarning
+from ..errors import LagrangianError, LagrangianWarning, Spelled
 from . import ensemble, export, visual  # noqa: F401  (each registers its commands on app)
-from .app import app
+from .app import FLAGS, app
 
 
 class ExitStatus(IntEnum):
@@ -55,7 +55,7 @@ def _run(argv: Sequence[str] | None) -> ExitStatus:
             standalone_mode=False,
         )
     except LagrangianError as error:
-        return _fail(ExitStatus.BAD_INPUT, str(error))
+        return _fail(ExitStatus.BAD_INPUT, error.spelled(FLAGS))
     except OutOfTime as error:  # a BaseException: a deadline no stage caught is the user's budget
         return _fail(ExitStatus.BAD_INPUT, f"{error} (allow more time with --timeout SECONDS)")
     except click.ClickException as error:
@@ -83,7 +83,9 @@ def _show_warnings(caught: list[warnings.WarningMessage], *, debug: bool) -> Non
         ours = issubclass(record.category, LagrangianWarning)
         if not (ours or debug):
             continue
-        line = " ".join(str(record.message).split())
+        message = record.message
+        text = message.spelled(FLAGS) if isinstance(message, Spelled) else str(message)
+        line = " ".join(text.split())
         if not ours:
             line = f"{record.category.__name__}: {line} ({record.filename}:{record.lineno})"
         if line not in shown:

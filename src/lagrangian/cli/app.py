@@ -16,6 +16,25 @@ from ..numeric.compile import RUN_BACKENDS
 
 MODEL_HELP = "MODEL is a model file (TOML) or the name of a built-in example."
 
+#: The library's settings named in its messages (:func:`lagrangian.errors.setting`), as
+#: this command line spells them.
+FLAGS = {
+    "t_end": "--t-end",
+    "dt": "--dt",
+    "rtol": "--rtol",
+    "atol": "--atol",
+    "timeout": "--timeout SECONDS",
+    "backend": "--backend",
+    "params": "--set",
+    "params=": "--set NAME=VALUE",
+    "definitions=": "--define NAME=EXPR",
+    "grid": "--grid",
+    "at": "--at",
+    "at=": "--at NAME=VALUE",
+    "language": "--to",
+    "path": "--out",
+}
+
 
 @click.group(
     name="lagrangian",
@@ -154,7 +173,7 @@ def analyze(
 
             click.echo(latex_state_space(linear))
     else:
-        click.echo(format_analysis(analysis))
+        click.echo(format_analysis(analysis, spelling=FLAGS))
         if linear is not None:
             from ..output.state_space import format_state_space
 

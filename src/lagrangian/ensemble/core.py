@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import xarray as xr
 
-from ..errors import LagrangianError, LagrangianWarning, ModelError
+from ..errors import LagrangianError, LagrangianWarning, ModelError, setting
 from ..integrate import method_class
 from ..integrate.base import check_time_span
 from ..integrate.fixed_step import AbstractFixedStepIntegrator, step_grid
@@ -119,8 +119,8 @@ def run_ensemble(
         check_fits(
             ensemble_bytes(compiled, count, steps, names, save_every, int(chunk_size)),
             f"an ensemble of {count_text(count)} members{kept} ({count_text(steps)} steps)",
-            "use fewer members (fewer points per --grid), or fewer steps (a larger --dt)"
-            + (" or a larger save_every" if save_every else ""),
+            f"use fewer members (fewer points per {setting('grid')}), or fewer steps "
+            f"(a larger {setting('dt')})" + (" or a larger save_every" if save_every else ""),
         )
 
     batch = members(compiled, initial, params, before_allocating=fits)

@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, ClassVar, Literal
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, setting
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -172,7 +172,7 @@ def tolerance_setting(name: str, value: float, *, method: str, floor: float, fur
     if number < floor:
         raise ModelError(
             f"{name} = {number:g} is below what {method} can deliver in double precision: "
-            f"give --{name} {floor:.3g} or more{further}"
+            f"give {setting(name)} {floor:.3g} or more{further}"
         )
     return number
 
@@ -181,7 +181,7 @@ def reject_settings(method: str, kind: str, **given: float | None) -> None:
     """ModelError naming the settings in ``given`` that were set but do not apply."""
     extra = [name for name, value in given.items() if value is not None]
     if extra:
-        names = " and ".join(f"--{name}" for name in extra)
+        names = " and ".join(setting(name) for name in extra)
         raise ModelError(f"{names} does not apply to method '{method}' ({kind})")
 
 

@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, setting
 from ..trajectory import EventRecord
 from .base import (
     AbstractIntegrator,
@@ -82,7 +82,9 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
 
     @classmethod
     def configure(cls, *, t_span, dt=None, rtol=None, atol=None):
-        reject_settings(cls.name, "a fixed-step method: give --dt", rtol=rtol, atol=atol)
+        reject_settings(
+            cls.name, f"a fixed-step method: give {setting('dt')}", rtol=rtol, atol=atol
+        )
         t0, t1 = check_time_span(t_span)
         return cls(dt=(t1 - t0) / cls.DEFAULT_STEPS if dt is None else positive_setting("dt", dt))
 

@@ -32,6 +32,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..errors import setting
+
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
 
@@ -138,7 +140,7 @@ def energy_jump(
     return k, (
         f"the energy jumped from {h[k]:.6g} to {h[k + 1]:.6g} in the step from t = {t[k]:.6g} "
         f"({describe_state(compiled, y[:, k])}): the motion passes a singularity "
-        "there (or the step is far too large: give a smaller --dt, or use dop853)"
+        f"there (or the step is far too large: give a smaller {setting('dt')}, or use dop853)"
     )
 
 

@@ -20,17 +20,17 @@ import time
 from collections.abc import Callable
 
 from ..budget import checked_seconds
-from ..errors import LagrangianError
+from ..errors import LagrangianError, setting
 
 #: Default budget of a single run started from the command line or ``System.simulate``.
 RUN_SECONDS = 300.0
 RUN_ADVICE = (
-    "give a shorter --t-end, a looser --rtol or a larger --dt, "
-    "or allow more time with --timeout SECONDS"
+    f"give a shorter {setting('t_end')}, a looser {setting('rtol')} or a larger {setting('dt')}, "
+    f"or allow more time with {setting('timeout')}"
 )
 ENSEMBLE_ADVICE = (
-    "give fewer members, a shorter --t-end or a larger --dt, a faster --backend, "
-    "or allow more time with --timeout SECONDS"
+    f"give fewer members, a shorter {setting('t_end')} or a larger {setting('dt')}, a faster "
+    f"{setting('backend')}, or allow more time with {setting('timeout')}"
 )
 #: Wall time after which the pace so far is trusted enough to project the total.
 PROBE_SECONDS = 1.0

@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, setting
 from ..trajectory import EventRecord
 from .base import (
     AbstractIntegrator,
@@ -82,7 +82,9 @@ class AbstractScipyIntegrator(AbstractIntegrator):
 
     @classmethod
     def configure(cls, *, t_span, dt=None, rtol=None, atol=None):
-        reject_settings(cls.name, "an adaptive method: give --rtol/--atol", dt=dt)
+        reject_settings(
+            cls.name, f"an adaptive method: give {setting('rtol')}/{setting('atol')}", dt=dt
+        )
         check_time_span(t_span)
         return cls(
             rtol=cls.DEFAULT_RTOL if rtol is None else positive_setting("rtol", rtol),

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, setting
 from ..trajectory import Trajectory
 from .base import AbstractIntegrator, IntegrationResult, check_time_span
 from .events import Event
@@ -110,7 +110,7 @@ def _check_memory(integrator, t_span, state_size, *, n_out, t_eval) -> None:
             run_bytes(state_size, steps, outputs),
             f"{settings['method']} with dt = {settings['dt']:g} to t_end = {t_span[1]:g} "
             f"({count_text(steps)} steps, every one kept)",
-            "give a larger --dt or a shorter --t-end",
+            f"give a larger {setting('dt')} or a shorter {setting('t_end')}",
         )
     check_fits(
         run_bytes(state_size, 0, outputs),

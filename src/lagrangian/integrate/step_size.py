@@ -39,7 +39,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import LagrangianWarning, ModelError
+from ..errors import LagrangianWarning, ModelError, SingularMassMatrixError, setting
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -109,14 +109,16 @@ def check_step(
             f"{cls.name} with dt = {_short(dt)} is unstable for this motion: ω·dt = "
             f"{_short(initial * dt)} reaches the stability limit {cls.stability_limit:g} of "
             f"{cls.name} (ω = {_short(initial)}, the fastest rate of the linearized motion at "
-            f"the start); give a --dt below {_short(stable)}, or leave --dt out to have it chosen"
+            f"the start); give a {setting('dt')} below {_short(stable)}, or leave "
+            f"{setting('dt')} out to have it chosen"
         )
     if product > COARSE_OMEGA_DT and not given:
         warnings.warn(
             CoarseStepWarning(
                 f"the default dt = {_short(dt)} (t_end / {MAX_DEFAULT_STEPS:,}) is coarse for this "
                 f"motion: ω·dt = {_short(product)} > {COARSE_OMEGA_DT:g} ({rate}); the results "
-                f"lose accuracy (give --dt {_short(cls.default_omega_dt / omega)} for accuracy)"
+                f"lose accuracy (give {setting('dt')} {_short(cls.default_omega_dt / omega)} "
+                "for accuracy)"
             ),
             stacklevel=3,
         )
@@ -142,20 +144,30 @@ def motion_rate(
 ) -> tuple[float, float]:
     """(ω at the start, ω probed): the largest |eigenvalue| of d rhs / dy at the sampled
     initial states, and that or larger along a probe run of ``PROBE_STEPS`` rk4 steps (of
-    ``target``/ω, at most ``probe_step``); 0 when every eigenvalue is 0 or none is finite."""
+    ``target``/ω, at most ``probe_step``); 0 when every eigenvalue is 0 or none is finite,
+    or when M is singular at a start (the run's own first step reports that state)."""
     y, p = _sample(np.asarray(y0, dtype=float), np.asarray(params, dtype=float))
     with np.errstate(all="ignore"):
-        initial = omega = _rate(compiled, t0, y, p)
+        try:
+            initial = omega = _rate(compiled, t0, y, p)
+        except SingularMassMatrixError:
+            return 0.0, 0.0
         h = probe_step if omega == 0 else min(probe_step, target / omega)
         t = t0
         for k in range(1, PROBE_STEPS + 1):
-            y = _rk4_step(compiled, t, h, y, p)
+            try:
+                y = _rk4_step(compiled, t, h, y, p)
+            except SingularMassMatrixError:  # the probe reached a singular state: ω so far
+                break
             t += h
             alive = np.all(np.isfinite(y), axis=0)
             if not np.any(alive):
                 break
             if k % PROBE_EVERY == 0:
-                omega = max(omega, _rate(compiled, t, y[:, alive], _members(p, alive)))
+                try:
+                    omega = max(omega, _rate(compiled, t, y[:, alive], _members(p, alive)))
+                except SingularMassMatrixError:
+                    break
     return initial, (min(omega, PROBE_GROWTH * initial) if initial > 0 else omega)
 
 

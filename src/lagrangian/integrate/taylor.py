@@ -42,7 +42,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
-from ..errors import MissingDependencyError, ModelError
+from ..errors import MissingDependencyError, ModelError, setting
 from .base import (
     AbstractIntegrator,
     IntegrationResult,
@@ -81,7 +81,9 @@ class Taylor(AbstractIntegrator):
     @classmethod
     def configure(cls, *, t_span, dt=None, rtol=None, atol=None):
         """``tol`` is the smaller of rtol and atol where given (heyoka has one tolerance)."""
-        reject_settings(cls.name, "an adaptive method: give --rtol/--atol", dt=dt)
+        reject_settings(
+            cls.name, f"an adaptive method: give {setting('rtol')}/{setting('atol')}", dt=dt
+        )
         check_time_span(t_span)
         given = [
             _tolerance(name, value)

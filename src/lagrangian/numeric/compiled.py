@@ -31,7 +31,7 @@ import numpy as np
 import sympy
 
 from ..derive import EquationsOfMotion
-from ..errors import ModelError
+from ..errors import ModelError, setting
 from ..model.values import check_parameter_value
 
 StateFunction = Callable[[float, np.ndarray, np.ndarray], np.ndarray]  # (t, y, params)
@@ -103,7 +103,7 @@ class CompiledSystem:
             raise ModelError(
                 "no value for parameter(s) "
                 + ", ".join(missing)
-                + " (give them with --set NAME=VALUE, or params={NAME: VALUE} in Python)"
+                + f" (give them with {setting('params=')})"
             )
         for name in self.parameter_names:
             self.check_parameter(name, values[name])

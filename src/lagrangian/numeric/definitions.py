@@ -16,7 +16,7 @@ from collections.abc import Mapping
 import sympy
 from sympy.core.function import AppliedUndef
 
-from ..errors import LagrangianError, ModelError
+from ..errors import LagrangianError, ModelError, setting
 from ..model import FunctionDeclaration, System
 from ..parsing import Namespace, parse_expression
 
@@ -67,11 +67,11 @@ def unspecified_error(names: list[str]) -> ModelError:
     """The error for functions without a definition, e.g. ``A(x, y, z)``."""
     if len(names) == 1:
         return ModelError(
-            f"function {names[0]} is unspecified: give a definition (CLI: --define NAME=EXPR)"
+            f"function {names[0]} is unspecified: give a definition ({setting('definitions=')})"
         )
     return ModelError(
         f"functions {', '.join(names)} are unspecified: give a definition of each"
-        " (CLI: --define NAME=EXPR)"
+        f" ({setting('definitions=')})"
     )
 
 

@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from ..analysis import Analysis
+from ..errors import PYTHON_SPELLING, setting, spelled
 from .large import latex_printer, plain_printer, unicode_printer
 from .notation import latex_name, too_long_to_print, unicode_name
 
@@ -94,7 +97,7 @@ def _equilibrium_document(e, text) -> dict:
     return document
 
 
-def format_analysis(analysis: Analysis) -> str:
+def format_analysis(analysis: Analysis, *, spelling: Mapping[str, str] = PYTHON_SPELLING) -> str:
     """The analysis as readable Unicode text."""
     system = analysis.equations.system
     show = _readable(unicode_printer(system))
@@ -142,7 +145,8 @@ def format_analysis(analysis: Analysis) -> str:
     if analysis.notes:
         lines += ["", "Notes:"] + [f"  {note}" for note in analysis.notes]
     if analysis.undecided:
-        lines += ["", "Undecided (out of time; analyze --timeout SECONDS gives more):"]
+        more = spelled(f"a larger {setting('timeout')} gives more", spelling)
+        lines += ["", f"Undecided (out of time; {more}):"]
         lines += [f"  {u.stage}: {u.reason}" for u in analysis.undecided]
     return "\n".join(lines)
 

@@ -25,7 +25,7 @@ import numpy as np
 import sympy
 
 from ..algebra import as_expression
-from ..errors import ModelError
+from ..errors import ModelError, setting
 from ..model import RigidBody, System
 from .solids import SolidShape, solid_points, solid_shape
 
@@ -169,8 +169,7 @@ def geometry(system: System, parameters: Mapping[str, float] | None = None) -> G
     missing = [p.name for p in system.parameters if p.name not in values]
     if missing:
         raise ModelError(
-            f"no value for parameter(s) {', '.join(missing)} (give them with --set NAME=VALUE,"
-            " or params={NAME: VALUE} in Python)"
+            f"no value for parameter(s) {', '.join(missing)} (give them with {setting('params=')})"
         )
     arguments = (system.time, *(c.q for c in system.coordinates))
     arguments += tuple(p.symbol for p in system.parameters)
