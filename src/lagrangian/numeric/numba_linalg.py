@@ -12,6 +12,10 @@ from __future__ import annotations
 
 import numba
 
+from .numba_cache import tolerate_full_disk
+
+tolerate_full_disk()  # every numba module of ours imports this one before it compiles
+
 
 @numba.njit(inline="always")
 def eliminate(matrix, force, out, offset, n):  # pragma: no cover - compiled by numba
