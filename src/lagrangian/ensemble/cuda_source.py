@@ -4,11 +4,11 @@
 into one text that NVRTC compiles as CUDA C++ and gcc compiles as C99 after
 a few macros (:mod:`.cuda_cpu`): a ``typedef`` of ``real`` (double or float),
 straight-line ``__device__`` functions of the entries the scheme needs
-(common subexpressions eliminated, printed by SymPy's C99 printer; float32
-text has ``f``-suffixed literals and ``sinf``-style calls, so nothing is
-silently promoted to double), the small linear solves by Gaussian
-elimination with partial pivoting over loops of compile-time length (unrolled,
-so the arrays stay in registers), and the kernel ``lg_integrate``.
+(common subexpressions eliminated, printed by the C printer of
+:mod:`lagrangian.codegen.c` in the kernel's precision), the small linear solves
+by that module's Gaussian elimination with partial pivoting over loops of
+compile-time length (unrolled, so the arrays stay in registers), and the kernel
+``lg_integrate``.
 
 The schemes are those of the numpy backend, step for step:
 
@@ -31,10 +31,8 @@ from __future__ import annotations
 import hashlib
 
 import sympy
-from sympy.codegen.ast import float32, real
-from sympy.printing.c import C99CodePrinter
-from sympy.printing.precedence import PRECEDENCE
 
+from ..codegen.c import PRECISIONS, CPrinter, fuse_sine_cosine, gaussian_elimination
 from ..distributions import without_distributions
 from ..errors import ModelError
 from ..integrate import tableaus
@@ -46,7 +44,6 @@ from ..numeric.scheme_expressions import SCHEMES, STEP, scheme_expressions
 
 #: Bump when the generated text changes.
 GENERATOR_VERSION = "4"
-PRECISIONS = ("float64", "float32")
 
 #: The kernel's parameters in order, (C type, name); hosts pass arguments by these names.
 KERNEL_PARAMETERS = (
@@ -85,49 +82,7 @@ typedef {ctype} real;
 typedef struct {{ real tol; real floor; int iterations; }} lg_newton;
 """
 
-_SOLVE = """
-/* x with A x = b (A, b overwritten): Gaussian elimination with partial pivoting.  Rows
-   are swapped by value while scanning, so every index is a compile-time constant once
-   the loops are unrolled and the arrays stay in registers (pivot: the first largest).
-   Each pivot is inverted once (N divisions instead of N(N+1)/2: a float64 division is
-   a dozen dependent instructions on the GPU). */
-__device__ __forceinline__ void lg_solve(real *A, real *b, real *x)
-{
-    real inverse[LG_N];
-#pragma unroll
-    for (int k = 0; k < LG_N; ++k) {
-#pragma unroll
-        for (int i = k + 1; i < LG_N; ++i) {
-            if (LG_ABS(A[i * LG_N + k]) > LG_ABS(A[k * LG_N + k])) {
-#pragma unroll
-                for (int j = 0; j < LG_N; ++j) {
-                    real swap = A[k * LG_N + j];
-                    A[k * LG_N + j] = A[i * LG_N + j];
-                    A[i * LG_N + j] = swap;
-                }
-                real swap = b[k];
-                b[k] = b[i];
-                b[i] = swap;
-            }
-        }
-        inverse[k] = 1 / A[k * LG_N + k];
-#pragma unroll
-        for (int i = k + 1; i < LG_N; ++i) {
-            real factor = A[i * LG_N + k] * inverse[k];
-#pragma unroll
-            for (int j = k; j < LG_N; ++j) A[i * LG_N + j] -= factor * A[k * LG_N + j];
-            b[i] -= factor * b[k];
-        }
-    }
-#pragma unroll
-    for (int i = LG_N - 1; i >= 0; --i) {
-        real total = b[i];
-#pragma unroll
-        for (int j = i + 1; j < LG_N; ++j) total -= A[i * LG_N + j] * x[j];
-        x[i] = total * inverse[i];
-    }
-}
-
+_TESTS = """
 /* Variational.py's test: residual small, or no longer shrinking at the rounding floor
    (relative to the momenta and to max(1, max |q|), the extent). */
 __device__ __forceinline__ int lg_converged(real size, real previous, int have_previous,
@@ -394,41 +349,6 @@ __global__ void lg_integrate({parameters})
 """
 
 
-class _Printer(C99CodePrinter):
-    """C99 in the kernel's precision, small integer powers as products (exact, fast)."""
-
-    def __init__(self, precision: str):
-        self.precision = precision
-        # no math macros: M_SQRT2, M_LN2, ... are POSIX, not C99, and NVRTC has none
-        settings: dict[str, object] = {"strict": True, "math_macros": {}}
-        if precision == "float32":
-            settings["type_aliases"] = {real: float32}
-        super().__init__(settings)
-
-    def _print_Pow(self, expr):
-        base, exponent = expr.args
-        if exponent.is_Integer and 2 <= abs(int(exponent)) <= 8:
-            factor = self.parenthesize(base, PRECEDENCE["Mul"])
-            product = "*".join([factor] * abs(int(exponent)))
-            return f"({product})" if exponent > 0 else f"(1/({product}))"
-        if exponent == sympy.Rational(-1, 2):
-            return f"(1/{self._print(sympy.sqrt(base))})"
-        return super()._print_Pow(expr)
-
-    def _print_Infinity(self, expr):
-        # a coefficient beyond double range (machine_numbers); INFINITY needs <math.h>
-        return "(1.0f/0.0f)" if self.precision == "float32" else "(1.0/0.0)"
-
-    def _print_NegativeInfinity(self, expr):
-        return f"(-{self._print_Infinity(expr)})"
-
-    def _print_Integer(self, expr):
-        # beyond int range C would need a long literal; a real one is what we mean
-        if abs(int(expr)) >= 2**31:
-            return self._print(sympy.Float(expr, 17))
-        return super()._print_Integer(expr)
-
-
 def kernel_source(forms: SymbolicForms, method: str, precision: str) -> tuple[str, str]:
     """(sha256, CUDA C text) of the ensemble kernel of ``forms``; see the module docstring.
 
@@ -458,17 +378,14 @@ def kernel_source(forms: SymbolicForms, method: str, precision: str) -> tuple[st
 
 
 def _text(forms: SymbolicForms, method: str, precision: str, arrays) -> str:
-    printer = _Printer(precision)
-    suffix = "f" if precision == "float32" else ""
-
-    def literal(value: float) -> str:
-        return f"{float(value)!r}{suffix}"
+    printer = CPrinter(precision)
+    literal = printer.literal
 
     rename = _renaming(forms)
     header = _HEADER.format(
         version=GENERATOR_VERSION, scheme=method, precision=precision,
         ctype="float" if precision == "float32" else "double", n=forms.n,
-        p=len(forms.parameters), fabs="fabsf" if suffix else "fabs", pi=literal(sympy.pi),
+        p=len(forms.parameters), fabs=printer.fabs, pi=literal(sympy.pi),
         stall=literal(STALL_RATIO),
     )  # fmt: skip
     functions = []
@@ -485,9 +402,13 @@ def _text(forms: SymbolicForms, method: str, precision: str, arrays) -> str:
             scheme = scheme.replace("{" + key + "}", value)
     else:
         scheme = _MIDPOINT if method == "midpoint" else _VERLET
+    solve = gaussian_elimination(
+        "lg_solve", "LG_N", printer, qualifiers="__device__ __forceinline__", unroll=True,
+        real_type="real",
+    )  # fmt: skip
     parameters = ",\n    ".join(f"{ctype} {name}" for ctype, name in KERNEL_PARAMETERS)
     kernel = _KERNEL.format(parameters="\n    " + parameters)
-    return "\n".join([header, *functions, _SOLVE, scheme, kernel])
+    return "\n".join([header, *functions, solve, _TESTS, scheme, kernel])
 
 
 def _renaming(forms: SymbolicForms):
@@ -512,11 +433,11 @@ def _renaming(forms: SymbolicForms):
     return rename
 
 
-def _device_function(name: str, outputs, printer: _Printer) -> str:
+def _device_function(name: str, outputs, printer: CPrinter) -> str:
     """A ``__device__`` function filling each output array from (t, y, p[, h])."""
     expressions = [entry for _, entries in outputs for entry in entries]
     replacements, reduced = sympy.cse(expressions, symbols=sympy.numbered_symbols("_c"))
-    statements, reduced = _fuse_sine_cosine(replacements, reduced)
+    statements, reduced = fuse_sine_cosine(replacements, reduced)
     used = set()
     for expression in [*reduced, *(value for _, value in statements)]:
         used |= {s.name for s in expression.free_symbols}
@@ -546,35 +467,3 @@ def _device_function(name: str, outputs, printer: _Printer) -> str:
     signature = f"(real _t, const real *y, const real *p{step}, {arrays})"
     body = "\n".join("    " + line for line in lines)
     return f"__device__ __forceinline__ void {name}{signature}\n{{\n{body}\n}}\n"
-
-
-def _fuse_sine_cosine(replacements, reduced):
-    """Statements [(symbol | (sine, cosine), value)] with sin(a) and cos(a) made by one call.
-
-    Where both the sine and the cosine of one argument are used, sincos(a) computes
-    them together (one range reduction instead of two; on the GPU, where float64
-    arithmetic is the bound, that is a tenth of a double pendulum's RK4 stage).  The
-    call goes right after the last statement its argument needs.
-    """
-    values = [value for _, value in replacements] + list(reduced)
-    sines, cosines = set(), set()
-    for value in values:
-        sines |= {f.args[0] for f in value.atoms(sympy.sin)}
-        cosines |= {f.args[0] for f in value.atoms(sympy.cos)}
-    shared = sorted(sines & cosines, key=sympy.default_sort_key)
-    if not shared:
-        return list(replacements), list(reduced)
-    defined_at = {symbol: index for index, (symbol, _) in enumerate(replacements)}
-    calls: dict[int, list] = {}
-    substitute = {}
-    for k, argument in enumerate(shared):
-        sine, cosine = sympy.Symbol(f"_sin{k}"), sympy.Symbol(f"_cos{k}")
-        after = max((defined_at.get(s, -1) for s in argument.free_symbols), default=-1)
-        calls.setdefault(after, []).append(((sine, cosine), argument))
-        substitute[sympy.sin(argument)] = sine
-        substitute[sympy.cos(argument)] = cosine
-    statements = list(calls.get(-1, []))
-    for index, (symbol, value) in enumerate(replacements):
-        statements.append((symbol, value.xreplace(substitute)))
-        statements.extend(calls.get(index, []))
-    return statements, [value.xreplace(substitute) for value in reduced]

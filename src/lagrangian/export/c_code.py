@@ -1,5 +1,6 @@
 """C99: one self-contained ``.c`` file (``#include <math.h>`` only), printed by SymPy's
-C99 code printer.
+C99 code printer
+(:class:`lagrangian.codegen.c.CPrinter`).
 
     void mass_matrix(double t, const double *y, const double *params, const double *u,
                      double *M);                              M row-major, n x n
@@ -7,88 +8,23 @@ C99 code printer.
     int rhs(double t, const double *y, const double *params, const double *u, double *dydt);
 
 ``u`` may be NULL (every input 0).  ``rhs`` solves the linear system by Gaussian
-elimination with partial pivoting (written out below, no LAPACK) and returns 0,
+elimination with partial pivoting (:func:`lagrangian.codegen.c.gaussian_elimination`,
+written out in the file, no LAPACK) and returns 0,
 or 1 when the matrix is singular (``dydt`` is then left unspecified).
 ``default_params`` holds the default parameter values (NAN where the model has none).
 """
 
 from __future__ import annotations
 
-import math
-
 import sympy
-from sympy.printing.c import C99CodePrinter
 
-from ..numeric.literals import FloatLiterals
+from ..codegen.c import CPrinter, gaussian_elimination
 from .comments import C_COMMENT, commented
 from .header import header_lines
 from .program import Program, Routine
 from .writer import AbstractWriter
 
 _ARGUMENTS = "double t, const double *y, const double *params, const double *u"
-
-_SOLVE = """\
-/* Solve a x = b in place (a: n x n row-major, overwritten; b: n, becomes x) by Gaussian
-   elimination with partial pivoting. Returns 1 if a is singular, else 0. */
-static int solve_linear(int n, double *a, double *b)
-{
-    for (int k = 0; k < n; ++k) {
-        int pivot = k;
-        double best = fabs(a[k * n + k]);
-        for (int i = k + 1; i < n; ++i) {
-            double size = fabs(a[i * n + k]);
-            if (size > best) {
-                best = size;
-                pivot = i;
-            }
-        }
-        if (!(best > 0.0) || !isfinite(best)) {
-            return 1;
-        }
-        if (pivot != k) {
-            for (int j = 0; j < n; ++j) {
-                double swap = a[k * n + j];
-                a[k * n + j] = a[pivot * n + j];
-                a[pivot * n + j] = swap;
-            }
-            double swap = b[k];
-            b[k] = b[pivot];
-            b[pivot] = swap;
-        }
-        for (int i = k + 1; i < n; ++i) {
-            double factor = a[i * n + k] / a[k * n + k];
-            if (factor != 0.0) {
-                for (int j = k; j < n; ++j) {
-                    a[i * n + j] -= factor * a[k * n + j];
-                }
-                b[i] -= factor * b[k];
-            }
-        }
-    }
-    for (int i = n - 1; i >= 0; --i) {
-        double sum = b[i];
-        for (int j = i + 1; j < n; ++j) {
-            sum -= a[i * n + j] * b[j];
-        }
-        b[i] = sum / a[i * n + i];
-    }
-    return 0;
-}
-"""
-
-
-class _Printer(FloatLiterals, C99CodePrinter):
-    """SymPy's C99 printer without its math macros (M_PI, M_SQRT2, M_LN2, M_2_PI... are
-    POSIX, not C99): pi and e as numbers, sqrt(2) and log(2) as calls."""
-
-    def __init__(self) -> None:
-        super().__init__({"strict": True, "math_macros": {}})
-
-    def _print_Pi(self, expr) -> str:
-        return repr(math.pi)
-
-    def _print_Exp1(self, expr) -> str:
-        return repr(math.e)
 
 
 class CWriter(AbstractWriter):
@@ -100,7 +36,7 @@ class CWriter(AbstractWriter):
     base = 0
 
     def __init__(self) -> None:
-        self._printer = _Printer()
+        self._printer = CPrinter()
 
     def expression(self, expr: sympy.Expr) -> str:
         return self._printer.doprint(expr)
@@ -137,7 +73,9 @@ class CWriter(AbstractWriter):
         parts += self._function(f"void mass_matrix({_ARGUMENTS}, double *M)", program,
                                 program.mass_matrix)  # fmt: skip
         parts += self._function(f"void forcing({_ARGUMENTS}, double *f)", program, program.forcing)
-        parts += [_SOLVE, f"int rhs({_ARGUMENTS}, double *dydt)", "{"]
+        solved_size = size if m else n
+        parts += [gaussian_elimination("solve_linear", solved_size, self._printer)]
+        parts += [f"int rhs({_ARGUMENTS}, double *dydt)", "{"]
         names = [name for name, _ in program.dynamics.outputs]
         parts.append(f"    double M[{n * n}], f[{n}];")
         if m:
@@ -155,11 +93,11 @@ class CWriter(AbstractWriter):
                 "        }",
                 f"        x[i] = i < {n} ? f[i] : b[i - {n}];",
                 "    }",
-                f"    if (solve_linear({size}, K, x)) return 1;",
+                "    if (solve_linear(K, x, x)) return 1;",
             ]
             solved = "x"
         else:
-            parts.append(f"    if (solve_linear({n}, M, f)) return 1;")
+            parts.append("    if (solve_linear(M, f, f)) return 1;")
             solved = "f"
         parts += [
             f"    for (int i = 0; i < {n}; ++i) {{",
