@@ -29,10 +29,12 @@ and every ``save_every``-th state.  Only names we make appear in the text
 from __future__ import annotations
 
 import hashlib
+import math
 
 import sympy
 
 from ..codegen.c import PRECISIONS, CPrinter, fuse_sine_cosine, gaussian_elimination
+from ..codegen.steps import CStepPrinter, scheme_program
 from ..distributions import without_distributions
 from ..errors import ModelError
 from ..integrate import tableaus
@@ -43,7 +45,7 @@ from ..numeric.numba_source import _fingerprint
 from ..numeric.scheme_expressions import SCHEMES, STEP, scheme_expressions
 
 #: Bump when the generated text changes.
-GENERATOR_VERSION = "4"
+GENERATOR_VERSION = "5"
 
 #: The kernel's parameters in order, (C type, name); hosts pass arguments by these names.
 KERNEL_PARAMETERS = (
@@ -75,223 +77,6 @@ typedef {ctype} real;
 #define LG_P {p}
 #define LG_ABS {fabs}
 #define LG_PI {pi}
-#define LG_STALL {stall}
-/* the running maximum keeps a NaN, as numpy's max does, so a NaN never converges */
-#define LG_MAX(a, b) ((b) > (a) || (b) != (b) ? (b) : (a))
-
-typedef struct {{ real tol; real floor; int iterations; }} lg_newton;
-"""
-
-_TESTS = """
-/* Variational.py's test: residual small, or no longer shrinking at the rounding floor
-   (relative to the momenta and to max(1, max |q|), the extent). */
-__device__ __forceinline__ int lg_converged(real size, real previous, int have_previous,
-                                            real scale, real extent, const lg_newton *newton)
-{
-    int small = size <= newton->tol * scale || size == 0;
-    return small || (have_previous && size >= LG_STALL * previous
-                     && size <= newton->floor * scale * extent);
-}
-
-__device__ __forceinline__ real lg_extent(const real *y)
-{
-    real size = 1;
-#pragma unroll
-    for (int i = 0; i < LG_N; ++i) size = LG_MAX(size, LG_ABS(y[i]));
-    return size;
-}
-"""
-
-_RK4 = """
-typedef struct { int unused; } lg_state;
-
-__device__ __forceinline__ void lg_derivative(real t, const real *y, const real *p, real *out)
-{
-    real M[LG_N * LG_N], f[LG_N];
-    lg_mass_force(t, y, p, M, f);
-    lg_solve(M, f, out + LG_N);
-#pragma unroll
-    for (int i = 0; i < LG_N; ++i) out[i] = y[LG_N + i];
-}
-
-__device__ __forceinline__ int lg_init(lg_state *state, real t, const real *y, const real *p)
-{
-    state->unused = 0;
-    return 1;
-}
-
-__device__ __forceinline__ int lg_step(lg_state *state, real t, real h, real *y, const real *p,
-                                       const lg_newton *newton)
-{
-    real k1[LG_S], k2[LG_S], k3[LG_S], k4[LG_S], stage[LG_S];
-    lg_derivative(t, y, p, k1);
-#pragma unroll
-    for (int i = 0; i < LG_S; ++i) stage[i] = y[i] + (h * {a21}) * k1[i];
-    lg_derivative(t + {c2} * h, stage, p, k2);
-#pragma unroll
-    for (int i = 0; i < LG_S; ++i) stage[i] = y[i] + (h * {a32}) * k2[i];
-    lg_derivative(t + {c3} * h, stage, p, k3);
-#pragma unroll
-    for (int i = 0; i < LG_S; ++i) stage[i] = y[i] + (h * {a43}) * k3[i];
-    lg_derivative(t + {c4} * h, stage, p, k4);
-#pragma unroll
-    for (int i = 0; i < LG_S; ++i)
-        y[i] = y[i] + h * ({b1} * k1[i] + {b2} * k2[i] + {b3} * k3[i] + {b4} * k4[i]);
-    return 1;
-}
-"""
-
-_MIDPOINT = """
-typedef struct { real momenta[LG_N]; real velocity[LG_N]; int started; } lg_state;
-
-__device__ __forceinline__ int lg_init(lg_state *state, real t, const real *y, const real *p)
-{
-    lg_momenta(t, y, p, state->momenta);
-    state->started = 0;
-    return 1;
-}
-
-/* q' with L_q'(q, q', t) = target by Newton with M from guess, into y[N..]; 0: no convergence */
-__device__ __forceinline__ int lg_velocity(real t, real *y, const real *p, const real *target,
-                                           const real *guess, const lg_newton *newton)
-{
-    real z[LG_S], momenta[LG_N], residual[LG_N], M[LG_N * LG_N], step[LG_N];
-    real previous = 0, extent = lg_extent(y);
-    int have_previous = 0;
-#pragma unroll
-    for (int i = 0; i < LG_N; ++i) {
-        z[i] = y[i];
-        z[LG_N + i] = guess[i];
-    }
-    for (int iteration = 0; iteration <= newton->iterations; ++iteration) {
-        lg_momenta(t, z, p, momenta);
-        real size = 0, scale = 0;
-#pragma unroll
-        for (int i = 0; i < LG_N; ++i) {
-            residual[i] = momenta[i] - target[i];
-            size = LG_MAX(size, LG_ABS(residual[i]));
-            scale = LG_MAX(scale, LG_MAX(LG_ABS(target[i]), LG_ABS(momenta[i])));
-        }
-        if (lg_converged(size, previous, have_previous, scale, extent, newton)) {
-#pragma unroll
-            for (int i = 0; i < LG_N; ++i) y[LG_N + i] = z[LG_N + i];
-            return 1;
-        }
-        if (iteration == newton->iterations) break;
-        previous = size;
-        have_previous = 1;
-        lg_mass(t, z, p, M);
-        lg_solve(M, residual, step);
-#pragma unroll
-        for (int i = 0; i < LG_N; ++i) z[LG_N + i] -= step[i];
-    }
-    return 0;
-}
-
-/* One midpoint step: Newton for the midpoint velocity v, then p and q, then q' from p. */
-__device__ __forceinline__ int lg_step(lg_state *state, real t, real h, real *y, const real *p,
-                                       const lg_newton *newton)
-{
-    real v[LG_N], z[LG_S], momenta[LG_N], force[LG_N], residual[LG_N], J[LG_N * LG_N];
-    real step[LG_N];
-    real tm = t + h / 2;
-    real previous = 0, extent = lg_extent(y);
-    int have_previous = 0, converged = 0;
-#pragma unroll
-    for (int i = 0; i < LG_N; ++i)
-        v[i] = state->started ? 2 * y[LG_N + i] - state->velocity[i] : y[LG_N + i];
-    for (int iteration = 0; iteration <= newton->iterations; ++iteration) {
-#pragma unroll
-        for (int i = 0; i < LG_N; ++i) {
-            z[i] = y[i] + (h / 2) * v[i];
-            z[LG_N + i] = v[i];
-        }
-        lg_momenta_force(tm, z, p, momenta, force);
-        real size = 0, scale = 0;
-#pragma unroll
-        for (int i = 0; i < LG_N; ++i) {
-            residual[i] = momenta[i] - (h / 2) * force[i] - state->momenta[i];
-            size = LG_MAX(size, LG_ABS(residual[i]));
-            scale = LG_MAX(scale, LG_MAX(LG_ABS(state->momenta[i]), LG_ABS(momenta[i])));
-        }
-        if (lg_converged(size, previous, have_previous, scale, extent, newton)) {
-            converged = 1;
-            break;
-        }
-        if (iteration == newton->iterations) break;
-        previous = size;
-        have_previous = 1;
-        lg_jacobian(tm, z, p, h, J);
-        lg_solve(J, residual, step);
-#pragma unroll
-        for (int i = 0; i < LG_N; ++i) v[i] -= step[i];
-    }
-    if (!converged) return 0;
-#pragma unroll
-    for (int i = 0; i < LG_N; ++i) {
-        state->momenta[i] += h * force[i];
-        y[i] += h * v[i];
-    }
-    if (!lg_velocity(t + h, y, p, state->momenta, v, newton)) return 0;
-#pragma unroll
-    for (int i = 0; i < LG_N; ++i) state->velocity[i] = v[i];
-    state->started = 1;
-    return 1;
-}
-"""
-
-_VERLET = """
-typedef struct { real momenta[LG_N]; real force[LG_N]; real inverse[LG_N * LG_N]; } lg_state;
-
-__device__ __forceinline__ void lg_apply(const real *inverse, const real *x, real *out)
-{
-#pragma unroll
-    for (int i = 0; i < LG_N; ++i) {
-        real total = 0;
-#pragma unroll
-        for (int j = 0; j < LG_N; ++j) total += inverse[i * LG_N + j] * x[j];
-        out[i] = total;
-    }
-}
-
-/* M is constant: its inverse (column by column), p = M q', and the force L_q at the start */
-__device__ __forceinline__ int lg_init(lg_state *state, real t, const real *y, const real *p)
-{
-    real M[LG_N * LG_N], A[LG_N * LG_N], unit[LG_N], column[LG_N];
-    lg_mass(t, y, p, M);
-#pragma unroll
-    for (int j = 0; j < LG_N; ++j) {
-#pragma unroll
-        for (int i = 0; i < LG_N * LG_N; ++i) A[i] = M[i];
-#pragma unroll
-        for (int i = 0; i < LG_N; ++i) unit[i] = i == j;
-        lg_solve(A, unit, column);
-#pragma unroll
-        for (int i = 0; i < LG_N; ++i) state->inverse[i * LG_N + j] = column[i];
-    }
-    lg_apply(M, y + LG_N, state->momenta);
-    lg_gradient(t, y, p, state->force);
-    return 1;
-}
-
-__device__ __forceinline__ int lg_step(lg_state *state, real t, real h, real *y, const real *p,
-                                       const lg_newton *newton)
-{
-    real half[LG_N], z[LG_S];
-#pragma unroll
-    for (int i = 0; i < LG_N; ++i) half[i] = state->momenta[i] + (h / 2) * state->force[i];
-    lg_apply(state->inverse, half, z + LG_N);
-#pragma unroll
-    for (int i = 0; i < LG_N; ++i) z[i] = y[i] + h * z[LG_N + i];
-    lg_gradient(t + h, z, p, state->force);
-#pragma unroll
-    for (int i = 0; i < LG_N; ++i) {
-        state->momenta[i] = half[i] + (h / 2) * state->force[i];
-        y[i] = z[i];
-    }
-    lg_apply(state->inverse, state->momenta, y + LG_N);
-    return 1;
-}
 """
 
 _KERNEL = """
@@ -311,7 +96,6 @@ __global__ void lg_integrate({parameters})
     long long b = (long long)blockIdx.x * blockDim.x + threadIdx.x;
     if (b >= count) return;
     real y[LG_S], p[LG_P > 0 ? LG_P : 1];
-    lg_newton newton = {{newton_tol, rounding_floor, max_newton}};
     lg_state state;
     long long flip = -1, failure = -1;
 #pragma unroll
@@ -326,7 +110,8 @@ __global__ void lg_integrate({parameters})
     if (!(stop && flip >= 0)) {{
         lg_init(&state, times[0], y, p);
         for (long long s = 0; s < steps; ++s) {{
-            if (!lg_step(&state, times[s], widths[s], y, p, &newton)) {{
+            if (lg_step(&state, times[s], widths[s], y, p, newton_tol, rounding_floor,
+                        max_newton) != 0) {{
                 failure = s;
                 break;
             }}
@@ -379,36 +164,26 @@ def kernel_source(forms: SymbolicForms, method: str, precision: str) -> tuple[st
 
 def _text(forms: SymbolicForms, method: str, precision: str, arrays) -> str:
     printer = CPrinter(precision)
-    literal = printer.literal
 
     rename = _renaming(forms)
     header = _HEADER.format(
         version=GENERATOR_VERSION, scheme=method, precision=precision,
         ctype="float" if precision == "float32" else "double", n=forms.n,
-        p=len(forms.parameters), fabs=printer.fabs, pi=literal(sympy.pi),
-        stall=literal(STALL_RATIO),
+        p=len(forms.parameters), fabs=printer.fabs, pi=printer.literal(math.pi),
     )  # fmt: skip
     functions = []
     for name, outputs in arrays:
         renamed = [(array, [rename(entry) for entry in entries]) for array, entries in outputs]
         functions.append(_device_function(f"lg_{name}", renamed, printer))
-    if method == "rk4":
-        a, b, c = tableaus.RK4.a, tableaus.RK4.b, tableaus.RK4.c
-        coefficients = {f"a{i + 1}{i}": literal(a[i, i - 1]) for i in (1, 2, 3)}
-        coefficients.update({f"b{i + 1}": literal(b[i]) for i in range(4)})
-        coefficients.update({f"c{i + 1}": literal(c[i]) for i in (1, 2, 3)})
-        scheme = _RK4
-        for key, value in coefficients.items():
-            scheme = scheme.replace("{" + key + "}", value)
-    else:
-        scheme = _MIDPOINT if method == "midpoint" else _VERLET
+    program = scheme_program(method, forms.n, tableau=tableaus.RK4, stall=STALL_RATIO)
+    scheme = CStepPrinter(forms.n, printer).scheme(program)
     solve = gaussian_elimination(
         "lg_solve", "LG_N", printer, qualifiers="__device__ __forceinline__", unroll=True,
         real_type="real",
     )  # fmt: skip
     parameters = ",\n    ".join(f"{ctype} {name}" for ctype, name in KERNEL_PARAMETERS)
     kernel = _KERNEL.format(parameters="\n    " + parameters)
-    return "\n".join([header, *functions, solve, _TESTS, scheme, kernel])
+    return "\n".join([header, *functions, solve, scheme, kernel])
 
 
 def _renaming(forms: SymbolicForms):

@@ -80,12 +80,13 @@ def kernel(compiled: CompiledSystem, scheme: str = "rk4"):
 
 #: The generated fillers each scheme's loop calls (see numba_loop's globals).
 _FILLERS = {
-    "rk4": ("fill",),
+    "rk4": ("fill as mass_force",),
     "midpoint": ("momenta", "momenta_force", "mass", "jacobian"),
     "stormer-verlet": ("mass", "gradient"),
 }
 _SELECTED = {"rk4": "rk4", "midpoint": "midpoint", "stormer-verlet": "verlet"}
 _BEGIN, _END = "# -- generated: begin", "# -- generated: end"
+_SCHEME_BEGIN, _SCHEME_END = "# -- scheme: begin", "# -- scheme: end"
 _SELECTION = "workspace, init, step = rk4_workspace, rk4_init, rk4_step"
 
 
@@ -95,6 +96,7 @@ def _loop_module(compiled: CompiledSystem, scheme: str):
     The template's globals get the system's values, and the module is written to
     the code cache under a hash of its text, so numba keeps its machine code there.
     """
+    from ..codegen.steps import NumbaStepPrinter, scheme_program
     from ..integrate import tableaus
     from ..integrate.variational import STALL_RATIO
     from ..numeric.numba_source import load_module, load_text
@@ -104,18 +106,18 @@ def _loop_module(compiled: CompiledSystem, scheme: str):
         fillers = load_module(_forms(compiled))
     else:
         fillers = scheme_functions(compiled, scheme)
-    a, b, c = tableaus.RK4.a, tableaus.RK4.b, tableaus.RK4.c
-    constants = {f"A{i + 1}{i}": a[i, i - 1] for i in (1, 2, 3)}
-    constants |= {f"B{i + 1}": b[i] for i in range(4)} | {f"C{i + 1}": c[i] for i in (1, 2, 3)}
     generated = [
         f"N = {compiled.n}",
-        f"STALL_RATIO = {STALL_RATIO!r}",
-        *(f"{name} = {float(value)!r}" for name, value in constants.items()),
         f"from {fillers.__name__} import {', '.join(_FILLERS[scheme])}",
     ]
+    program = scheme_program(scheme, compiled.n, tableau=tableaus.RK4, stall=STALL_RATIO)
     template = Path(__file__).with_name("numba_loop.py").read_text(encoding="utf-8")
     head, rest = template.split(_BEGIN, 1)
     tail = rest.split(_END, 1)[1].split("\n", 1)[1]
+    before, rest = tail.split(_SCHEME_BEGIN, 1)
+    after = rest.split(_SCHEME_END, 1)[1].split("\n", 1)[1]
+    printed = NumbaStepPrinter(compiled.n).scheme(program)
+    tail = "\n".join([before.rstrip("\n"), "", "", printed, "", after.lstrip("\n")])
     chosen = _SELECTED[scheme]
     selection = f"workspace, init, step = {chosen}_workspace, {chosen}_init, {chosen}_step"
     tail = tail.replace(_SELECTION, selection)

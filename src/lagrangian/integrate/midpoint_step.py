@@ -120,22 +120,25 @@ def _numba_step(n: int, fillers) -> object:
     import hashlib
     from pathlib import Path
 
+    from ..codegen.steps import NumbaStepPrinter, scheme_program
     from ..numeric.code_cache import load_text
     from .variational import STALL_RATIO  # imported when first built: no import cycle
 
     template = Path(__file__).with_name("numba_midpoint.py").read_text(encoding="utf-8")
     head, rest = template.split(_BEGIN, 1)
     tail = rest.split(_END, 1)[1].split("\n", 1)[1]
-    generated = [
-        f"N = {n}",
-        f"STALL_RATIO = {STALL_RATIO!r}",
-        f"from {fillers.__name__} import {', '.join(_FILLERS)}",
-    ]
+    before, rest = tail.split(_SCHEME_BEGIN, 1)
+    after = rest.split(_SCHEME_END, 1)[1].split("\n", 1)[1]
+    program = scheme_program("midpoint", n, stall=STALL_RATIO)
+    printed = NumbaStepPrinter(n, counting=True).scheme(program)
+    tail = "\n".join([before.rstrip("\n"), "", "", printed, "", after.lstrip("\n")])
+    generated = [f"N = {n}", f"from {fillers.__name__} import {', '.join(_FILLERS)}"]
     text = "\n".join([head.rstrip("\n"), "", *generated, "", tail])
     return load_text(hashlib.sha256(text.encode()).hexdigest(), text).step
 
 
 _BEGIN, _END = "# -- generated: begin", "# -- generated: end"
+_SCHEME_BEGIN, _SCHEME_END = "# -- scheme: begin", "# -- scheme: end"
 
 
 def _guarded(kernel):

@@ -2,10 +2,12 @@
 
 numba keeps machine code on disk only for functions at the top of a real module
 file, so :func:`lagrangian.integrate.midpoint_step.midpoint_functions` writes, per
-system, a copy of this text with the globals between the ``generated`` markers
-filled in (N, the Newton test's STALL_RATIO, and the import of the system's
-generated fillers: ``momenta_force``, ``jacobian``, ``momenta``, ``mass``) into the
-code cache, where ``@njit(cache=True)`` keeps the compiled step.
+system, a copy of this text into the code cache with the globals between the
+``generated`` markers filled in (N and the import of the system's generated
+fillers: ``momenta_force``, ``jacobian``, ``momenta``, ``mass``) and, between the
+``scheme`` markers, the midpoint step printed from :mod:`lagrangian.codegen.steps`
+(the one the numba ensemble loop and the CUDA kernel print), where
+``@njit(cache=True)`` keeps the compiled step.
 
     step(t, h, y, p, kept, last, started, tol, floor, iterations, y_out, kept_out, last_out,
          counts)
@@ -21,96 +23,47 @@ velocity.  Solves are Gaussian elimination with partial pivoting
 (:func:`lagrangian.numeric.numba_linalg.eliminate`).  This module itself is never run.
 """
 
+import math  # noqa: F401 - the printed step uses math.inf
+
 import numpy as np
 from numba import njit
 
-from lagrangian.numeric.numba_linalg import eliminate
+from lagrangian.numeric.numba_linalg import eliminate  # noqa: F401 - the step calls it
 
 # -- generated: begin (each generated module has its own values here) ----------------
 N = 1
-STALL_RATIO = 0.5
 momenta = momenta_force = mass = jacobian = None
 # -- generated: end ------------------------------------------------------------------
 
 
-@njit(inline="always", cache=True)
-def larger(a, b):  # pragma: no cover - compiled by numba
-    """max(a, b) that keeps a NaN, as numpy's max does, so a NaN never converges."""
-    return b if b > a or b != b else a
+# -- scheme: begin (the midpoint step printed by codegen.steps, counting evaluations) ------
+@njit(cache=True)
+def midpoint_workspace():  # pragma: no cover - compiled by numba
+    return (np.empty(N), np.empty(N), np.empty(1))
 
 
 @njit(inline="always", cache=True)
-def converged(size, previous, scale, reach, tol, floor):  # pragma: no cover - compiled by numba
-    small = size <= tol * scale or size == 0.0
-    return small or (size >= STALL_RATIO * previous and size <= floor * scale * reach)
+def midpoint_step(t, h, y, p, work, tol, floor, iterations, counts):  # pragma: no cover
+    return 0
+
+
+# -- scheme: end ---------------------------------------------------------------------
 
 
 @njit(cache=True)
 def step(
     t, h, y, p, kept, last, started, tol, floor, iterations, y_out, kept_out, last_out, counts
 ):  # pragma: no cover - compiled by numba
-    v = np.empty(N)
-    z = np.empty(2 * N)
-    momenta_now = np.empty(N)
-    force = np.empty(N)
-    residual = np.empty(N)
-    change = np.empty(N)
-    matrix = np.empty((N, N))
-    tm = t + h / 2
-    reach = 1.0
+    work = midpoint_workspace()
+    momenta_kept, velocity, begun = work[0], work[1], work[2]
     for i in range(N):
-        v[i] = 2 * y[N + i] - last[i] if started else y[N + i]  # O(h^2) first guess
-        reach = larger(reach, abs(y[i]))
-    previous = np.inf
-    for iteration in range(iterations + 1):
-        for i in range(N):
-            z[i] = y[i] + (h / 2) * v[i]
-            z[N + i] = v[i]
-        momenta_force(tm, z, p, momenta_now, force)
-        counts[0] += 1
-        size = scale = 0.0
-        for i in range(N):
-            residual[i] = momenta_now[i] - (h / 2) * force[i] - kept[i]
-            size = larger(size, abs(residual[i]))
-            scale = larger(scale, larger(abs(kept[i]), abs(momenta_now[i])))
-        if converged(size, previous, scale, reach, tol, floor):
-            break
-        if iteration == iterations:
-            return 1
-        previous = size
-        jacobian(tm, z, p, h, matrix)
-        counts[1] += 1
-        counts[2] += 1
-        eliminate(matrix, residual, change, 0, N)
-        for i in range(N):
-            v[i] -= change[i]
-    reach = 1.0
+        momenta_kept[i] = kept[i]
+        velocity[i] = last[i]
+    begun[0] = 1.0 if started else 0.0
+    for i in range(2 * N):
+        y_out[i] = y[i]
+    failed = midpoint_step(t, h, y_out, p, work, tol, floor, iterations, counts)
     for i in range(N):
-        kept_out[i] = kept[i] + h * force[i]
-        y_out[i] = y[i] + h * v[i]
-        last_out[i] = v[i]
-        z[i] = y_out[i]
-        z[N + i] = v[i]
-        reach = larger(reach, abs(y_out[i]))
-    previous = np.inf
-    for iteration in range(iterations + 1):
-        momenta(t + h, z, p, momenta_now)
-        counts[0] += 1
-        size = scale = 0.0
-        for i in range(N):
-            residual[i] = momenta_now[i] - kept_out[i]
-            size = larger(size, abs(residual[i]))
-            scale = larger(scale, larger(abs(kept_out[i]), abs(momenta_now[i])))
-        if converged(size, previous, scale, reach, tol, floor):
-            for i in range(N):
-                y_out[N + i] = z[N + i]
-            return 0
-        if iteration == iterations:
-            return 2
-        previous = size
-        mass(t + h, z, p, matrix)
-        counts[1] += 1
-        eliminate(matrix, residual, change, 0, N)
-        for i in range(N):
-            z[N + i] -= change[i]
-    return 2
+        kept_out[i] = momenta_kept[i]
+        last_out[i] = velocity[i]
+    return failed

@@ -1,0 +1,680 @@
+"""The fixed-step schemes written once, as a small language-neutral program, printed as C and numba.
+
+Each scheme (rk4, midpoint, Stormer-Verlet) is a :class:`Scheme`: the arrays it keeps
+from step to step, the scratch arrays it works in, and two bodies of statements,
+``init(t, y, p)`` (the kept state at the first step) and
+``step(t, h, y, p, tol, floor, iterations)`` (y, of length 2n, advanced by h in place;
+it returns 0, or 1 / 2 where the Newton iteration for the midpoint velocity / for the
+velocity from the momenta did not converge).  The statements call the generated
+fillers of :mod:`lagrangian.numeric.scheme_expressions` (``mass_force``, ``momenta``,
+``momenta_force``, ``mass``, ``jacobian``, ``gradient``) and the target's one linear
+solve.  Two printers turn a scheme into text:
+
+- :class:`CStepPrinter`: the ``lg_state`` struct and the ``__device__`` functions
+  ``lg_init`` and ``lg_step`` of the CUDA kernel (:mod:`lagrangian.ensemble.cuda_source`),
+  with :func:`lagrangian.codegen.c.gaussian_elimination` as ``lg_solve``;
+- :class:`NumbaStepPrinter`: ``<scheme>_workspace``, ``<scheme>_init`` and
+  ``<scheme>_step`` for the numba ensemble loop (:mod:`lagrangian.ensemble.numba_loop`)
+  and the single-run midpoint step (:mod:`lagrangian.integrate.numba_midpoint`),
+  with :func:`lagrangian.numeric.numba_linalg.eliminate`.
+
+The arithmetic is the numpy backend's, operation for operation (the tree of each
+expression is printed with its parentheses, so both languages evaluate it in the same
+order): the RK4 tableau, and :class:`~lagrangian.integrate.variational.Variational`'s
+Newton iterations with their first guess and convergence test.  The expressions are
+a few node classes with Python operators (``y[i] + h * k[i]``); loops run over
+compile-time lengths (unrolled in C) except the Newton iterations.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+# -- expressions ---------------------------------------------------------------------------
+
+
+class Expr:
+    """An expression node; Python's arithmetic and comparison operators build more."""
+
+    def __add__(self, other):
+        return Binary("+", self, wrap(other))
+
+    def __radd__(self, other):
+        return Binary("+", wrap(other), self)
+
+    def __sub__(self, other):
+        return Binary("-", self, wrap(other))
+
+    def __rsub__(self, other):
+        return Binary("-", wrap(other), self)
+
+    def __mul__(self, other):
+        return Binary("*", self, wrap(other))
+
+    def __rmul__(self, other):
+        return Binary("*", wrap(other), self)
+
+    def __truediv__(self, other):
+        return Binary("/", self, wrap(other))
+
+    def __rtruediv__(self, other):
+        return Binary("/", wrap(other), self)
+
+    def __lt__(self, other):
+        return Binary("<", self, wrap(other))
+
+    def __le__(self, other):
+        return Binary("<=", self, wrap(other))
+
+    def __gt__(self, other):
+        return Binary(">", self, wrap(other))
+
+    def __ge__(self, other):
+        return Binary(">=", self, wrap(other))
+
+    def equals(self, other) -> Binary:
+        return Binary("==", self, wrap(other))
+
+    def differs(self, other) -> Binary:
+        return Binary("!=", self, wrap(other))
+
+    def __getitem__(self, index):
+        if isinstance(index, tuple):
+            return Index(self, tuple(wrap(i) for i in index))
+        return Index(self, (wrap(index),))
+
+
+@dataclass(frozen=True, eq=False)
+class Name(Expr):
+    name: str
+
+
+@dataclass(frozen=True, eq=False)
+class Number(Expr):
+    value: float | int
+
+
+@dataclass(frozen=True, eq=False)
+class Binary(Expr):
+    operator: str  # + - * / < <= > >= == != and or
+    left: Expr
+    right: Expr
+
+
+@dataclass(frozen=True, eq=False)
+class Abs(Expr):
+    operand: Expr
+
+
+@dataclass(frozen=True, eq=False)
+class Choose(Expr):
+    """``then`` where ``condition`` holds, else ``otherwise`` (only one is evaluated)."""
+
+    condition: Expr
+    then: Expr
+    otherwise: Expr
+
+
+@dataclass(frozen=True, eq=False)
+class Index(Expr):
+    """An entry of an array; two indices address a row-major matrix."""
+
+    array: Expr
+    indices: tuple[Expr, ...]
+
+
+def wrap(value) -> Expr:
+    return value if isinstance(value, Expr) else Number(value)
+
+
+def both(a: Expr, b: Expr) -> Expr:
+    return Binary("and", a, b)
+
+
+def either(a: Expr, b: Expr) -> Expr:
+    return Binary("or", a, b)
+
+
+def larger(a: Expr, b: Expr) -> Expr:
+    """max(a, b) that keeps a NaN, as numpy's max does, so a NaN never converges."""
+    return Choose(either(b > a, b.differs(b)), b, a)
+
+
+INFINITY = Number(math.inf)
+
+
+# -- statements --------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Assign:
+    """``target = value``; with ``kind`` (``real`` or ``int``), the first assignment of a
+    scalar (a declaration in C)."""
+
+    target: Expr
+    value: Expr
+    kind: str | None = None
+
+
+@dataclass(frozen=True)
+class Loop:
+    """``for index in range(start, stop)``; unrolled in C when ``stop`` is a number."""
+
+    index: str
+    stop: Expr | int
+    body: list
+    start: int = 0
+
+
+@dataclass(frozen=True)
+class If:
+    condition: Expr
+    then: list
+    otherwise: list = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class Break:
+    pass
+
+
+@dataclass(frozen=True)
+class Return:
+    value: int
+
+
+@dataclass(frozen=True)
+class Call:
+    """A generated filler ``function(arguments..., outputs...)``."""
+
+    function: str
+    arguments: tuple[Expr, ...]
+
+
+@dataclass(frozen=True)
+class Solve:
+    """``out[offset:offset + n]`` = x with ``matrix`` x = ``rhs`` (both overwritten)."""
+
+    matrix: Expr
+    rhs: Expr
+    out: Expr
+    offset: int = 0
+
+
+@dataclass(frozen=True)
+class Count:
+    """One more of ``counts[slot]`` (evaluations, for the single run's statistics)."""
+
+    slot: int
+
+
+@dataclass(frozen=True)
+class Scheme:
+    """One fixed-step scheme (see the module): arrays (name, shape) and two bodies."""
+
+    name: str
+    kept: tuple[tuple[str, tuple[int, ...]], ...]
+    scratch: tuple[tuple[str, tuple[int, ...]], ...]
+    init: list
+    step: list
+
+
+# -- the schemes ---------------------------------------------------------------------------
+
+t, h, y, p = Name("t"), Name("h"), Name("y"), Name("p")
+tol, floor, iterations = Name("tol"), Name("floor"), Name("iterations")
+i, j = Name("i"), Name("j")
+
+
+def rk4(n: int, a, b, c) -> Scheme:
+    """RK4 with the tableau (a, b, c) (:data:`lagrangian.integrate.tableaus.RK4`); M q'' = f
+    solved at each stage."""
+    m = 2 * n
+    k1, k2, k3, k4, stage = (Name(s) for s in ("k1", "k2", "k3", "k4", "stage"))
+    matrix, force = Name("matrix"), Name("force")
+
+    def derivative(time: Expr, state: Expr, out: Expr) -> list:
+        return [
+            Call("mass_force", (time, state, p, matrix, force)),
+            Solve(matrix, force, out, n),
+            Loop("i", n, [Assign(out[i], state[n + i])]),
+        ]
+
+    def stage_from(k: Expr, coefficient: float) -> Loop:
+        return Loop("i", m, [Assign(stage[i], y[i] + (h * float(coefficient)) * k[i])])
+
+    b1, b2, b3, b4 = (float(value) for value in b)
+
+    def weighted(k1: Expr, k2: Expr, k3: Expr, k4: Expr) -> Expr:
+        return b1 * k1[i] + b2 * k2[i] + b3 * k3[i] + b4 * k4[i]
+
+    step = [
+        *derivative(t, y, k1),
+        stage_from(k1, a[1, 0]),
+        *derivative(t + float(c[1]) * h, stage, k2),
+        stage_from(k2, a[2, 1]),
+        *derivative(t + float(c[2]) * h, stage, k3),
+        stage_from(k3, a[3, 2]),
+        *derivative(t + float(c[3]) * h, stage, k4),
+        Loop("i", m, [Assign(y[i], y[i] + h * (weighted(k1, k2, k3, k4)))]),
+        Return(0),
+    ]
+    scratch = (*((s, (m,)) for s in ("k1", "k2", "k3", "k4", "stage")), ("matrix", (n, n)),
+               ("force", (n,)))  # fmt: skip
+    return Scheme("rk4", (), scratch, [], step)
+
+
+def _raise(target: Name, value: Expr, temporary: str) -> list:
+    """target = larger(target, value), value computed once (into ``temporary``)."""
+    held = Name(temporary)
+    return [Assign(held, value, "real"), Assign(target, larger(target, held))]
+
+
+def _extent(n: int, state: Expr, kind: str | None = "real") -> list:
+    """reach = max(1, max |q|) (variational._extent)."""
+    reach = Name("reach")
+    return [
+        Assign(reach, Number(1.0), kind),
+        Loop("i", n, _raise(reach, Abs(state[i]), "entry")),
+    ]
+
+
+def _newton_test(n: int, residual_of, target: Expr, now: Expr, stall: float) -> tuple[list, Expr]:
+    """The residual, its size and scale (statements) and variational._converged (expression)."""
+    size, scale, previous, reach = Name("size"), Name("scale"), Name("previous"), Name("reach")
+    measure = [
+        Assign(size, Number(0.0), "real"),
+        Assign(scale, Number(0.0), "real"),
+        Loop("i", n, [
+            Assign(Name("residual")[i], residual_of(i)),
+            *_raise(size, Abs(Name("residual")[i]), "entry"),
+            Assign(Name("wanted"), Abs(target[i]), "real"),
+            *_raise(Name("wanted"), Abs(now[i]), "reached"),
+            Assign(scale, larger(scale, Name("wanted"))),
+        ]),
+    ]  # fmt: skip
+    small = either(size <= tol * scale, size.equals(0.0))
+    stalled = both(size >= stall * previous, size <= floor * scale * reach)
+    return measure, either(small, stalled)
+
+
+def midpoint(n: int, stall: float) -> Scheme:
+    """Variational._midpoint for one state: Newton on the midpoint velocity v (first guess
+    2 q'_k - v_{k-1}, or q'_k at the first step), p_{k+1} and q_{k+1}, then the velocity
+    from L_q'(q, q') = p_{k+1} by Newton with M, from v."""
+    kept, last, started = Name("kept"), Name("last"), Name("started")
+    v, z, now, force = Name("v"), Name("z"), Name("momenta_now"), Name("force")
+    residual, change, matrix = Name("residual"), Name("change"), Name("matrix")
+    tm, previous, iteration = Name("tm"), Name("previous"), Name("iteration")
+    first_guess = Choose(started[0].differs(0), 2 * y[n + i] - last[i], y[n + i])
+    measure, converged = _newton_test(
+        n, lambda k: now[k] - (h / 2) * force[k] - kept[k], kept, now, stall
+    )
+    velocity_measure, velocity_converged = _newton_test(
+        n, lambda k: now[k] - kept[k], kept, now, stall
+    )
+    step = [
+        Assign(tm, t + h / 2, "real"),
+        Loop("i", n, [Assign(v[i], first_guess)]),
+        Assign(previous, INFINITY, "real"),
+        *_extent(n, y),
+        Loop("iteration", iterations + 1, [
+            Loop("i", n, [Assign(z[i], y[i] + (h / 2) * v[i]), Assign(z[n + i], v[i])]),
+            Call("momenta_force", (tm, z, p, now, force)),
+            Count(0),
+            *measure,
+            If(converged, [Break()]),
+            If(iteration.equals(iterations), [Return(1)]),
+            Assign(previous, Name("size")),
+            Call("jacobian", (tm, z, p, h, matrix)),
+            Count(1),
+            Count(2),
+            Solve(matrix, residual, change),
+            Loop("i", n, [Assign(v[i], v[i] - change[i])]),
+        ]),
+        Loop("i", n, [
+            Assign(kept[i], kept[i] + h * force[i]),
+            Assign(y[i], y[i] + h * v[i]),
+            Assign(last[i], v[i]),
+            Assign(z[i], y[i]),
+            Assign(z[n + i], v[i]),
+        ]),
+        Assign(started[0], Number(1.0)),
+        # the velocity from the momenta: L_q'(q, q') = p_{k+1} by Newton with M, from v
+        Assign(previous, INFINITY),
+        *_extent(n, y, None),
+        Loop("iteration", iterations + 1, [
+            Call("momenta", (t + h, z, p, now)),
+            Count(0),
+            *velocity_measure,
+            If(velocity_converged, [Loop("i", n, [Assign(y[n + i], z[n + i])]), Return(0)]),
+            If(iteration.equals(iterations), [Return(2)]),
+            Assign(previous, Name("size")),
+            Call("mass", (t + h, z, p, matrix)),
+            Count(1),
+            Solve(matrix, residual, change),
+            Loop("i", n, [Assign(z[n + i], z[n + i] - change[i])]),
+        ]),
+        Return(2),
+    ]  # fmt: skip
+    init = [Call("momenta", (t, y, p, kept)), Assign(started[0], Number(0.0))]
+    vectors = ("v", "momenta_now", "force", "residual", "change")
+    scratch = (("z", (2 * n,)), *((s, (n,)) for s in vectors), ("matrix", (n, n)))
+    return Scheme("midpoint", (("kept", (n,)), ("last", (n,)), ("started", (1,))), scratch,
+                  init, step)  # fmt: skip
+
+
+def stormer_verlet(n: int) -> Scheme:
+    """Variational's Stormer-Verlet (separable systems: M constant): M^-1 once, then the
+    kick-drift-kick of the momenta with the force L_q."""
+    kept, force, inverse = Name("kept"), Name("force"), Name("inverse")
+    half, z, unit = Name("half"), Name("z"), Name("unit")
+    matrix, copy = Name("matrix"), Name("copy")
+    total, k = Name("total"), Name("k")
+
+    def apply(left: Expr, x, offset: int, out, out_offset: int) -> Loop:
+        """out = left x (left: n x n)."""
+        return Loop("i", n, [
+            Assign(total, Number(0.0), "real"),
+            Loop("j", n, [Assign(total, total + left[i, j] * x[offset + j if offset else j])]),
+            Assign(out[out_offset + i if out_offset else i], total),
+        ])  # fmt: skip
+
+    init = [
+        Call("mass", (t, y, p, matrix)),
+        Loop("j", n, [  # the inverse column by column
+            Loop("i", n, [
+                Assign(unit[i], Choose(i.equals(j), Number(1.0), Number(0.0))),
+                Loop("k", n, [Assign(copy[i, k], matrix[i, k])]),
+            ]),
+            Solve(copy, unit, z),
+            Loop("i", n, [Assign(inverse[i, j], z[i])]),
+        ]),
+        apply(matrix, y, n, kept, 0),
+        Call("gradient", (t, y, p, force)),
+    ]  # fmt: skip
+    step = [
+        Loop("i", n, [Assign(half[i], kept[i] + (h / 2) * force[i])]),
+        apply(inverse, half, 0, z, n),
+        Loop("i", n, [Assign(z[i], y[i] + h * z[n + i])]),
+        Call("gradient", (t + h, z, p, force)),
+        Loop("i", n, [Assign(kept[i], half[i] + (h / 2) * force[i]), Assign(y[i], z[i])]),
+        apply(inverse, kept, 0, y, n),
+        Return(0),
+    ]
+    kept_arrays = (("kept", (n,)), ("force", (n,)), ("inverse", (n, n)))
+    scratch = (("half", (n,)), ("z", (2 * n,)), ("matrix", (n, n)), ("copy", (n, n)),
+               ("unit", (n,)))  # fmt: skip
+    return Scheme("verlet", kept_arrays, scratch, init, step)
+
+
+# -- printers ------------------------------------------------------------------------------
+
+
+class _StepPrinter:
+    """What the C and Python printers share: statements walked with indentation."""
+
+    indent = "    "
+
+    def __init__(self, n: int, counting: bool = False):
+        self.n = n
+        self.counting = counting
+
+    def block(self, statements: list, depth: int) -> list[str]:
+        lines: list[str] = []
+        for statement in statements:
+            lines += self.statement(statement, depth)
+        return lines
+
+    def statement(self, node, depth: int) -> list[str]:
+        pad = self.indent * depth
+        if isinstance(node, Count):
+            return self.count(node, pad) if self.counting else []
+        method = getattr(self, f"_{type(node).__name__.lower()}")
+        return method(node, depth, pad)
+
+    def number(self, value) -> str:
+        raise NotImplementedError
+
+    def expression(self, node: Expr) -> str:
+        if isinstance(node, Name):
+            return self.name(node.name)
+        if isinstance(node, Number):
+            return self.number(node.value)
+        if isinstance(node, Binary):
+            operator = self.operators.get(node.operator, node.operator)
+            return f"({self.expression(node.left)} {operator} {self.expression(node.right)})"
+        if isinstance(node, Abs):
+            return f"{self.absolute}({self.expression(node.operand)})"
+        if isinstance(node, Choose):
+            return self.choose(*(self.expression(e) for e in (node.condition, node.then,
+                                                              node.otherwise)))  # fmt: skip
+        if isinstance(node, Index):
+            return self.index(node)
+        raise TypeError(f"not an expression node: {node!r}")
+
+    def name(self, name: str) -> str:
+        return name
+
+    def top(self, text: str) -> str:
+        """``text`` without the outer parentheses of a binary operation."""
+        return text[1:-1] if text.startswith("(") and _balanced(text[1:-1]) else text
+
+
+def _balanced(text: str) -> bool:
+    depth = 0
+    for character in text:
+        depth += {"(": 1, ")": -1}.get(character, 0)
+        if depth < 0:
+            return False
+    return depth == 0
+
+
+_C_NAMES = {"floor": "rounding_floor", "tol": "newton_tol"}
+
+
+class CStepPrinter(_StepPrinter):
+    """The scheme as CUDA C (see the module): ``lg_state``, ``lg_init``, ``lg_step``."""
+
+    operators: ClassVar[dict[str, str]] = {"and": "&&", "or": "||"}
+
+    def __init__(self, n: int, printer, real_type: str = "real"):
+        super().__init__(n)
+        self.printer = printer  # a lagrangian.codegen.c.CPrinter: literals, fabs
+        self.real_type = real_type
+        self.absolute = printer.fabs
+        self.kept: set[str] = set()
+
+    def number(self, value) -> str:
+        if isinstance(value, int):
+            return str(value)
+        if math.isinf(value):
+            return self.printer._print_Infinity(None)
+        return self.printer.literal(value)
+
+    def name(self, name: str) -> str:
+        # floor: the parameter of the Newton test, not C's function
+        return f"state->{name}" if name in self.kept else _C_NAMES.get(name, name)
+
+    def choose(self, condition: str, then: str, otherwise: str) -> str:
+        return f"({condition} ? {then} : {otherwise})"
+
+    def index(self, node: Index) -> str:
+        array = self.expression(node.array)
+        if len(node.indices) == 1:
+            return f"{array}[{self.top(self.expression(node.indices[0]))}]"
+        row, column = (self.expression(e) for e in node.indices)
+        return f"{array}[{row} * {self.n} + {column}]"
+
+    def _assign(self, node: Assign, depth: int, pad: str) -> list[str]:
+        kind = {"real": f"{self.real_type} ", "int": "int ", None: ""}[node.kind]
+        target, value = self.expression(node.target), self.top(self.expression(node.value))
+        return [f"{pad}{kind}{target} = {value};"]
+
+    def _loop(self, node: Loop, depth: int, pad: str) -> list[str]:
+        stop = node.stop if isinstance(node.stop, int) else self.top(self.expression(node.stop))
+        head = [f"{pad}#pragma unroll"] if isinstance(node.stop, int) else []
+        index = node.index
+        head.append(f"{pad}for (int {index} = {node.start}; {index} < {stop}; ++{index}) {{")
+        return [*head, *self.block(node.body, depth + 1), f"{pad}}}"]
+
+    def _if(self, node: If, depth: int, pad: str) -> list[str]:
+        lines = [f"{pad}if ({self.top(self.expression(node.condition))}) {{"]
+        lines += self.block(node.then, depth + 1)
+        if node.otherwise:
+            lines += [f"{pad}}} else {{", *self.block(node.otherwise, depth + 1)]
+        return [*lines, f"{pad}}}"]
+
+    def _break(self, node, depth: int, pad: str) -> list[str]:
+        return [f"{pad}break;"]
+
+    def _return(self, node: Return, depth: int, pad: str) -> list[str]:
+        return [f"{pad}return {node.value};"]
+
+    def _call(self, node: Call, depth: int, pad: str) -> list[str]:
+        arguments = ", ".join(self.top(self.expression(e)) for e in node.arguments)
+        return [f"{pad}lg_{node.function}({arguments});"]
+
+    def _solve(self, node: Solve, depth: int, pad: str) -> list[str]:
+        out = self.expression(node.out)
+        if node.offset:
+            out = f"{out} + {node.offset}"
+        matrix, rhs = self.expression(node.matrix), self.expression(node.rhs)
+        return [f"{pad}lg_solve({matrix}, {rhs}, {out});"]
+
+    def scheme(self, scheme: Scheme) -> str:
+        """The struct of the kept arrays and the two functions."""
+        self.kept = {name for name, _ in scheme.kept}
+        members = [f"{self.real_type} {name}[{math.prod(shape)}];" for name, shape in scheme.kept]
+        struct = f"typedef struct {{ {' '.join(members) or 'int unused;'} }} lg_state;"
+        qualifiers = "__device__ __forceinline__"
+        real = self.real_type
+        init_body = self.block(scheme.init, 1) or ["    (void)state; (void)t; (void)y; (void)p;"]
+        init = [
+            f"{qualifiers} void lg_init(lg_state *state, {real} t, const {real} *y, "
+            f"const {real} *p)",
+            "{",
+            *self._scratch(scheme, init_body),
+            *init_body,
+            "}",
+        ]
+        step_body = self.block(scheme.step, 1)
+        step = [
+            f"{qualifiers} int lg_step(lg_state *state, {real} t, {real} h, {real} *y, "
+            f"const {real} *p,",
+            f"    {real} newton_tol, {real} rounding_floor, int iterations)",
+            "{",
+            *self._scratch(scheme, step_body),
+            *step_body,
+            "}",
+        ]
+        return "\n".join([struct, "", *init, "", *step, ""])
+
+    def _scratch(self, scheme: Scheme, body: list[str]) -> list[str]:
+        """The declarations of the scratch arrays ``body`` uses (in registers once unrolled)."""
+        text = "\n".join(body)
+        return [
+            f"    {self.real_type} {name}[{math.prod(shape)}];"
+            for name, shape in scheme.scratch
+            if re.search(rf"\b{name}\b", text)
+        ]
+
+
+class NumbaStepPrinter(_StepPrinter):
+    """The scheme as numba Python (see the module): ``<name>_workspace``, ``_init``, ``_step``;
+    with ``counting``, ``_step`` takes a last argument ``counts`` (3 integers)."""
+
+    operators: ClassVar[dict[str, str]] = {}
+    absolute = "abs"
+
+    def number(self, value) -> str:
+        if isinstance(value, int):
+            return str(value)
+        if math.isinf(value):
+            return "math.inf" if value > 0 else "-math.inf"
+        return repr(float(value))
+
+    def choose(self, condition: str, then: str, otherwise: str) -> str:
+        return f"({then} if {condition} else {otherwise})"
+
+    def index(self, node: Index) -> str:
+        indices = ", ".join(self.top(self.expression(e)) for e in node.indices)
+        return f"{self.expression(node.array)}[{indices}]"
+
+    def count(self, node: Count, pad: str) -> list[str]:
+        return [f"{pad}counts[{node.slot}] += 1"]
+
+    def _assign(self, node: Assign, depth: int, pad: str) -> list[str]:
+        target, value = self.expression(node.target), self.top(self.expression(node.value))
+        return [f"{pad}{target} = {value}"]
+
+    def _loop(self, node: Loop, depth: int, pad: str) -> list[str]:
+        stop = node.stop if isinstance(node.stop, int) else self.top(self.expression(node.stop))
+        bounds = f"{node.start}, {stop}" if node.start else f"{stop}"
+        body = self.block(node.body, depth + 1) or [f"{pad}{self.indent}pass"]
+        return [f"{pad}for {node.index} in range({bounds}):", *body]
+
+    def _if(self, node: If, depth: int, pad: str) -> list[str]:
+        lines = [f"{pad}if {self.top(self.expression(node.condition))}:"]
+        lines += self.block(node.then, depth + 1)
+        if node.otherwise:
+            lines += [f"{pad}else:", *self.block(node.otherwise, depth + 1)]
+        return lines
+
+    def _break(self, node, depth: int, pad: str) -> list[str]:
+        return [f"{pad}break"]
+
+    def _return(self, node: Return, depth: int, pad: str) -> list[str]:
+        return [f"{pad}return {node.value}"]
+
+    def _call(self, node: Call, depth: int, pad: str) -> list[str]:
+        arguments = ", ".join(self.top(self.expression(e)) for e in node.arguments)
+        return [f"{pad}{node.function}({arguments})"]
+
+    def _solve(self, node: Solve, depth: int, pad: str) -> list[str]:
+        matrix, rhs, out = (self.expression(e) for e in (node.matrix, node.rhs, node.out))
+        return [f"{pad}eliminate({matrix}, {rhs}, {out}, {node.offset}, {self.n})"]
+
+    def scheme(self, scheme: Scheme) -> str:
+        """The three module-level functions (numba, cached on disk)."""
+        name = scheme.name
+        arrays = [*scheme.kept, *scheme.scratch]
+        allocations = ", ".join(f"np.empty({shape[0] if len(shape) == 1 else shape})"
+                                for _, shape in arrays)  # fmt: skip
+        unpack = f"    {', '.join(a for a, _ in arrays)}, = work"
+        counts = ", counts" if self.counting else ""
+        cover = "  # pragma: no cover - compiled by numba"
+        return "\n".join([
+            "@njit(cache=True)",
+            f"def {name}_workspace():{cover}",
+            f"    return ({allocations},)",
+            "",
+            "",
+            "@njit(cache=True)",
+            f"def {name}_init(t, y, p, work):{cover}",
+            unpack,
+            *(self.block(scheme.init, 1) or ["    pass"]),
+            "",
+            "",
+            '@njit(inline="always", cache=True)',
+            f"def {name}_step(t, h, y, p, work, tol, floor, iterations{counts}):{cover}",
+            unpack,
+            *self.block(scheme.step, 1),
+            "",
+        ])  # fmt: skip
+
+
+def scheme_program(method: str, n: int, *, tableau=None, stall: float = 0.5) -> Scheme:
+    """The :class:`Scheme` of ``method`` (``rk4``, ``midpoint``, ``stormer-verlet``) for n
+    coordinates; ``tableau``: the RK4 tableau (a, b, c); ``stall``: the Newton test's
+    STALL_RATIO."""
+    if method == "rk4":
+        return rk4(n, tableau.a, tableau.b, tableau.c)
+    if method == "midpoint":
+        return midpoint(n, stall)
+    if method == "stormer-verlet":
+        return stormer_verlet(n)
+    raise ValueError(f"no fixed-step scheme {method!r}")
