@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 import sympy
 
+from ..numeric.backends import solve_one
 from .fixed_step import StepFailure
 
 if TYPE_CHECKING:
@@ -177,25 +178,6 @@ def _lambdified(forms, outputs, scalars):
     return filler
 
 
-def solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
-    """x with matrix x = rhs for one small system; None where the matrix is singular."""
-    n = rhs.shape[0]
-    if n == 1:
-        a = matrix[0, 0]
-        return None if a == 0 else rhs / a
-    if n == 2:
-        (a, b), (c, d) = matrix.tolist()
-        det = a * d - b * c
-        if det == 0:
-            return None
-        f, g = rhs.tolist()
-        return np.array([(d * f - b * g) / det, (a * g - c * f) / det])
-    try:
-        return np.linalg.solve(matrix, rhs)
-    except np.linalg.LinAlgError:
-        return None
-
-
 def step_one(
     functions: MidpointFunctions,
     t: float,
@@ -318,7 +300,7 @@ def _sizes(residual: np.ndarray, p: np.ndarray, momenta: np.ndarray) -> tuple[fl
 
 
 def _solved(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    x = solve(matrix, rhs)
+    x = solve_one(matrix, rhs)
     if x is None:
         raise StepFailure("the Newton matrix (the mass matrix) is singular")
     return x

@@ -14,6 +14,7 @@ the stacked solvers (``numpy.linalg.solve`` on a stack of matrices).
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from types import MappingProxyType, ModuleType
@@ -63,27 +64,50 @@ class ArrayBackend:
         return self.xp.swapaxes(matrix, -1, -2)
 
 
+def solve_one(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
+    """x with ``matrix x = rhs`` for one system, (n, n) and (n,); None where it is singular.
+
+    The one solve of a single small system in Python (the compiled midpoint step of one
+    state, the llvm right-hand sides): the closed forms for n <= 2, LAPACK's LU solve
+    (``dgesv``, without numpy's wrapper: its call overhead is most of a small solve)
+    beyond.
+    """
+    n = rhs.shape[0]
+    if n == 1:  # in Python floats: array operations on one or two numbers cost microseconds
+        (a,), (f0,) = matrix[0].tolist(), rhs.tolist()
+        return None if a == 0 else np.array([f0 / a])
+    if n == 2:
+        (a, b), (c, d) = matrix.tolist()
+        determinant = a * d - b * c
+        if determinant == 0:
+            return None
+        f0, f1 = rhs.tolist()
+        return np.array([(d * f0 - b * f1) / determinant, (a * f1 - c * f0) / determinant])
+    _, _, result, info = _gesv()(matrix, rhs)
+    return None if info != 0 else result
+
+
+@functools.cache
+def _gesv():
+    from scipy.linalg.lapack import dgesv
+
+    return dgesv
+
+
 def _small_solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     """``numpy.linalg.solve`` for n <= 2 by the closed forms, several times faster.
 
     LAPACK's call overhead is most of an rhs evaluation of a one- or two-coordinate
     model; Cramer's rule is as accurate as LU at n = 2 (Higham, *Accuracy and
     Stability of Numerical Algorithms*, 2nd ed., section 1.10.1).  One system is
-    solved in Python floats (array operations on two numbers cost microseconds).
+    solved by :func:`solve_one`.
     """
     n = matrix.shape[-1]
     if matrix.ndim == 2:
-        if n == 1:
-            (a,), (f0,) = matrix[0].tolist(), rhs.tolist()
-            if a == 0:
-                raise np.linalg.LinAlgError("Singular matrix")
-            return np.array([f0 / a])
-        (a, b), (c, d) = matrix.tolist()
-        f0, f1 = rhs.tolist()
-        determinant = a * d - b * c
-        if determinant == 0:
+        solution = solve_one(matrix, rhs)
+        if solution is None:
             raise np.linalg.LinAlgError("Singular matrix")
-        return np.array([(d * f0 - b * f1) / determinant, (a * f1 - c * f0) / determinant])
+        return solution
     a = matrix[..., 0, 0]
     if n == 1:
         determinant = a

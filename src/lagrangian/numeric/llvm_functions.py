@@ -27,6 +27,7 @@ import numpy as np
 from ..algebra import to_symengine
 from ..distributions import without_distributions
 from ..errors import MissingDependencyError
+from .backends import solve_one
 from .compiled import CompiledSystem
 from .forms import SymbolicForms
 
@@ -158,30 +159,9 @@ def _compile(forms: SymbolicForms):
         return None
 
 
-@functools.cache
-def _gesv():
-    from scipy.linalg.lapack import dgesv
-
-    return dgesv
-
-
 def _solve(matrix: np.ndarray, force: np.ndarray) -> np.ndarray | None:
     """q'' with M q'' = f; None where M is singular or the values are not finite."""
-    n = force.shape[0]
-    if n == 1:
-        a = matrix[0, 0]
-        result = force / a if a != 0 else None
-    elif n == 2:
-        (a, b), (c, d) = matrix.tolist()
-        det = a * d - b * c
-        if det == 0:
-            return None
-        f, g = force.tolist()
-        result = np.array([(d * f - b * g) / det, (a * g - c * f) / det])
-    else:
-        _, _, result, info = _gesv()(matrix, force)  # LAPACK's LU solve, without numpy's wrapper
-        if info != 0:
-            return None
+    result = solve_one(matrix, force)
     if result is None or not math.isfinite(result.sum()):
         return None  # the NumPy function gives its own inf, NaN or error (or a huge sum)
     return result
