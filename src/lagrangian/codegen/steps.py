@@ -30,50 +30,31 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import ClassVar
 
 # -- expressions ---------------------------------------------------------------------------
 
 
+def _operator(symbol: str, reflected: bool = False):
+    """The method of one of Python's binary operators, building a :class:`Binary` node."""
+
+    def method(self, other):
+        left, right = (wrap(other), self) if reflected else (self, wrap(other))
+        return Binary(symbol, left, right)
+
+    return method
+
+
 class Expr:
     """An expression node; Python's arithmetic and comparison operators build more."""
 
-    def __add__(self, other):
-        return Binary("+", self, wrap(other))
-
-    def __radd__(self, other):
-        return Binary("+", wrap(other), self)
-
-    def __sub__(self, other):
-        return Binary("-", self, wrap(other))
-
-    def __rsub__(self, other):
-        return Binary("-", wrap(other), self)
-
-    def __mul__(self, other):
-        return Binary("*", self, wrap(other))
-
-    def __rmul__(self, other):
-        return Binary("*", wrap(other), self)
-
-    def __truediv__(self, other):
-        return Binary("/", self, wrap(other))
-
-    def __rtruediv__(self, other):
-        return Binary("/", wrap(other), self)
-
-    def __lt__(self, other):
-        return Binary("<", self, wrap(other))
-
-    def __le__(self, other):
-        return Binary("<=", self, wrap(other))
-
-    def __gt__(self, other):
-        return Binary(">", self, wrap(other))
-
-    def __ge__(self, other):
-        return Binary(">=", self, wrap(other))
+    __add__, __radd__ = _operator("+"), _operator("+", reflected=True)
+    __sub__, __rsub__ = _operator("-"), _operator("-", reflected=True)
+    __mul__, __rmul__ = _operator("*"), _operator("*", reflected=True)
+    __truediv__, __rtruediv__ = _operator("/"), _operator("/", reflected=True)
+    __lt__, __le__ = _operator("<"), _operator("<=")
+    __gt__, __ge__ = _operator(">"), _operator(">=")
 
     def equals(self, other) -> Binary:
         return Binary("==", self, wrap(other))
@@ -173,7 +154,6 @@ class Loop:
 class If:
     condition: Expr
     then: list
-    otherwise: list = field(default_factory=list)
 
 
 @dataclass(frozen=True)
@@ -418,6 +398,8 @@ class _StepPrinter:
     """What the C and Python printers share: statements walked with indentation."""
 
     indent = "    "
+    end = ""  # of a statement
+    prefix = ""  # of the generated fillers' names
 
     def __init__(self, n: int, counting: bool = False):
         self.n = n
@@ -459,6 +441,16 @@ class _StepPrinter:
     def name(self, name: str) -> str:
         return name
 
+    def _break(self, node, depth: int, pad: str) -> list[str]:
+        return [f"{pad}break{self.end}"]
+
+    def _return(self, node: Return, depth: int, pad: str) -> list[str]:
+        return [f"{pad}return {node.value}{self.end}"]
+
+    def _call(self, node: Call, depth: int, pad: str) -> list[str]:
+        arguments = ", ".join(self.top(self.expression(e)) for e in node.arguments)
+        return [f"{pad}{self.prefix}{node.function}({arguments}){self.end}"]
+
     def top(self, text: str) -> str:
         """``text`` without the outer parentheses of a binary operation."""
         return text[1:-1] if text.startswith("(") and _balanced(text[1:-1]) else text
@@ -480,6 +472,7 @@ class CStepPrinter(_StepPrinter):
     """The scheme as CUDA C (see the module): ``lg_state``, ``lg_init``, ``lg_step``."""
 
     operators: ClassVar[dict[str, str]] = {"and": "&&", "or": "||"}
+    end, prefix = ";", "lg_"
 
     def __init__(self, n: int, printer, real_type: str = "real"):
         super().__init__(n)
@@ -522,21 +515,8 @@ class CStepPrinter(_StepPrinter):
         return [*head, *self.block(node.body, depth + 1), f"{pad}}}"]
 
     def _if(self, node: If, depth: int, pad: str) -> list[str]:
-        lines = [f"{pad}if ({self.top(self.expression(node.condition))}) {{"]
-        lines += self.block(node.then, depth + 1)
-        if node.otherwise:
-            lines += [f"{pad}}} else {{", *self.block(node.otherwise, depth + 1)]
-        return [*lines, f"{pad}}}"]
-
-    def _break(self, node, depth: int, pad: str) -> list[str]:
-        return [f"{pad}break;"]
-
-    def _return(self, node: Return, depth: int, pad: str) -> list[str]:
-        return [f"{pad}return {node.value};"]
-
-    def _call(self, node: Call, depth: int, pad: str) -> list[str]:
-        arguments = ", ".join(self.top(self.expression(e)) for e in node.arguments)
-        return [f"{pad}lg_{node.function}({arguments});"]
+        head = f"{pad}if ({self.top(self.expression(node.condition))}) {{"
+        return [head, *self.block(node.then, depth + 1), f"{pad}}}"]
 
     def _solve(self, node: Solve, depth: int, pad: str) -> list[str]:
         out = self.expression(node.out)
@@ -618,21 +598,8 @@ class NumbaStepPrinter(_StepPrinter):
         return [f"{pad}for {node.index} in range({bounds}):", *body]
 
     def _if(self, node: If, depth: int, pad: str) -> list[str]:
-        lines = [f"{pad}if {self.top(self.expression(node.condition))}:"]
-        lines += self.block(node.then, depth + 1)
-        if node.otherwise:
-            lines += [f"{pad}else:", *self.block(node.otherwise, depth + 1)]
-        return lines
-
-    def _break(self, node, depth: int, pad: str) -> list[str]:
-        return [f"{pad}break"]
-
-    def _return(self, node: Return, depth: int, pad: str) -> list[str]:
-        return [f"{pad}return {node.value}"]
-
-    def _call(self, node: Call, depth: int, pad: str) -> list[str]:
-        arguments = ", ".join(self.top(self.expression(e)) for e in node.arguments)
-        return [f"{pad}{node.function}({arguments})"]
+        head = f"{pad}if {self.top(self.expression(node.condition))}:"
+        return [head, *self.block(node.then, depth + 1)]
 
     def _solve(self, node: Solve, depth: int, pad: str) -> list[str]:
         matrix, rhs, out = (self.expression(e) for e in (node.matrix, node.rhs, node.out))
