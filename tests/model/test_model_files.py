@@ -5,7 +5,6 @@ from __future__ import annotations
 import os
 import signal
 import socket
-import time
 
 import pytest
 
@@ -120,10 +119,8 @@ def test_hostile_toml_is_refused_fast(name, deadline):
         text = "coordinates = [" + ",".join(f'"q{i}"' for i in range(50_000)) + "]\n"
     else:
         text = SMALL + extra + "\n"
-    start = time.perf_counter()
-    with deadline(5), pytest.raises(ModelError) as caught:
+    with deadline(5), pytest.raises(ModelError) as caught:  # a hard stop, not a timing
         loads(text, source="hostile.toml")
-    assert time.perf_counter() - start < 2.0
     assert message in str(caught.value) and "hostile.toml" in str(caught.value)
 
 
@@ -163,10 +160,8 @@ def _particles(count: int, moving_with: int) -> str:
 
 
 def test_geometry_too_costly_to_assemble_is_refused_before_it_starts(deadline):
-    start = time.perf_counter()
-    with deadline(5), pytest.raises(ModelError) as caught:
+    with deadline(5), pytest.raises(ModelError) as caught:  # a hard stop, not a timing
         loads(_particles(10, 200), source="model.toml")  # 10 x 20,100 pairs
-    assert time.perf_counter() - start < 2.0
     assert str(caught.value) == (
         "model.toml: particles: kinetic energy too large to assemble: the particles and bodies "
         "couple 201000 pairs of velocities (limit 200000); give fewer points that each move "

@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import time
-
 import pytest
 import sympy
 from parsing_fixtures import hard_deadline
@@ -11,23 +9,24 @@ from parsing_fixtures import hard_deadline
 from lagrangian.errors import ParseError
 from lagrangian.parsing import ParseLimits, parse_expression
 
-SECONDS = 1.5  # every call must finish well within a second; this leaves room for slow CI
+#: A hard stop for a hang, not a timing assertion (timings live in benchmarks/hostile.py):
+#: every call finishes well within a second on a quiet machine.
+HANG_SECONDS = 15
 
 BIG = "9" * 100  # the longest literal allowed
 
 
-def timed(text: str, namespace, limits: ParseLimits | None = None):
-    """(result or ParseError, seconds); a hang fails at a hard deadline instead of stalling."""
-    start = time.perf_counter()
+def parsed(text: str, namespace, limits: ParseLimits | None = None):
+    """The result or the ParseError; a hang fails at a hard deadline instead of stalling."""
     try:
-        with hard_deadline(10 * SECONDS, text):
+        with hard_deadline(HANG_SECONDS, text):
             if limits is None:
                 result = parse_expression(text, namespace)
             else:
                 result = parse_expression(text, namespace, limits)
     except ParseError as error:
         result = error
-    return result, time.perf_counter() - start
+    return result
 
 
 REFUSED = {
@@ -100,16 +99,14 @@ ACCEPTED = {
 
 @pytest.mark.parametrize("text", REFUSED.values(), ids=REFUSED.keys())
 def test_refused_quickly(ns, text):
-    result, seconds = timed(text, ns)
+    result = parsed(text, ns)
     assert isinstance(result, ParseError), result
-    assert seconds < SECONDS
 
 
 @pytest.mark.parametrize("text", ACCEPTED.values(), ids=ACCEPTED.keys())
 def test_accepted_quickly(ns, text):
-    result, seconds = timed(text, ns)
+    result = parsed(text, ns)
     assert isinstance(result, sympy.Expr), result
-    assert seconds < SECONDS
 
 
 def test_accepted_results_are_right(ns, s):
@@ -206,10 +203,9 @@ def test_deepest_nesting_leaves_room_on_the_stack(ns):
 
 def test_a_20k_term_sum_hits_the_node_limit_quickly(ns):
     text = "+".join(["x"] * 20_000)
-    result, seconds = timed(text, ns, ParseLimits(max_length=100_000))
+    result = parsed(text, ns, ParseLimits(max_length=100_000))
     assert isinstance(result, ParseError)
     assert result.message == "expression too large (more than 20000 tokens)"
-    assert seconds < SECONDS
 
 
 def test_default_limits():

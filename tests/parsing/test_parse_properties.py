@@ -263,8 +263,6 @@ def test_the_deadline_cannot_be_swallowed(monkeypatch):
                 continue
 
     monkeypatch.setattr(sympy, "Pow", stubborn)  # called under the builder's except Exception
-    start = time.perf_counter()
-    expected = r"still parsing after 0.2 s: 'x\*\*3'"
+    expected = r"still parsing after 0.2 s: 'x\*\*3'"  # swallowed, it would never end
     with pytest.raises(ParseDeadline, match=expected), hard_deadline(0.2, "x**3"):
         parse_expression("x**3", NAMESPACE)
-    assert time.perf_counter() - start < 2

@@ -6,8 +6,6 @@ one derived complex equations (or spent a minute simplifying them).
 
 from __future__ import annotations
 
-import time
-
 import pytest
 import sympy
 
@@ -50,9 +48,7 @@ REAL = {
 @pytest.mark.parametrize("text", NOT_REAL, ids=list(NOT_REAL))
 def test_a_constant_that_is_not_real_is_refused_naming_it(parse_error, text):
     message, position = NOT_REAL[text]
-    start = time.perf_counter()
     error = parse_error(text)
-    assert time.perf_counter() - start < 1.0
     assert (error.message, error.position) == (message, position)
 
 
