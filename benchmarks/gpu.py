@@ -172,8 +172,8 @@ def static(arch: str) -> None:
     if nvcc is None:
         print("no nvcc on the path: nothing to compile")
         return
+    from lagrangian.codegen.forms import symbolic_forms
     from lagrangian.ensemble.cuda_source import kernel_source
-    from lagrangian.numeric.forms import symbolic_forms
 
     forms = symbolic_forms(lg.load("double_pendulum").equations_of_motion(), {})
     kernels = {}

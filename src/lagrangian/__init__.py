@@ -17,8 +17,9 @@ below it, inside functions too, so data flows up and nothing reaches back down:
     simulation   one System run: derive, compile, integrate with the model's settings
     integrate    the integrators and simulate(CompiledSystem) -> Trajectory
     trajectory   Trajectory (xarray-backed) and its files (trajectory_files)
-    export       today's code writers; codegen/ (issue 17) goes between analysis and numeric
+    export       export_code / write_code: the model as a file in another language
     numeric      CompiledSystem: the equations as numerical functions
+    codegen      one program form of the equations, printed (and loaded) by targets
     analysis     conserved quantities, Hamiltonian, equilibria, modes, state space, Routh
     derive       EquationsOfMotion, the one object every later layer reads
     model        System as frozen data (parsed text, TOML, Python objects)

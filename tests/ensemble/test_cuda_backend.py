@@ -195,8 +195,8 @@ def test_flip_times_stop_early_and_paths(compiled_systems):
 
 
 def _forms(compiled):
-    from lagrangian.numeric.definitions import function_definitions
-    from lagrangian.numeric.forms import symbolic_forms
+    from lagrangian.codegen.definitions import function_definitions
+    from lagrangian.codegen.forms import symbolic_forms
 
     system = compiled.equations.system
     return symbolic_forms(

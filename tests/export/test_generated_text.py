@@ -12,9 +12,7 @@ import pytest
 import sympy
 
 import lagrangian as lg
-from lagrangian.errors import ModelError
-from lagrangian.export import export_code, write_code
-from lagrangian.export.comments import (
+from lagrangian.codegen.comments import (
     C_COMMENT,
     JULIA_COMMENT,
     MATLAB_COMMENT,
@@ -22,6 +20,8 @@ from lagrangian.export.comments import (
     comment_safe,
     commented,
 )
+from lagrangian.errors import ModelError
+from lagrangian.export import export_code, write_code
 from lagrangian.numeric import compile_equations
 
 from .test_export import c_library, call_c, close, compiler, load_module  # noqa: F401
@@ -227,8 +227,8 @@ def test_baumgarte_bounds_are_accepted():
 
 # -- the other generators carry no model text -----------------------------------------------
 def test_numba_and_cuda_sources_hold_no_model_text_and_no_math_macros():
+    from lagrangian.codegen.forms import symbolic_forms
     from lagrangian.ensemble.cuda_source import kernel_source
-    from lagrangian.numeric.forms import symbolic_forms
     from lagrangian.numeric.numba_source import generated_source
 
     system = lg.System.from_lagrangian(

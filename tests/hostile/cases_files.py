@@ -74,8 +74,8 @@ def _foreign_netcdf(folder: Path) -> None:
 def _edited_cache_entry(folder: Path) -> None:
     """The cached module of the model, edited: valid Python that exits 3 if it ever runs."""
     from lagrangian import load
-    from lagrangian.numeric.code_cache import _HEADER
-    from lagrangian.numeric.forms import symbolic_forms
+    from lagrangian.codegen.cache import _HEADER
+    from lagrangian.codegen.forms import symbolic_forms
     from lagrangian.numeric.numba_source import generated_source
 
     digest, _ = generated_source(symbolic_forms(load(MODEL).equations_of_motion(), {}))

@@ -12,8 +12,8 @@ import textwrap
 
 import pytest
 
+from lagrangian.codegen import cache as code_cache
 from lagrangian.errors import CacheWarning
-from lagrangian.numeric import code_cache
 
 
 @pytest.fixture
@@ -176,7 +176,7 @@ def test_numba_files_are_kept_only_when_the_exit_listing_vouches_for_them(
 
 _NUMBA_RUN = """
 import sys
-from lagrangian.numeric.code_cache import load_text
+from lagrangian.codegen.cache import load_text
 TEXT = "from numba import njit\\n\\n@njit(cache=True)\\ndef twice(x):\\n    return 2.0 * x\\n"
 print(load_text("0123456789abcdef" * 4, TEXT).twice(1.5))
 """

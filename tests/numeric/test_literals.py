@@ -7,7 +7,7 @@ import sympy
 from sympy.printing.c import C99CodePrinter
 from sympy.printing.pycode import PythonCodePrinter
 
-from lagrangian.numeric.literals import FloatLiterals, machine_numbers
+from lagrangian.codegen.literals import FloatLiterals, machine_numbers
 
 x = sympy.Symbol("x")
 

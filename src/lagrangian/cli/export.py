@@ -31,9 +31,9 @@ from .app import MODEL_HELP, _definitions, app, define_option
 )
 def export(model, language, out, definitions, baumgarte) -> None:
     """Write the right-hand side, mass matrix and forcing of MODEL as self-contained code."""
+    from ..codegen.forms import DEFAULT_BAUMGARTE, checked_baumgarte
     from ..export import export_code, write_code
     from ..facade import load
-    from ..numeric.compile import DEFAULT_BAUMGARTE, checked_baumgarte
 
     baumgarte = checked_baumgarte(DEFAULT_BAUMGARTE if baumgarte is None else baumgarte)
     if out is not None:

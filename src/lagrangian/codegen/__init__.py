@@ -1,1 +1,1 @@
-"""Code generation: one program form of the equations and the targets that print it."""
+"""Code generation: one program form of the equations, printed and loaded by targets."""

@@ -4,7 +4,7 @@
   (``float32``) precision.  Single precision has ``F``-suffixed literals and
   ``sinf``-style calls, so nothing is silently promoted to double.  Floats are the
   shortest text that reads back as the same double
-  (:class:`~lagrangian.numeric.literals.FloatLiterals`); pi and e are numbers and
+  (:class:`~lagrangian.codegen.literals.FloatLiterals`); pi and e are numbers and
   there are no math macros (``M_PI``, ``M_SQRT2``... are POSIX, not C99, and NVRTC
   has none); small integer powers are products (exact, and faster than ``pow``).
 - :func:`gaussian_elimination`: the one C linear solve, Gaussian elimination with
@@ -23,7 +23,7 @@ from sympy.codegen.ast import float32, real
 from sympy.printing.c import C99CodePrinter
 from sympy.printing.precedence import PRECEDENCE
 
-from ..numeric.literals import FloatLiterals
+from .literals import FloatLiterals
 
 PRECISIONS = ("float64", "float32")
 

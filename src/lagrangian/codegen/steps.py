@@ -6,7 +6,7 @@ from step to step, the scratch arrays it works in, and two bodies of statements,
 ``step(t, h, y, p, tol, floor, iterations)`` (y, of length 2n, advanced by h in place;
 it returns 0, or 1 / 2 where the Newton iteration for the midpoint velocity / for the
 velocity from the momenta did not converge).  The statements call the generated
-fillers of :mod:`lagrangian.numeric.scheme_expressions` (``mass_force``, ``momenta``,
+fillers of :mod:`lagrangian.codegen.schemes` (``mass_force``, ``momenta``,
 ``momenta_force``, ``mass``, ``jacobian``, ``gradient``) and the target's one linear
 solve.  Two printers turn a scheme into text:
 

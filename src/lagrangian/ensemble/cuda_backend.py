@@ -148,8 +148,8 @@ def integrate_kernel(
 
 def source_of(compiled: CompiledSystem, scheme: str, precision: str) -> tuple[str, str]:
     """(digest, text) of the kernel of ``compiled`` (made once per compiled system)."""
-    from ..numeric.definitions import function_definitions
-    from ..numeric.forms import symbolic_forms
+    from ..codegen.definitions import function_definitions
+    from ..codegen.forms import symbolic_forms
 
     if compiled.has_constraints:
         raise ModelError("backend 'cuda' does not handle constraints (use backend numpy)")

@@ -1,6 +1,6 @@
 """CUDA C source of an ensemble kernel: one thread per member, the fixed-step loop inside.
 
-:func:`kernel_source` turns the symbolic equations (:mod:`lagrangian.numeric.forms`)
+:func:`kernel_source` turns the symbolic equations (:mod:`lagrangian.codegen.forms`)
 into one text that NVRTC compiles as CUDA C++ and gcc compiles as C99 after
 a few macros (:mod:`.cuda_cpu`): a ``typedef`` of ``real`` (double or float),
 straight-line ``__device__`` functions of the entries the scheme needs
@@ -34,15 +34,15 @@ import math
 import sympy
 
 from ..codegen.c import PRECISIONS, CPrinter, fuse_sine_cosine, gaussian_elimination
+from ..codegen.forms import SymbolicForms
+from ..codegen.literals import machine_numbers
+from ..codegen.schemes import SCHEMES, STEP, scheme_expressions
 from ..codegen.steps import CStepPrinter, scheme_program
 from ..distributions import without_distributions
 from ..errors import ModelError
 from ..integrate import tableaus
 from ..integrate.variational import STALL_RATIO
-from ..numeric.forms import SymbolicForms
-from ..numeric.literals import machine_numbers
 from ..numeric.numba_source import _fingerprint
-from ..numeric.scheme_expressions import SCHEMES, STEP, scheme_expressions
 
 #: Bump when the generated text changes.
 GENERATOR_VERSION = "5"

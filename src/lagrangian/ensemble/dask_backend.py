@@ -71,7 +71,7 @@ def _distributed():
 
 def model_payload(compiled: CompiledSystem) -> bytes:
     """What a worker needs to compile ``compiled`` again, as bytes."""
-    from ..numeric.compile import DEFAULT_BAUMGARTE
+    from ..codegen.forms import DEFAULT_BAUMGARTE
 
     _, cloudpickle = _distributed()
     baumgarte = compiled.baumgarte if compiled.has_constraints else DEFAULT_BAUMGARTE

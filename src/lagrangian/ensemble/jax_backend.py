@@ -131,8 +131,8 @@ def _padded(y0: np.ndarray, params: np.ndarray, size: int) -> tuple[np.ndarray, 
 
 def traced_system(compiled: CompiledSystem) -> CompiledSystem:
     """The JAX twin of ``compiled``: the same equations, definitions and Baumgarte rate."""
+    from ..codegen.forms import DEFAULT_BAUMGARTE
     from ..numeric import compile_equations
-    from ..numeric.compile import DEFAULT_BAUMGARTE
 
     if compiled.backend == "jax":
         return compiled

@@ -1,10 +1,10 @@
 """The numba backend: a parallel fixed-step loop around numba-compiled expressions.
 
 The expressions come from the same symbolic equations as the numpy backend
-(:func:`~lagrangian.numeric.forms.symbolic_forms` of ``compiled.equations``),
+(:func:`~lagrangian.codegen.forms.symbolic_forms` of ``compiled.equations``),
 printed as generated kernels cached on disk (:mod:`lagrangian.numeric.numba_source`):
 M and f of M q'' = f for ``rk4``; the momenta, forces, M and the Newton
-Jacobian of :mod:`lagrangian.numeric.scheme_expressions` for ``variational`` (the midpoint
+Jacobian of :mod:`lagrangian.codegen.schemes` for ``variational`` (the midpoint
 scheme, or Stormer-Verlet when the system is separable, as
 :class:`~lagrangian.integrate.variational.Variational` picks).  The schemes
 (:mod:`.numba_loop`, a template written out per system and scheme so that
@@ -31,9 +31,9 @@ from ..integrate.variational import ROUNDING_FLOOR
 from .observables import finish, stops_early
 
 if TYPE_CHECKING:
+    from ..codegen.forms import SymbolicForms
     from ..integrate.fixed_step import AbstractFixedStepIntegrator
     from ..numeric.compiled import CompiledSystem
-    from ..numeric.forms import SymbolicForms
 
 #: The built loops, per compiled system and scheme (compiling one takes seconds).
 _KERNELS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -48,8 +48,8 @@ def _numba():
 
 
 def _forms(compiled: CompiledSystem) -> SymbolicForms:
-    from ..numeric.definitions import function_definitions
-    from ..numeric.forms import symbolic_forms
+    from ..codegen.definitions import function_definitions
+    from ..codegen.forms import symbolic_forms
 
     if compiled.has_constraints:
         raise ModelError("backend 'numba' does not handle constraints (use backend numpy)")
@@ -62,8 +62,8 @@ def _forms(compiled: CompiledSystem) -> SymbolicForms:
 
 def scheme_functions(compiled: CompiledSystem, scheme: str):
     """The module of jitted fillers of a variational ``scheme`` (generated, cached on disk)."""
+    from ..codegen.schemes import MATRICES, SCALARS, scheme_expressions
     from ..numeric.numba_source import load_functions
-    from ..numeric.scheme_expressions import MATRICES, SCALARS, scheme_expressions
 
     forms = _forms(compiled)
     expressions = scheme_expressions(forms, scheme)

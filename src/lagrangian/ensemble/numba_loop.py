@@ -10,7 +10,7 @@ functions in place of the placeholder between the ``scheme`` markers.  There
 loop without compiling it.
 
 The globals: ``N`` (coordinates) and the generated fillers of the scheme's
-expressions (:mod:`lagrangian.numeric.scheme_expressions`: ``mass_force`` for
+expressions (:mod:`lagrangian.codegen.schemes`: ``mass_force`` for
 rk4; ``momenta``, ``momenta_force``, ``mass``, ``jacobian`` for midpoint;
 ``mass`` and ``gradient`` for Stormer-Verlet).  The scheme, for one member's
 state, is printed from :mod:`lagrangian.codegen.steps` (the same program the

@@ -22,16 +22,16 @@ from collections.abc import Mapping
 from pathlib import Path
 from types import MappingProxyType
 
+from ..codegen.forms import DEFAULT_BAUMGARTE
+from ..codegen.julia import JuliaWriter
+from ..codegen.matlab import MatlabWriter
+from ..codegen.numpy_text import NumPyWriter
+from ..codegen.program import Program, program
+from ..codegen.writer import AbstractWriter
 from ..derive import derive
 from ..errors import ModelError
 from ..model import System
-from ..numeric.compile import DEFAULT_BAUMGARTE
 from .c_code import CWriter
-from .julia_code import JuliaWriter
-from .matlab_code import MatlabWriter
-from .numpy_code import NumPyWriter
-from .program import Program, program
-from .writer import AbstractWriter
 
 #: ``--to`` name -> writer class.
 LANGUAGES: Mapping[str, type[AbstractWriter]] = MappingProxyType(

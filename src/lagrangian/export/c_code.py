@@ -19,10 +19,10 @@ from __future__ import annotations
 import sympy
 
 from ..codegen.c import CPrinter, gaussian_elimination
-from .comments import C_COMMENT, commented
-from .header import header_lines
-from .program import Program, Routine
-from .writer import AbstractWriter
+from ..codegen.comments import C_COMMENT, commented
+from ..codegen.header import header_lines
+from ..codegen.program import Program, Routine
+from ..codegen.writer import AbstractWriter
 
 _ARGUMENTS = "double t, const double *y, const double *params, const double *u"
 

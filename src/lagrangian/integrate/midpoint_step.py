@@ -5,7 +5,7 @@ with the NumPy functions of a compiled system: seven calls and some thirty array
 operations per Newton iteration, most of a millisecond per step of a double
 pendulum.  For one state (a single run) the same step is taken here from four
 generated functions of (t, z = [q_m, v], p) that fill given arrays, the entries of
-:mod:`lagrangian.numeric.scheme_expressions` (``momenta_force``: L_q' and L_q + Q;
+:mod:`lagrangian.codegen.schemes` (``momenta_force``: L_q' and L_q + Q;
 ``jacobian``: the Newton Jacobian J, which depends on h; ``momenta``; ``mass``),
 each with its common subexpressions eliminated:
 
@@ -90,10 +90,10 @@ def midpoint_functions(compiled: CompiledSystem) -> MidpointFunctions | None:
 
 
 def _build(compiled: CompiledSystem) -> MidpointFunctions | None:
+    from ..codegen.definitions import function_definitions
+    from ..codegen.forms import symbolic_forms
+    from ..codegen.schemes import MATRICES, SCALARS, scheme_expressions
     from ..errors import ModelError
-    from ..numeric.definitions import function_definitions
-    from ..numeric.forms import symbolic_forms
-    from ..numeric.scheme_expressions import MATRICES, SCALARS, scheme_expressions
 
     system = compiled.equations.system
     try:
@@ -159,8 +159,8 @@ def _numba_step(n: int, fillers) -> object:
     import hashlib
     from pathlib import Path
 
+    from ..codegen.cache import load_text
     from ..codegen.steps import NumbaStepPrinter, scheme_program
-    from ..numeric.code_cache import load_text
     from .variational import STALL_RATIO  # imported when first built: no import cycle
 
     template = Path(__file__).with_name("numba_midpoint.py").read_text(encoding="utf-8")

@@ -4,7 +4,7 @@ heyoka (F. Biscani and D. Izzo, "Revisiting high-order Taylor methods for
 astrodynamics and celestial mechanics", MNRAS 504 (2021) 2614-2628;
 ``pip install ".[taylor]"``) integrates an explicit ODE by adaptive
 Taylor series of high order (15 to 25 here), generated as machine code by LLVM.
-It is fed from our equations: M and f of M q'' = f (:mod:`lagrangian.numeric.forms`,
+It is fed from our equations: M and f of M q'' = f (:mod:`lagrangian.codegen.forms`,
 declared functions replaced by their definitions) converted with
 ``heyoka.from_sympy``, the parameters as heyoka's runtime parameters, and q'' =
 M^{-1} f written out as Gaussian elimination in heyoka's expressions.  Those are
@@ -196,8 +196,8 @@ def _integrator(compiled: CompiledSystem, tol: float):
 def _build(compiled: CompiledSystem, tol: float):
     import heyoka as hy
 
-    from ..numeric.definitions import function_definitions
-    from ..numeric.forms import symbolic_forms
+    from ..codegen.definitions import function_definitions
+    from ..codegen.forms import symbolic_forms
 
     system = compiled.equations.system
     forms = symbolic_forms(

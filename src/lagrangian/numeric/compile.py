@@ -17,51 +17,23 @@ pays only for what it uses.
 from __future__ import annotations
 
 import functools
-import math
 from collections.abc import Callable, Mapping
 from types import MappingProxyType
 
 import sympy
 
+from ..codegen.definitions import Definition, function_definitions
+from ..codegen.forms import DEFAULT_BAUMGARTE, SymbolicForms, checked_baumgarte, symbolic_forms
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from ..model.values import check_parameter_values
 from .backends import BACKENDS, ArrayBackend, array_backend
 from .compiled import CompiledSystem
-from .definitions import Definition, function_definitions
 from .dynamics import Dynamics
-from .forms import SymbolicForms, symbolic_forms
 from .kernels import Kernel, LazyMapping, Signature
 from .llvm_functions import check_llvm, with_llvm_functions
 from .numba_functions import check_numba, with_numba_functions
 from .projection import ConstraintFunctions
-
-#: Baumgarte's rate alpha (1 / time unit) for constrained systems: residuals decay
-#: like exp(-alpha t).  About 10 / (the shortest time scale of the motion) keeps
-#: the drift small without making the equations stiff; 0 turns it off.
-DEFAULT_BAUMGARTE = 10.0
-
-#: The largest rate accepted: alpha^2 enters the equations, and a residual that decays in
-#: a microsecond of model time already makes them as stiff as any solver can follow.
-MAX_BAUMGARTE = 1e6
-
-
-def checked_baumgarte(alpha: float) -> float:
-    """``alpha`` as a float when it is a usable stabilisation rate: finite, from 0 (none)
-    to :data:`MAX_BAUMGARTE`; a :class:`~lagrangian.errors.ModelError` otherwise."""
-    try:
-        value = float(alpha)
-        shown = repr(value)
-    except (TypeError, ValueError):
-        value, shown = math.nan, repr(alpha)[:40]
-    if not 0.0 <= value <= MAX_BAUMGARTE:  # NaN fails this too
-        raise ModelError(
-            f"the Baumgarte stabilisation rate alpha must be a number from 0 (none) to "
-            f"{MAX_BAUMGARTE:g} (1 / time unit), not {shown}",
-            field="baumgarte",
-        )
-    return value
-
 
 #: Backends that replace functions of an array backend's compiled system with
 #: generated, jitted kernels: name -> (the array backend, a check that it can run

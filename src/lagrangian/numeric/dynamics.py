@@ -29,9 +29,9 @@ from typing import Any
 import numpy as np
 import sympy
 
+from ..codegen.forms import SymbolicForms
 from ..errors import SingularMassMatrixError
 from .backends import Array
-from .forms import SymbolicForms
 from .kernels import Kernel, Signature, to_trailing, with_batch
 
 

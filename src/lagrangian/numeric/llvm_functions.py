@@ -25,11 +25,11 @@ from typing import Any
 import numpy as np
 
 from ..algebra import to_symengine
+from ..codegen.forms import SymbolicForms
 from ..distributions import without_distributions
 from ..errors import MissingDependencyError
 from .backends import solve_one
 from .compiled import CompiledSystem
-from .forms import SymbolicForms
 
 SCALARS = (float, int, np.float64)
 

@@ -27,9 +27,9 @@ from typing import Any
 
 import numpy as np
 
+from ..codegen.forms import SymbolicForms
 from ..errors import LagrangianWarning, MissingDependencyError
 from .compiled import CompiledSystem
-from .forms import SymbolicForms
 
 #: The CompiledSystem fields the numba kernels provide, with their argument form.
 STATE_FUNCTIONS = ("rhs", "energy")  # (t, y, params)

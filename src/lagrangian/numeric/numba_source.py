@@ -1,7 +1,7 @@
 """Python source of numba kernels for M q'' = f, generated once and cached on disk.
 
 The entries of the mass matrix M, the forcing f and the energy h (see
-:mod:`lagrangian.numeric.forms`) become straight-line scalar code: common
+:mod:`lagrangian.codegen.forms`) become straight-line scalar code: common
 subexpressions eliminated (:func:`sympy.cse`), printed by SymPy's Python code
 printer (``math`` functions), with the state and the parameters read as
 ``y[i]`` and ``p[j]``.  The module defines, each ``numba.njit(cache=True)``:
@@ -20,7 +20,7 @@ The file is ``<cache>/numba/<sha256>.py``, the hash taken over the equations
 (and the generator's version), where ``<cache>`` is ``$LAGRANGIAN_CACHE`` or
 the user cache directory (``$XDG_CACHE_HOME/lagrangian``, ``~/.cache/lagrangian``;
 ``%LOCALAPPDATA%\\lagrangian`` on Windows).  It is imported from that path
-(after a check of its content, see :mod:`lagrangian.numeric.code_cache`), and
+(after a check of its content, see :mod:`lagrangian.codegen.cache`), and
 numba keeps its machine code beside it (``__pycache__``), so a second process
 starts without generating or compiling anything.  Only symbol
 names we make (``_t``, ``_y0``, ``_p0``, ``_c0``) appear in the text: model
@@ -36,11 +36,11 @@ from types import ModuleType
 import sympy
 from sympy.printing.pycode import PythonCodePrinter
 
+from ..codegen.cache import cache_directory, load_text
+from ..codegen.forms import SymbolicForms
+from ..codegen.literals import FloatLiterals, machine_numbers
 from ..distributions import without_distributions
 from ..errors import ModelError
-from .code_cache import cache_directory, load_text
-from .forms import SymbolicForms
-from .literals import FloatLiterals, machine_numbers
 
 __all__ = ["cache_directory", "generated_source", "load_functions", "load_module", "load_text"]
 

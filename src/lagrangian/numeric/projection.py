@@ -24,8 +24,8 @@ from typing import Any
 
 import numpy as np
 
+from ..codegen.forms import SymbolicForms
 from .backends import Array
-from .forms import SymbolicForms
 from .kernels import Kernel, Signature, batch_shape, to_trailing, with_batch
 
 #: Gauss-Newton steps at most (NumPy stops when converged).

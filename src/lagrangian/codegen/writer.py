@@ -11,7 +11,7 @@ from .program import Routine
 
 
 class AbstractWriter(abc.ABC):
-    """Turns a :class:`~lagrangian.export.program.Program` into the text of one file.
+    """Turns a :class:`~lagrangian.codegen.program.Program` into the text of one file.
 
     Class constants: ``language`` (its name in the header), ``suffix`` (the usual
     file ending), ``base`` (the index of a first element: 0 or 1).

@@ -19,7 +19,7 @@ def header_lines(
     program: Program, language: str, *, base: int, calls: dict[str, str], brackets: str = "[]"
 ) -> list[str]:
     """The header as lines of text; the writer makes them a comment with
-    :func:`~lagrangian.export.comments.commented`, which keeps the model's free text
+    :func:`~lagrangian.codegen.comments.commented`, which keeps the model's free text
     (its name and description, which may hold line breaks) inside it.
 
     ``base``: the index of the first element (0 in C and Python, 1 in Julia and

@@ -18,9 +18,9 @@ import sympy
 from sympy.printing.numpy import NumPyPrinter
 
 from ..errors import ModelError
-from ..numeric.literals import FloatLiterals
 from .comments import PYTHON_COMMENT, commented
 from .header import header_lines
+from .literals import FloatLiterals
 from .program import Program, Routine
 from .writer import AbstractWriter
 

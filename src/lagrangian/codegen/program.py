@@ -16,7 +16,7 @@ with y = [q, q']:
   and returns y' = [q', q''].
 
 The expressions are those our own compiled right-hand side evaluates
-(:func:`lagrangian.numeric.forms.symbolic_forms`), with the model's names
+(:func:`lagrangian.codegen.forms.symbolic_forms`), with the model's names
 renamed so that no name of a model can clash with a target language's keywords
 or with the generated code's own names: a coordinate ``x`` is ``q_x``, its
 velocity ``v_x``, a parameter ``g`` is ``p_g``, an input ``F`` is ``u_F``,
@@ -32,10 +32,9 @@ import sympy
 
 from ..derive import EquationsOfMotion
 from ..distributions import without_distributions
-from ..numeric.compile import DEFAULT_BAUMGARTE, checked_baumgarte
-from ..numeric.definitions import Definition, function_definitions
-from ..numeric.forms import symbolic_forms
-from ..numeric.literals import machine_numbers
+from .definitions import Definition, function_definitions
+from .forms import DEFAULT_BAUMGARTE, checked_baumgarte, symbolic_forms
+from .literals import machine_numbers
 
 
 @dataclass(frozen=True)
@@ -130,7 +129,7 @@ def program(
     def rename(matrix) -> sympy.ImmutableMatrix:
         """Renamed, with what no language has taken out: the delta functions (0 but where
         a force is not differentiable, as our own compiled functions take them) and exact
-        numbers beyond a double (see :mod:`lagrangian.numeric.literals`)."""
+        numbers beyond a double (see :mod:`lagrangian.codegen.literals`)."""
         matrix = without_distributions(sympy.Matrix(matrix).xreplace(renamed))
         return sympy.ImmutableMatrix(matrix.applyfunc(machine_numbers))
 

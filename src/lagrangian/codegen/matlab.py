@@ -20,9 +20,9 @@ import sympy
 from sympy.printing.octave import OctaveCodePrinter, known_fcns_src1, known_fcns_src2
 
 from ..errors import ModelError
-from ..numeric.literals import FloatLiterals
 from .comments import MATLAB_COMMENT, commented
 from .header import header_lines
+from .literals import FloatLiterals
 from .program import Program, Routine
 from .writer import AbstractWriter
 

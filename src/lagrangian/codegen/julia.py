@@ -14,9 +14,9 @@ from __future__ import annotations
 import sympy
 from sympy.printing.julia import JuliaCodePrinter
 
-from ..numeric.literals import FloatLiterals
 from .comments import JULIA_COMMENT, commented
 from .header import header_lines
+from .literals import FloatLiterals
 from .program import Program, Routine
 from .writer import AbstractWriter
 

@@ -4,7 +4,7 @@ The backends that generate a whole loop (CUDA C in
 :mod:`lagrangian.ensemble.cuda_source`, numba in :mod:`lagrangian.ensemble.numba_backend`)
 and the compiled midpoint step of one state (:mod:`lagrangian.integrate.midpoint_step`)
 print the same entries, built here once from the symbolic forms
-(:mod:`lagrangian.numeric.forms`).  Each scheme needs a few
+(:mod:`lagrangian.codegen.forms`).  Each scheme needs a few
 functions of (t, y = [q, q'], p), each filling named output arrays:
 
 - ``rk4``: ``mass_force`` (M, f of M q'' = f);
