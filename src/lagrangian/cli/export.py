@@ -1,4 +1,4 @@
-"""The ``export`` command: the right-hand side as a C, Julia, MATLAB or NumPy file."""
+"""The ``export`` command: the right-hand side as a file in one of the export languages."""
 
 from __future__ import annotations
 

@@ -18,7 +18,7 @@ from .comments import JULIA_COMMENT, commented
 from .header import header_lines
 from .literals import FloatLiterals
 from .program import Program, Routine
-from .writer import AbstractWriter
+from .target import AbstractTarget
 
 _VECTORS = frozenset({"f", "b"})
 _ARGUMENTS = "t, y, params=DEFAULT_PARAMS, u=DEFAULT_INPUTS"
@@ -32,9 +32,10 @@ class _Printer(FloatLiterals, JuliaCodePrinter):
         return f"atan({self._print(y)}, {self._print(x)})"
 
 
-class JuliaWriter(AbstractWriter):
+class JuliaTarget(AbstractTarget):
     """The Julia file (see the module docstring)."""
 
+    name = "julia"
     language = "Julia"
     suffix = ".jl"
     base = 1

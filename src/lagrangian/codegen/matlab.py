@@ -24,7 +24,7 @@ from .comments import MATLAB_COMMENT, commented
 from .header import header_lines
 from .literals import FloatLiterals
 from .program import Program, Routine
-from .writer import AbstractWriter
+from .target import AbstractTarget
 
 _VECTORS = frozenset({"f", "b"})
 
@@ -62,9 +62,10 @@ class _Printer(FloatLiterals, OctaveCodePrinter):
     """SymPy's Octave printer, floats written to read back exactly."""
 
 
-class MatlabWriter(AbstractWriter):
+class MatlabTarget(AbstractTarget):
     """The MATLAB function file (see the module docstring)."""
 
+    name = "matlab"
     language = "MATLAB"
     suffix = ".m"
     base = 1

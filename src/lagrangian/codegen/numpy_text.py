@@ -22,7 +22,7 @@ from .comments import PYTHON_COMMENT, commented
 from .header import header_lines
 from .literals import FloatLiterals
 from .program import Program, Routine
-from .writer import AbstractWriter
+from .target import AbstractTarget
 
 #: Modules a generated file imports, directly or through NumPy and SciPy (the standard
 #: library's): a module file named like one is imported in its place from its folder.
@@ -36,9 +36,10 @@ class _Printer(FloatLiterals, NumPyPrinter):
     """SymPy's NumPy printer, floats written to read back exactly."""
 
 
-class NumPyWriter(AbstractWriter):
+class NumPyTextTarget(AbstractTarget):
     """The Python module (see the module docstring)."""
 
+    name = "numpy"
     language = "Python (NumPy)"
     suffix = ".py"
     base = 0

@@ -1,6 +1,7 @@
-"""Code export: a model's right-hand side as a self-contained C, Julia, MATLAB or NumPy file.
+"""Code export: a model's right-hand side as a self-contained C, Julia, MATLAB, NumPy or
+JavaScript file.
 
-``lagrangian export MODEL --to c|julia|matlab|numpy [--out FILE]`` and
+``lagrangian export MODEL --to c|javascript|julia|matlab|numpy [--out FILE]`` and
 :func:`export_code` write, for M(q, t) q'' = f(q, q', t, u) (see
 :class:`~lagrangian.derive.EquationsOfMotion`), the functions ``mass_matrix``,
 ``forcing`` and ``rhs`` of (t, y, params, u), y = [q, q'], with common
@@ -9,10 +10,11 @@ printers; the file names every argument entry and the default parameter
 values in its header, and depends on nothing of ours.  The right-hand side is
 the same as our own compiled one (:func:`~lagrangian.numeric.compile_equations`):
 the same expressions, M q'' = f solved numerically (Gaussian elimination with
-partial pivoting written out in C; ``numpy.linalg.solve``; ``\\`` in Julia and
-MATLAB).  Constraints are handled with their multipliers and Baumgarte's
+partial pivoting written out in C and JavaScript; ``numpy.linalg.solve``; ``\\`` in
+Julia and MATLAB).  Constraints are handled with their multipliers and Baumgarte's
 stabilisation, exactly as :mod:`lagrangian.numeric.dynamics` does (see
-:mod:`.program`).  The writers are registered in :data:`LANGUAGES`.
+:mod:`lagrangian.codegen.program`).  The languages are the targets of
+:data:`lagrangian.codegen.TARGETS` that render a file: :data:`LANGUAGES`.
 """
 
 from __future__ import annotations
@@ -22,20 +24,18 @@ from collections.abc import Mapping
 from pathlib import Path
 from types import MappingProxyType
 
+from ..codegen import TARGETS, AbstractTarget, Program, program
 from ..codegen.forms import DEFAULT_BAUMGARTE
-from ..codegen.julia import JuliaWriter
-from ..codegen.matlab import MatlabWriter
-from ..codegen.numpy_text import NumPyWriter
-from ..codegen.program import Program, program
-from ..codegen.writer import AbstractWriter
 from ..derive import derive
 from ..errors import ModelError
 from ..model import System
 from .c_code import CWriter
 
-#: ``--to`` name -> writer class.
-LANGUAGES: Mapping[str, type[AbstractWriter]] = MappingProxyType(
-    {"c": CWriter, "julia": JuliaWriter, "matlab": MatlabWriter, "numpy": NumPyWriter}
+#: ``--to`` name -> target class: the targets of :data:`lagrangian.codegen.TARGETS` that
+#: render a self-contained file, and C (its writer joins ``TARGETS`` when it moves into
+#: ``codegen``, beside the one C printer).
+LANGUAGES: Mapping[str, type[AbstractTarget]] = MappingProxyType(
+    {"c": CWriter} | {name: target for name, target in TARGETS.items() if target.standalone}
 )
 
 #: The name a MATLAB file gets when no output file names it.
@@ -57,22 +57,23 @@ def export_code(
     functions as text (as for ``simulate --define``); ``baumgarte``: the rate
     alpha of the constraints' stabilisation.
     """
-    writer_class = LANGUAGES.get(language)
-    if writer_class is None:
+    target_class = LANGUAGES.get(language)
+    if target_class is None:
         known = ", ".join(LANGUAGES)
         raise ModelError(f"unknown language {language!r} (languages: {known})", field="--to")
     eom = derive(system) if isinstance(system, System) else system
     made = program(eom, definitions=definitions, baumgarte=baumgarte)
-    writer = writer_class()
+    target = target_class()
+    target.check()  # a package the target needs, before the work
     try:
-        return writer.render(made, _identifier(name or DEFAULT_NAME))
+        return target.render(made, _identifier(name or DEFAULT_NAME))
     except Exception as error:  # SymPy's printers in strict mode: no equivalent in the language
         if type(error).__name__ != "PrintMethodNotImplementedError":
             raise
         # "Unsupported by <class ...>: DiracDelta" and advice on the printer's settings
         what = str(error).splitlines()[0].rsplit(": ", 1)[-1][:100] if str(error) else "?"
         raise ModelError(
-            f"cannot export to {writer.language}: it has no equivalent of {what}"
+            f"cannot export to {target.language}: it has no equivalent of {what}"
         ) from None
 
 
@@ -83,9 +84,9 @@ def write_code(system, language: str, path: str | Path, **options: object) -> Pa
     from ..files import check_output_path, write_atomically
 
     check_output_path(path)
-    writer_class = LANGUAGES.get(language)
-    if writer_class is not None:
-        writer_class().check_file_name(Path(path))
+    target_class = LANGUAGES.get(language)
+    if target_class is not None:
+        target_class().check_file_name(Path(path))
     text = export_code(system, language, name=options.pop("name", None) or Path(path).stem,
                        **options)  # fmt: skip
     return write_atomically(path, lambda target: Path(target).write_text(text, encoding="utf-8"))
@@ -99,4 +100,4 @@ def _identifier(name: str) -> str:
     return cleaned[:63]
 
 
-__all__ = ["DEFAULT_NAME", "LANGUAGES", "AbstractWriter", "Program", "export_code", "write_code"]
+__all__ = ["DEFAULT_NAME", "LANGUAGES", "AbstractTarget", "Program", "export_code", "write_code"]

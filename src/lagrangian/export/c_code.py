@@ -22,12 +22,12 @@ from ..codegen.c import CPrinter, gaussian_elimination
 from ..codegen.comments import C_COMMENT, commented
 from ..codegen.header import header_lines
 from ..codegen.program import Program, Routine
-from ..codegen.writer import AbstractWriter
+from ..codegen.target import AbstractTarget
 
 _ARGUMENTS = "double t, const double *y, const double *params, const double *u"
 
 
-class CWriter(AbstractWriter):
+class CWriter(AbstractTarget):
     """The C99 file (see the module docstring)."""
 
     language = "C"

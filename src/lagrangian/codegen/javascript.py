@@ -1,0 +1,160 @@
+"""JavaScript: one ES module, printed by SymPy's JavaScript printer (for the browser page).
+
+    mass_matrix(t, y, params = DEFAULT_PARAMS, u = null) -> M, n arrays of n numbers
+    forcing(t, y, params = DEFAULT_PARAMS, u = null) -> f, n numbers
+    rhs(t, y, params = DEFAULT_PARAMS, u = null) -> y' = [q', q''], 2n numbers
+
+Plain functions over plain arrays (no dependency, no typed arrays required); ``u``
+null or omitted means every input 0.  ``rhs`` solves M q'' = f (with constraints the
+bordered system of :mod:`lagrangian.codegen.program`) by Gaussian elimination with
+partial pivoting, written out below, and throws an ``Error`` where the matrix is
+singular.  This module is the whole target: one class and one line in
+:data:`lagrangian.codegen.TARGETS`.
+"""
+
+from __future__ import annotations
+
+import json
+
+import sympy
+from sympy.printing.jscode import JavascriptCodePrinter
+
+from .comments import CommentStyle, commented
+from .header import header_lines
+from .literals import FloatLiterals
+from .program import Program, Routine
+from .target import AbstractTarget
+
+#: Line comments: only a line break ends one (U+2028 and U+2029 are line breaks in
+#: JavaScript, and :func:`~lagrangian.codegen.comments.commented` splits at them).
+JAVASCRIPT_COMMENT = CommentStyle("", "// ", "", ())
+
+#: The outputs that are vectors (f, the constraint bias b); the others are matrices.
+_VECTORS = frozenset({"f", "b"})
+
+#: Gaussian elimination with partial pivoting of K x = r in place (K: rows of numbers).
+_SOLVE = """\
+function solve(K, r) {
+  const n = r.length;
+  for (let k = 0; k < n; k++) {
+    let pivot = k;
+    for (let i = k + 1; i < n; i++) {
+      if (Math.abs(K[i][k]) > Math.abs(K[pivot][k])) pivot = i;
+    }
+    if (!(Math.abs(K[pivot][k]) > 0)) throw new Error("singular mass matrix");
+    [K[k], K[pivot]] = [K[pivot], K[k]];
+    [r[k], r[pivot]] = [r[pivot], r[k]];
+    for (let i = k + 1; i < n; i++) {
+      const factor = K[i][k] / K[k][k];
+      for (let j = k; j < n; j++) K[i][j] -= factor * K[k][j];
+      r[i] -= factor * r[k];
+    }
+  }
+  const x = new Array(n);
+  for (let i = n - 1; i >= 0; i--) {
+    let sum = r[i];
+    for (let j = i + 1; j < n; j++) sum -= K[i][j] * x[j];
+    x[i] = sum / K[i][i];
+  }
+  return x;
+}"""
+
+
+class _Printer(FloatLiterals, JavascriptCodePrinter):
+    """SymPy's JavaScript printer, floats written to read back as the same double."""
+
+
+class JavaScriptTarget(AbstractTarget):
+    """The ES module (see the module docstring)."""
+
+    name = "javascript"
+    language = "JavaScript"
+    suffix = ".mjs"
+    base = 0
+
+    def __init__(self) -> None:
+        self._printer = _Printer({"strict": True})
+
+    def expression(self, expr: sympy.Expr) -> str:
+        return self._printer.doprint(expr)
+
+    def render(self, program: Program, name: str) -> str:
+        signature = "(t, y, params = DEFAULT_PARAMS, u = null)"
+        calls = {
+            "mass_matrix": f"mass_matrix{signature} -> M, n rows of n numbers",
+            "forcing": f"forcing{signature} -> f, n numbers",
+            "rhs": f"rhs{signature} -> y' = [q', q''] (Gaussian elimination)",
+        }
+        head = header_lines(program, "JavaScript (ES module)", base=0, calls=calls)
+        lines = [*commented(head, JAVASCRIPT_COMMENT), ""]
+        defaults = ", ".join(
+            "NaN" if p.default is None else repr(float(p.default)) for p in program.parameters
+        )
+        lines += [
+            f"export const COORDINATES = {_names(program.coordinates)};",
+            f"export const PARAMETERS = {_names(program.parameters)};",
+            f"export const INPUTS = {_names(program.inputs)};",
+            f"export const DEFAULT_PARAMS = [{defaults}];",
+            "",
+            _SOLVE,
+        ]
+        lines += self._function("dynamics", program, program.dynamics, exported=False)
+        lines += self._function("mass_matrix", program, program.mass_matrix)
+        lines += self._function("forcing", program, program.forcing)
+        n, m = program.n, program.constraints
+        names = ", ".join(label for label, _ in program.dynamics.outputs)
+        lines += [
+            "",
+            f"export function rhs{signature} {{",
+            f"  const [{names}] = dynamics(t, y, params, u);",
+        ]
+        if m:  # [[M, -A^T], [A, 0]] [q''; lambda] = [f; b]
+            lines += [
+                "  const K = [",
+                "    ...M.map((row, i) => [...row, ...A.map((a) => -a[i])]),",
+                f"    ...A.map((a) => [...a, ...new Array({m}).fill(0.0)]),",
+                "  ];",
+                f"  const accelerations = solve(K, [...f, ...b]).slice(0, {n});",
+            ]
+        else:
+            lines.append("  const accelerations = solve(M, f);")
+        lines += [f"  return [...Array.from(y).slice({n}, {2 * n}), ...accelerations];", "}", ""]
+        return "\n".join(lines)
+
+    def _function(
+        self, name: str, program: Program, routine: Routine, *, exported: bool = True
+    ) -> list[str]:
+        head = "export function" if exported else "function"
+        lines = ["", f"{head} {name}(t, y, params = DEFAULT_PARAMS, u = null) {{"]
+        used = self.used_symbols(routine)
+        for i, q in enumerate((*program.coordinates, *program.velocities)):
+            if q.symbol in used:
+                lines.append(f"  const {q.symbol} = y[{i}];")
+        for i, p in enumerate(program.parameters):
+            if p.symbol in used:
+                lines.append(f"  const {p.symbol} = params[{i}];")
+        for i, u in enumerate(program.inputs):
+            if u.symbol in used:
+                lines.append(f"  const {u.symbol} = u == null ? 0.0 : u[{i}];")
+        for symbol, expr in routine.temporaries:
+            lines.append(f"  const {symbol} = {self.expression(expr)};")
+        results = []
+        for label, matrix in routine.outputs:
+            if label in _VECTORS:
+                text = "[" + ", ".join(self.expression(e) for e in matrix) + "]"
+            else:
+                rows = (
+                    "[" + ", ".join(self.expression(e) for e in matrix.row(i)) + "]"
+                    for i in range(matrix.rows)
+                )
+                text = "[" + ", ".join(rows) + "]"
+            lines.append(f"  const {label} = {text};")
+            results.append(label)
+        returned = results[0] if exported else "[" + ", ".join(results) + "]"
+        lines += [f"  return {returned};", "}"]
+        return lines
+
+
+def _names(quantities) -> str:
+    """A JavaScript array of the model's names (JSON strings are JavaScript strings)."""
+    return json.dumps([q.name for q in quantities], ensure_ascii=True)
