@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import lagrangian as lg
-from lagrangian.ensemble import numba_backend, run_ensemble
+from lagrangian.codegen import cache as code_cache
+from lagrangian.ensemble import run_ensemble
 from lagrangian.ensemble.numba_backend import integrate_numba
 from lagrangian.errors import ModelError
 from lagrangian.integrate.variational import Variational
@@ -135,10 +136,19 @@ def test_the_loop_is_built_once_per_system_and_scheme(compiled_systems):
     compiled = compiled_systems["simple_pendulum"]
     y0, params = np.array([[0.5, 1.0], [0.0, 0.1]]), compiled.parameter_vector()
     integrate_numba(compiled, Variational(dt=0.1), y0, params, 0.5, ("final_state",))
-    built = dict(numba_backend._KERNELS[compiled])
+    built = _loops(compiled)
     assert "stormer-verlet" in built
     integrate_numba(compiled, Variational(dt=0.05), y0, params, 0.3, ("final_state",))
-    assert numba_backend._KERNELS[compiled] == built  # dt and t_end are arguments
+    assert _loops(compiled) == built  # dt and t_end are arguments
+
+
+def _loops(compiled):
+    """scheme -> the loop of ``compiled`` in the in-memory code cache."""
+    return {
+        key[2]: value
+        for key, value in code_cache._BUILT.items()
+        if key[:2] == (compiled.forms.fingerprint, "numba-ensemble")
+    }
 
 
 def test_newton_failure_is_one_line(compiled_systems):

@@ -1,4 +1,12 @@
-"""The on-disk code cache of the numba backend: generated modules, checked before they run.
+"""The caches of generated code: one in memory, keyed by (fingerprint, target), and on disk.
+
+In memory, :func:`built` keeps what a target made from a program in this process (a
+jitted loop, a CUDA source, heyoka's integrator, the midpoint fillers), keyed by the
+forms' fingerprint (:func:`~lagrangian.codegen.program.forms_fingerprint`), the target's
+name and the options it was made with: two compiled systems of the same equations share
+it, and the :data:`BUILT_LIMIT` oldest entries beyond the limit are let go.
+
+On disk, the numba backend's generated modules, checked before they run.
 
 A generated module is the file ``<cache>/numba/<digest>.py`` (``<cache>`` is
 ``$LAGRANGIAN_CACHE`` or the user cache folder, see :func:`cache_directory`).
@@ -46,8 +54,10 @@ import sys
 import tempfile
 import threading
 import warnings
+from collections.abc import Callable, Hashable
 from pathlib import Path
 from types import ModuleType
+from typing import TypeVar
 
 from ..errors import CacheWarning, FileError, ModelError
 from ..files import write_atomically
@@ -57,6 +67,27 @@ _MODULES: dict[str, ModuleType] = {}
 _CHOSEN: dict[str, Path] = {}  # configured folder -> the folder used in this process
 _LOADED: set[Path] = set()  # modules whose numba files are listed at exit
 _LOCK = threading.RLock()
+
+#: How many built objects the in-memory cache keeps (the oldest go first).
+BUILT_LIMIT = 128
+_BUILT: dict[tuple[Hashable, ...], object] = {}
+_ABSENT = object()
+T = TypeVar("T")
+
+
+def built(fingerprint: str, target: str, build: Callable[[], T], *options: Hashable) -> T:
+    """What ``build()`` makes for (``fingerprint``, ``target``, ``options``), made once per
+    process: later calls (every step of a run may ask) return it without a lock."""
+    key = (fingerprint, target, *options)
+    found = _BUILT.get(key, _ABSENT)
+    if found is not _ABSENT:
+        return found  # type: ignore[return-value]
+    with _LOCK:
+        if key not in _BUILT:
+            _BUILT[key] = build()
+            while len(_BUILT) > BUILT_LIMIT:
+                del _BUILT[next(iter(_BUILT))]
+        return _BUILT[key]  # type: ignore[return-value]
 
 
 def cache_directory() -> Path:

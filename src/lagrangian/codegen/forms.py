@@ -128,6 +128,14 @@ class SymbolicForms:
         return len(self.coordinates)
 
     @cached_property
+    def fingerprint(self) -> str:
+        """The sha256 every cache of generated code keys on
+        (:func:`~lagrangian.codegen.program.forms_fingerprint`), made once."""
+        from .program import forms_fingerprint  # program is built on these forms
+
+        return forms_fingerprint(self)
+
+    @cached_property
     def invariants(self) -> Mapping[str, sympy.Expr]:
         """The conserved quantities found by :func:`~lagrangian.analysis.conserved_quantities`.
 

@@ -1,4 +1,4 @@
-"""What an exported file computes, language-neutral: symbols renamed, expressions CSE'd.
+"""What generated code computes, language-neutral: symbols renamed, expressions CSE'd.
 
 A :class:`Program` holds, for M(q, t) q'' = f(q, q', t, u) (see
 :class:`~lagrangian.derive.EquationsOfMotion`), three routines of (t, y, params, u)
@@ -25,15 +25,17 @@ time stays ``t`` and common subexpressions (:func:`sympy.cse`) are ``w_0, w_1, .
 
 from __future__ import annotations
 
+import hashlib
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from functools import cached_property
 
 import sympy
 
 from ..derive import EquationsOfMotion
 from ..distributions import without_distributions
 from .definitions import Definition, function_definitions
-from .forms import DEFAULT_BAUMGARTE, checked_baumgarte, symbolic_forms
+from .forms import DEFAULT_BAUMGARTE, SymbolicForms, checked_baumgarte, symbolic_forms
 from .literals import machine_numbers
 
 
@@ -61,7 +63,12 @@ class Quantity:
 
 @dataclass(frozen=True)
 class Program:
-    """Everything a language writer needs (see the module docstring)."""
+    """Everything a target needs (see the module docstring).
+
+    Cheap to make: the renamed blocks and the CSE'd routines are made on first use (the
+    CSE of a 10-link chain takes over a second), and targets that generate code of their
+    own from the symbolic forms (numba, llvm, heyoka) read :attr:`forms` and pay nothing.
+    """
 
     title: str
     description: str
@@ -72,9 +79,7 @@ class Program:
     inputs: tuple[Quantity, ...]
     constraints: int
     baumgarte: float
-    mass_matrix: Routine
-    forcing: Routine
-    dynamics: Routine
+    forms: SymbolicForms = field(repr=False, compare=False)
 
     @property
     def n(self) -> int:
@@ -86,9 +91,51 @@ class Program:
         return self.n + self.constraints
 
     @property
+    def fingerprint(self) -> str:
+        """The sha256 of the expressions it is made from (:func:`forms_fingerprint`)."""
+        return self.forms.fingerprint
+
+    @property
     def time_dependent(self) -> bool:
         routines = (self.mass_matrix, self.forcing, self.dynamics)
         return any(_uses(routine, self.time) for routine in routines)
+
+    @cached_property
+    def blocks(self) -> tuple[tuple[str, sympy.ImmutableMatrix], ...]:
+        """("M", M), ("f", f) and, with constraints, ("A", A), ("b", b), renamed, with what
+        no language has: the delta functions (0 but where a force is not differentiable,
+        as our own compiled functions take them) and exact numbers beyond a double (see
+        :mod:`lagrangian.codegen.literals`) taken out."""
+        forms = self.forms
+        by_name = {p.name: p.symbol for p in forms.equations.system.parameters}
+        renamed = {forms.time: self.time}
+        renamed |= {q: c.symbol for q, c in zip(forms.coordinates, self.coordinates, strict=True)}
+        renamed |= {v: c.symbol for v, c in zip(forms.velocities, self.velocities, strict=True)}
+        renamed |= {by_name[x.name]: x.symbol for x in (*self.parameters, *self.inputs)}
+
+        def rename(matrix) -> sympy.ImmutableMatrix:
+            matrix = without_distributions(sympy.Matrix(matrix).xreplace(renamed))
+            return sympy.ImmutableMatrix(matrix.applyfunc(machine_numbers))
+
+        blocks = [("M", rename(forms.mass_matrix)), ("f", rename(forms.forcing))]
+        if self.constraints:
+            blocks += [
+                ("A", rename(forms.constraints.matrix)),
+                ("b", rename(forms.constraints.stabilised_bias(self.baumgarte))),
+            ]
+        return tuple(blocks)
+
+    @cached_property
+    def mass_matrix(self) -> Routine:
+        return _routine("mass_matrix", list(self.blocks[:1]))
+
+    @cached_property
+    def forcing(self) -> Routine:
+        return _routine("forcing", list(self.blocks[1:2]))
+
+    @cached_property
+    def dynamics(self) -> Routine:
+        return _routine("dynamics", list(self.blocks))
 
 
 def program(
@@ -100,8 +147,13 @@ def program(
     """The :class:`Program` of ``eom``; unspecified functions must be given in
     ``definitions`` (as for :func:`~lagrangian.numeric.compile_equations`)."""
     baumgarte = checked_baumgarte(baumgarte)
-    system = eom.system
-    forms = symbolic_forms(eom, function_definitions(system, definitions))
+    return program_of(symbolic_forms(eom, function_definitions(eom.system, definitions)), baumgarte)
+
+
+def program_of(forms: SymbolicForms, baumgarte: float = DEFAULT_BAUMGARTE) -> Program:
+    """The :class:`Program` of symbolic forms already made (a compiled system keeps its own)."""
+    baumgarte = checked_baumgarte(baumgarte)
+    system = forms.equations.system
     inputs = set(system.input_names)
     coordinates = tuple(
         Quantity(c.name, sympy.Symbol(f"q_{c.name}", real=True)) for c in system.coordinates
@@ -119,42 +171,18 @@ def program(
         for p in system.parameters
         if p.name in inputs
     )
-    renamed = dict(zip(forms.coordinates, (c.symbol for c in coordinates), strict=True))
-    renamed |= dict(zip(forms.velocities, (v.symbol for v in velocities), strict=True))
-    by_name = {p.name: p for p in system.parameters}
-    renamed |= {by_name[x.name].symbol: x.symbol for x in (*parameters, *controls)}
-    time = sympy.Symbol("t", real=True)
-    renamed[forms.time] = time
-
-    def rename(matrix) -> sympy.ImmutableMatrix:
-        """Renamed, with what no language has taken out: the delta functions (0 but where
-        a force is not differentiable, as our own compiled functions take them) and exact
-        numbers beyond a double (see :mod:`lagrangian.codegen.literals`)."""
-        matrix = without_distributions(sympy.Matrix(matrix).xreplace(renamed))
-        return sympy.ImmutableMatrix(matrix.applyfunc(machine_numbers))
-
-    mass, forcing = rename(forms.mass_matrix), rename(forms.forcing)
-    blocks = [("M", mass), ("f", forcing)]
-    count = 0
-    if forms.constraints is not None:
-        count = forms.constraints.count
-        blocks += [
-            ("A", rename(forms.constraints.matrix)),
-            ("b", rename(forms.constraints.stabilised_bias(baumgarte))),
-        ]
+    count = forms.constraints.count if forms.constraints is not None else 0
     return Program(
         title=system.name,
         description=system.description,
-        time=time,
+        time=sympy.Symbol("t", real=True),
         coordinates=coordinates,
         velocities=velocities,
         parameters=parameters,
         inputs=controls,
         constraints=count,
         baumgarte=float(baumgarte) if count else 0.0,
-        mass_matrix=_routine("mass_matrix", [("M", mass)]),
-        forcing=_routine("forcing", [("f", forcing)]),
-        dynamics=_routine("dynamics", blocks),
+        forms=forms,
     )
 
 
@@ -175,3 +203,40 @@ def _uses(routine: Routine, symbol: sympy.Symbol) -> bool:
     return any(e.has(symbol) for _, e in routine.temporaries) or any(
         m.has(symbol) for _, m in routine.outputs
     )
+
+
+def fingerprint(expression: sympy.Basic, digest: hashlib._Hash) -> None:
+    """Feed an unambiguous prefix form of ``expression`` to ``digest``.
+
+    Each node gives its class and arity, each atom its exact value (a Float its
+    mantissa and exponent), so different trees never give the same bytes; much
+    faster than printing (``srepr``).  The one fingerprint of generated code: the
+    disk cache's file names and the in-memory cache's keys (:mod:`.cache`) come from it.
+    """
+    parts = []
+    for node in sympy.preorder_traversal(expression):
+        if isinstance(node, sympy.Float):
+            parts.append(f"F{node._mpf_}")
+        elif node.is_Atom:
+            parts.append(f"{type(node).__name__}:{node}")
+        else:
+            parts.append(f"{type(node).__name__}/{len(node.args)}")
+    parts.append(";")
+    digest.update("\0".join(parts).encode())
+
+
+def forms_fingerprint(forms: SymbolicForms) -> str:
+    """sha256 over every expression code is generated from (the arguments in order, M, f,
+    L, p, Q, h and the constraints): equal fingerprints, equal generated code."""
+    digest = hashlib.sha256(sympy.__version__.encode() + b"\0")
+    arguments = (forms.time, *forms.coordinates, *forms.velocities, *forms.parameters)
+    parts = [sympy.Tuple(*arguments), forms.mass_matrix, forms.forcing, forms.lagrangian]
+    parts += [forms.momenta, forms.nonconservative_forces, forms.energy]
+    if forms.constraints is not None:
+        constraints = forms.constraints
+        parts += [constraints.matrix, constraints.bias, constraints.velocity]
+        positions = (sympy.Integer(0) if c is None else c for c in constraints.position)
+        parts += [sympy.Tuple(*positions), sympy.Tuple(*constraints.holonomic)]
+    for part in parts:
+        fingerprint(part, digest)
+    return digest.hexdigest()

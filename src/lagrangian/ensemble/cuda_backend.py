@@ -21,12 +21,12 @@ kernel runs (``pip install ".[cuda]"``).
 from __future__ import annotations
 
 import threading
-import weakref
 from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..codegen.cache import built
 from ..errors import MissingDependencyError, ModelError
 from ..integrate.fixed_step import step_grid
 from ..integrate.variational import ROUNDING_FLOOR
@@ -46,8 +46,7 @@ THREADS = 128
 #: Arguments the kernel writes (read back after a run).
 OUTPUTS = ("final", "flips", "failures", "paths")
 
-#: (digest, text) per compiled system and (scheme, precision): cse and printing cost.
-_SOURCES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+#: The compiled kernel per source digest (CuPy's module; the source is in codegen.cache).
 _FUNCTIONS: dict[str, object] = {}
 _LOCK = threading.Lock()
 
@@ -147,21 +146,16 @@ def integrate_kernel(
 
 
 def source_of(compiled: CompiledSystem, scheme: str, precision: str) -> tuple[str, str]:
-    """(digest, text) of the kernel of ``compiled`` (made once per compiled system)."""
-    from ..codegen.definitions import function_definitions
-    from ..codegen.forms import symbolic_forms
-
+    """(digest, text) of the kernel of ``compiled`` (made once per equations)."""
     if compiled.has_constraints:
         raise ModelError("backend 'cuda' does not handle constraints (use backend numpy)")
-    with _LOCK:
-        known = _SOURCES.setdefault(compiled, {})
-        if (scheme, precision) not in known:
-            definitions = function_definitions(
-                compiled.equations.system, dict(compiled.definitions)
-            )
-            forms = symbolic_forms(compiled.equations, definitions)
-            known[scheme, precision] = kernel_source(forms, scheme, precision)
-        return known[scheme, precision]
+    forms = compiled.forms
+    if forms is None:
+        raise ModelError(
+            "backend 'cuda' generates code from derived equations, not given functions"
+        )
+    build = lambda: kernel_source(forms, scheme, precision)  # noqa: E731
+    return built(forms.fingerprint, "cuda", build, scheme, precision)
 
 
 def _scheme(compiled: CompiledSystem, integrator: AbstractFixedStepIntegrator) -> str:

@@ -36,13 +36,13 @@ import sympy
 from ..codegen.c import PRECISIONS, CPrinter, fuse_sine_cosine, gaussian_elimination
 from ..codegen.forms import SymbolicForms
 from ..codegen.literals import machine_numbers
+from ..codegen.program import fingerprint as _fingerprint
 from ..codegen.schemes import SCHEMES, STEP, scheme_expressions
 from ..codegen.steps import CStepPrinter, scheme_program
 from ..distributions import without_distributions
 from ..errors import ModelError
 from ..integrate import tableaus
 from ..integrate.variational import STALL_RATIO
-from ..numeric.numba_source import _fingerprint
 
 #: Bump when the generated text changes.
 GENERATOR_VERSION = "5"

@@ -37,11 +37,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import weakref
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ..codegen.cache import built
 from ..errors import MissingDependencyError, ModelError
 from ..integrate.explicit_rk import AbstractExplicitRungeKutta
 from ..integrate.fixed_step import step_grid
@@ -55,10 +55,6 @@ if TYPE_CHECKING:
 PRECISIONS = ("float64", "float32")
 #: Linear solves up to this size are unrolled Gaussian elimination (see _solve).
 UNROLLED_SOLVE = 8
-
-#: compiled system -> (its JAX twin, {settings key: jitted loop}); dies with the system
-#: (except a system compiled for JAX: it is its own twin, so its entry keeps it alive).
-_LOOPS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _jax():
@@ -146,20 +142,27 @@ def traced_system(compiled: CompiledSystem) -> CompiledSystem:
 
 def _loop(compiled, integrator, precision: str, every: int, track: bool):
     """The jitted ``run(y0, params, grid)`` for these settings (built once, then cached)."""
-    entry = _LOOPS.get(compiled)
-    if entry is None:
-        entry = _LOOPS[compiled] = (traced_system(compiled), {})
-    system, loops = entry
+    key = _settings(integrator, precision, every, track)
+    if compiled.forms is None:  # functions given by hand: nothing to key them on
+        return _loop_of(traced_system(compiled), integrator, precision, every, track)
+    fingerprint, baumgarte = compiled.forms.fingerprint, compiled.baumgarte
+    system = built(fingerprint, "jax", lambda: traced_system(compiled), baumgarte)
+    build = lambda: _loop_of(system, integrator, precision, every, track)  # noqa: E731
+    return built(fingerprint, "jax", build, baumgarte, key)
+
+
+def _settings(integrator, precision: str, every: int, track: bool) -> tuple:
     settings = tuple(
         (field.name, getattr(integrator, field.name))
         for field in dataclasses.fields(integrator)
         if field.name != "dt"  # the grid is an argument: a new dt needs no new trace
     )
-    key = (type(integrator), settings, precision, every, track)
-    if key not in loops:
-        eps = float(np.finfo(np.float64 if precision == "float64" else np.float32).eps)
-        loops[key] = _build(system, _stepper(system, integrator, eps), every, track)
-    return loops[key]
+    return (type(integrator), settings, precision, every, track)
+
+
+def _loop_of(system, integrator, precision: str, every: int, track: bool):
+    eps = float(np.finfo(np.float64 if precision == "float64" else np.float32).eps)
+    return _build(system, _stepper(system, integrator, eps), every, track)
 
 
 # -- the loop ----------------------------------------------------------------------------

@@ -1,7 +1,7 @@
 """The numba backend: a parallel fixed-step loop around numba-compiled expressions.
 
 The expressions come from the same symbolic equations as the numpy backend
-(:func:`~lagrangian.codegen.forms.symbolic_forms` of ``compiled.equations``),
+(``compiled.forms``, :mod:`lagrangian.codegen.forms`),
 printed as generated kernels cached on disk (:mod:`lagrangian.numeric.numba_source`):
 M and f of M q'' = f for ``rk4``; the momenta, forces, M and the Newton
 Jacobian of :mod:`lagrangian.codegen.schemes` for ``variational`` (the midpoint
@@ -19,12 +19,12 @@ Constrained systems are not handled (use the numpy backend).
 from __future__ import annotations
 
 import hashlib
-import weakref
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..codegen.cache import built
 from ..errors import MissingDependencyError, ModelError
 from ..integrate.fixed_step import step_grid
 from ..integrate.variational import ROUNDING_FLOOR
@@ -34,9 +34,6 @@ if TYPE_CHECKING:
     from ..codegen.forms import SymbolicForms
     from ..integrate.fixed_step import AbstractFixedStepIntegrator
     from ..numeric.compiled import CompiledSystem
-
-#: The built loops, per compiled system and scheme (compiling one takes seconds).
-_KERNELS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _numba():
@@ -48,16 +45,14 @@ def _numba():
 
 
 def _forms(compiled: CompiledSystem) -> SymbolicForms:
-    from ..codegen.definitions import function_definitions
-    from ..codegen.forms import symbolic_forms
-
     if compiled.has_constraints:
         raise ModelError("backend 'numba' does not handle constraints (use backend numpy)")
     _numba()
-    system = compiled.equations.system
-    return symbolic_forms(
-        compiled.equations, function_definitions(system, dict(compiled.definitions))
-    )
+    if compiled.forms is None:
+        raise ModelError(
+            "backend 'numba' generates code from derived equations, not given functions"
+        )
+    return compiled.forms
 
 
 def scheme_functions(compiled: CompiledSystem, scheme: str):
@@ -71,11 +66,11 @@ def scheme_functions(compiled: CompiledSystem, scheme: str):
 
 
 def kernel(compiled: CompiledSystem, scheme: str = "rk4"):
-    """The jitted ensemble loop of ``compiled`` and ``scheme`` (built once per system)."""
-    built = _KERNELS.setdefault(compiled, {})
-    if scheme not in built:
-        built[scheme] = _loop_module(compiled, scheme).run
-    return built[scheme]
+    """The jitted ensemble loop of ``compiled`` and ``scheme`` (built once per equations)."""
+    _numba()
+    forms = _forms(compiled)
+    build = lambda: _loop_module(compiled, scheme).run  # noqa: E731
+    return built(forms.fingerprint, "numba-ensemble", build, scheme)
 
 
 #: The generated fillers each scheme's loop calls (see numba_loop's globals).

@@ -29,13 +29,12 @@ function given as data) are not built here (:func:`midpoint_functions` returns N
 from __future__ import annotations
 
 import math
-import threading
-import weakref
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 import sympy
 
+from ..codegen.cache import built
 from ..numeric.backends import solve_one
 from .fixed_step import StepFailure
 
@@ -43,10 +42,7 @@ if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
     from .base import Work
 
-_BUILT: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-_LOCK = threading.Lock()
 _FILLERS = ("momenta_force", "jacobian", "momenta", "mass")
-_MISSING = object()
 
 
 class Newton(NamedTuple):
@@ -78,28 +74,19 @@ def midpoint_functions(compiled: CompiledSystem) -> MidpointFunctions | None:
     """The fillers of ``compiled`` (built on first use, then kept), or None where there are none."""
     if compiled.backend not in ("numpy", "numba", "llvm") or compiled.has_constraints:
         return None
-    if not compiled.derived:
+    if compiled.forms is None:
         return None  # functions given by hand: no equations to generate code from
-    found = _BUILT.get(compiled, _MISSING)  # every step asks: no lock once built
-    if found is not _MISSING:
-        return found
-    with _LOCK:
-        if compiled not in _BUILT:
-            _BUILT[compiled] = _build(compiled)
-        return _BUILT[compiled]
+    # every step asks: once built, a lookup without a lock
+    build = lambda: _build(compiled)  # noqa: E731
+    return built(compiled.forms.fingerprint, "midpoint", build, compiled.backend)
 
 
 def _build(compiled: CompiledSystem) -> MidpointFunctions | None:
-    from ..codegen.definitions import function_definitions
-    from ..codegen.forms import symbolic_forms
     from ..codegen.schemes import MATRICES, SCALARS, scheme_expressions
     from ..errors import ModelError
 
-    system = compiled.equations.system
+    forms = compiled.forms
     try:
-        forms = symbolic_forms(
-            compiled.equations, function_definitions(system, dict(compiled.definitions))
-        )
         functions = scheme_expressions(forms, "midpoint")
         if compiled.backend == "numba":
             from ..numeric.numba_source import load_functions

@@ -34,14 +34,13 @@ derivative that is not finite, naming the last finite state.
 
 from __future__ import annotations
 
-import threading
-import weakref
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
+from ..codegen.cache import built
 from ..errors import MissingDependencyError, ModelError, setting
 from .base import (
     AbstractIntegrator,
@@ -57,8 +56,6 @@ from .guard import UNDEFINED, describe_state, start_problem
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
 
-_BUILT: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
-_LOCK = threading.Lock()
 #: The smallest tolerance, heyoka's default: machine epsilon (Taylor order 20).
 MIN_TOL = float(np.finfo(float).eps)
 
@@ -103,6 +100,8 @@ class Taylor(AbstractIntegrator):
             raise MissingDependencyError("method 'taylor'", "heyoka", "taylor") from None
         if compiled.has_constraints:
             raise ModelError("method 'taylor' does not handle constraints: use dop853 or radau")
+        if compiled.forms is None:
+            raise ModelError("method 'taylor' generates code from derived equations, not functions")
 
     def solve(
         self,
@@ -186,23 +185,14 @@ class Taylor(AbstractIntegrator):
 
 def _integrator(compiled: CompiledSystem, tol: float):
     """heyoka's compiled integrator of ``compiled`` at ``tol`` (built once, then kept)."""
-    with _LOCK:
-        built = _BUILT.setdefault(compiled, {})
-        if tol not in built:
-            built[tol] = _build(compiled, tol)
-        return built[tol]
+    build = lambda: _build(compiled, tol)  # noqa: E731
+    return built(compiled.forms.fingerprint, "heyoka", build, tol)
 
 
 def _build(compiled: CompiledSystem, tol: float):
     import heyoka as hy
 
-    from ..codegen.definitions import function_definitions
-    from ..codegen.forms import symbolic_forms
-
-    system = compiled.equations.system
-    forms = symbolic_forms(
-        compiled.equations, function_definitions(system, dict(compiled.definitions))
-    )
+    forms = compiled.forms
     n = forms.n
     q = [hy.make_vars(f"q{i}") for i in range(n)]
     v = [hy.make_vars(f"v{i}") for i in range(n)]

@@ -24,6 +24,7 @@ import sympy
 
 from ..codegen.definitions import Definition, function_definitions
 from ..codegen.forms import DEFAULT_BAUMGARTE, SymbolicForms, checked_baumgarte, symbolic_forms
+from ..codegen.program import program_of
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from ..model.values import check_parameter_values
@@ -150,6 +151,7 @@ def compile_equations(
         baumgarte=float(baumgarte) if constraint_functions else 0.0,
         definitions=MappingProxyType({f.__name__: body for f, body in defined.items()}),
         model_checks=functools.partial(check_parameter_values, system),
+        program=program_of(forms, baumgarte),
         **functions,
     )
     return compiled if jit is None else jit[2](forms, compiled)

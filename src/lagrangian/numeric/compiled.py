@@ -30,6 +30,8 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy
 
+from ..codegen.forms import SymbolicForms
+from ..codegen.program import Program
 from ..derive import EquationsOfMotion
 from ..errors import ModelError, setting
 from ..model.values import check_parameter_value
@@ -79,6 +81,16 @@ class CompiledSystem:
     # the model file's checks of parameter values given in place of its defaults (3-D
     # bodies' inertia): model.values.check_parameter_values of the system; None: none
     model_checks: Callable[[Mapping[str, float | np.ndarray]], None] | None = None
+    # the program of the equations the functions were made from (None for functions given
+    # by hand): every target that generates code for this system reads it, nobody derives
+    # the forms again
+    program: Program | None = field(default=None, repr=False)
+
+    @property
+    def forms(self) -> SymbolicForms | None:
+        """The symbolic forms the functions were made from (None for functions given by
+        hand)."""
+        return None if self.program is None else self.program.forms
 
     @property
     def derived(self) -> bool:

@@ -39,6 +39,7 @@ from sympy.printing.pycode import PythonCodePrinter
 from ..codegen.cache import cache_directory, load_text
 from ..codegen.forms import SymbolicForms
 from ..codegen.literals import FloatLiterals, machine_numbers
+from ..codegen.program import fingerprint
 from ..distributions import without_distributions
 from ..errors import ModelError
 
@@ -183,31 +184,12 @@ def generated_source(forms: SymbolicForms) -> tuple[str, _SourceText]:
     for text in (GENERATOR_VERSION, sympy.__version__, str(n)):
         digest.update(text.encode() + b"\0")
     arguments = (forms.time, *forms.coordinates, *forms.velocities, *forms.parameters)
-    _fingerprint(sympy.Tuple(*arguments), digest)
+    fingerprint(sympy.Tuple(*arguments), digest)
     mass, forcing = forms.mass_matrix, forms.forcing
     entries = [mass[i, j] for i in range(n) for j in range(n)] + [forcing[i, 0] for i in range(n)]
     for expression in (*entries, forms.energy):
-        _fingerprint(expression, digest)
+        fingerprint(expression, digest)
     return digest.hexdigest(), _SourceText(forms)
-
-
-def _fingerprint(expression: sympy.Expr, digest) -> None:
-    """Feed an unambiguous prefix form of ``expression`` to ``digest``.
-
-    Each node gives its class and arity, each atom its exact value (a Float its
-    mantissa and exponent), so different trees never give the same bytes; much
-    faster than printing (``srepr``).
-    """
-    parts = []
-    for node in sympy.preorder_traversal(expression):
-        if isinstance(node, sympy.Float):
-            parts.append(f"F{node._mpf_}")
-        elif node.is_Atom:
-            parts.append(f"{type(node).__name__}:{node}")
-        else:
-            parts.append(f"{type(node).__name__}/{len(node.args)}")
-    parts.append(";")
-    digest.update("\0".join(parts).encode())
 
 
 class _SourceText:
@@ -255,14 +237,14 @@ def load_functions(
     for text in (GENERATOR_VERSION, sympy.__version__, "functions", label, str(forms.n)):
         digest.update(text.encode() + b"\0")
     arguments = (forms.time, *forms.coordinates, *forms.velocities, *forms.parameters)
-    _fingerprint(sympy.Tuple(*arguments), digest)
+    fingerprint(sympy.Tuple(*arguments), digest)
     for name, outputs in functions:
         extra = scalars.get(name, ())
         digest.update(" ".join([name, *(s.name for s in extra)]).encode() + b"\0")
         for array, entries in outputs:
             digest.update(f"{array} {array in matrices} {len(entries)}".encode() + b"\0")
             for entry in entries:
-                _fingerprint(entry, digest)
+                fingerprint(entry, digest)
     return load_text(digest.hexdigest(), _FunctionsText(forms, label, functions, scalars, matrices))
 
 
