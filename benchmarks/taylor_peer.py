@@ -37,9 +37,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from rhs import chain_pendulum
 
 import lagrangian as lg
+from lagrangian.codegen.heyoka import eliminated
 from lagrangian.integrate.registry import method_class
 from lagrangian.integrate.scipy_methods import MIN_RTOL
-from lagrangian.integrate.taylor import eliminated
 from lagrangian.numeric import compile_equations, default_backend
 
 TOLERANCES = (1e-10, 1e-15)

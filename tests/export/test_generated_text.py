@@ -228,8 +228,8 @@ def test_baumgarte_bounds_are_accepted():
 # -- the other generators carry no model text -----------------------------------------------
 def test_numba_and_cuda_sources_hold_no_model_text_and_no_math_macros():
     from lagrangian.codegen.forms import symbolic_forms
+    from lagrangian.codegen.numba import generated_source
     from lagrangian.ensemble.cuda_source import kernel_source
-    from lagrangian.numeric.numba_source import generated_source
 
     system = lg.System.from_lagrangian(
         f"m*x_dot^2/2 - ({CONSTANTS}) - ({HUGE})",

@@ -76,7 +76,7 @@ def _edited_cache_entry(folder: Path) -> None:
     from lagrangian import load
     from lagrangian.codegen.cache import _HEADER
     from lagrangian.codegen.forms import symbolic_forms
-    from lagrangian.numeric.numba_source import generated_source
+    from lagrangian.codegen.numba import generated_source
 
     digest, _ = generated_source(symbolic_forms(load(MODEL).equations_of_motion(), {}))
     cache = folder / "cache" / "numba"

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import lagrangian as lg
+from lagrangian.codegen.llvm import llvm_available
 from lagrangian.errors import SingularMassMatrixError
 from lagrangian.numeric import compile_equations, default_backend
-from lagrangian.numeric.llvm_functions import llvm_available
 
 pytestmark = pytest.mark.skipif(not llvm_available(), reason="SymEngine without LLVM")
 

@@ -1,26 +1,73 @@
-"""Code generation: one program form of the equations, printed (and loaded) by targets."""
+"""Code generation: one program form of the equations, printed (and loaded) by targets.
+
+The layer.  ``codegen`` sits between ``analysis`` and ``numeric`` (the contract in
+pyproject.toml, checked by ``lint-imports``): it reads an
+:class:`~lagrangian.derive.EquationsOfMotion` and imports nothing above it.  ``numeric``
+compiles through it, ``integrate`` and ``ensemble`` read what it made, and
+``lagrangian.export`` (``export_code``, ``write_code``, ``LANGUAGES``) is its face for files.
+
+The data flow, one module each:
+
+    forms.py        SymbolicForms: M and f of M q'' = f, L, p, Q, h, the constraints,
+                    declared functions replaced by their definitions (definitions.py);
+                    the Baumgarte rate of the constraints' stabilisation
+    program.py      Program: the forms' symbols renamed for every language (q_x, v_x, p_g,
+                    u_F, t), the routines mass_matrix, forcing and dynamics with their
+                    common subexpressions taken out once (sympy.cse, w_0, w_1, ...), made
+                    on first use; and the one fingerprint (sha256 of the expressions)
+    schemes.py      the entries the fixed-step schemes need (rk4, midpoint, Stormer-Verlet)
+    target.py       the Target protocol (below)
+    cache.py        one in-memory cache keyed by (fingerprint, target, options), and the
+                    checked on-disk cache of generated modules
+    literals.py     floats that read back exactly, integers beyond a double
+    comments.py     the model's free text kept inside comments; header.py: file headers
+    <target>.py     one module per target
+
+A :class:`~lagrangian.numeric.CompiledSystem` keeps its ``program`` (made by
+``compile_equations`` at no cost: the renaming and the CSE wait for the first target
+that needs them), and everything that generates code reads it; nobody derives the forms
+again.
+
+The Target protocol (:mod:`.target`).  A target is a class with the class constants
+``name`` (its key in :data:`TARGETS`), ``language``, ``suffix``, ``base`` (index of a first
+element) and ``standalone`` (its text is a file a user keeps); ``check()`` raises
+:class:`~lagrangian.errors.MissingDependencyError` when its package is missing;
+``render(program, name) -> str`` is its text.  :class:`AbstractLoadedTarget` adds
+``load(program)``: the code as objects this process runs (numba's module, SymEngine's LLVM
+function, heyoka's ODE).  The export languages (``export --to``) are the standalone targets.
+
+Adding a target: write one module here with one :class:`AbstractTarget` subclass (see
+``javascript.py``: about 150 lines, tested against our rhs through node), and add its
+class to :data:`TARGETS` below: ``export --to`` and the CLI's choices read the registry.
+"""
 
 from __future__ import annotations
 
 from collections.abc import Mapping
 from types import MappingProxyType
 
+from .heyoka import HeyokaTarget
 from .javascript import JavaScriptTarget
 from .julia import JuliaTarget
+from .llvm import LLVMTarget
 from .matlab import MatlabTarget
+from .numba import NumbaTarget
 from .numpy_text import NumPyTextTarget
 from .program import Program, Quantity, Routine, program
 from .target import AbstractLoadedTarget, AbstractTarget
 
 #: Target name -> class: every language and backend code is generated for.  A new target
-#: is one module and one line here.
+#: is one module and one line here.  (The C writer joins when it moves into codegen.c.)
 TARGETS: Mapping[str, type[AbstractTarget]] = MappingProxyType(
     {
         target.name: target
         for target in (
+            HeyokaTarget,
             JavaScriptTarget,
             JuliaTarget,
+            LLVMTarget,
             MatlabTarget,
+            NumbaTarget,
             NumPyTextTarget,
         )
     }

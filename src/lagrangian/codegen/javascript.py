@@ -64,13 +64,10 @@ class _Printer(FloatLiterals, JavascriptCodePrinter):
     """SymPy's JavaScript printer, floats written to read back as the same double."""
 
 
-class JavaScriptTarget(AbstractTarget):
+class JavaScriptTarget(
+    AbstractTarget, name="javascript", language="JavaScript", suffix=".mjs", base=0
+):
     """The ES module (see the module docstring)."""
-
-    name = "javascript"
-    language = "JavaScript"
-    suffix = ".mjs"
-    base = 0
 
     def __init__(self) -> None:
         self._printer = _Printer({"strict": True})
@@ -126,28 +123,16 @@ class JavaScriptTarget(AbstractTarget):
     ) -> list[str]:
         head = "export function" if exported else "function"
         lines = ["", f"{head} {name}(t, y, params = DEFAULT_PARAMS, u = null) {{"]
-        used = self.used_symbols(routine)
-        for i, q in enumerate((*program.coordinates, *program.velocities)):
-            if q.symbol in used:
-                lines.append(f"  const {q.symbol} = y[{i}];")
-        for i, p in enumerate(program.parameters):
-            if p.symbol in used:
-                lines.append(f"  const {p.symbol} = params[{i}];")
-        for i, u in enumerate(program.inputs):
-            if u.symbol in used:
-                lines.append(f"  const {u.symbol} = u == null ? 0.0 : u[{i}];")
+        for symbol, argument, index in self.reads(program, routine):
+            value = f"{argument}[{index}]"
+            if argument == "u":  # no inputs given: every input 0
+                value = f"u == null ? 0.0 : {value}"
+            lines.append(f"  const {symbol} = {value};")
         for symbol, expr in routine.temporaries:
             lines.append(f"  const {symbol} = {self.expression(expr)};")
         results = []
         for label, matrix in routine.outputs:
-            if label in _VECTORS:
-                text = "[" + ", ".join(self.expression(e) for e in matrix) + "]"
-            else:
-                rows = (
-                    "[" + ", ".join(self.expression(e) for e in matrix.row(i)) + "]"
-                    for i in range(matrix.rows)
-                )
-                text = "[" + ", ".join(rows) + "]"
+            text = self.list_literal(matrix, vector=label in _VECTORS)
             lines.append(f"  const {label} = {text};")
             results.append(label)
         returned = results[0] if exported else "[" + ", ".join(results) + "]"

@@ -32,13 +32,8 @@ class _Printer(FloatLiterals, JuliaCodePrinter):
         return f"atan({self._print(y)}, {self._print(x)})"
 
 
-class JuliaTarget(AbstractTarget):
+class JuliaTarget(AbstractTarget, name="julia", language="Julia", suffix=".jl", base=1):
     """The Julia file (see the module docstring)."""
-
-    name = "julia"
-    language = "Julia"
-    suffix = ".jl"
-    base = 1
 
     def __init__(self) -> None:
         self._printer = _Printer({"strict": True})
@@ -84,30 +79,17 @@ class JuliaTarget(AbstractTarget):
     def _function(self, name: str, program: Program, routine: Routine) -> list[str]:
         lines = ["", f"function {name}({_ARGUMENTS})"]
         lines.append("    T = promote_type(eltype(y), eltype(params), eltype(u), typeof(t))")
-        used = self.used_symbols(routine)
-        for i, q in enumerate((*program.coordinates, *program.velocities)):
-            if q.symbol in used:
-                lines.append(f"    {q.symbol} = y[{i + 1}]")
-        for i, p in enumerate(program.parameters):
-            if p.symbol in used:
-                lines.append(f"    {p.symbol} = params[{i + 1}]")
-        for i, u in enumerate(program.inputs):
-            if u.symbol in used:
-                lines.append(f"    {u.symbol} = u[{i + 1}]")
+        for symbol, argument, index in self.reads(program, routine):
+            lines.append(f"    {symbol} = {argument}[{index}]")
         for symbol, expr in routine.temporaries:
             lines.append(f"    {symbol} = {self.expression(expr)}")
         labels = []
         for label, matrix in routine.outputs:
-            if label in _VECTORS:
-                lines.append(f"    {label} = zeros(T, {matrix.rows})")
-                for i, entry in enumerate(matrix):
-                    lines.append(f"    {label}[{i + 1}] = {self.expression(entry)}")
-            else:
-                lines.append(f"    {label} = zeros(T, {matrix.rows}, {matrix.cols})")
-                for i in range(matrix.rows):
-                    for j in range(matrix.cols):
-                        text = self.expression(matrix[i, j])
-                        lines.append(f"    {label}[{i + 1}, {j + 1}] = {text}")
+            vector = label in _VECTORS
+            size = f"{matrix.rows}" if vector else f"{matrix.rows}, {matrix.cols}"
+            lines.append(f"    {label} = zeros(T, {size})")
+            for index, text in self.entries(matrix, vector=vector):
+                lines.append(f"    {label}[{index}] = {text}")
             labels.append(label)
         lines += [f"    return {', '.join(labels)}", "end"]
         return lines

@@ -62,13 +62,8 @@ class _Printer(FloatLiterals, OctaveCodePrinter):
     """SymPy's Octave printer, floats written to read back exactly."""
 
 
-class MatlabTarget(AbstractTarget):
+class MatlabTarget(AbstractTarget, name="matlab", language="MATLAB", suffix=".m", base=1):
     """The MATLAB function file (see the module docstring)."""
-
-    name = "matlab"
-    language = "MATLAB"
-    suffix = ".m"
-    base = 1
 
     def __init__(self) -> None:
         self._printer = _Printer({"strict": True})
@@ -151,30 +146,15 @@ class MatlabTarget(AbstractTarget):
 
     def _function(self, results: str, name: str, program: Program, routine: Routine) -> list[str]:
         lines = ["", f"function {results} = {name}(t, y, params, u)", *self._defaults(program)]
-        used = self.used_symbols(routine)
-        for i, q in enumerate((*program.coordinates, *program.velocities)):
-            if q.symbol in used:
-                lines.append(f"{q.symbol} = y({i + 1});")
-        for i, p in enumerate(program.parameters):
-            if p.symbol in used:
-                lines.append(f"{p.symbol} = params({i + 1});")
-        for i, u in enumerate(program.inputs):
-            if u.symbol in used:
-                lines.append(f"{u.symbol} = u({i + 1});")
+        for symbol, argument, index in self.reads(program, routine):
+            lines.append(f"{symbol} = {argument}({index});")
         for symbol, expr in routine.temporaries:
             lines.append(f"{symbol} = {self.expression(expr)};")
         for label, matrix in routine.outputs:
-            if label in _VECTORS:
-                lines.append(f"{label} = zeros({matrix.rows}, 1);")
-                for i, entry in enumerate(matrix):
-                    lines.append(f"{label}({i + 1}) = {self.expression(entry)};")
-            else:
-                lines.append(f"{label} = zeros({matrix.rows}, {matrix.cols});")
-                for i in range(matrix.rows):
-                    for j in range(matrix.cols):
-                        lines.append(
-                            f"{label}({i + 1}, {j + 1}) = {self.expression(matrix[i, j])};"
-                        )
+            vector = label in _VECTORS
+            lines.append(f"{label} = zeros({matrix.rows}, {1 if vector else matrix.cols});")
+            for index, text in self.entries(matrix, vector=vector):
+                lines.append(f"{label}({index}) = {text};")
         lines.append("end")
         return lines
 

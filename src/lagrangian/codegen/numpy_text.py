@@ -36,13 +36,10 @@ class _Printer(FloatLiterals, NumPyPrinter):
     """SymPy's NumPy printer, floats written to read back exactly."""
 
 
-class NumPyTextTarget(AbstractTarget):
+class NumPyTextTarget(
+    AbstractTarget, name="numpy", language="Python (NumPy)", suffix=".py", base=0
+):
     """The Python module (see the module docstring)."""
-
-    name = "numpy"
-    language = "Python (NumPy)"
-    suffix = ".py"
-    base = 0
 
     def __init__(self) -> None:
         self._printer = _Printer({"fully_qualified_modules": True, "strict": True})
@@ -117,28 +114,16 @@ class NumPyTextTarget(AbstractTarget):
 
     def _function(self, name: str, program: Program, routine: Routine) -> list[str]:
         lines = ["", f"def {name}(t, y, params=DEFAULT_PARAMS, u=None):"]
-        used = self.used_symbols(routine)
-        for i, q in enumerate((*program.coordinates, *program.velocities)):
-            if q.symbol in used:
-                lines.append(f"    {q.symbol} = y[{i}]")
-        for i, p in enumerate(program.parameters):
-            if p.symbol in used:
-                lines.append(f"    {p.symbol} = params[{i}]")
-        for i, u in enumerate(program.inputs):
-            if u.symbol in used:
-                lines.append(f"    {u.symbol} = 0.0 if u is None else u[{i}]")
+        for symbol, argument, index in self.reads(program, routine):
+            value = f"{argument}[{index}]"
+            if argument == "u":  # no inputs given: every input 0
+                value = f"0.0 if u is None else {value}"
+            lines.append(f"    {symbol} = {value}")
         for symbol, expr in routine.temporaries:
             lines.append(f"    {symbol} = {self.expression(expr)}")
         results = []
         for label, matrix in routine.outputs:
-            rows = [
-                "[" + ", ".join(self.expression(e) for e in matrix.row(i)) + "]"
-                for i in range(matrix.rows)
-            ]
-            if label in _VECTORS:
-                text = "[" + ", ".join(self.expression(e) for e in matrix) + "]"
-            else:
-                text = "[" + ", ".join(rows) + "]"
+            text = self.list_literal(matrix, vector=label in _VECTORS)
             shape = f"({matrix.rows},)" if label in _VECTORS else str(matrix.shape)
             lines.append(f"    {label} = numpy.array({text}, dtype=float).reshape({shape})")
             results.append(label)

@@ -2,7 +2,9 @@
 
 A target is one class.  :class:`AbstractTarget` renders the program as the text of
 one file (``render``); :class:`AbstractLoadedTarget` also loads it as functions this
-process calls (``load``).  Capabilities are class constants, as an integrator's are:
+process calls (``load``).  Capabilities are class constants, as an integrator's are,
+given in the class statement (``class JuliaTarget(AbstractTarget, name="julia",
+language="Julia", suffix=".jl", base=1)``):
 
 * ``name``: its key in :data:`lagrangian.codegen.TARGETS` (``export --to NAME``);
 * ``language``: its name in words, as a generated file's header gives it;
@@ -35,6 +37,16 @@ class AbstractTarget(abc.ABC):
     base: ClassVar[int]
     standalone: ClassVar[bool] = True
 
+    def __init_subclass__(cls, **constants: object) -> None:
+        """The class constants given in the class statement:
+        ``class JuliaTarget(AbstractTarget, name="julia", language="Julia", ...)``."""
+        unknown = set(constants) - {"name", "language", "suffix", "base", "standalone"}
+        if unknown:
+            raise TypeError(f"{cls.__name__}: unknown class constants {sorted(unknown)}")
+        super().__init_subclass__()
+        for key, value in constants.items():
+            setattr(cls, key, value)
+
     def check(self) -> None:  # noqa: B027 - optional, no-op by default
         """Raise :class:`~lagrangian.errors.MissingDependencyError` when a package this
         target needs is missing; text targets need none."""
@@ -47,6 +59,46 @@ class AbstractTarget(abc.ABC):
     def check_file_name(self, path: Path) -> None:  # noqa: B027 - optional, no-op by default
         """Raise a :class:`~lagrangian.errors.ModelError` when the file cannot be called so
         (a name its language would misread); any name will do unless a target says so."""
+
+    def reads(self, program: Program, routine: Routine) -> list[tuple[sympy.Symbol, str, int]]:
+        """(symbol, argument, index) of each argument entry the routine reads, so that only
+        those are unpacked: the state ``"y"``, ``"params"``, the inputs ``"u"``; indices
+        counted from :attr:`base`."""
+        used = self.used_symbols(routine)
+        arguments = (
+            ("y", (*program.coordinates, *program.velocities)),
+            ("params", program.parameters),
+            ("u", program.inputs),
+        )
+        return [
+            (quantity.symbol, argument, index + self.base)
+            for argument, quantities in arguments
+            for index, quantity in enumerate(quantities)
+            if quantity.symbol in used
+        ]
+
+    def expression(self, expr: sympy.Expr) -> str:
+        """One expression in the language (text targets print with SymPy's printer for it)."""
+        raise NotImplementedError(f"target {self.name!r} prints no single expressions")
+
+    def list_literal(self, matrix: sympy.MatrixBase, *, vector: bool) -> str:
+        """``[e0, e1, ...]`` (a vector) or ``[[row 0], [row 1], ...]``: the list syntax
+        Python and JavaScript share."""
+        if vector:
+            return "[" + ", ".join(self.expression(entry) for entry in matrix) + "]"
+        rows = (self.list_literal(matrix.row(i), vector=True) for i in range(matrix.rows))
+        return "[" + ", ".join(rows) + "]"
+
+    def entries(self, matrix: sympy.MatrixBase, *, vector: bool) -> list[tuple[str, str]]:
+        """(index, expression) of each entry, indices counted from :attr:`base`: ``"i"``
+        in a vector, ``"i, j"`` in a matrix (for languages that fill arrays entry by entry)."""
+        if vector:
+            return [(f"{i + self.base}", self.expression(e)) for i, e in enumerate(matrix)]
+        return [
+            (f"{i + self.base}, {j + self.base}", self.expression(matrix[i, j]))
+            for i in range(matrix.rows)
+            for j in range(matrix.cols)
+        ]
 
     @staticmethod
     def used_symbols(routine: Routine) -> set[sympy.Symbol]:

@@ -2,7 +2,7 @@
 
 The expressions come from the same symbolic equations as the numpy backend
 (``compiled.forms``, :mod:`lagrangian.codegen.forms`),
-printed as generated kernels cached on disk (:mod:`lagrangian.numeric.numba_source`):
+printed as generated kernels cached on disk (:mod:`lagrangian.codegen.numba`):
 M and f of M q'' = f for ``rk4``; the momenta, forces, M and the Newton
 Jacobian of :mod:`lagrangian.codegen.schemes` for ``variational`` (the midpoint
 scheme, or Stormer-Verlet when the system is separable, as
@@ -57,8 +57,8 @@ def _forms(compiled: CompiledSystem) -> SymbolicForms:
 
 def scheme_functions(compiled: CompiledSystem, scheme: str):
     """The module of jitted fillers of a variational ``scheme`` (generated, cached on disk)."""
+    from ..codegen.numba import load_functions
     from ..codegen.schemes import MATRICES, SCALARS, scheme_expressions
-    from ..numeric.numba_source import load_functions
 
     forms = _forms(compiled)
     expressions = scheme_expressions(forms, scheme)
@@ -91,10 +91,10 @@ def _loop_module(compiled: CompiledSystem, scheme: str):
     The template's globals get the system's values, and the module is written to
     the code cache under a hash of its text, so numba keeps its machine code there.
     """
+    from ..codegen.numba import load_module, load_text
     from ..codegen.steps import NumbaStepPrinter, scheme_program
     from ..integrate import tableaus
     from ..integrate.variational import STALL_RATIO
-    from ..numeric.numba_source import load_module, load_text
 
     _numba()
     if scheme == "rk4":

@@ -89,7 +89,7 @@ def _build(compiled: CompiledSystem) -> MidpointFunctions | None:
     try:
         functions = scheme_expressions(forms, "midpoint")
         if compiled.backend == "numba":
-            from ..numeric.numba_source import load_functions
+            from ..codegen.numba import load_functions
 
             module = load_functions(
                 forms, "midpoint", functions, scalars=SCALARS, matrices=MATRICES

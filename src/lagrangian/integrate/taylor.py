@@ -4,8 +4,8 @@ heyoka (F. Biscani and D. Izzo, "Revisiting high-order Taylor methods for
 astrodynamics and celestial mechanics", MNRAS 504 (2021) 2614-2628;
 ``pip install ".[taylor]"``) integrates an explicit ODE by adaptive
 Taylor series of high order (15 to 25 here), generated as machine code by LLVM.
-It is fed from our equations: M and f of M q'' = f (:mod:`lagrangian.codegen.forms`,
-declared functions replaced by their definitions) converted with
+It is fed from our equations by the heyoka target (:mod:`lagrangian.codegen.heyoka`): M and
+f of M q'' = f (declared functions replaced by their definitions) converted with
 ``heyoka.from_sympy``, the parameters as heyoka's runtime parameters, and q'' =
 M^{-1} f written out as Gaussian elimination in heyoka's expressions.  Those are
 symbolic, so the elimination cannot pivot on the values met along the motion; it
@@ -41,7 +41,8 @@ from typing import TYPE_CHECKING, ClassVar
 import numpy as np
 
 from ..codegen.cache import built
-from ..errors import MissingDependencyError, ModelError, setting
+from ..codegen.heyoka import HeyokaTarget
+from ..errors import ModelError, setting
 from .base import (
     AbstractIntegrator,
     IntegrationResult,
@@ -94,10 +95,7 @@ class Taylor(AbstractIntegrator):
         return {"method": self.name, "tol": self.tol, "rtol": self.tol, "atol": self.tol}
 
     def check(self, compiled: CompiledSystem) -> None:
-        try:
-            import heyoka  # noqa: F401
-        except ImportError:
-            raise MissingDependencyError("method 'taylor'", "heyoka", "taylor") from None
+        HeyokaTarget().check()
         if compiled.has_constraints:
             raise ModelError("method 'taylor' does not handle constraints: use dop853 or radau")
         if compiled.forms is None:
@@ -192,58 +190,10 @@ def _integrator(compiled: CompiledSystem, tol: float):
 def _build(compiled: CompiledSystem, tol: float):
     import heyoka as hy
 
-    forms = compiled.forms
-    n = forms.n
-    q = [hy.make_vars(f"q{i}") for i in range(n)]
-    v = [hy.make_vars(f"v{i}") for i in range(n)]
-    replace = {forms.time: hy.time}
-    replace |= dict(zip(forms.coordinates, q, strict=True))
-    replace |= dict(zip(forms.velocities, v, strict=True))
-    replace |= {symbol: hy.par[j] for j, symbol in enumerate(forms.parameters)}
-    mass, forcing = forms.mass_matrix, forms.forcing
-    try:
-        matrix = [[_from_sympy(mass[i, j], replace) for j in range(n)] for i in range(n)]
-        force = [_from_sympy(forcing[i, 0], replace) for i in range(n)]
-    except (TypeError, ValueError) as error:
-        raise ModelError(f"method 'taylor' cannot express the equations: {error}") from None
-    accelerations = eliminated(matrix, force)
-    ode = [(q[i], v[i]) for i in range(n)] + [(v[i], accelerations[i]) for i in range(n)]
-    state = np.zeros(2 * n)
-    parameters = np.zeros(len(forms.parameters))
+    ode = HeyokaTarget().load(compiled.program)
+    n = compiled.n
+    state, parameters = np.zeros(2 * n), np.zeros(len(compiled.program.forms.parameters))
     return hy.taylor_adaptive(ode, state, tol=tol, pars=parameters, compact_mode=n > 2)
-
-
-def _from_sympy(expression, replace: dict):
-    """heyoka's expression of a SymPy one; a rational heyoka cannot hold exactly (a
-    denominator that is not a power of 2, as in x/10) becomes the nearest double, as in
-    every other compiled form."""
-    import heyoka as hy
-    import sympy
-
-    inexact = {
-        number: sympy.Float(number, precision=53)
-        for number in expression.atoms(sympy.Rational)
-        if number.q & (number.q - 1)
-    }
-    return hy.from_sympy(expression.xreplace(inexact) if inexact else expression, replace)
-
-
-def eliminated(matrix: list, force: list) -> list:
-    """x with matrix x = force, as expressions: elimination without pivoting, back substitution."""
-    n = len(force)
-    for k in range(n):
-        for i in range(k + 1, n):
-            factor = matrix[i][k] / matrix[k][k]
-            for j in range(k + 1, n):
-                matrix[i][j] = matrix[i][j] - factor * matrix[k][j]
-            force[i] = force[i] - factor * force[k]
-    x = [None] * n
-    for i in range(n - 1, -1, -1):
-        total = force[i]
-        for j in range(i + 1, n):
-            total = total - matrix[i][j] * x[j]
-        x[i] = total / matrix[i][i]
-    return x
 
 
 def _tolerance(name: str, value: float) -> float:

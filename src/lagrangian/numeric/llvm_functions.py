@@ -16,7 +16,6 @@ reported by the NumPy function, as with the NumPy backend.
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 import threading
 from collections.abc import Callable
@@ -24,42 +23,19 @@ from typing import Any
 
 import numpy as np
 
-from ..algebra import to_symengine
-from ..codegen.forms import SymbolicForms
-from ..distributions import without_distributions
-from ..errors import MissingDependencyError
+from ..codegen.llvm import LLVMTarget
+from ..codegen.program import Program
 from .backends import solve_one
 from .compiled import CompiledSystem
 
 SCALARS = (float, int, np.float64)
 
 
-@functools.cache
-def llvm_available() -> bool:
-    """Whether SymEngine's Lambdify can compile with LLVM here."""
-    try:
-        import symengine as se
-
-        x = se.Symbol("x")
-        se.Lambdify([x], [x + 1], backend="llvm")
-    except (ImportError, RuntimeError, ValueError, TypeError):
-        return False
-    return True
-
-
-def check_llvm() -> None:
-    """A MissingDependencyError naming what is missing when SymEngine has no LLVM."""
-    if not llvm_available():
-        raise MissingDependencyError(
-            "backend 'llvm'", "SymEngine built with LLVM (the symengine wheels are)"
-        )
-
-
-def with_llvm_functions(forms: SymbolicForms, compiled: CompiledSystem) -> CompiledSystem:
+def with_llvm_functions(compiled: CompiledSystem) -> CompiledSystem:
     """``compiled`` (NumPy functions) with ``rhs`` and ``accelerations`` of one state from LLVM."""
     if compiled.has_constraints:
         return dataclasses.replace(compiled, backend="llvm")
-    kernel = _Kernel(forms)
+    kernel = _Kernel(compiled.program)
     functions = {
         "rhs": kernel.rhs_function(compiled.rhs),
         "accelerations": kernel.accelerations_function(compiled.accelerations),
@@ -70,10 +46,10 @@ def with_llvm_functions(forms: SymbolicForms, compiled: CompiledSystem) -> Compi
 class _Kernel:
     """M and f of one state as one LLVM function (made on first use, None where impossible)."""
 
-    def __init__(self, forms: SymbolicForms):
-        self._forms = forms
-        self._n = forms.n
-        self._p = len(forms.parameters)
+    def __init__(self, program: Program):
+        self._program = program
+        self._n = program.n
+        self._p = len(program.forms.parameters)
         self._built = False
         self._function = None
         self._lock = threading.Lock()
@@ -82,7 +58,7 @@ class _Kernel:
         if not self._built:
             with self._lock:
                 if not self._built:
-                    self._function = _compile(self._forms)
+                    self._function = LLVMTarget().load(self._program)
                     self._built = True
         return self._function
 
@@ -135,28 +111,6 @@ class _Kernel:
         return accelerations
 
 
-def _compile(forms: SymbolicForms):
-    """symengine.Lambdify of [M row by row, f] over [t, q, q', params], or None."""
-    import symengine as se
-
-    if not llvm_available():
-        return None
-    n = forms.n
-    cache: dict = {}
-    entries = [forms.mass_matrix[i, j] for i in range(n) for j in range(n)]
-    entries += [forms.forcing[i, 0] for i in range(n)]
-    converted = [to_symengine(without_distributions(entry), cache) for entry in entries]
-    arguments = (forms.time, *forms.coordinates, *forms.velocities, *forms.parameters)
-    symbols = [to_symengine(symbol, cache) for symbol in arguments]
-    if any(x is None for x in converted):
-        return None  # something SymEngine cannot hold: the NumPy functions answer
-    known = set(symbols)
-    if any(not (x.free_symbols <= known) for x in converted):
-        return None
-    try:
-        return se.Lambdify(symbols, converted, backend="llvm", cse=True)
-    except (RuntimeError, ValueError, TypeError, NotImplementedError):
-        return None
 
 
 def _solve(matrix: np.ndarray, force: np.ndarray) -> np.ndarray | None:

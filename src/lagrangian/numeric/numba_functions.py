@@ -2,7 +2,7 @@
 
 ``rhs``, ``accelerations``, ``mass_matrix``, ``forcing`` and ``energy`` of one
 state (``y`` of shape ``(2n,)``, ``params`` ``(P,)``, scalar ``t``) call the
-kernels of :mod:`lagrangian.numeric.numba_source`, generated from the same
+kernels of :mod:`lagrangian.codegen.numba`, generated from the same
 symbolic forms as the NumPy functions: M and f from common-subexpression-
 eliminated scalar code, q'' from M q'' = f by Gaussian elimination inside the
 kernel.  Everything else, and any batched call (a trailing batch axis), uses
@@ -14,7 +14,7 @@ result: inf or NaN, which the integrators report, or its singular-matrix error.
 
 Constrained systems keep the NumPy functions for now (a warning says so).
 numba is imported only when a numba function is first called with one state,
-or by :func:`check_numba` (``pip install ".[numba]"``).
+or by :meth:`~lagrangian.codegen.numba.NumbaTarget.check` (``pip install ".[numba]"``).
 """
 
 from __future__ import annotations
@@ -27,8 +27,9 @@ from typing import Any
 
 import numpy as np
 
-from ..codegen.forms import SymbolicForms
-from ..errors import LagrangianWarning, MissingDependencyError
+from ..codegen.numba import NumbaTarget
+from ..codegen.program import Program
+from ..errors import LagrangianWarning
 from .compiled import CompiledSystem
 
 #: The CompiledSystem fields the numba kernels provide, with their argument form.
@@ -42,16 +43,8 @@ SCALARS = (
 )  # types of t taken without a look at np.ndim  # the kernel returns a float
 
 
-def check_numba() -> None:
-    """A MissingDependencyError naming the extra to install when numba is missing."""
-    try:
-        import numba  # noqa: F401
-    except ImportError:
-        raise MissingDependencyError("backend 'numba'", "numba", "numba") from None
-
-
-def with_numba_functions(forms: SymbolicForms, compiled: CompiledSystem) -> CompiledSystem:
-    """``compiled`` (NumPy functions) with the numba kernels of ``forms`` put in.
+def with_numba_functions(compiled: CompiledSystem) -> CompiledSystem:
+    """``compiled`` (NumPy functions) with the numba kernels of its program put in.
 
     A constrained system keeps the NumPy functions (a warning says so).
     """
@@ -64,18 +57,18 @@ def with_numba_functions(forms: SymbolicForms, compiled: CompiledSystem) -> Comp
         return dataclasses.replace(compiled, backend="numba")
     names = (*STATE_FUNCTIONS, *SPLIT_FUNCTIONS)
     fallbacks = {name: getattr(compiled, name) for name in names}
-    functions = NumbaFunctions(forms, fallbacks).functions()
+    functions = NumbaFunctions(compiled.program, fallbacks).functions()
     return dataclasses.replace(compiled, backend="numba", **functions)
 
 
 class NumbaFunctions:
     """The jitted functions of one system, built on first use, with NumPy fallbacks."""
 
-    def __init__(self, forms: SymbolicForms, fallbacks: dict[str, Callable[..., Any]]):
-        self._forms = forms
+    def __init__(self, program: Program, fallbacks: dict[str, Callable[..., Any]]):
+        self._program = program
         self._fallbacks = fallbacks
-        self._n = forms.n
-        self._p = len(forms.parameters)
+        self._n = program.n
+        self._p = len(program.forms.parameters)
         self._module = None
         self._lock = threading.Lock()
 
@@ -84,10 +77,9 @@ class NumbaFunctions:
         if self._module is None:
             with self._lock:
                 if self._module is None:
-                    check_numba()
-                    from .numba_source import load_module
-
-                    self._module = load_module(self._forms)
+                    target = NumbaTarget()
+                    target.check()
+                    self._module = target.load(self._program)
         return self._module
 
     def functions(self) -> dict[str, Callable[..., Any]]:

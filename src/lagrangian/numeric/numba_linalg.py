@@ -1,6 +1,6 @@
 """The in-kernel linear solve of the numba code: M q'' = f by Gaussian elimination.
 
-Shared by the generated right-hand sides (:mod:`lagrangian.numeric.numba_source`)
+Shared by the generated right-hand sides (:mod:`lagrangian.codegen.numba`)
 and the ensemble loops (:mod:`lagrangian.ensemble.numba_loop`, which call
 :func:`eliminate` with n a constant, so that the loops unroll).  Partial pivoting
 keeps it stable for any nonsingular M (for unconstrained systems M is symmetric
