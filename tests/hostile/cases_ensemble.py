@@ -80,7 +80,7 @@ def _open_cache(folder):
     cache.chmod(0o777)  # anyone could plant a module or numba's pickled machine code here
 
 
-# the numba code cache (numeric.code_cache): a folder others may write is not used
+# the numba code cache (codegen.cache): a folder others may write is not used
 CASES += [
     HostileCase(
         "numba-cache-folder-writable-by-others-not-used",
