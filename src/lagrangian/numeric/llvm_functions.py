@@ -111,8 +111,6 @@ class _Kernel:
         return accelerations
 
 
-
-
 def _solve(matrix: np.ndarray, force: np.ndarray) -> np.ndarray | None:
     """q'' with M q'' = f; None where M is singular or the values are not finite."""
     result = solve_one(matrix, force)
