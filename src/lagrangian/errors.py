@@ -27,7 +27,7 @@ PYTHON_SPELLING: Mapping[str, str] = {
     "params": "params",
     "params=": "params={NAME: VALUE}",
     "definitions=": "definitions={NAME: EXPR}",
-    "grid": "initial/params arrays",
+    "grid": "grid axis",
     "at": "at",
     "at=": "at={NAME: VALUE}",
     "language": "language",

@@ -44,7 +44,7 @@ def test_a_fixed_step_run_of_too_many_steps_is_refused_with_its_estimate(pendulu
         "rk4 with dt = 1e-07 to t_end = 1000 (10,000,000,000 steps, every one kept) needs "
         f"about {expected:,.0f} GB of memory, more than the "
     )
-    assert str(error.value).endswith("GB available: give a larger --dt or a shorter --t-end")
+    assert str(error.value).endswith("GB available: give a larger dt or a shorter t_end")
 
 
 def test_the_estimate_counts_every_kept_step(pendulum, available):
@@ -76,7 +76,7 @@ def test_an_ensemble_too_large_is_refused_before_its_members_are_made(pendulum):
         "an ensemble of 10,000,000,000 members (1,000 steps) needs about "
     )
     assert str(error.value).endswith(
-        "GB available: use fewer members (fewer points per --grid), or fewer steps (a larger --dt)"
+        "GB available: use fewer members (fewer points per grid axis), or fewer steps (a larger dt)"
     )
 
 

@@ -74,12 +74,12 @@ def test_settings_that_do_not_apply_are_errors():
     with pytest.raises(ModelError) as error:
         simulate(compiled, t_end=1.0, method="dop853", dt=0.1)
     assert str(error.value) == (
-        "--dt does not apply to method 'dop853' (an adaptive method: give --rtol/--atol)"
+        "dt does not apply to method 'dop853' (an adaptive method: give rtol/atol)"
     )
     with pytest.raises(ModelError) as error:
         simulate(compiled, t_end=1.0, method="rk4", rtol=1e-6, atol=1e-8)
     assert str(error.value) == (
-        "--rtol and --atol does not apply to method 'rk4' (a fixed-step method: give --dt)"
+        "rtol and atol does not apply to method 'rk4' (a fixed-step method: give dt)"
     )
 
 

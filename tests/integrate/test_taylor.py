@@ -48,8 +48,8 @@ def test_what_taylor_does_not_handle_is_refused():
         ({"rtol": 0.0}, "rtol must be a finite number > 0"),
         ({"atol": 0.0}, "atol must be a finite number > 0"),
         ({"rtol": float("nan")}, "rtol must be a finite number > 0"),
-        ({"rtol": 1e-300}, r"below what taylor can deliver in double precision: give --rtol"),
-        ({"atol": 1e-17}, r"below what taylor can deliver in double precision: give --atol"),
+        ({"rtol": 1e-300}, r"below what taylor can deliver in double precision: give rtol"),
+        ({"atol": 1e-17}, r"below what taylor can deliver in double precision: give atol"),
     ],
 )
 def test_tolerances_it_cannot_use_are_refused(settings, match):

@@ -23,7 +23,7 @@ def test_unspecified_functions_without_definitions():
         compile_equations(charge())
     assert str(error.value) == (
         "functions V(x, y, z), A(x, y, z), B(x, y, z), C(x, y, z) are unspecified: "
-        "give a definition of each (CLI: --define NAME=EXPR)"
+        "give a definition of each (definitions={NAME: EXPR})"
     )
 
 
@@ -32,7 +32,7 @@ def test_one_unspecified_function():
     with pytest.raises(lg.ModelError) as error:
         compile_equations(charge(), definitions=definitions)
     assert str(error.value) == (
-        "function A(x, y, z) is unspecified: give a definition (CLI: --define NAME=EXPR)"
+        "function A(x, y, z) is unspecified: give a definition (definitions={NAME: EXPR})"
     )
 
 
