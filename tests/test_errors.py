@@ -57,7 +57,8 @@ def test_no_library_message_names_a_flag_of_the_command_line():
     from pathlib import Path
 
     source = Path(lg.__file__).parent
-    flag = re.compile(r"""["'][^"'\n]*\s--(set|dt|rtol|atol|t-end|timeout|define|grid|at)\b""")
+    flags = "set|dt|rtol|atol|t-end|timeout|define|grid|at|to|out|backend|method|output"
+    flag = re.compile(rf"""["'](?:[^"'\n]*\s)?--({flags})\b""")
     found = [
         f"{path.relative_to(source)}:{number}"
         for path in source.rglob("*.py")

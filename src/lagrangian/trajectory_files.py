@@ -48,7 +48,7 @@ def read_netcdf(path: str | os.PathLike) -> xarray.Dataset:
     with open(path, "rb") as stream:
         magic = stream.read(8)
     if magic == _HDF5_MAGIC:
-        raise FileError(path, "is netCDF-4 (HDF5); trajectories are netCDF-3 (simulate --out)")
+        raise FileError(path, "is netCDF-4 (HDF5); lagrangian writes trajectories as netCDF-3")
     if magic[:4] not in _NETCDF3_MAGIC:
         raise FileError(path, "is not a netCDF file")
     try:

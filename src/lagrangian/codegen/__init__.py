@@ -34,7 +34,8 @@ element) and ``standalone`` (its text is a file a user keeps); ``check()`` raise
 :class:`~lagrangian.errors.MissingDependencyError` when its package is missing;
 ``render(program, name) -> str`` is its text.  :class:`AbstractLoadedTarget` adds
 ``load(program)``: the code as objects this process runs (numba's module, SymEngine's LLVM
-function, heyoka's ODE).  The export languages (``export --to``) are the standalone targets.
+function, heyoka's ODE).  The export languages (:data:`lagrangian.export.LANGUAGES`) are
+the standalone targets.
 
 Adding a target: write one module here with one :class:`AbstractTarget` subclass (see
 ``javascript.py``: about 150 lines, tested against our rhs through node), and add its
@@ -46,6 +47,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from types import MappingProxyType
 
+from .c_file import CTarget
 from .heyoka import HeyokaTarget
 from .javascript import JavaScriptTarget
 from .julia import JuliaTarget
@@ -57,11 +59,12 @@ from .program import Program, Quantity, Routine, program
 from .target import AbstractLoadedTarget, AbstractTarget
 
 #: Target name -> class: every language and backend code is generated for.  A new target
-#: is one module and one line here.  (The C writer joins when it moves into codegen.c.)
+#: is one module and one line here.
 TARGETS: Mapping[str, type[AbstractTarget]] = MappingProxyType(
     {
         target.name: target
         for target in (
+            CTarget,
             HeyokaTarget,
             JavaScriptTarget,
             JuliaTarget,

@@ -19,7 +19,7 @@ from pathlib import Path
 import sympy
 from sympy.printing.octave import OctaveCodePrinter, known_fcns_src1, known_fcns_src2
 
-from ..errors import ModelError
+from ..errors import ModelError, setting
 from .comments import MATLAB_COMMENT, commented
 from .header import header_lines
 from .literals import FloatLiterals
@@ -76,7 +76,7 @@ class MatlabTarget(AbstractTarget, name="matlab", language="MATLAB", suffix=".m"
             raise ModelError(
                 f"a MATLAB function file needs a name that is an identifier (its function is "
                 f"called by it), not {path.stem!r}",
-                field="--out",
+                field=setting("path"),
             )
         _check_function_name(path.stem, called=BUILTINS | OWN_FUNCTIONS)
 

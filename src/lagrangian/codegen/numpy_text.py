@@ -17,7 +17,7 @@ from pathlib import Path
 import sympy
 from sympy.printing.numpy import NumPyPrinter
 
-from ..errors import ModelError
+from ..errors import ModelError, setting
 from .comments import PYTHON_COMMENT, commented
 from .header import header_lines
 from .literals import FloatLiterals
@@ -55,13 +55,13 @@ class NumPyTextTarget(
             raise ModelError(
                 f"a Python module needs a name that is an identifier and not a keyword "
                 f"(import NAME), not {stem!r}",
-                field="--out",
+                field=setting("path"),
             )
         if stem in SHADOWED:
             raise ModelError(
                 f"a module named {stem!r} would be imported instead of Python's {stem!r} "
                 f"(which the file and NumPy import): choose another name",
-                field="--out",
+                field=setting("path"),
             )
 
     def render(self, program: Program, name: str) -> str:

@@ -27,15 +27,13 @@ from types import MappingProxyType
 from ..codegen import TARGETS, AbstractTarget, Program, program
 from ..codegen.forms import DEFAULT_BAUMGARTE
 from ..derive import derive
-from ..errors import ModelError
+from ..errors import ModelError, setting
 from ..model import System
-from .c_code import CWriter
 
 #: ``--to`` name -> target class: the targets of :data:`lagrangian.codegen.TARGETS` that
-#: render a self-contained file, and C (its writer joins ``TARGETS`` when it moves into
-#: ``codegen``, beside the one C printer).
+#: render a self-contained file.
 LANGUAGES: Mapping[str, type[AbstractTarget]] = MappingProxyType(
-    {"c": CWriter} | {name: target for name, target in TARGETS.items() if target.standalone}
+    {name: target for name, target in TARGETS.items() if target.standalone}
 )
 
 #: The name a MATLAB file gets when no output file names it.
@@ -60,7 +58,9 @@ def export_code(
     target_class = LANGUAGES.get(language)
     if target_class is None:
         known = ", ".join(LANGUAGES)
-        raise ModelError(f"unknown language {language!r} (languages: {known})", field="--to")
+        raise ModelError(
+            f"unknown language {language!r} (languages: {known})", field=setting("language")
+        )
     eom = derive(system) if isinstance(system, System) else system
     made = program(eom, definitions=definitions, baumgarte=baumgarte)
     target = target_class()

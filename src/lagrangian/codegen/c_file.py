@@ -18,22 +18,19 @@ from __future__ import annotations
 
 import sympy
 
-from ..codegen.c import CPrinter, gaussian_elimination
-from ..codegen.comments import C_COMMENT, commented
-from ..codegen.header import header_lines
-from ..codegen.program import Program, Routine
-from ..codegen.target import AbstractTarget
+from .c import CPrinter, gaussian_elimination
+from .comments import C_COMMENT, commented
+from .header import header_lines
+from .program import Program, Routine
+from .target import AbstractTarget
 
 _ARGUMENTS = "double t, const double *y, const double *params, const double *u"
 
 
-class CWriter(AbstractTarget):
+class CTarget(AbstractTarget, name="c", language="C", suffix=".c", base=0):
     """The C99 file (see the module docstring)."""
 
-    language = "C"
-    suffix = ".c"
     comment = " *"
-    base = 0
 
     def __init__(self) -> None:
         self._printer = CPrinter()
