@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING
 import click
 import numpy as np
 
-from ..ensemble.core import BACKENDS, METHODS, PRECISIONS
+from ..ensemble.choices import BACKENDS, METHODS, PRECISIONS
 from .app import (
     MODEL_HELP,
     _assignments,

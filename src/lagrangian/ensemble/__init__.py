@@ -10,10 +10,28 @@ and optional paths).  :func:`ensemble_of_system` does the same from a
 
 from __future__ import annotations
 
-from .core import BACKENDS, DEFAULT_CHUNK_SIZE, METHODS, run_ensemble
-from .observables import OBSERVABLES, Observable, observable_names
-from .result import EnsembleTrajectory
-from .system import ensemble_of_system
+import importlib
+
+from .choices import BACKENDS, METHODS
+
+#: Public name -> the module that defines it, imported on first use: the runner brings
+#: xarray and the integrators, which the command line does not need to list its choices.
+_LAZY = {
+    "DEFAULT_CHUNK_SIZE": ".core",
+    "run_ensemble": ".core",
+    "OBSERVABLES": ".observables",
+    "Observable": ".observables",
+    "observable_names": ".observables",
+    "EnsembleTrajectory": ".result",
+    "ensemble_of_system": ".system",
+}
+
+
+def __getattr__(name: str) -> object:
+    if name not in _LAZY:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    return getattr(importlib.import_module(_LAZY[name], __name__), name)
+
 
 __all__ = [
     "BACKENDS",

@@ -43,6 +43,7 @@ from ..integrate.base import check_time_span
 from ..integrate.fixed_step import AbstractFixedStepIntegrator, step_grid
 from ..integrate.memory import check_fits, count_text, step_count
 from ..integrate.step_size import fixed_step_for
+from .choices import BACKENDS, METHODS, PRECISIONS
 from .members import Members, members
 from .numpy_backend import integrate_chunk
 from .observables import observable_names
@@ -51,9 +52,6 @@ from .result import EnsembleTrajectory
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
 
-BACKENDS = ("numpy", "numba", "jax", "cuda", "dask")
-METHODS = ("rk4", "variational")
-PRECISIONS = ("float64", "float32")
 #: Members integrated together; memory per chunk is a few dozen (2n)-vectors per member.
 DEFAULT_CHUNK_SIZE = 65_536
 #: A GPU needs far more members at once than a CPU to be busy.

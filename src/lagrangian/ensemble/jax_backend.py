@@ -46,13 +46,13 @@ from ..errors import MissingDependencyError, ModelError
 from ..integrate.explicit_rk import AbstractExplicitRungeKutta
 from ..integrate.fixed_step import step_grid
 from ..integrate.variational import ROUNDING_FLOOR, STALL_RATIO, Variational
+from .choices import PRECISIONS
 from .observables import finish
 
 if TYPE_CHECKING:
     from ..integrate.fixed_step import AbstractFixedStepIntegrator
     from ..numeric.compiled import CompiledSystem
 
-PRECISIONS = ("float64", "float32")
 #: Linear solves up to this size are unrolled Gaussian elimination (see _solve).
 UNROLLED_SOLVE = 8
 
