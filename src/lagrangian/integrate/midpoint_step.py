@@ -14,12 +14,8 @@ each with its common subexpressions eliminated:
 - backends ``numpy`` and ``llvm``: :func:`sympy.lambdify` of the same entries over
   Python floats (``math`` functions), whose values are copied into the arrays.
 
-The step itself (first guess, Newton on the midpoint velocity with the convergence
-test of ``Variational._midpoint``, then the velocity from the momenta) is the
-program of :mod:`lagrangian.codegen.steps` that the numba ensemble loop and the
-CUDA kernel print too: jitted with the numba fillers (:mod:`.numba_midpoint`), run
-by the interpreter over the lambdified ones (the solves by
-:func:`~lagrangian.numeric.backends.solve_one`).  A filler that fails on a value (a
+The iteration, its first guess and its convergence test are the batch step's
+(``Variational._midpoint``) for one element.  A filler that fails on a value (a
 division by zero, a logarithm of a negative number) raises :class:`Unavailable`,
 and the caller takes the step with the NumPy functions, whose inf or NaN the
 driver reports.  Systems whose entries cannot be printed for ``math`` (a declared
@@ -50,6 +46,7 @@ class Newton(NamedTuple):
 
     tol: float
     floor: float  # ROUNDING_FLOOR
+    stall: float  # STALL_RATIO
     iterations: int
 
 
@@ -59,9 +56,9 @@ class Unavailable(Exception):
 
 class MidpointFunctions:
     """The four fillers of one system (see the module), each ``f(t, z, p, [h], *outputs)``,
-    and the whole step, with the signature of :func:`.numba_midpoint.step`."""
+    and with backend numba the whole step, jitted (:mod:`.numba_midpoint`), else None."""
 
-    def __init__(self, n: int, fillers: dict, step):
+    def __init__(self, n: int, fillers: dict, step=None):
         self.n = n
         self.step = step
         self.momenta_force = fillers["momenta_force"]
@@ -96,49 +93,14 @@ def _build(compiled: CompiledSystem) -> MidpointFunctions | None:
             )
             fillers = {name: _guarded(getattr(module, name)) for name in _FILLERS}
             return MidpointFunctions(forms.n, fillers, _numba_step(forms.n, module))
-        fillers = {
-            name: _lambdified(forms, outputs, SCALARS.get(name, ())) for name, outputs in functions
-        }
+        else:
+            fillers = {
+                name: _lambdified(forms, outputs, SCALARS.get(name, ()))
+                for name, outputs in functions
+            }
     except (ModelError, NameError, TypeError, ValueError, KeyError):
         return None  # something the generated code cannot express: the NumPy step runs
-    return MidpointFunctions(forms.n, fillers, _python_step(forms.n, fillers))
-
-
-def _python_step(n: int, fillers: dict) -> object:
-    """The step of :mod:`.numba_midpoint` run by the interpreter: the same printed program
-    (:mod:`lagrangian.codegen.steps`) over the lambdified ``fillers``, solving by
-    :func:`~lagrangian.numeric.backends.solve_one`."""
-    from ..codegen.steps import NumbaStepPrinter, scheme_program
-    from .variational import STALL_RATIO  # imported when first built: no import cycle
-
-    def eliminate(matrix, rhs, out, offset, size):
-        solution = solve_one(matrix, rhs)
-        if solution is None:
-            raise StepFailure("the Newton matrix (the mass matrix) is singular")
-        out[offset : offset + size] = solution
-
-    program = scheme_program("midpoint", n, stall=STALL_RATIO)
-    text = NumbaStepPrinter(n, counting=True).scheme(program)
-    namespace = {"np": np, "math": math, "njit": _interpreted, "eliminate": eliminate, **fillers}
-    exec(compile(text, "<lagrangian.codegen.steps midpoint>", "exec"), namespace)  # our own text
-    workspace, midpoint_step = namespace["midpoint_workspace"], namespace["midpoint_step"]
-
-    def step(t, h, y, p, kept, last, started, tol, floor, iterations, y_out, kept_out, last_out,
-             counts):  # fmt: skip
-        """As numba_midpoint.step: the state in, the step taken on copies, the state out."""
-        work = workspace()
-        work[0][:], work[1][:], work[2][0] = kept, last, 1.0 if started else 0.0
-        y_out[:] = y
-        failed = midpoint_step(t, h, y_out, p, work, tol, floor, iterations, counts)
-        kept_out[:], last_out[:] = work[0], work[1]
-        return failed
-
-    return step
-
-
-def _interpreted(*arguments, **options):
-    """numba.njit's decorator, as the identity: the printed functions run in Python."""
-    return lambda function: function
+    return MidpointFunctions(forms.n, fillers)
 
 
 def _numba_step(n: int, fillers) -> object:
@@ -221,6 +183,62 @@ def step_one(
     for one batch element, counted in ``work`` as there.
     """
     params = np.ascontiguousarray(params, dtype=float)
+    if functions.step is not None:
+        return _jitted(functions.step, t, h, y, p, last, params, work, newton)
+    n = functions.n
+    q, w = y[:n], y[n:]
+    v = w if last is None else 2 * w - last
+    tm = t + h / 2
+    reach = max(1.0, float(abs(q).max()))
+    z, momenta, force = np.empty(2 * n), np.empty(n), np.empty(n)
+    matrix = np.empty((n, n))
+    previous = np.inf
+    for iteration in range(newton.iterations + 1):
+        z[:n] = q + (h / 2) * v
+        z[n:] = v
+        functions.momenta_force(tm, z, params, momenta, force)
+        work.rhs_evaluations += 1
+        residual = momenta - (h / 2) * force - p
+        size, scale = _sizes(residual, p, momenta)
+        if _converged(size, previous, scale, reach, newton):
+            break
+        if iteration == newton.iterations:
+            raise StepFailure(
+                "Newton's method for the midpoint velocity did not converge in "
+                f"{newton.iterations} iterations (residual {size:.2e})"
+            )
+        previous = size
+        functions.jacobian(tm, z, params, h, matrix)
+        work.jacobian_evaluations += 1
+        work.newton_iterations += 1
+        v = v - _solved(matrix, residual)
+    p_new = p + h * force
+    q_new = q + h * v
+    # the velocity from the momenta, L_q'(q, q') = p_{k+1}: Newton with M, from v
+    z[:n] = q_new
+    z[n:] = v
+    reach = max(1.0, float(abs(q_new).max()))
+    previous = np.inf
+    for iteration in range(newton.iterations + 1):
+        functions.momenta(t + h, z, params, momenta)
+        work.rhs_evaluations += 1
+        residual = momenta - p_new
+        size, scale = _sizes(residual, p_new, momenta)
+        if _converged(size, previous, scale, reach, newton):
+            return np.concatenate([q_new, z[n:]]), p_new, v
+        if iteration == newton.iterations:
+            break
+        previous = size
+        functions.mass(t + h, z, params, matrix)
+        work.jacobian_evaluations += 1
+        z[n:] -= _solved(matrix, residual)
+    raise StepFailure(
+        f"the velocity for the momenta did not converge in {newton.iterations} iterations"
+    )
+
+
+def _jitted(step, t, h, y, p, last, params, work, newton):
+    """:func:`step_one` as one call of the numba step (:mod:`.numba_midpoint`)."""
     n = y.shape[0] // 2
     y = np.ascontiguousarray(y, dtype=float)
     started = last is not None
@@ -229,8 +247,8 @@ def step_one(
     counts = np.zeros(3, dtype=np.int64)
     options = (newton.tol, newton.floor, int(newton.iterations))
     try:
-        failed = functions.step(float(t), float(h), y, params, np.ascontiguousarray(p), last,
-                                started, *options, y_new, p_new, v_new, counts)  # fmt: skip
+        failed = step(float(t), float(h), y, params, np.ascontiguousarray(p), last, started,
+                      *options, y_new, p_new, v_new, counts)  # fmt: skip
     except (ZeroDivisionError, ValueError, OverflowError):
         raise Unavailable from None
     work.rhs_evaluations += int(counts[0])
@@ -246,3 +264,30 @@ def step_one(
             f"the velocity for the momenta did not converge in {newton.iterations} iterations"
         )
     return y_new, p_new, v_new
+
+
+def _converged(size: float, previous: float, scale: float, reach: float, newton: Newton) -> bool:
+    """``variational._converged`` for one state, on Python floats."""
+    if size <= newton.tol * scale or size == 0.0:
+        return True
+    return size >= newton.stall * previous and size <= newton.floor * scale * reach
+
+
+def _sizes(residual: np.ndarray, p: np.ndarray, momenta: np.ndarray) -> tuple[float, float]:
+    """max |residual| and the scale max(max |p|, max |momenta|), as Python floats
+    (a NaN anywhere makes the size NaN, as numpy's max, so a NaN never converges)."""
+    if residual.shape[0] > 4:
+        size = float(abs(residual).max())
+        return size, float(max(abs(p).max(), abs(momenta).max()))
+    values = residual.tolist()  # a few numbers: Python floats are faster than NumPy calls
+    size = max(map(abs, values))
+    if size != size or any(value != value for value in values):
+        size = math.nan  # max() keeps a NaN only where it comes first
+    return size, max(map(abs, p.tolist() + momenta.tolist()))
+
+
+def _solved(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    x = solve_one(matrix, rhs)
+    if x is None:
+        raise StepFailure("the Newton matrix (the mass matrix) is singular")
+    return x

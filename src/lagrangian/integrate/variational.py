@@ -136,7 +136,7 @@ class Variational(AbstractFixedStepIntegrator):
         if single and isinstance(state, _MidpointState) and np.ndim(params) == 1:
             functions = midpoint_functions(compiled)
             if functions is not None:
-                newton = Newton(self.newton_tol, ROUNDING_FLOOR, self.max_newton)
+                newton = Newton(self.newton_tol, ROUNDING_FLOOR, STALL_RATIO, self.max_newton)
                 momenta, last = state.momenta[:, 0], state.velocity
                 try:
                     y_new, p_new, v_new = step_one(
