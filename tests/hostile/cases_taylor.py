@@ -5,6 +5,7 @@ without a value at the start (every method)."""
 import importlib.util
 
 from hostile.case import HostileCase
+from hostile.cases_simulate import SQRT  # V = k sqrt(x): infinite force at x = 0, t = 1.8856
 
 # M = [[0, 1], [1, 0]]: indefinite, the first pivot is zero
 CROSS = """coordinates = ["x", "y"]
@@ -23,17 +24,6 @@ a = 1e-9
 x = 1.0
 """
 
-# V = k sqrt(x): from x = 1 at rest the force is infinite at x = 0, at t = 1.8856
-SQRT = """coordinates = ["x"]
-kinetic = "x_dot^2/2"
-potential = "k*sqrt(x)"
-[parameters]
-k = 1.0
-[initial]
-x = 1.0
-[simulate]
-t_end = 3.0
-"""
 
 ZERO_MASS = """coordinates = ["x"]
 lagrangian = "x_dot^2/(2*m) - x^2/2"
