@@ -9,6 +9,7 @@ live in ``tests/helpers.py`` (``import helpers``).
 from __future__ import annotations
 
 import random
+import shutil
 import sys
 import zlib
 from pathlib import Path
@@ -30,6 +31,15 @@ def _seed_random_generators(request: pytest.FixtureRequest) -> None:
     seed = _seed_of(request)
     random.seed(seed)
     np.random.seed(seed % 2**32)
+
+
+@pytest.fixture(scope="session")
+def compiler() -> str:
+    """The C compiler (cc or gcc); the test is skipped where there is none."""
+    found = shutil.which("cc") or shutil.which("gcc")
+    if found is None:
+        pytest.skip("no C compiler (cc or gcc) on this machine")
+    return found
 
 
 @pytest.fixture

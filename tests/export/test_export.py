@@ -95,14 +95,6 @@ def close(ours, theirs):
     return ours.shape == theirs.shape and np.abs(ours - theirs).max() <= RTOL * scale
 
 
-@pytest.fixture(scope="module")
-def compiler():
-    found = shutil.which("cc") or shutil.which("gcc")
-    if found is None:
-        pytest.skip("no C compiler (cc or gcc) on this machine")
-    return found
-
-
 def c_library(text, folder, compiler):
     source = folder / "model.c"
     source.write_text(text)

@@ -24,7 +24,7 @@ from lagrangian.errors import ModelError
 from lagrangian.export import export_code, write_code
 from lagrangian.numeric import compile_equations
 
-from .test_export import c_library, call_c, close, compiler, load_module  # noqa: F401
+from .test_export import c_library, call_c, close, load_module
 
 HOSTILE_TEXT = [
     "*/ int pwned(void) { return 3; } /*",
@@ -86,7 +86,7 @@ def test_the_header_is_one_comment(language):
         assert not any(sequence in line for line in header for sequence in breaking)
 
 
-def test_hostile_c_compiles_strictly_without_the_injected_function(compiler, tmp_path):  # noqa: F811
+def test_hostile_c_compiles_strictly_without_the_injected_function(compiler, tmp_path):
     system = oscillator(HOSTILE_TEXT[0], " ".join(HOSTILE_TEXT))
     lib = c_library(export_code(system, "c"), tmp_path, compiler)
     assert not hasattr(lib, "pwned")
@@ -130,7 +130,7 @@ HUGE = "k*x^2*(2^64 + 1)/2 + x*10^30 - x^3*10^30/(2^70 + 3) + x^2*(-922337203685
 
 
 @pytest.mark.parametrize("potential", [CONSTANTS, HUGE], ids=["constants", "huge-integers"])
-def test_c_compiles_as_c99_and_matches_our_rhs(potential, compiler, tmp_path, np_rng):  # noqa: F811
+def test_c_compiles_as_c99_and_matches_our_rhs(potential, compiler, tmp_path, np_rng):
     system = lg.System.from_lagrangian(f"m*x_dot^2/2 - ({potential})", coordinates=["x"])
     text = export_code(system, "c")
     assert not re.search(r"\bM_[A-Z0-9_]+", text)
