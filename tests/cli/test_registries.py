@@ -22,6 +22,13 @@ from lagrangian.numeric.compile import RUN_BACKENDS
 
 MODEL = "simple_pendulum"
 SHORT = ("--t-end", "0.3")
+#: Methods that run on an optional package (an extra CI does not install).
+METHOD_PACKAGES = {"taylor": "heyoka"}
+
+
+def _skip_without_package(method: str) -> None:
+    if method in METHOD_PACKAGES:
+        pytest.importorskip(METHOD_PACKAGES[method])
 
 
 def _choices(command: str, option: str) -> list[str]:
@@ -58,6 +65,7 @@ def _run(capsys, *argv) -> str:
 
 @pytest.mark.parametrize("method", sorted(METHODS))
 def test_every_method_simulates(capsys, method):
+    _skip_without_package(method)
     summary = json.loads(_run(capsys, "simulate", MODEL, *SHORT, "--method", method, "--json"))
     assert summary["method"] == method
 
@@ -65,6 +73,7 @@ def test_every_method_simulates(capsys, method):
 @pytest.mark.parametrize("method", sorted(METHODS))
 @pytest.mark.parametrize(("command", "suffix"), [("plot", ".png"), ("animate", ".html")])
 def test_every_method_plots_and_animates(capsys, tmp_path, method, command, suffix):
+    _skip_without_package(method)
     out = tmp_path / f"figure{suffix}"
     _run(capsys, command, MODEL, *SHORT, "--method", method, "--out", str(out))
     assert out.stat().st_size > 0
