@@ -32,6 +32,8 @@ PYTHON_SPELLING: Mapping[str, str] = {
     "at=": "at={NAME: VALUE}",
     "language": "language",
     "path": "path",
+    "n_out": "n_out",
+    "dt_out": "dt_out",
 }
 _SETTING = re.compile(r"\u27e6([a-z_=]+)\u27e7")
 

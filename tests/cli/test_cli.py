@@ -40,6 +40,20 @@ def test_examples_lists_the_ten_worked_examples(capsys):
     assert len(out.strip().splitlines()) == len(example_names())
 
 
+def test_examples_lists_from_the_files_what_the_built_models_say(capsys, monkeypatch):
+    # the listing reads each file's name and coordinates without building a model (fast);
+    # what it prints must still be what the built model says
+    import lagrangian.facade
+
+    monkeypatch.setattr(lagrangian.facade, "load", None)  # not called by the listing
+    status, out, _ = run(capsys, "examples")
+    monkeypatch.undo()
+    assert status == ExitStatus.SUCCESS
+    for line, name in zip(out.splitlines(), example_names(), strict=True):
+        system = lagrangian.facade.load(name)
+        assert line == f"{name:30s} {system.name}  ({', '.join(system.coordinate_names)})"
+
+
 def test_rotating_wire_prints_textbook_acceleration(capsys):
     status, out, _ = run(capsys, "derive", "rotating_wire_bead")
     assert status == ExitStatus.SUCCESS
@@ -105,3 +119,23 @@ def test_console_script_exit_codes(tmp_path):
     assert "bad.toml" in result.stderr and "lagrangian" in result.stderr
     assert len(result.stderr.strip().splitlines()) == 1
     assert result.stdout == ""
+
+
+def test_derive_takes_a_lagrangian_string(capsys):
+    text = "m*l^2*theta_dot^2/2 + m*g*l*cos(theta)"
+    status, out, _ = run(capsys, "derive", "--lagrangian", text, "--coordinates", "theta", "--json")
+    assert status == ExitStatus.SUCCESS
+    document = json.loads(out)
+    assert document["coordinates"] == ["theta"]
+    assert document["parameters"] == ["g", "l", "m"]
+    assert document["accelerations"] == {"theta": "-g*sin(theta)/l"}
+
+
+def test_analyze_and_simulate_take_a_lagrangian_string(capsys):
+    two = ("--lagrangian", "x_dot^2/2 + y_dot^2/2 - k*(x^2 + y^2)/2", "--coordinates", "x, y")
+    status, out, _ = run(capsys, "analyze", *two, "--json")
+    assert status == ExitStatus.SUCCESS
+    assert json.loads(out)["equilibria"][0]["omega_squared"] == ["k", "k"]
+    status, out, _ = run(capsys, "simulate", *two, "--set", "k=1", "--set", "x=1", "--json")
+    assert status == ExitStatus.SUCCESS
+    assert set(json.loads(out)["final_state"]) == {"x", "y", "x_dot", "y_dot"}

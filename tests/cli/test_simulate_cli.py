@@ -170,3 +170,21 @@ def test_a_singular_mass_matrix_on_the_way_is_one_line(capsys, tmp_path, method,
         "that state"
     ]
     assert not out_file.exists()
+
+
+@pytest.mark.parametrize(
+    ("sampling", "times"),
+    [
+        (("--samples", "5"), [0.0, 0.25, 0.5, 0.75, 1.0]),
+        (("--dt-out", "0.3"), [0.0, 0.3, 0.6, 0.9, 1.0]),  # and t_end: the last row
+        (("--dt-out", "0.25"), [0.0, 0.25, 0.5, 0.75, 1.0]),  # t_end once, not twice
+    ],
+)
+def test_output_sampling(capsys, tmp_path, sampling, times):
+    out = tmp_path / "run.csv"
+    argv = ("simulate", "simple_pendulum", "--t-end", "1", "--out", str(out), *sampling)
+    status, _, _ = run(capsys, *argv)
+    assert status == ExitStatus.SUCCESS
+    with out.open() as file:
+        rows = list(csv.DictReader(file))
+    assert [float(row["t"]) for row in rows] == pytest.approx(times, abs=1e-12)

@@ -132,3 +132,62 @@ CASES += [
         error=r"parameter M = -\S+ breaks the model's assumption that M is positive",
     ),
 ]
+
+# -- a Lagrangian on the command line: read by the safe parser, checked like a model file ----
+CASES += [
+    HostileCase(
+        "derive-lagrangian-evaluates-nothing",
+        ("derive", "--lagrangian", "__import__('os').system('true')", "--coordinates", "x"),
+        error=r"^lagrangian: error: --lagrangian: lagrangian: ",
+    ),
+    HostileCase(
+        "derive-lagrangian-without-coordinates",
+        ("derive", "--lagrangian", "x_dot**2/2"),
+        error=r"--lagrangian needs --coordinates, e.g. --coordinates theta$",
+    ),
+    HostileCase(
+        "derive-lagrangian-and-model",
+        ("derive", "simple_pendulum", "--lagrangian", "x_dot**2/2", "--coordinates", "x"),
+        error=r"give MODEL or --lagrangian, not both$",
+    ),
+    HostileCase(
+        "derive-coordinates-without-lagrangian",
+        ("derive", "simple_pendulum", "--coordinates", "x"),
+        error=r"--coordinates goes with --lagrangian$",
+    ),
+    HostileCase("derive-nothing", ("derive",), error=r"give MODEL .* or --lagrangian$"),
+    HostileCase(
+        "derive-lagrangian-bad-coordinate-name",
+        ("derive", "--lagrangian", "x_dot**2/2", "--coordinates", "x,1y"),
+        error=r"^lagrangian: error: --lagrangian: coordinates",
+    ),
+    HostileCase(
+        "simulate-lagrangian-needs-its-parameter-values",
+        ("simulate", "--lagrangian", "x_dot^2/2 - k*x^2/2", "--coordinates", "x", "--t-end", "1"),
+        error=r"no value for parameter\(s\) k \(give them with --set NAME=VALUE\)$",
+    ),
+]
+
+# -- output sampling of simulate ------------------------------------------------------------
+CASES += [
+    HostileCase(
+        "simulate-samples-one",
+        ("simulate", "simple_pendulum", "--samples", "1"),
+        error=r"--samples must be a whole number >= 2, not 1$",
+    ),
+    HostileCase(
+        "simulate-dt-out-nan",
+        ("simulate", "simple_pendulum", "--dt-out", "nan"),
+        error=r"--dt-out must be a time step > 0, not nan$",
+    ),
+    HostileCase(  # refused by the memory check, before 10^300 times are made
+        "simulate-dt-out-tiny",
+        ("simulate", "simple_pendulum", "--dt-out", "1e-300"),
+        error=r"output times needs about .* ask for fewer output times \(--samples, --dt-out",
+    ),
+    HostileCase(
+        "simulate-samples-and-dt-out",
+        ("simulate", "simple_pendulum", "--samples", "3", "--dt-out", "0.1"),
+        error=r"give --samples or --dt-out, not both$",
+    ),
+]

@@ -33,6 +33,8 @@ FLAGS = {
     "at=": "--at NAME=VALUE",
     "language": "--to",
     "path": "--out",
+    "n_out": "--samples",
+    "dt_out": "--dt-out",
 }
 
 
@@ -49,27 +51,62 @@ def app() -> None:
 @app.command()
 def examples() -> None:
     """List the built-in example models."""
-    from ..examples import example_names
-    from ..facade import load
+    from ..examples import example_names, example_title
 
     for name in example_names():
-        system = load(name)  # built, not just listed: a broken example shows up here
-        click.echo(f"{name:30s} {system.name}  ({', '.join(system.coordinate_names)})")
+        title, coordinates = example_title(name)
+        click.echo(f"{name:30s} {title}  ({', '.join(coordinates)})")
+
+
+def model_or_lagrangian(command):
+    """MODEL, or instead a Lagrangian written on the command line (read by :func:`_load`)."""
+    command = click.option(
+        "--coordinates",
+        metavar="NAMES",
+        help="The coordinates of --lagrangian, separated by commas, e.g. x,theta.",
+    )(command)
+    command = click.option(
+        "--lagrangian",
+        "lagrangian_text",
+        metavar="EXPR",
+        help="The Lagrangian instead of MODEL, e.g. 'm*l^2*theta_dot^2/2 + m*g*l*cos(theta)'; "
+        "every other name is a positive parameter.",
+    )(command)
+    return click.argument("model", required=False)(command)
+
+
+def _load(model: str | None, lagrangian_text: str | None, coordinates: str | None):
+    """The System of MODEL, or of --lagrangian with --coordinates (read by the safe parser)."""
+    from ..facade import System, load
+
+    if lagrangian_text is None:
+        if coordinates is not None:
+            raise click.UsageError("--coordinates goes with --lagrangian")
+        if model is None:
+            raise click.UsageError("give MODEL (a model file or example) or --lagrangian")
+        return load(model)
+    if model is not None:
+        raise click.UsageError("give MODEL or --lagrangian, not both")
+    names = [name.strip() for name in (coordinates or "").split(",") if name.strip()]
+    if not names:
+        raise click.UsageError("--lagrangian needs --coordinates, e.g. --coordinates theta")
+    return System.from_lagrangian(
+        lagrangian_text, coordinates=names, name="Lagrangian", source="--lagrangian"
+    )
 
 
 @app.command(epilog=MODEL_HELP)
-@click.argument("model")
+@model_or_lagrangian
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON document.")
 @click.option("--latex", "as_latex", is_flag=True, help="Print LaTeX.")
 @click.option("--steps", is_flag=True, help="Show the derivation step by step, as by hand.")
-def derive(model: str, as_json: bool, as_latex: bool, steps: bool) -> None:
+def derive(model, lagrangian_text, coordinates, as_json: bool, as_latex: bool, steps: bool) -> None:
     """Derive Lagrange's equations of motion of MODEL."""
     from .. import output
-    from ..facade import load
 
     if as_json and as_latex:
         raise click.UsageError("choose one of --json and --latex")
-    eom = load(model).equations_of_motion()
+    eom = _load(model, lagrangian_text, coordinates).equations_of_motion()
     if as_json:
         click.echo(json.dumps(output.derive_document(eom), indent=2, ensure_ascii=False))
     elif as_latex:
@@ -79,7 +116,7 @@ def derive(model: str, as_json: bool, as_latex: bool, steps: bool) -> None:
 
 
 @app.command(epilog=MODEL_HELP)
-@click.argument("model")
+@model_or_lagrangian
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON document.")
 @click.option("--latex", "as_latex", is_flag=True, help="Print LaTeX.")
 @click.option(
@@ -120,7 +157,9 @@ def derive(model: str, as_json: bool, as_latex: bool, steps: bool) -> None:
     help="A value of a cyclic momentum for the steady motions, e.g. p_phi=1.",
 )
 def analyze(
-    model: str,
+    model: str | None,
+    lagrangian_text: str | None,
+    coordinates: str | None,
     as_json: bool,
     as_latex: bool,
     timeout: float,
@@ -132,14 +171,13 @@ def analyze(
     """Conserved quantities, Hamiltonian, equilibria and small oscillations of MODEL
     (inputs held at 0); with --state-space also A, B, C, D."""
     from ..analysis import analyze as run_analysis
-    from ..facade import load
     from ..output.analysis import analysis_document, format_analysis, latex_analysis
 
     if as_json and as_latex:
         raise click.UsageError("choose one of --json and --latex")
     if (at or outputs) and not with_state_space:
         raise click.UsageError("--at and --output go with --state-space")
-    system = load(model)
+    system = _load(model, lagrangian_text, coordinates)
     linear = None
     if with_state_space:  # first: a bad --at fails before the long analysis
         from ..analysis.state_space import state_space
@@ -290,7 +328,7 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
 
 
 @app.command(epilog=MODEL_HELP)
-@click.argument("model")
+@model_or_lagrangian
 @click.option("--t-end", type=float, help="End time (default: the model's [simulate] t_end).")
 @click.option(
     "--method",
@@ -316,17 +354,39 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
     "in milliseconds; numba generates machine code, cached on disk (pip install numba).",
 )
 @click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.csv or FILE.nc.")
+@click.option(
+    "--samples",
+    type=int,
+    help="Rows of --out: N equally spaced times from 0 to t_end (default: every step).",
+)
+@click.option(
+    "--dt-out", type=float, help="Rows of --out: every DT from 0, and t_end (default: every step)."
+)
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON summary.")
 @timeout_option
 def simulate(
-    model, t_end, method, dt, rtol, atol, assignments, definitions, backend, out, as_json, timeout
+    model,
+    lagrangian_text,
+    coordinates,
+    t_end,
+    method,
+    dt,
+    rtol,
+    atol,
+    assignments,
+    definitions,
+    backend,
+    out,
+    samples,
+    dt_out,
+    as_json,
+    timeout,
 ) -> None:
     """Integrate the equations of motion of MODEL and report the final state and drifts."""
     from ..errors import LagrangianError
-    from ..facade import load
     from ..simulation import simulate_system
 
-    system = load(model)
+    system = _load(model, lagrangian_text, coordinates)
     if out is not None and not out.endswith((".csv", ".nc")):
         raise click.BadParameter("the output file must end in .csv or .nc", param_hint="--out")
     if out is not None:
@@ -346,6 +406,8 @@ def simulate(
             definitions=_definitions(definitions),
             backend=backend,
             timeout=timeout,
+            n_out=samples,
+            dt_out=dt_out,
         )
     if trajectory.status == "failed":
         message = trajectory.dataset.attrs.get("message", "")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import tomllib
 from importlib import resources
 from pathlib import Path
 
@@ -17,3 +18,13 @@ def example_path(name: str) -> Path | None:
     if name not in example_names():
         return None
     return Path(str(resources.files(__name__) / f"{name}.toml"))
+
+
+def example_title(name: str) -> tuple[str, tuple[str, ...]]:
+    """The title and coordinate names of the example ``name``, read from its file alone.
+
+    Listing the examples needs no model built (no SymPy): `lagrangian examples` stays a
+    fraction of a second.  Every example is built and derived by the test suite.
+    """
+    document = tomllib.loads((resources.files(__name__) / f"{name}.toml").read_text("utf-8"))
+    return str(document.get("name", name)), tuple(map(str, document.get("coordinates", ())))

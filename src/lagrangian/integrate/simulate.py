@@ -15,13 +15,14 @@ Defaults (all echoed in the trajectory's attributes): method ``dop853``
 ``variational`` dt from the motion's time scale (:mod:`.step_size`: a fixed
 fraction of its period, at most t_end / 1000; a given dt past the method's
 stability limit is refused, a coarse one warned about).  Outputs: ``t_eval`` if given, else
-``n_out`` equally spaced times from 0 to t_end, else every step of the
-method; the last output is the state at ``t_end`` (or where a terminal event
+``n_out`` equally spaced times from 0 to t_end, else every ``dt_out`` from 0 (and t_end),
+else every step of the method; the last output is the state at ``t_end`` (or where a terminal event
 or a failure stopped the run).
 """
 
 from __future__ import annotations
 
+import math
 import time
 from collections.abc import Callable, Mapping, Sequence
 from typing import TYPE_CHECKING
@@ -57,6 +58,7 @@ def simulate(
     events: Sequence[Event] = (),
     n_out: int | None = None,
     t_eval: Sequence[float] | np.ndarray | None = None,
+    dt_out: float | None = None,
     watch: Callable[[float], None] | None = None,
 ) -> Trajectory:
     """Integrate ``compiled`` from t = 0 to ``t_end``; see the module docstring.
@@ -86,8 +88,9 @@ def simulate(
         method, AbstractIntegrator
     ):  # the step from the motion's time scale, or a given one checked against it
         integrator = fixed_step_for(type(integrator), compiled, t_span, dt, y0, p)
-    _check_memory(integrator, t_span, 2 * compiled.n, n_out=n_out, t_eval=t_eval)
-    outputs = output_times(t_span, n_out=n_out, t_eval=t_eval)
+    requested = {"n_out": n_out, "t_eval": t_eval, "dt_out": dt_out}
+    _check_memory(integrator, t_span, 2 * compiled.n, output_count(t_span, **requested))
+    outputs = output_times(t_span, **requested)
     # Non-finite values are found and reported (integrate.guard): NumPy's warnings about
     # them would only repeat that, several lines long.
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -100,10 +103,9 @@ def simulate(
         return trajectory_of(compiled, result, p, parameters=values, wall_time=wall_time)
 
 
-def _check_memory(integrator, t_span, state_size, *, n_out, t_eval) -> None:
+def _check_memory(integrator, t_span, state_size, outputs: int) -> None:
     """Refuse, before anything is allocated, a run whose steps and outputs cannot fit."""
     steps = integrator.kept_steps(t_span)
-    outputs = len(t_eval) if t_eval is not None else (n_out or 0)
     settings = integrator.settings()
     if steps is not None:
         check_fits(
@@ -115,20 +117,45 @@ def _check_memory(integrator, t_span, state_size, *, n_out, t_eval) -> None:
     check_fits(
         run_bytes(state_size, 0, outputs),
         f"{count_text(outputs)} output times",
-        "ask for fewer output times (n_out, t_eval)",
+        f"ask for fewer output times ({setting('n_out')}, {setting('dt_out')}, t_eval)",
     )
 
 
-def output_times(
-    t_span: tuple[float, float], *, n_out: int | None = None, t_eval=None
-) -> np.ndarray | None:
-    """The requested output times (None: the method's steps); checked to lie in ``t_span``."""
-    if n_out is not None and t_eval is not None:
-        raise ModelError("give n_out or t_eval, not both")
+def output_count(
+    t_span: tuple[float, float], *, n_out: int | None = None, t_eval=None, dt_out=None
+) -> int:
+    """How many output times are asked for (0: the method's steps), found before any is
+    made: a tiny ``dt_out`` is refused by the memory check, not by an allocation."""
+    requested = {"n_out": n_out, "t_eval": t_eval, "dt_out": dt_out}
+    given = [name for name, value in requested.items() if value is not None]
+    if len(given) > 1:
+        raise ModelError(f"give {' or '.join(map(setting, given))}, not both")
     if n_out is not None:
-        if int(n_out) != n_out or n_out < 2:
-            raise ModelError(f"n_out must be a whole number >= 2, not {n_out!r}")
+        if not float(n_out).is_integer() or n_out < 2:
+            raise ModelError(f"{setting('n_out')} must be a whole number >= 2, not {n_out!r}")
+        return int(n_out)
+    if dt_out is not None:
+        if not (math.isfinite(dt_out) and dt_out > 0):
+            raise ModelError(f"{setting('dt_out')} must be a time step > 0, not {dt_out!r}")
+        return math.floor((t_span[1] - t_span[0]) / dt_out) + 2  # at most: t_end added
+    return 0 if t_eval is None else len(t_eval)
+
+
+def output_times(
+    t_span: tuple[float, float], *, n_out: int | None = None, t_eval=None, dt_out=None
+) -> np.ndarray | None:
+    """The requested output times (None: the method's steps); checked to lie in ``t_span``.
+
+    ``dt_out`` gives 0, dt_out, 2 dt_out, ... and t_end itself (the last row is always the
+    state at t_end), the last step shortened rather than a time within 1e-9 dt_out of it.
+    """
+    output_count(t_span, n_out=n_out, t_eval=t_eval, dt_out=dt_out)
+    if n_out is not None:
         return np.linspace(t_span[0], t_span[1], int(n_out))
+    if dt_out is not None:
+        times = t_span[0] + dt_out * np.arange(output_count(t_span, dt_out=dt_out) - 1)
+        times = times[times < t_span[1] - 1e-9 * dt_out]
+        return np.append(times, t_span[1])
     if t_eval is None:
         return None
     times = np.asarray(t_eval, dtype=float)
