@@ -58,7 +58,9 @@ def test_invariants_of_the_examples():
 
 CONSTANT_MASS = {
     "cartesian_pendulum",
+    "driven_damped_pendulum",
     "harmonic_oscillator",
+    "henon_heiles",
     "planar_particle_forces",
     "rolling_disc",
     "rotating_wire_bead",
@@ -68,7 +70,13 @@ CONSTANT_MASS = {
 }
 #: L = q'^T M q' / 2 - V(q), M constant, no forces: the bead's L = m (r'^2 + omega^2 r^2) / 2
 #: has no t once sin^2 + cos^2 = 1; the charge has velocity-linear terms.
-SEPARABLE = {"harmonic_oscillator", "rotating_wire_bead", "simple_pendulum", "vertical_spring"}
+SEPARABLE = {
+    "harmonic_oscillator",
+    "henon_heiles",
+    "rotating_wire_bead",
+    "simple_pendulum",
+    "vertical_spring",
+}
 
 
 @pytest.mark.parametrize("name", EXAMPLES)
