@@ -29,7 +29,14 @@ def chain(n: int) -> lg.System:
     )
 
 
-@pytest.mark.parametrize("make", [lambda: lg.load("double_pendulum"), lambda: chain(8)])
+@pytest.mark.parametrize(
+    "make",
+    [
+        lambda: lg.load("double_pendulum"),
+        lambda: chain(8),
+        lambda: lg.load("driven_damped_pendulum"),
+    ],
+)
 def test_rhs_equals_the_numpy_rhs_at_random_states(make):
     eom = make().equations_of_motion()
     ours, numpy = compile_equations(eom, backend="llvm"), compile_equations(eom)
@@ -44,6 +51,10 @@ def test_rhs_equals_the_numpy_rhs_at_random_states(make):
         np.testing.assert_allclose(
             ours.accelerations(t, q, v, params), numpy.accelerations(t, q, v, params), rtol=1e-12
         )
+        np.testing.assert_allclose(
+            ours.rhs_jacobian(t, y, params), numpy.rhs_jacobian(t, y, params), rtol=1e-10,
+            atol=1e-12,
+        )  # fmt: skip
     batch = rng.uniform(-2, 2, (2 * ours.n, 4))  # a batch: the NumPy function answers
     np.testing.assert_allclose(ours.rhs(0.0, batch, params), numpy.rhs(0.0, batch, params))
 

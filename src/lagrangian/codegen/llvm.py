@@ -7,6 +7,11 @@ seconds), or None where SymEngine cannot hold the equations (declared functions,
 floating-point numbers: see :func:`lagrangian.algebra.to_symengine`);
 :mod:`lagrangian.numeric.llvm_functions` solves M q'' = f with it.  ``render`` gives
 the entries as SymEngine reads them: LLVM's own code is not text.
+
+:func:`load_jacobian` gives the Jacobian of the same equations for the variational
+equations and implicit methods: G = d(f - M a)/d(q, q') over [t, q, q', a, params],
+a the accelerations as symbols, so that dq''/d(q, q') = M^-1 G at a = q'' (see
+:mod:`lagrangian.numeric.dynamics`): no solved accelerations are differentiated.
 """
 
 from __future__ import annotations
@@ -54,29 +59,52 @@ class LLVMTarget(
 
     def load(self, program: Program):
         """symengine.Lambdify of [M row by row, f] over [t, q, q', params], or None."""
-        import symengine as se
+        # None where SymEngine cannot hold the equations: the NumPy functions answer
+        return _lambdified(_converted(program))
 
-        if not llvm_available():
-            return None
-        converted = _converted(program)
-        if converted is None:
-            return None  # something SymEngine cannot hold: the NumPy functions answer
-        symbols, entries = converted
-        try:
-            return se.Lambdify(symbols, entries, backend="llvm", cse=True)
-        except (RuntimeError, ValueError, TypeError, NotImplementedError):
-            return None
+
+def load_jacobian(program: Program):
+    """symengine.Lambdify of G = d(f - M a)/d(q, q') row by row (n x 2n) over
+    [t, q, q', a, params], or None where SymEngine (or its LLVM) cannot hold it."""
+    import sympy
+
+    forms = program.forms
+    accelerations = sympy.Matrix(forms.accelerations)
+    residual = sympy.Matrix(forms.forcing) - forms.mass_matrix * accelerations
+    jacobian = residual.jacobian([*forms.coordinates, *forms.velocities])
+    arguments = (
+        forms.time, *forms.coordinates, *forms.velocities, *forms.accelerations, *forms.parameters
+    )  # fmt: skip
+    return _lambdified(_symengine(list(jacobian), arguments))
+
+
+def _lambdified(converted):
+    """symengine.Lambdify (LLVM) of (arguments, entries), or None where it cannot be made."""
+    if converted is None or not llvm_available():
+        return None
+    import symengine as se
+
+    symbols, entries = converted
+    try:
+        return se.Lambdify(symbols, entries, backend="llvm", cse=True)
+    except (RuntimeError, ValueError, TypeError, NotImplementedError):
+        return None
 
 
 def _converted(program: Program):
     """(arguments, [M row by row, f]) as SymEngine objects, or None where it cannot hold them."""
     forms = program.forms
     n = forms.n
-    cache: dict = {}
     entries = [forms.mass_matrix[i, j] for i in range(n) for j in range(n)]
     entries += [forms.forcing[i, 0] for i in range(n)]
-    converted = [to_symengine(without_distributions(entry), cache) for entry in entries]
     arguments = (forms.time, *forms.coordinates, *forms.velocities, *forms.parameters)
+    return _symengine(entries, arguments)
+
+
+def _symengine(entries, arguments):
+    """(arguments, entries) as SymEngine objects, or None where it cannot hold them."""
+    cache: dict = {}
+    converted = [to_symengine(without_distributions(entry), cache) for entry in entries]
     symbols = [to_symengine(symbol, cache) for symbol in arguments]
     if any(x is None for x in converted):
         return None

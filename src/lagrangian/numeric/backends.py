@@ -65,14 +65,16 @@ class ArrayBackend:
 
 
 def solve_one(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
-    """x with ``matrix x = rhs`` for one system, (n, n) and (n,); None where it is singular.
+    """x with ``matrix x = rhs`` for one system, (n, n) and (n,) or (n, k); None where it is
+    singular.
 
     The one solve of a single small system in Python (the compiled midpoint step of one
-    state, the llvm right-hand sides): the closed forms for n <= 2, LAPACK's LU solve
+    state, the llvm right-hand sides): the closed forms for n <= 2 and one right-hand side,
+    LAPACK's LU solve
     (``dgesv``, without numpy's wrapper: its call overhead is most of a small solve)
     beyond.
     """
-    n = rhs.shape[0]
+    n = rhs.shape[0] if rhs.ndim == 1 else 0  # several right-hand sides: LAPACK
     if n == 1:  # in Python floats: array operations on one or two numbers cost microseconds
         (a,), (f0,) = matrix[0].tolist(), rhs.tolist()
         return None if a == 0 else np.array([f0 / a])

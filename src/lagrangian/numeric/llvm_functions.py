@@ -1,9 +1,11 @@
 """The ``llvm`` backend: the right-hand side of one state as SymEngine's LLVM-compiled code.
 
-``rhs`` and ``accelerations`` of one state (``y`` of shape ``(2n,)``, ``params``
-``(P,)``, scalar ``t``) evaluate the entries of M and f of M q'' = f with
+``rhs``, ``accelerations`` and ``rhs_jacobian`` of one state (``y`` of shape
+``(2n,)``, ``params`` ``(P,)``, scalar ``t``) evaluate the entries of M and f of M q'' = f with
 :class:`symengine.Lambdify` (``backend="llvm"``, common subexpressions
-eliminated), then solve M q'' = f (closed forms up to n = 2, else LAPACK's ``dgesv``).  The
+eliminated), then solve M q'' = f (closed forms up to n = 2, else LAPACK's ``dgesv``);
+the Jacobian solves M X = G for G = d(f - M a)/d(q, q') at a = q''
+(:func:`lagrangian.codegen.llvm.load_jacobian`, a second function).  The
 code is made on the first call, in milliseconds (a 10-link chain: about 0.05 s,
 where numba compiles for seconds), which is why a single run starts fastest here.
 Everything else, any batched call and any system whose equations SymEngine cannot
@@ -23,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from ..codegen.llvm import LLVMTarget
+from ..codegen.llvm import LLVMTarget, load_jacobian
 from ..codegen.program import Program
 from .backends import solve_one
 from .compiled import CompiledSystem
@@ -39,6 +41,7 @@ def with_llvm_functions(compiled: CompiledSystem) -> CompiledSystem:
     functions = {
         "rhs": kernel.rhs_function(compiled.rhs),
         "accelerations": kernel.accelerations_function(compiled.accelerations),
+        "rhs_jacobian": kernel.jacobian_function(compiled.rhs_jacobian),
     }
     return dataclasses.replace(compiled, backend="llvm", **functions)
 
@@ -50,17 +53,23 @@ class _Kernel:
         self._program = program
         self._n = program.n
         self._p = len(program.forms.parameters)
-        self._built = False
-        self._function = None
+        self._built: dict[str, object] = {}
         self._lock = threading.Lock()
 
-    def function(self):
-        if not self._built:
+    def _loaded(self, name: str, load: Callable[[Program], Any]):
+        if name not in self._built:
             with self._lock:
-                if not self._built:
-                    self._function = LLVMTarget().load(self._program)
-                    self._built = True
-        return self._function
+                if name not in self._built:
+                    self._built[name] = load(self._program)
+        return self._built[name]
+
+    def function(self):
+        """[M, f] over [t, q, q', params] (None where LLVM cannot hold it)."""
+        return self._loaded("blocks", LLVMTarget().load)
+
+    def jacobian(self):
+        """G = d(f - M a)/d(q, q') over [t, q, q', a, params] (None where LLVM cannot)."""
+        return self._loaded("jacobian", load_jacobian)
 
     def _evaluate(self, t: Any, y: np.ndarray, params: np.ndarray):
         """(M, f) at one state, or None where the LLVM code is not there or not usable."""
@@ -109,6 +118,28 @@ class _Kernel:
             return fallback(t, q, v, params) if result is None else result
 
         return accelerations
+
+    def jacobian_function(self, fallback: Callable[..., Any]) -> Callable[..., Any]:
+        n = self._n
+        upper = np.hstack((np.zeros((n, n)), np.eye(n)))
+
+        def rhs_jacobian(t: Any, y: Any, params: Any) -> Any:
+            one = self._one_state(t, y, params)
+            parts = None if one is None else self._evaluate(t, *one)
+            accelerations = None if parts is None else _solve(*parts)
+            function = None if accelerations is None else self.jacobian()
+            if function is None:
+                return fallback(t, y, params)
+            y, params = one
+            values = np.concatenate(((float(t),), y, accelerations, params))
+            derivative = np.empty(2 * n * n)
+            function.unsafe_real(values, derivative)
+            lower = solve_one(parts[0], derivative.reshape(n, 2 * n))
+            if lower is None or not math.isfinite(lower.sum()):
+                return fallback(t, y, params)
+            return np.vstack((upper, lower))
+
+        return rhs_jacobian
 
 
 def _solve(matrix: np.ndarray, force: np.ndarray) -> np.ndarray | None:
