@@ -123,6 +123,18 @@ class System(ModelSystem):
 
         return ensemble_of_system(self, **options)
 
+    def lyapunov(self, **options: object):
+        """Lyapunov exponents along one motion -> :class:`~lagrangian.integrate.lyapunov.
+        LyapunovSpectrum` (``.exponents``, ``.history``, ``.plot()``).
+
+        Options: t_end, count (default: all 2n), transient, interval (of the QR
+        re-orthonormalisation), rtol, atol, initial, params, backend, timeout (see
+        :func:`lagrangian.simulation.lyapunov_of_system`).
+        """
+        from .simulation import lyapunov_of_system
+
+        return lyapunov_of_system(self, **options)
+
     def animate(self, path=None, *, trajectory=None, **options: object):
         """The mechanism in motion (default: a run with the model's simulate settings)."""
         from .output.animation import animate
@@ -177,6 +189,13 @@ def _trajectory_html(self: Trajectory) -> str:
     return trajectory_html(self)
 
 
+def _plot_lyapunov(self):
+    """A matplotlib Figure: the running estimates of the exponents against time."""
+    from .output.lyapunov import plot_lyapunov
+
+    return plot_lyapunov(self)
+
+
 def _equations_latex(self) -> str:
     from .output.latex import latex_equations
 
@@ -205,10 +224,12 @@ def _add_display_methods() -> None:
     from .analysis.hamiltonian import Hamiltonian
     from .analysis.report import Analysis
     from .analysis.state_space import StateSpace
+    from .integrate.lyapunov import LyapunovSpectrum
 
     Trajectory.plot = _plot
     Trajectory.animate = _animate
     Trajectory._repr_html_ = _trajectory_html
+    LyapunovSpectrum.plot = _plot_lyapunov
     EquationsOfMotion._repr_latex_ = _equations_latex
     Hamiltonian._repr_latex_ = _hamiltonian_latex
     Analysis._repr_latex_ = _report_latex

@@ -12,6 +12,7 @@ from collections.abc import Callable, Mapping
 from .derive import derive
 from .errors import ModelError, setting
 from .integrate import method_class, simulate
+from .integrate.lyapunov import DEFAULT_INTERVAL, LyapunovSpectrum, lyapunov_spectrum
 from .integrate.pace import RUN_SECONDS, RunPace, watching
 from .integrate.simulate import DEFAULT_METHOD
 from .model import System
@@ -21,6 +22,31 @@ from .trajectory import Trajectory
 
 #: Used when neither the caller nor the model gives an end time.
 DEFAULT_T_END = 10.0
+
+
+def split_assignments(
+    system: System,
+    assignments: Mapping[str, float] | None,
+    initial: Mapping[str, float] | None = None,
+    params: Mapping[str, float] | None = None,
+) -> tuple[dict[str, float], dict[str, float]]:
+    """(initial, params) with the NAME=VALUE ``assignments`` put where their names belong,
+    the parameter values checked (before the derivation: a bad value fails at once)."""
+    initial = dict(initial or {})
+    params = dict(params or {})
+    state_names = set(system.coordinate_names) | {f"{c}_dot" for c in system.coordinate_names}
+    for name, value in (assignments or {}).items():
+        if name in system.parameter_names:
+            params[name] = value
+        elif name in state_names:
+            initial[name] = value
+        else:
+            raise ModelError(
+                f"'{name}' is neither a parameter nor a coordinate or velocity",
+                field=setting("params"),
+            )
+    check_parameter_values(system, params)
+    return initial, params
 
 
 def simulate_system(
@@ -51,20 +77,7 @@ def simulate_system(
     take longer ends with :class:`~lagrangian.integrate.pace.RunTooLong` as soon as
     its pace shows it (:mod:`lagrangian.integrate.pace`)."""
     settings = dict(system.simulate_settings)
-    initial = dict(initial or {})
-    params = dict(params or {})
-    state_names = set(system.coordinate_names) | {f"{c}_dot" for c in system.coordinate_names}
-    for name, value in (assignments or {}).items():
-        if name in system.parameter_names:
-            params[name] = value
-        elif name in state_names:
-            initial[name] = value
-        else:
-            raise ModelError(
-                f"'{name}' is neither a parameter nor a coordinate or velocity",
-                field=setting("params"),
-            )
-    check_parameter_values(system, params)  # before the derivation: a bad value fails at once
+    initial, params = split_assignments(system, assignments, initial, params)
     method = method or settings.get("method") or DEFAULT_METHOD
     # The model's defaults apply where they fit the method; the caller's settings always
     # go through, so a misfit (--dt for an adaptive method) is reported, not ignored.
@@ -82,17 +95,59 @@ def simulate_system(
         "atol": atol,
     }
     chosen = {key: value for key, value in chosen.items() if value is not None}
-    t_final = float(chosen["t_end"])
+    compiled, watch = _compiled_run(
+        system, float(chosen["t_end"]), backend, definitions, progress, timeout
+    )
+    return simulate(compiled, initial=initial, params=params, watch=watch, **chosen, **options)
+
+
+def _compiled_run(
+    system: System,
+    t_final: float,
+    backend: str | None,
+    definitions: Mapping[str, str] | None,
+    progress: Callable[[float], None] | None,
+    timeout: float | None,
+):
+    """(the compiled equations, the watch of a run from 0 to ``t_final``: its pace and
+    progress)."""
     pace = None if timeout is None else RunPace((0.0, t_final), timeout)
     share = None if progress is None else (lambda t: progress(min(1.0, t / t_final)))
     compiled = compile_equations(
         derive(system), backend=backend or default_backend(), definitions=definitions
     )
-    return simulate(
-        compiled,
-        initial=initial,
-        params=params,
-        watch=watching(pace, share),
-        **chosen,
-        **options,
-    )
+    return compiled, watching(pace, share)
+
+
+def lyapunov_of_system(
+    system: System,
+    *,
+    t_end: float | None = None,
+    count: int | None = None,
+    transient: float = 0.0,
+    interval: float | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    initial: Mapping[str, float] | None = None,
+    params: Mapping[str, float] | None = None,
+    assignments: Mapping[str, float] | None = None,
+    progress: Callable[[float], None] | None = None,
+    definitions: Mapping[str, str] | None = None,
+    backend: str | None = None,
+    timeout: float | None = RUN_SECONDS,  # the settings as for simulate_system
+) -> LyapunovSpectrum:
+    """The ``count`` largest Lyapunov exponents of ``system`` (all 2n by default) along the
+    motion from its initial state, averaged over ``t_end`` (default: the model's t_end)
+    after ``transient``; see :mod:`lagrangian.integrate.lyapunov`.  ``assignments``,
+    ``progress``, ``definitions``, ``backend`` and ``timeout`` as for
+    :func:`simulate_system`."""
+    initial, params = split_assignments(system, assignments, initial, params)
+    if t_end is None:
+        t_end = system.simulate_settings.get("t_end", DEFAULT_T_END)
+    total = float(transient) + float(t_end)
+    compiled, watch = _compiled_run(system, total, backend, definitions, progress, timeout)
+    interval = DEFAULT_INTERVAL if interval is None else interval
+    return lyapunov_spectrum(
+        compiled, t_end=t_end, count=count, initial=initial, params=params,
+        transient=transient, interval=interval, rtol=rtol, atol=atol, watch=watch,
+    )  # fmt: skip

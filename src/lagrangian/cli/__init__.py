@@ -5,7 +5,7 @@
 (one line on stderr naming the problem), 1 on an internal error.
 
 :mod:`.app` holds the click group, its shared options and the core commands;
-:mod:`.ensemble`, :mod:`.export` and :mod:`.visual` add theirs to it when they are
+:mod:`.chaos`, :mod:`.ensemble`, :mod:`.export` and :mod:`.visual` add theirs to it when they are
 imported, here (never the other way round: ``lint-imports`` checks it).
 """
 
@@ -21,7 +21,7 @@ import click
 
 from ..budget import OutOfTime
 from ..errors import LagrangianError, LagrangianWarning, Spelled
-from . import ensemble, export, visual  # noqa: F401  (each registers its commands on app)
+from . import chaos, ensemble, export, visual  # noqa: F401  (each registers its commands on app)
 from .app import FLAGS, app
 
 

@@ -1,0 +1,227 @@
+"""Lyapunov exponents: the mean exponential rates at which nearby motions separate.
+
+Along a motion y(t) of y' = F(t, y), a small displacement w obeys the variational
+equations w' = J(t, y) w, J = dF/dy the Jacobian of the flow.  Here J is
+``compiled.rhs_jacobian``: the compiled symbolic derivative of the solved
+accelerations (:mod:`lagrangian.numeric.dynamics`), not finite differences.  k
+displacements W (2n x k) are integrated with the state by DOP853 (the extended
+system [y, W], 2n (k + 1) equations); every ``interval`` they are
+re-orthonormalised, W = Q R, and the logarithms of |R_ii| are summed.  The
+running sums divided by the elapsed time converge to the k largest exponents
+lambda_1 >= ... >= lambda_k (Benettin, Galgani, Giorgilli & Strelcyn, Meccanica
+15 (1980) 9-20 and 21-30; Shimada & Nagashima, Prog. Theor. Phys. 61 (1979)
+1605).  With k = 2n, the whole spectrum: its sum is the time average of the
+divergence tr J (exactly, since the R_ii multiply to det of the tangent map), 0
+for a Hamiltonian flow, whose exponents come in pairs +-lambda.
+
+The first ``transient`` time units carry the state only (it settles on its
+attractor); the displacements start orthonormal, from a fixed seed, so a run is
+repeatable.  Constrained systems are refused: their flow lives on the
+constraint manifold and the stabilised equations add exponents of their own.
+Defaults (echoed in the result): rtol 1e-9, atol 1e-11, interval 1.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import ModelError, setting
+from .base import check_time_span, positive_setting
+
+if TYPE_CHECKING:
+    from ..numeric.compiled import CompiledSystem
+
+DEFAULT_RTOL = 1e-9
+DEFAULT_ATOL = 1e-11
+DEFAULT_INTERVAL = 1.0
+#: The seed of the first displacements: fixed, so that a run is repeatable.
+SEED = 20
+
+
+@dataclass(frozen=True)
+class LyapunovSpectrum:
+    """The k largest Lyapunov exponents of one motion and how their estimates converged.
+
+    ``exponents`` (k,), largest first, 1 / time unit; ``times`` (m,) the times of the
+    re-orthonormalisations after the transient; ``history`` (m, k) the estimates
+    then (the last row is ``exponents``).
+    """
+
+    exponents: np.ndarray
+    times: np.ndarray
+    history: np.ndarray
+    coordinate_names: tuple[str, ...]
+    initial: Mapping[str, float]
+    parameters: Mapping[str, float]
+    t_end: float
+    transient: float
+    interval: float
+    rtol: float
+    atol: float
+    name: str = ""
+
+    @property
+    def largest(self) -> float:
+        return float(self.exponents[0])
+
+    @property
+    def count(self) -> int:
+        return len(self.exponents)
+
+    def settings(self) -> dict[str, float]:
+        """The run's settings, as given or defaulted."""
+        return {
+            "t_end": self.t_end,
+            "transient": self.transient,
+            "interval": self.interval,
+            "rtol": self.rtol,
+            "atol": self.atol,
+        }
+
+
+def lyapunov_spectrum(
+    compiled: CompiledSystem,
+    *,
+    t_end: float,
+    count: int | None = None,
+    initial: Mapping[str, float] | None = None,
+    params: Mapping[str, float] | None = None,
+    transient: float = 0.0,
+    interval: float = DEFAULT_INTERVAL,
+    rtol: float | None = None,
+    atol: float | None = None,
+    watch: Callable[[float], None] | None = None,
+) -> LyapunovSpectrum:
+    """The ``count`` largest exponents (default: all 2n) over t_end after ``transient``.
+
+    ``initial`` and ``params`` as for :func:`~lagrangian.integrate.simulate`;
+    ``watch`` is told the time reached (transient included) after every interval.
+    """
+    if compiled.has_constraints:
+        raise ModelError("Lyapunov exponents of constrained systems are not supported")
+    size = 2 * compiled.n
+    count = size if count is None else int(count)
+    if not 1 <= count <= size:
+        raise ModelError(
+            f"the number of exponents must be from 1 to {size} (twice the coordinates), "
+            f"not {count}",
+            field=setting("count"),
+        )
+    check_time_span((0.0, t_end))
+    transient = float(transient)
+    if not (np.isfinite(transient) and transient >= 0.0):
+        raise ModelError(f"the transient must be a time >= 0, not {transient:g}")
+    interval = positive_setting("interval", interval)
+    rtol = DEFAULT_RTOL if rtol is None else positive_setting("rtol", rtol)
+    atol = DEFAULT_ATOL if atol is None else positive_setting("atol", atol)
+    y0 = compiled.state_vector(initial)
+    p = compiled.parameter_vector(params)
+    flow = _Flow(compiled, p, count, rtol, atol)
+    y = flow.state(0.0, transient, y0, watch)
+    start = transient
+    displacements = np.linalg.qr(np.random.default_rng(SEED).normal(size=(size, count)))[0]
+    sums = np.zeros(count)
+    times, history = [], []
+    t = start
+    while t < start + t_end:
+        t_next = min(t + interval, start + t_end)
+        y, displacements = flow.extended(t, t_next, y, displacements)
+        displacements, stretch = _orthonormalised(displacements, t_next)
+        sums += np.log(stretch)
+        t = t_next
+        times.append(t)
+        history.append(sums / (t - start))
+        if watch is not None:
+            watch(t)
+    names = compiled.coordinate_names
+    state_names = (*names, *(f"{q}_dot" for q in names))
+    return LyapunovSpectrum(
+        exponents=history[-1].copy(),
+        times=np.array(times),
+        history=np.array(history),
+        coordinate_names=names,
+        initial=dict(zip(state_names, map(float, y0), strict=True)),
+        parameters=dict(zip(compiled.parameter_names, map(float, p), strict=True)),
+        t_end=float(t_end),
+        transient=transient,
+        interval=interval,
+        rtol=rtol,
+        atol=atol,
+        name=compiled.equations.system.name if compiled.derived else "",
+    )
+
+
+def _orthonormalised(displacements: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+    """(Q, |diag R|) of W = Q R; an error where W lost a direction (a zero stretch)."""
+    q, r = np.linalg.qr(displacements)
+    stretch = np.abs(np.diag(r))
+    if not (np.all(np.isfinite(stretch)) and np.all(stretch > 0.0)):
+        raise ModelError(
+            f"the displacements collapsed or overflowed at t = {t:g}: "
+            f"give a shorter {setting('interval')} between re-orthonormalisations"
+        )
+    return q, stretch
+
+
+class _Flow:
+    """The state alone, or with k displacements (the variational equations), by DOP853."""
+
+    def __init__(self, compiled: CompiledSystem, params: np.ndarray, count: int, rtol, atol):
+        self._compiled = compiled
+        self._params = params
+        self._size = 2 * compiled.n
+        self._count = count
+        self._rtol, self._atol = rtol, atol
+        self._first_step: float | None = None
+
+    def _solve(self, function, t0: float, t1: float, z0: np.ndarray) -> np.ndarray:
+        from scipy.integrate import solve_ivp
+
+        options = {} if self._first_step is None else {"first_step": self._first_step}
+        solution = solve_ivp(
+            function, (t0, t1), z0, method="DOP853", rtol=self._rtol, atol=self._atol, **options
+        )
+        z = solution.y[:, -1]
+        if solution.status != 0 or not np.all(np.isfinite(z)):
+            raise ModelError(
+                f"the integration failed at t = {solution.t[-1]:g}: {solution.message}"
+            )
+        steps = np.diff(solution.t)
+        # the next interval starts with the last full step (the final one may be cut short)
+        self._first_step = float(steps[-2] if len(steps) > 1 else steps[-1])
+        return z
+
+    def state(self, t0: float, t1: float, y0: np.ndarray, watch) -> np.ndarray:
+        """y(t1) from y(t0) = y0."""
+        if t1 <= t0:
+            return y0
+        compiled, params = self._compiled, self._params
+
+        def function(t: float, y: np.ndarray) -> np.ndarray:
+            return compiled.rhs(t, y, params)
+
+        y = self._solve(function, t0, t1, y0)
+        if watch is not None:
+            watch(t1)
+        return y
+
+    def extended(
+        self, t0: float, t1: float, y0: np.ndarray, w0: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(y(t1), W(t1)) of y' = F(t, y), W' = J(t, y) W."""
+        compiled, params = self._compiled, self._params
+        size, count = self._size, self._count
+
+        def function(t: float, z: np.ndarray) -> np.ndarray:
+            y = z[:size]
+            w = z[size:].reshape(size, count)
+            slope = compiled.rhs(t, y, params)
+            tangent = compiled.rhs_jacobian(t, y, params) @ w
+            return np.concatenate((slope, tangent.ravel()))
+
+        z = self._solve(function, t0, t1, np.concatenate((y0, w0.ravel())))
+        return z[:size], z[size:].reshape(size, count)
