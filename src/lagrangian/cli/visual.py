@@ -1,4 +1,4 @@
-"""The commands that draw: ``plot``, ``animate`` and ``demo`` (registered on ``app``).
+"""The commands that draw: ``plot``, ``animate``, ``page`` and ``demo`` (registered on ``app``).
 
 Thin shells: the pictures come from :mod:`lagrangian.output` (plots, phase,
 mode_shapes, animation); matplotlib is imported only when one of these runs,
@@ -14,10 +14,19 @@ import click
 
 from ..files import check_output_path, output_error
 from ..integrate.registry import METHODS
-from .app import MODEL_HELP, _assignments, _definitions, _progress_bar, app, timeout_option
+from .app import (
+    MODEL_HELP,
+    _assignments,
+    _definitions,
+    _progress_bar,
+    app,
+    define_option,
+    timeout_option,
+)
 
 PLOT_KINDS = ("timeseries", "phase", "energy", "poincare", "modes")
 TRAJECTORY_SUFFIXES = (".csv", ".nc")
+PAGE_SUFFIXES = (".html", ".htm")
 #: The demo: the double pendulum released from theta1 = 2, theta2 = 0.5 (chaotic).
 DEMO_MODEL = "double_pendulum"
 DEMO_INITIAL = {"theta1": 2.0, "theta2": 0.5}
@@ -191,6 +200,53 @@ def animate(model, out, t_end, method, assignments, definitions, timeout, fps, m
     )
     result = write_animation(run, system, out, fps=fps, max_frames=max_frames)
     click.echo(f"wrote {out}: {result.plan.description}")
+
+
+@app.command(epilog=MODEL_HELP)
+@click.argument("model")
+@click.option(
+    "--out",
+    type=click.Path(dir_okay=False),
+    help="Write F.html (default: <name>.html).",
+)
+@click.option(
+    "--set",
+    "assignments",
+    multiple=True,
+    metavar="NAME=VALUE",
+    help="A parameter value or an initial coordinate / velocity to start from (repeatable).",
+)
+@define_option
+def page(model, out, assignments, definitions) -> None:
+    """Write the page of MODEL: one HTML file, for any browser, offline.
+
+    The worked solution typeset (L, Lagrange's equations, M and f, conserved
+    quantities, equilibria and normal modes) beside a live simulation with a control
+    for every parameter and initial value.
+    """
+    from ..errors import ModelError
+    from ..facade import load
+    from ..files import write_atomically
+    from ..output.page import page_html
+
+    out = out or f"{_stem(model)}.html"
+    if Path(out).suffix.lower() not in PAGE_SUFFIXES:
+        raise click.BadParameter("the output file must end in .html", param_hint="--out")
+    check_output_path(out)  # before the work: a typo in --out fails at once
+    system = load(model)
+    values = _assignments(assignments)
+    states = {n for c in system.coordinates for n in (c.name, c.q_dot.name)}
+    for name in values:
+        if name not in states and name not in system.parameter_names:
+            raise ModelError(f"'{name}' is neither a parameter nor a coordinate or velocity")
+    text = page_html(
+        system,
+        parameters={k: v for k, v in values.items() if k in system.parameter_names},
+        initial={k: v for k, v in values.items() if k in states},
+        definitions=_definitions(definitions),
+    )
+    write_atomically(out, lambda temporary: temporary.write_text(text, encoding="utf-8"))
+    click.echo(f"wrote {out}: open it in a browser (it needs no server and no network)")
 
 
 @app.command()

@@ -95,9 +95,9 @@ class JavaScriptTarget(
             "",
             _SOLVE,
         ]
-        lines += self._function("dynamics", program, program.dynamics, exported=False)
-        lines += self._function("mass_matrix", program, program.mass_matrix)
-        lines += self._function("forcing", program, program.forcing)
+        lines += self.function("dynamics", program, program.dynamics, exported=False)
+        lines += self.function("mass_matrix", program, program.mass_matrix)
+        lines += self.function("forcing", program, program.forcing)
         n, m = program.n, program.constraints
         names = ", ".join(label for label, _ in program.dynamics.outputs)
         lines += [
@@ -118,9 +118,12 @@ class JavaScriptTarget(
         lines += [f"  return [...Array.from(y).slice({n}, {2 * n}), ...accelerations];", "}", ""]
         return "\n".join(lines)
 
-    def _function(
+    def function(
         self, name: str, program: Program, routine: Routine, *, exported: bool = True
     ) -> list[str]:
+        """The lines of ``function name(t, y, params = DEFAULT_PARAMS, u = null)``: an exported
+        one returns its first output, the others the array of all outputs in order (how a
+        page adds routines of its own, :meth:`Program.routine`, to the module)."""
         head = "export function" if exported else "function"
         lines = ["", f"{head} {name}(t, y, params = DEFAULT_PARAMS, u = null) {{"]
         for symbol, argument, index in self.reads(program, routine):

@@ -26,7 +26,7 @@ time stays ``t`` and common subexpressions (:func:`sympy.cse`) are ``w_0, w_1, .
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -101,27 +101,38 @@ class Program:
         return any(_uses(routine, self.time) for routine in routines)
 
     @cached_property
-    def blocks(self) -> tuple[tuple[str, sympy.ImmutableMatrix], ...]:
-        """("M", M), ("f", f) and, with constraints, ("A", A), ("b", b), renamed, with what
-        no language has: the delta functions (0 but where a force is not differentiable,
-        as our own compiled functions take them) and exact numbers beyond a double (see
-        :mod:`lagrangian.codegen.literals`) taken out."""
+    def _renaming(self) -> dict[sympy.Symbol, sympy.Symbol]:
         forms = self.forms
         by_name = {p.name: p.symbol for p in forms.equations.system.parameters}
         renamed = {forms.time: self.time}
         renamed |= {q: c.symbol for q, c in zip(forms.coordinates, self.coordinates, strict=True)}
         renamed |= {v: c.symbol for v, c in zip(forms.velocities, self.velocities, strict=True)}
         renamed |= {by_name[x.name]: x.symbol for x in (*self.parameters, *self.inputs)}
+        return renamed
 
-        def rename(matrix) -> sympy.ImmutableMatrix:
-            matrix = without_distributions(sympy.Matrix(matrix).xreplace(renamed))
-            return sympy.ImmutableMatrix(matrix.applyfunc(machine_numbers))
+    def renamed(self, matrix) -> sympy.ImmutableMatrix:
+        """``matrix`` (over the model's symbols) over the program's, with what no language
+        has: the delta functions (0 but where a force is not differentiable, as our own
+        compiled functions take them) and exact numbers beyond a double (see
+        :mod:`lagrangian.codegen.literals`) taken out."""
+        matrix = without_distributions(sympy.Matrix(matrix).xreplace(self._renaming))
+        return sympy.ImmutableMatrix(matrix.applyfunc(machine_numbers))
 
-        blocks = [("M", rename(forms.mass_matrix)), ("f", rename(forms.forcing))]
+    def routine(self, name: str, blocks: Sequence[tuple[str, sympy.MatrixBase]]) -> Routine:
+        """A routine of (t, y, params, u) beyond the equations (the positions a page draws,
+        the energy it reads out): the ``blocks`` (label, matrix over the model's symbols)
+        renamed and CSE'd like the program's own routines."""
+        return _routine(name, [(label, self.renamed(matrix)) for label, matrix in blocks])
+
+    @cached_property
+    def blocks(self) -> tuple[tuple[str, sympy.ImmutableMatrix], ...]:
+        """("M", M), ("f", f) and, with constraints, ("A", A), ("b", b), :meth:`renamed`."""
+        forms = self.forms
+        blocks = [("M", self.renamed(forms.mass_matrix)), ("f", self.renamed(forms.forcing))]
         if self.constraints:
             blocks += [
-                ("A", rename(forms.constraints.matrix)),
-                ("b", rename(forms.constraints.stabilised_bias(self.baumgarte))),
+                ("A", self.renamed(forms.constraints.matrix)),
+                ("b", self.renamed(forms.constraints.stabilised_bias(self.baumgarte))),
             ]
         return tuple(blocks)
 

@@ -1,0 +1,941 @@
+// The page of a model (lagrangian page): live simulation, drawing, controls, typeset solution.
+//
+// This file is appended to the generated ES module of the model (lagrangian.codegen's
+// JavaScript target plus the page's routines scene, observables and variational; see
+// lagrangian/output/page_content.py) and is called once with the model's document (the JSON
+// of the page, read with textContent: every text of the model is data) and those functions.
+//
+// Integrators.  "dop853": Dormand and Prince's explicit Runge-Kutta pair of order 8(5,3)
+// with SciPy's error norm and step-size control (Hairer, Norsett & Wanner, Solving ODE I,
+// 2nd ed., II.10; scipy.integrate.DOP853), the coefficients taken from SciPy by the page
+// writer, so that the page steps as `lagrangian simulate --method dop853` does.
+// "variational": the midpoint discrete Lagrangian (Marsden & West, Acta Numerica 10 (2001),
+// 2.2, with the forces of 3.2) in position-momentum form, as lagrangian.integrate.variational:
+//   p_k = L_q'(q_m, v) - (h/2)[L_q + Q](q_m, v),  q_m = q_k + h v / 2,
+//   q_{k+1} = q_k + h v,  p_{k+1} = p_k + h [L_q + Q](q_m, v),
+// solved for v by simplified Newton with M (symplectic, energy error bounded for long runs).
+//
+// window.lagrangian, the hook for scripts and tests:
+//   parameters            {name: value} of every parameter (a copy)
+//   state()               {t, q: {name: value}, q_dot: {name: value}}
+//   set(name, value)      a parameter, or an initial value (theta1, theta1_dot); the motion
+//                         restarts from the initial state at t = 0
+//   run(t_end)            advances synchronously to t_end (from t = 0 again if t_end is
+//                         behind), at the page's accuracy; returns state()
+//   energy()              the energy function h = q' dL/dq' - L now
+//   conserved()           {name: value} of the conserved quantities the analysis found
+//   reset(), play(), pause(), stats() -> {fps, steps, steps_per_second, method}
+//   screenPosition(particle) [x, y] of a particle on the mechanism's canvas (CSS pixels)
+// A model that cannot run (unspecified functions) has the solution only, and the hook
+// {unavailable: why}.
+function lagrangianPage(model, code) {
+  "use strict";
+  if (code === null) {
+    // a model that cannot run here (unspecified functions): the solution and why
+    document.title = model.name;
+    document.getElementById("title").textContent = model.name;
+    document.getElementById("description").textContent = model.description;
+    document.getElementById("live").append(element("p", { class: "error" }, model.unavailable));
+    typeset();
+    window.lagrangian = Object.freeze({ unavailable: model.unavailable });
+    return;
+  }
+  const n = model.coordinates.length;
+  const names = model.coordinates.map((c) => c.name);
+  const rates = model.coordinates.map((c) => c.velocity);
+  const parameterNames = model.parameters.map((p) => p.name);
+  const params = model.parameters.map((p) => p.value);
+  const initial = Object.assign({}, model.initial);
+  const scene = model.scene;
+  const RTOL = 1e-12;
+  const ATOL = 1e-12;
+  const PROBE_RTOL = 1e-6;
+  const MAX_HISTORY = 6000;
+  const WORK_BUDGET_MS = 30;
+
+  // -- numbers -------------------------------------------------------------------------
+  const rms = (x) => Math.sqrt(x.reduce((s, v) => s + v * v, 0) / Math.max(1, x.length));
+  const flat = (rows) => rows.map((row) => (Array.isArray(row) ? row[0] : row));
+  const initialState = () => [...names.map((q) => initial[q]), ...rates.map((v) => initial[v])];
+  const derivative = (t, y) => code.rhs(t, y, params);
+
+  // -- Dormand-Prince 8(5,3), SciPy's step control --------------------------------------
+  const tab = model.dop853;
+  const SAFETY = 0.9;
+  const MIN_FACTOR = 0.2;
+  const MAX_FACTOR = 10;
+  const EXPONENT = -1 / 8;
+
+  function initialStep(t, y, f, rtol, atol, span) {
+    const scale = y.map((v) => atol + Math.abs(v) * rtol);
+    const d0 = rms(y.map((v, i) => v / scale[i]));
+    const d1 = rms(f.map((v, i) => v / scale[i]));
+    let h0 = d0 < 1e-5 || d1 < 1e-5 ? 1e-6 : (0.01 * d0) / d1;
+    h0 = Math.min(h0, span);
+    const f1 = derivative(t + h0, y.map((v, i) => v + h0 * f[i]));
+    const d2 = rms(f1.map((v, i) => (v - f[i]) / scale[i])) / h0;
+    const h1 =
+      d1 <= 1e-15 && d2 <= 1e-15 ? Math.max(1e-6, h0 * 1e-3) : (0.01 / Math.max(d1, d2)) ** (1 / 8);
+    return Math.min(100 * h0, h1, span);
+  }
+
+  function rkStep(t, y, f, h) {
+    const K = [f];
+    for (let s = 1; s < tab.stages; s++) {
+      const a = tab.A[s];
+      const z = y.slice();
+      for (let i = 0; i < y.length; i++) {
+        let sum = 0;
+        for (let j = 0; j < s; j++) sum += a[j] * K[j][i];
+        z[i] += h * sum;
+      }
+      K.push(derivative(t + tab.C[s] * h, z));
+    }
+    const yNew = y.map((v, i) => {
+      let sum = 0;
+      for (let j = 0; j < tab.stages; j++) sum += tab.B[j] * K[j][i];
+      return v + h * sum;
+    });
+    const fNew = derivative(t + h, yNew);
+    K.push(fNew);
+    return [yNew, fNew, K];
+  }
+
+  function errorNorm(K, h, scale) {
+    let e5 = 0;
+    let e3 = 0;
+    for (let i = 0; i < scale.length; i++) {
+      let s5 = 0;
+      let s3 = 0;
+      for (let j = 0; j < K.length; j++) {
+        s5 += tab.E5[j] * K[j][i];
+        s3 += tab.E3[j] * K[j][i];
+      }
+      e5 += (s5 / scale[i]) ** 2;
+      e3 += (s3 / scale[i]) ** 2;
+    }
+    if (e5 === 0 && e3 === 0) return 0;
+    return (Math.abs(h) * e5) / Math.sqrt((e5 + 0.01 * e3) * scale.length);
+  }
+
+  // One accepted step of `run` (a state {t, y, f, h, steps}) that ends at tEnd at the latest.
+  function dopStep(run, tEnd, rtol, atol) {
+    if (run.f === null) run.f = derivative(run.t, run.y);
+    if (run.h === null) run.h = initialStep(run.t, run.y, run.f, rtol, atol, model.t_end);
+    let hAbs = run.h;
+    let rejected = false;
+    for (;;) {
+      const minStep = 10 * Number.EPSILON * Math.max(1, Math.abs(run.t));
+      if (!(hAbs >= minStep)) throw new Error("the step size became too small (a singularity?)");
+      const clipped = run.t + hAbs >= tEnd;
+      const h = clipped ? tEnd - run.t : hAbs;
+      const [yNew, fNew, K] = rkStep(run.t, run.y, run.f, h);
+      const scale = run.y.map((v, i) => atol + Math.max(Math.abs(v), Math.abs(yNew[i])) * rtol);
+      const error = errorNorm(K, h, scale);
+      if (error < 1 && yNew.every(Number.isFinite)) {
+        let factor = error === 0 ? MAX_FACTOR : Math.min(MAX_FACTOR, SAFETY * error ** EXPONENT);
+        if (rejected) factor = Math.min(1, factor);
+        // a step shortened to land on tEnd does not shorten the next one
+        run.h = clipped ? Math.max(hAbs, h * factor) : h * factor;
+        run.t = clipped ? tEnd : run.t + h;
+        run.y = yNew;
+        run.f = fNew;
+        run.steps += 1;
+        return;
+      }
+      hAbs = Math.min(hAbs, h) * Math.max(MIN_FACTOR, Number.isFinite(error) ? SAFETY * error ** EXPONENT : MIN_FACTOR);
+      rejected = true;
+    }
+  }
+
+  // -- the variational midpoint integrator --------------------------------------------
+  const variationalAvailable = model.constraints === 0;
+  const momenta = (t, y) => flat(code.variational(t, y, params)[0]);
+
+  // Newton's iteration x -> x - J(x)^-1 r(x) until |r| <= 1e-14 scale, or until an update
+  // no longer halves the residual (rounding reached)
+  function newtonSolve(residual, jacobianAt, x, scale) {
+    let previous = Infinity;
+    for (let k = 0; k < 50; k++) {
+      const r = residual(x);
+      const size = Math.max(...r.map(Math.abs));
+      if (size <= 1e-14 * scale || (k > 2 && size > previous / 2)) return x;
+      previous = size;
+      const dx = code.solve(jacobianAt(x), r.map((v) => -v));
+      x = x.map((v, i) => v + dx[i]);
+    }
+    return x;
+  }
+
+  function midpointStep(run, h) {
+    const q = run.y.slice(0, n);
+    if (run.p === null) run.p = momenta(run.t, run.y);
+    const pk = run.p;
+    const tm = run.t + h / 2;
+    const mid = (v) => [...q.map((x, i) => x + (h / 2) * v[i]), ...v];
+    const scale = Math.max(1, ...pk.map(Math.abs));
+    const v = newtonSolve(
+      (w) => {
+        const [p, F] = code.variational(tm, mid(w), params);
+        return flat(p).map((x, i) => x - (h / 2) * flat(F)[i] - pk[i]);
+      },
+      (w) => code.mass_matrix(tm, mid(w), params),
+      run.y.slice(n),
+      scale,
+    );
+    const F = flat(code.variational(tm, mid(v), params)[1]);
+    const qNew = q.map((x, i) => x + h * v[i]);
+    const pNew = pk.map((x, i) => x + h * F[i]);
+    const tNew = run.t + h;
+    const rate = newtonSolve(
+      (w) => momenta(tNew, [...qNew, ...w]).map((x, i) => x - pNew[i]),
+      (w) => code.mass_matrix(tNew, [...qNew, ...w], params),
+      v,
+      scale,
+    );
+    if (![...qNew, ...rate].every(Number.isFinite)) throw new Error("the motion left the numbers");
+    run.t = tNew;
+    run.y = [...qNew, ...rate];
+    run.p = pNew;
+    run.f = null;
+    run.steps += 1;
+  }
+
+  // -- the run ---------------------------------------------------------------------------
+  const sim = {
+    t: 0,
+    y: initialState(),
+    f: null,
+    h: null,
+    p: null,
+    steps: 0,
+    method: "dop853",
+    dt: 0.001,
+    error: null,
+  };
+  let history = [];
+  let energy0 = 0;
+  let invariants0 = [];
+
+  function advance(run, tEnd, options = {}) {
+    const deadline = options.budget ? performance.now() + options.budget : Infinity;
+    const rtol = options.rtol ?? RTOL;
+    const atol = options.atol ?? ATOL;
+    while (run.t < tEnd) {
+      if ((run.method ?? "dop853") === "variational") {
+        midpointStep(run, Math.min(run.dt, tEnd - run.t));
+      } else {
+        dopStep(run, tEnd, rtol, atol);
+      }
+      if (performance.now() > deadline) return false;
+    }
+    return true;
+  }
+
+  const observed = () => code.observables(sim.t, sim.y, params);
+
+  function restart() {
+    sim.t = 0;
+    sim.y = initialState();
+    sim.f = null;
+    sim.h = null;
+    sim.p = null;
+    sim.steps = 0;
+    sim.error = null;
+    history = [];
+    try {
+      const [E, I] = observed();
+      energy0 = flat(E)[0];
+      invariants0 = flat(I);
+    } catch (error) {
+      fail(error);
+    }
+    record();
+    fitView();
+    layout();
+  }
+
+  function record() {
+    history.push({ t: sim.t, y: sim.y.slice(), point: trackedPoint() });
+    if (history.length > MAX_HISTORY) history.splice(0, history.length - MAX_HISTORY);
+  }
+
+  // -- geometry --------------------------------------------------------------------------
+  const D = scene.dimension;
+  const origin = new Array(D).fill(0);
+
+  function parts(t, y) {
+    const [P, C, A, S, G, R] = code.scene(t, y, params);
+    return { P, C, A: flat(A), S, G, R };
+  }
+
+  function bodyEnds(p, k) {
+    const half = scene.body_lengths[k] / 2;
+    const c = p.C[k];
+    const a = p.A[k];
+    return [
+      [c[0] - half * Math.cos(a), c[1] - half * Math.sin(a)],
+      [c[0] + half * Math.cos(a), c[1] + half * Math.sin(a)],
+    ];
+  }
+
+  function solidOutline(p, k) {
+    const R = p.R[k];
+    const c = p.G[k];
+    return scene.solids[k].points.map((b) => [0, 1, 2].map((i) => c[i] + R[3 * i] * b[0] + R[3 * i + 1] * b[1] + R[3 * i + 2] * b[2]));
+  }
+
+  function allPoints(p) {
+    const points = [...p.P, ...p.S];
+    p.C.forEach((_, k) => points.push(...bodyEnds(p, k).map((e) => [...e, ...new Array(D - 2).fill(0)])));
+    p.G.forEach((_, k) => points.push(...solidOutline(p, k)));
+    if (links.some((r) => r.includes(-1)) || stems.length) points.push(origin);
+    return points;
+  }
+
+  function trackedPoint() {
+    try {
+      const p = parts(sim.t, sim.y);
+      if (p.P.length) return p.P[p.P.length - 1];
+      if (p.G.length) return p.G[p.G.length - 1];
+      if (p.C.length) return [...p.C[p.C.length - 1], ...new Array(D - 2).fill(0)];
+    } catch (error) {
+      return null;
+    }
+    return null;
+  }
+
+  // Along a short, coarse run from the start: the box (D x [low, high]) of everything
+  // drawn, and what `animate` decides along its run (lagrangian.output.geometry.rods): a rod
+  // joins particle i to i - 1, else to the origin, where their distance stays constant; a
+  // 3-D body whose centre stays at a constant distance from the origin turns about it; a
+  // spring end that never moves is anchored.
+  let extent = null;
+  let links = [];
+  let stems = [];
+  let anchored = [];
+
+  function fitView() {
+    const probe = { t: 0, y: initialState(), f: null, h: null, p: null, steps: 0 };
+    const horizon = Math.min(model.t_end, 10);
+    const low = new Array(D).fill(Infinity);
+    const high = new Array(D).fill(-Infinity);
+    const samples = [];
+    const include = (t, y) => {
+      const p = parts(t, y);
+      samples.push(p);
+      for (const point of allPoints(p)) {
+        point.forEach((x, i) => {
+          if (Number.isFinite(x)) {
+            low[i] = Math.min(low[i], x);
+            high[i] = Math.max(high[i], x);
+          }
+        });
+      }
+    };
+    try {
+      include(probe.t, probe.y);
+      const deadline = performance.now() + 150;
+      for (let k = 1; k <= 100 && performance.now() < deadline; k++) {
+        advance(probe, (horizon * k) / 100, { rtol: PROBE_RTOL, atol: PROBE_RTOL });
+        include(probe.t, probe.y);
+      }
+    } catch (error) {
+      // the page's own run will report it
+    }
+    extent = low.map((x, i) => (Number.isFinite(x) ? [x, high[i]] : [-1, 1]));
+    const rigid = (first, second) => {
+      const d = samples.map((p) => Math.hypot(...first(p).map((x, i) => x - second(p)[i])));
+      const largest = Math.max(...d);
+      return d.every(Number.isFinite) && largest > 0 && largest - Math.min(...d) <= scene.rod_tolerance * largest;
+    };
+    const point = (i) => (p) => (i < 0 ? origin : p.P[i]);
+    links = [];
+    if (!scene.coordinates_only && samples.length > 1) {
+      scene.particles.forEach((_, i) => {
+        const other = (i > 0 ? [i - 1, -1] : [-1]).find((j) => rigid(point(j), point(i)));
+        if (other !== undefined) links.push([other, i]);
+      });
+    }
+    stems = samples.length > 1 ? scene.solids.map((_, k) => k).filter((k) => rigid((p) => p.G[k], () => origin)) : [];
+    anchored = [...Array(scene.springs)].map((_, s) =>
+      [0, 1].map((e) => samples.every((p) => p.S[2 * s + e].every((x, i) => x === samples[0].S[2 * s + e][i]))),
+    );
+    if (links.some((r) => r.includes(-1)) || stems.length) {
+      extent = extent.map(([a, b]) => [Math.min(a, 0), Math.max(b, 0)]);
+    }
+  }
+
+  function grow(p) {
+    let grown = false;
+    for (const point of allPoints(p)) {
+      point.forEach((x, i) => {
+        if (Number.isFinite(x) && (x < extent[i][0] || x > extent[i][1])) {
+          extent[i] = [Math.min(extent[i][0], x), Math.max(extent[i][1], x)];
+          grown = true;
+        }
+      });
+    }
+    return grown;
+  }
+
+  // (xlim, ylim) of every view: the extent plus a margin, one scale for all (as animate)
+  function limits() {
+    const spans = extent.map(([a, b]) => b - a);
+    const largest = Math.max(...spans) > 0 ? Math.max(...spans) : 1;
+    const margin = scene.style.margin * largest;
+    const boxes = scene.views.map((axes) =>
+      axes.map((axis) => {
+        const [low, high] = extent[axis];
+        const middle = (low + high) / 2;
+        const half = Math.max((high - low) / 2 + margin, 0.2 * largest);
+        return [middle - half, middle + half];
+      }),
+    );
+    const tallest = Math.max(...boxes.map(([, y]) => y[1] - y[0]));
+    return boxes.map(([x, y]) => [x, [(y[0] + y[1] - tallest) / 2, (y[0] + y[1] + tallest) / 2]]);
+  }
+
+  // -- drawing ---------------------------------------------------------------------------
+  const ui = buildInterface();
+  const canvas = ui.canvas;
+  const context = canvas.getContext("2d");
+  let panels = [];
+
+  function layout() {
+    const boxes = limits();
+    const ratio = window.devicePixelRatio || 1;
+    const width = Math.max(200, canvas.clientWidth);
+    const gap = 16;
+    const total = boxes.reduce((s, [x]) => s + (x[1] - x[0]), 0);
+    const scale = (width - gap * (boxes.length - 1) - 8) / total;
+    const height = Math.min(Math.max(...boxes.map(([, y]) => (y[1] - y[0]) * scale)) + 8, 0.9 * window.innerHeight);
+    const fit = Math.min(scale, (height - 8) / Math.max(...boxes.map(([, y]) => y[1] - y[0])));
+    canvas.width = Math.round(width * ratio);
+    canvas.height = Math.round(height * ratio);
+    canvas.style.height = `${height}px`;
+    let left = 4;
+    panels = boxes.map(([x, y], k) => {
+      const panel = { axes: scene.views[k], x, y, left, top: 4, scale: fit, ratio };
+      left += (x[1] - x[0]) * fit + gap;
+      return panel;
+    });
+  }
+
+  const screen = (panel, point) => [
+    (panel.left + (point[panel.axes[0]] - panel.x[0]) * panel.scale) * panel.ratio,
+    (panel.top + (panel.y[1] - point[panel.axes[1]]) * panel.scale) * panel.ratio,
+  ];
+
+  function line(points, color, width) {
+    context.beginPath();
+    points.forEach(([x, y], i) => (i ? context.lineTo(x, y) : context.moveTo(x, y)));
+    context.strokeStyle = color;
+    context.lineWidth = width;
+    context.lineCap = "round";
+    context.stroke();
+  }
+
+  function dot(x, y, radius, fill, stroke) {
+    context.beginPath();
+    context.arc(x, y, radius, 0, 2 * Math.PI);
+    context.fillStyle = fill;
+    context.fill();
+    context.strokeStyle = stroke;
+    context.lineWidth = 1;
+    context.stroke();
+  }
+
+  // a spring from a to b (screen points) as a zigzag: straight leads on 15 % at each end
+  function zigzag(a, b, width, coils = 8) {
+    const along = [b[0] - a[0], b[1] - a[1]];
+    const length = Math.hypot(...along);
+    if (length === 0) return [a, b];
+    const normal = [-along[1] / length, along[0] / length];
+    const points = [a, [a[0] + 0.15 * along[0], a[1] + 0.15 * along[1]]];
+    for (let k = 1; k < 2 * coils; k++) {
+      const s = 0.15 + (0.7 * k) / (2 * coils);
+      const side = k % 2 ? width : -width;
+      points.push([a[0] + s * along[0] + side * normal[0], a[1] + s * along[1] + side * normal[1]]);
+    }
+    points.push([a[0] + 0.85 * along[0], a[1] + 0.85 * along[1]], b);
+    return points;
+  }
+
+  const radius = (k, ratio) => (4 + 6 * scene.particles[k].size) * ratio;
+
+  function draw() {
+    let p;
+    try {
+      p = parts(sim.t, sim.y);
+    } catch (error) {
+      fail(error);
+      return;
+    }
+    if (grow(p)) layout();
+    const style = scene.style;
+    context.setTransform(1, 0, 0, 1, 0, 0);
+    context.clearRect(0, 0, canvas.width, canvas.height);
+    const trailStart = sim.t - 1;
+    for (const panel of panels) {
+      const r = panel.ratio;
+      const at = (point) => screen(panel, point);
+      context.strokeStyle = "#e4e7eb";
+      context.lineWidth = 1 * r;
+      const [x0, y0] = at(panel.axes.reduce((o, a, i) => ((o[a] = i ? panel.y[0] : panel.x[0]), o), origin.slice()));
+      const [x1, y1] = at(panel.axes.reduce((o, a, i) => ((o[a] = i ? panel.y[1] : panel.x[1]), o), origin.slice()));
+      context.strokeRect(x0, y1, x1 - x0, y0 - y1);
+      if (scene.views.length > 1) {
+        context.fillStyle = "#5b6570";
+        context.font = `${11 * r}px sans-serif`;
+        const axisNames = ["x", "y", "z"];
+        const kind = panel.axes[1] === scene.vertical ? "side view" : "top view";
+        context.fillText(`${kind} (${axisNames[panel.axes[0]]}-${axisNames[panel.axes[1]]})`, x0 + 6 * r, y1 + 14 * r);
+      }
+      // the trail of the last particle
+      const trail = history.filter((s) => s.t >= trailStart && s.point);
+      for (let k = 1; k < trail.length; k++) {
+        const alpha = style.trail_alpha * (k / trail.length);
+        line([at(trail[k - 1].point), at(trail[k].point)], hexAlpha(scene.particles.length ? scene.particles[scene.particles.length - 1].color : style.body, alpha), 1.8 * r);
+      }
+      p.S.forEach((_, s) => {
+        const a = at(p.S[2 * s] ?? origin);
+        const b = at(p.S[2 * s + 1] ?? origin);
+        if (s < scene.springs) line(zigzag(a, b, 6 * r), style.spring, 1.2 * r);
+      });
+      for (let s = 0; s < scene.springs; s++) {
+        (anchored[s] || []).forEach((fixed, e) => {
+          if (fixed) {
+            const [x, y] = at(p.S[2 * s + e]);
+            context.fillStyle = style.pivot;
+            context.fillRect(x - 4 * r, y - 4 * r, 8 * r, 8 * r);
+          }
+        });
+      }
+      for (const [a, b] of links) {
+        line([at(a < 0 ? origin : p.P[a]), at(b < 0 ? origin : p.P[b])], style.rod, 2.2 * r);
+      }
+      for (const k of stems) line([at(origin), at(p.G[k])], style.rod, 2.2 * r);
+      p.C.forEach((c, k) => {
+        const ends = bodyEnds(p, k).map((e) => [...e, ...new Array(D - 2).fill(0)]);
+        context.globalAlpha = 0.85;
+        line(ends.map(at), style.body, 7 * r);
+        context.globalAlpha = 1;
+        const [x, y] = at([...c, ...new Array(D - 2).fill(0)]);
+        dot(x, y, 3 * r, "#ffffff", "#000000");
+      });
+      p.G.forEach((c, k) => {
+        const outline = solidOutline(p, k).map(at);
+        for (const path of scene.solids[k].paths) line(path.map((i) => outline[i]), style.solid, 1.6 * r);
+        const [x, y] = at(c);
+        dot(x, y, 3 * r, "#ffffff", "#000000");
+      });
+      if (links.some((rod) => rod.includes(-1)) || stems.length) {
+        const [x, y] = at(origin);
+        dot(x, y, 4 * r, "#ffffff", style.pivot);
+      }
+      p.P.forEach((point, k) => {
+        const [x, y] = at(point);
+        dot(x, y, radius(k, r), scene.particles[k].color, "#333333");
+      });
+    }
+    context.fillStyle = "#1d232b";
+    context.font = `${12 * (window.devicePixelRatio || 1)}px ui-monospace, monospace`;
+    const ratio = window.devicePixelRatio || 1;
+    context.fillText(`t = ${sim.t.toFixed(2)}`, 10 * ratio, canvas.height - 10 * ratio);
+  }
+
+  function hexAlpha(color, alpha) {
+    const value = parseInt(color.slice(1), 16);
+    return `rgba(${(value >> 16) & 255}, ${(value >> 8) & 255}, ${value & 255}, ${alpha.toFixed(3)})`;
+  }
+
+  // -- the plots beside the mechanism ----------------------------------------------------
+  function plot(target, series, labels) {
+    const c = target.getContext("2d");
+    const ratio = window.devicePixelRatio || 1;
+    const width = Math.max(100, target.clientWidth);
+    const height = Math.round(width * 0.7);
+    target.width = width * ratio;
+    target.height = height * ratio;
+    target.style.height = `${height}px`;
+    c.setTransform(ratio, 0, 0, ratio, 0, 0);
+    c.clearRect(0, 0, width, height);
+    const xs = series.flatMap((s) => s.points.map((p) => p[0])).filter(Number.isFinite);
+    const ys = series.flatMap((s) => s.points.map((p) => p[1])).filter(Number.isFinite);
+    if (!xs.length) return;
+    const pad = 28;
+    const range = (v) => {
+      let [a, b] = [Math.min(...v), Math.max(...v)];
+      if (b - a < 1e-12) [a, b] = [a - 1, b + 1];
+      return [a - 0.05 * (b - a), b + 0.05 * (b - a)];
+    };
+    const [xa, xb] = range(xs);
+    const [ya, yb] = range(ys);
+    const X = (x) => pad + ((x - xa) / (xb - xa)) * (width - pad - 6);
+    const Y = (y) => height - pad + 6 - ((y - ya) / (yb - ya)) * (height - pad);
+    c.strokeStyle = "#c7cdd4";
+    c.strokeRect(pad, 6, width - pad - 6, height - pad);
+    c.fillStyle = "#5b6570";
+    c.font = "11px sans-serif";
+    c.fillText(labels[0], width / 2, height - 6);
+    c.save();
+    c.translate(11, height / 2);
+    c.rotate(-Math.PI / 2);
+    c.fillText(labels[1], 0, 0);
+    c.restore();
+    c.fillText(ya.toPrecision(3), pad + 2, height - pad + 2);
+    c.fillText(yb.toPrecision(3), pad + 2, 18);
+    for (const s of series) {
+      c.beginPath();
+      s.points.forEach(([x, y], i) => (i ? c.lineTo(X(x), Y(y)) : c.moveTo(X(x), Y(y))));
+      c.strokeStyle = s.color;
+      c.lineWidth = 1.3;
+      c.stroke();
+    }
+  }
+
+  function drawPlots() {
+    const k = Number(ui.phaseChoice.value) || 0;
+    const recent = history.filter((s) => s.t >= sim.t - 20);
+    plot(ui.phase, [{ color: "#1f77b4", points: recent.map((s) => [s.y[k], s.y[n + k]]) }], [names[k], rates[k]]);
+    plot(
+      ui.series,
+      names.map((q, i) => ({ color: scene.palette[i % scene.palette.length], points: recent.map((s) => [s.t, s.y[i]]) })),
+      ["t", names.length === 1 ? names[0] : "q"],
+    );
+  }
+
+  // -- readouts ----------------------------------------------------------------------------
+  function readouts() {
+    let E;
+    let I;
+    try {
+      [E, I] = observed();
+    } catch (error) {
+      fail(error);
+      return;
+    }
+    const energy = flat(E)[0];
+    const drift = (value, start) => (value - start) / Math.max(Math.abs(start), 1e-300);
+    const lines = [
+      `t = ${sim.t.toFixed(3)}`,
+      `energy h = ${energy.toPrecision(10)}`,
+      `drift (h - h0)/|h0| = ${drift(energy, energy0).toExponential(2)}`,
+      `steps: ${sim.steps} (${sim.t > 0 ? (sim.steps / sim.t).toFixed(0) : 0} per s)`,
+      `frames per second: ${fps.toFixed(0)}`,
+    ];
+    flat(I).forEach((value, k) => {
+      const quantity = model.conserved[k];
+      if (quantity.name !== "energy") lines.push(`${quantity.name} = ${value.toPrecision(10)} (drift ${drift(value, invariants0[k]).toExponential(2)})`);
+    });
+    if (sim.error) lines.push(`stopped: ${sim.error}`);
+    ui.readouts.replaceChildren(...lines.map((text) => element("div", {}, text)));
+  }
+
+  function fail(error) {
+    sim.error = String(error && error.message ? error.message : error);
+    running = false;
+    ui.play.textContent = "Play";
+    ui.status.textContent = `The integration stopped: ${sim.error}`;
+  }
+
+  // -- the loop ----------------------------------------------------------------------------
+  let running = true;
+  let speed = 1;
+  let last = null;
+  let fps = 0;
+  let frames = 0;
+  let frameClock = performance.now();
+
+  function frame(now) {
+    if (running && last !== null && !sim.error) {
+      const wall = Math.min(0.1, (now - last) / 1000);
+      try {
+        advance(sim, sim.t + speed * wall, { budget: WORK_BUDGET_MS });
+        record();
+      } catch (error) {
+        fail(error);
+      }
+    }
+    last = now;
+    frames += 1;
+    if (now - frameClock >= 1000) {
+      fps = (1000 * frames) / (now - frameClock);
+      frames = 0;
+      frameClock = now;
+    }
+    draw();
+    if (frames % 4 === 0 || !running) {
+      drawPlots();
+      readouts();
+    }
+    window.requestAnimationFrame(frame);
+  }
+
+  // -- dragging a particle -----------------------------------------------------------------
+  let dragging = null;
+
+  function pointer(event) {
+    const box = canvas.getBoundingClientRect();
+    const ratio = window.devicePixelRatio || 1;
+    return [(event.clientX - box.left) * ratio, (event.clientY - box.top) * ratio];
+  }
+
+  canvas.addEventListener("pointerdown", (event) => {
+    const [x, y] = pointer(event);
+    const p = parts(sim.t, sim.y);
+    let best = null;
+    panels.forEach((panel) => {
+      p.P.forEach((point, k) => {
+        const [u, v] = screen(panel, point);
+        const distance = Math.hypot(u - x, v - y);
+        if (distance <= radius(k, panel.ratio) + 6 * panel.ratio && (!best || distance < best.distance)) {
+          best = { k, panel, distance };
+        }
+      });
+    });
+    if (!best) return;
+    dragging = { ...best, wasRunning: running };
+    running = false;
+    canvas.setPointerCapture(event.pointerId);
+  });
+
+  canvas.addEventListener("pointermove", (event) => {
+    if (!dragging) return;
+    const [x, y] = pointer(event);
+    const panel = dragging.panel;
+    const target = [panel.x[0] + (x / panel.ratio - panel.left) / panel.scale, panel.y[1] - (y / panel.ratio - panel.top) / panel.scale];
+    const q = placed(dragging.k, panel.axes, target);
+    if (q) {
+      names.forEach((name, i) => (initial[name] = q[i]));
+      rates.forEach((name) => (initial[name] = 0));
+      sim.t = 0;
+      sim.y = initialState();
+      history = [];
+      record();
+      showValues();
+      draw();
+    }
+  });
+
+  const release = () => {
+    if (!dragging) return;
+    const resume = dragging.wasRunning;
+    dragging = null;
+    restart();
+    setRunning(resume);
+  };
+  canvas.addEventListener("pointerup", release);
+  canvas.addEventListener("pointercancel", release);
+
+  // q that brings particle k nearest to `target` in the view's axes, least squares from
+  // the current q by Gauss-Newton (a small pull towards the current q keeps it unique)
+  function placed(k, axes, target) {
+    let q = sim.y.slice(0, n);
+    const start = q.slice();
+    const zeros = new Array(n).fill(0);
+    const residual = (x) => {
+      const point = code.scene(0, [...x, ...zeros], params)[0][k];
+      return axes.map((a, i) => point[a] - target[i]);
+    };
+    const weight = 1e-3;
+    for (let iteration = 0; iteration < 30; iteration++) {
+      const r = residual(q);
+      const J = q.map((_, j) => {
+        const e = 1e-7 * Math.max(1, Math.abs(q[j]));
+        const shifted = q.slice();
+        shifted[j] += e;
+        return residual(shifted).map((v, i) => (v - r[i]) / e);
+      });
+      const normal = q.map((_, a) => q.map((__, b) => J[a].reduce((s, v, i) => s + v * J[b][i], 0) + (a === b ? weight : 0)));
+      const gradient = q.map((_, a) => -(J[a].reduce((s, v, i) => s + v * r[i], 0) + weight * (q[a] - start[a])));
+      let step;
+      try {
+        step = code.solve(normal, gradient);
+      } catch (error) {
+        return null;
+      }
+      q = q.map((v, i) => v + step[i]);
+      if (Math.max(...step.map(Math.abs)) < 1e-10) break;
+    }
+    return q.every(Number.isFinite) ? q : null;
+  }
+
+  // -- the controls ------------------------------------------------------------------------
+  function element(tag, attributes = {}, text = null) {
+    const node = document.createElement(tag);
+    for (const [key, value] of Object.entries(attributes)) node.setAttribute(key, value);
+    if (text !== null) node.textContent = text;
+    return node;
+  }
+
+  function buildInterface() {
+    document.title = model.name;
+    document.getElementById("title").textContent = model.name;
+    document.getElementById("description").textContent = model.description;
+    const live = document.getElementById("live");
+    const mechanism = element("canvas", { class: "mechanism", "aria-label": "the mechanism in motion" });
+    const play = element("button", { type: "button" }, "Pause");
+    const reset = element("button", { type: "button" }, "Reset");
+    const speedChoice = element("select", { "aria-label": "speed" });
+    for (const value of [0.1, 0.25, 0.5, 1, 2, 4]) {
+      const option = element("option", { value: String(value) }, `${value}x`);
+      if (value === 1) option.selected = true;
+      speedChoice.append(option);
+    }
+    const methodChoice = element("select", { "aria-label": "integrator" });
+    methodChoice.append(element("option", { value: "dop853" }, "adaptive DOP853 (rtol 1e-12)"));
+    if (variationalAvailable) methodChoice.append(element("option", { value: "variational" }, "variational midpoint (dt 0.001)"));
+    const status = element("div", { class: "error", role: "status" });
+    const buttons = element("div", { class: "buttons" });
+    buttons.append(play, reset, element("span", {}, "speed"), speedChoice, methodChoice);
+    const readoutBox = element("div", { class: "readouts" });
+    const phase = element("canvas", { "aria-label": "phase portrait" });
+    const series = element("canvas", { "aria-label": "time series" });
+    const phaseChoice = element("select", { "aria-label": "coordinate of the phase portrait" });
+    names.forEach((name, i) => phaseChoice.append(element("option", { value: String(i) }, name)));
+    const phaseFigure = element("figure");
+    const phaseCaption = element("figcaption", {}, "phase portrait of ");
+    phaseCaption.append(phaseChoice);
+    phaseFigure.append(phase, phaseCaption);
+    const seriesFigure = element("figure");
+    seriesFigure.append(series, element("figcaption", {}, "coordinates against time (last 20 s)"));
+    const plots = element("div", { class: "plots" });
+    plots.append(phaseFigure, seriesFigure);
+    const fields = {};
+    const parameterBox = element("fieldset");
+    parameterBox.append(element("legend", {}, "Parameters"));
+    model.parameters.forEach((p) => parameterBox.append(field(p.name, p.value, fields, true)));
+    const initialBox = element("fieldset");
+    initialBox.append(element("legend", {}, "Initial state (drag a mass to place it)"));
+    names.forEach((q, i) => {
+      initialBox.append(field(q, initial[q], fields, false));
+      initialBox.append(field(rates[i], initial[rates[i]], fields, false));
+    });
+    live.append(mechanism, buttons, status, readoutBox, plots, parameterBox, initialBox);
+    play.addEventListener("click", () => setRunning(!running));
+    reset.addEventListener("click", () => restart());
+    speedChoice.addEventListener("change", () => (speed = Number(speedChoice.value)));
+    methodChoice.addEventListener("change", () => {
+      sim.method = methodChoice.value;
+      restart();
+    });
+    phaseChoice.addEventListener("change", () => drawPlots());
+    return { canvas: mechanism, play, status, readouts: readoutBox, phase, series, phaseChoice, fields };
+  }
+
+  function field(name, value, fields, isParameter) {
+    const row = element("div", { class: "field" });
+    const label = element("label", {}, name);
+    const magnitude = Math.abs(value);
+    const [low, high] = isParameter && value > 0 ? [0, 3 * value] : [value - Math.max(3, 2 * magnitude), value + Math.max(3, 2 * magnitude)];
+    const slider = element("input", { type: "range", min: String(low), max: String(high), step: String((high - low) / 1000), value: String(value), "aria-label": name });
+    const number = element("input", { type: "number", step: "any", value: String(value), "aria-label": `${name} value` });
+    const apply = (text) => {
+      const x = Number(text);
+      if (Number.isFinite(x)) set(name, x);
+    };
+    slider.addEventListener("input", () => apply(slider.value));
+    number.addEventListener("change", () => apply(number.value));
+    row.append(label, slider, number);
+    fields[name] = { slider, number };
+    return row;
+  }
+
+  function showValues() {
+    const values = { ...initial };
+    parameterNames.forEach((name, i) => (values[name] = params[i]));
+    for (const [name, { slider, number }] of Object.entries(ui.fields)) {
+      const value = values[name];
+      if (document.activeElement !== number) number.value = String(Number(value.toPrecision(12)));
+      if (document.activeElement !== slider) {
+        if (value < Number(slider.min)) slider.min = String(value);
+        if (value > Number(slider.max)) slider.max = String(value);
+        slider.value = String(value);
+      }
+    }
+  }
+
+  function setRunning(value) {
+    running = value;
+    ui.play.textContent = running ? "Pause" : "Play";
+  }
+
+  // -- the worked solution -------------------------------------------------------------------
+  function typeset() {
+    const solution = document.getElementById("solution");
+    for (const section of model.sections) {
+      const box = section.folded ? element("details") : element("div");
+      box.append(section.folded ? element("summary", {}, section.title) : element("h2", {}, section.title));
+      for (const item of section.items) {
+        const node = element("div", { class: "item" });
+        if (item.latex) {
+          const math = element("div", { class: "math" });
+          if (window.katex) {
+            window.katex.render(item.latex, math, { displayMode: true, throwOnError: false, strict: "ignore", trust: false });
+          } else {
+            math.textContent = item.latex;
+          }
+          node.append(math);
+        }
+        if (item.text) node.append(element("p", {}, item.text));
+        box.append(node);
+      }
+      solution.append(box);
+    }
+  }
+
+  // -- the hook -------------------------------------------------------------------------------
+  function set(name, value) {
+    const x = Number(value);
+    if (!Number.isFinite(x)) throw new Error(`${name}: not a finite number: ${value}`);
+    const index = parameterNames.indexOf(name);
+    if (index >= 0) params[index] = x;
+    else if (name in initial) initial[name] = x;
+    else throw new Error(`'${name}' is neither a parameter nor a coordinate or velocity`);
+    restart();
+    showValues();
+  }
+
+  function state() {
+    return {
+      t: sim.t,
+      q: Object.fromEntries(names.map((q, i) => [q, sim.y[i]])),
+      q_dot: Object.fromEntries(rates.map((v, i) => [names[i], sim.y[n + i]])),
+    };
+  }
+
+  window.lagrangian = Object.freeze({
+    get parameters() {
+      return Object.fromEntries(parameterNames.map((name, i) => [name, params[i]]));
+    },
+    state,
+    set,
+    run(tEnd) {
+      const target = Number(tEnd);
+      if (!Number.isFinite(target)) throw new Error(`run: not a finite time: ${tEnd}`);
+      if (target < sim.t) restart();
+      advance(sim, target);
+      record();
+      return state();
+    },
+    energy: () => flat(observed()[0])[0],
+    conserved: () => Object.fromEntries(flat(observed()[1]).map((v, k) => [model.conserved[k].name, v])),
+    reset: restart,
+    play: () => setRunning(true),
+    pause: () => setRunning(false),
+    stats: () => ({ fps, steps: sim.steps, steps_per_second: sim.t > 0 ? sim.steps / sim.t : 0, method: sim.method }),
+    screenPosition(particle) {
+      const k = scene.particles.findIndex((p) => p.name === particle);
+      if (k < 0 || !panels.length) return null;
+      const [x, y] = screen(panels[0], parts(sim.t, sim.y).P[k]);
+      return [x / panels[0].ratio, y / panels[0].ratio];
+    },
+  });
+
+  typeset();
+  restart();
+  window.addEventListener("resize", () => layout());
+  window.requestAnimationFrame(frame);
+}

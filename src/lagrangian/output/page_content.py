@@ -1,0 +1,392 @@
+"""What a model's page shows, as data: the worked solution in LaTeX, the scene, the code.
+
+:func:`page_content` reads a :class:`~lagrangian.model.System` once and returns a
+:class:`PageContent`: a JSON-ready document (names, values, the LaTeX of every
+section of the worked solution, the description of the drawing) and the JavaScript
+the page runs, all generated through the JavaScript target of
+:mod:`lagrangian.codegen` from one :class:`~lagrangian.codegen.Program`:
+
+    rhs(t, y, params)          y' = [q', q''] (the target's module, M q'' = f solved)
+    scene(t, y, params)        [P, C, A, S, G, R]: the particles (P x D), the centres
+                               (B x 2) and angles (B x 1) of the planar bodies, both
+                               ends of every spring (2S x D), the centres (S3 x 3) and
+                               rotations (S3 x 9, row by row) of the 3-D bodies
+    observables(t, y, params)  [E, I]: the energy function h = q' dL/dq' - L and the
+                               conserved quantities the analysis found
+    variational(t, y, params)  [p, F]: the momenta dL/dq' and L_q + Q, for the
+                               variational midpoint integrator of the page
+
+The positions are those :mod:`lagrangian.output.geometry` draws for ``animate``; which
+points a rod joins (and which 3-D bodies hang from the origin) the page decides as
+``animate`` does, along its own first seconds of the motion.  Nothing here is HTML:
+:mod:`lagrangian.output.page` places the document and the code in the page.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+import sympy
+from sympy.core.function import AppliedUndef
+
+from ..algebra import as_expression
+from ..analysis import Analysis, analyze
+from ..codegen import Program, program
+from ..codegen.definitions import substitute
+from ..codegen.javascript import JavaScriptTarget
+from ..derive import EquationsOfMotion, derive
+from ..errors import ModelError
+from ..model import RigidBody, System
+from ..model.values import check_parameter_values
+from .analysis import latex_analysis
+from .geometry import ROD_TOLERANCE, coordinates_drawn, geometry
+from .large import latex_printer
+from .latex import latex_equations, latex_steps
+from .mechanism import (
+    BODY_COLOR,
+    MARGIN,
+    PIVOT_COLOR,
+    ROD_COLOR,
+    SOLID_COLOR,
+    SPRING_COLOR,
+    TRAIL_ALPHA,
+)
+from .notation import latex_name, too_long_to_print
+
+#: Seconds each stage of the analysis may take for a page (the rest is said undecided).
+ANALYSIS_SECONDS = 5.0
+#: The page's integration time when the model gives none.
+DEFAULT_T_END = 20.0
+#: matplotlib's tab10, the colours ``animate`` gives the particles (C0, C1, ...).
+PARTICLE_COLORS = (
+    "#1f77b4",
+    "#ff7f0e",
+    "#2ca02c",
+    "#d62728",
+    "#9467bd",
+    "#8c564b",
+    "#e377c2",
+    "#7f7f7f",
+    "#bcbd22",
+    "#17becf",
+)
+
+
+@dataclass(frozen=True)
+class PageContent:
+    """The page's document (JSON-ready: str, float, list, dict) and its JavaScript (None
+    when the model cannot run: ``document["unavailable"]`` says why)."""
+
+    document: dict
+    script: str | None
+
+
+def page_content(
+    system: System,
+    *,
+    parameters: Mapping[str, float] | None = None,
+    initial: Mapping[str, float] | None = None,
+    definitions: Mapping[str, str] | None = None,
+) -> PageContent:
+    """The :class:`PageContent` of ``system`` at ``parameters`` and ``initial`` values
+    (defaults: the model's); ``definitions`` give its unspecified functions (as for
+    :func:`~lagrangian.numeric.compile_equations`), without them the page shows the
+    solution only.  Raises the project's errors for names or values that do not fit."""
+    values = _parameter_values(system, parameters)
+    state = _initial_state(system, initial)
+    eom = derive(system)
+    missing = _unspecified(eom, definitions)
+    code = None if missing else program(eom, definitions=definitions)
+    analysis = analyze(derive(system.without_inputs()), timeout=ANALYSIS_SECONDS)
+    conserved = analysis.conservation.conserved if analysis.conservation is not None else ()
+    parameter_names = [q.name for q in code.parameters] if code else _parameters(system)
+    document = {
+        "name": system.name,
+        "description": system.description,
+        "coordinates": [
+            {"name": c.name, "latex": latex_name(c.name), "velocity": c.q_dot.name}
+            for c in system.coordinates
+        ],
+        "velocity_latex": [latex_name(c.q_dot.name) for c in system.coordinates],
+        "parameters": [
+            {"name": name, "latex": latex_name(name), "value": values[name]}
+            for name in parameter_names
+        ],
+        "initial": state,
+        "t_end": float(system.simulate_settings.get("t_end", DEFAULT_T_END)),
+        "constraints": code.constraints if code else 0,
+        "conserved": [
+            {"name": q.name, "latex": _quantity_latex(q.name), "description": q.description}
+            for q in conserved
+        ],
+        "sections": _sections(eom, analysis),
+        "dop853": _dop853(),
+    }
+    if code is None:  # the solution only: nothing to run without the functions
+        functions = ", ".join(missing)
+        document["unavailable"] = (
+            f"No live simulation: the functions {functions} are unspecified; a page written"
+            " with a definition of each runs the motion."
+        )
+        return PageContent(document, None)
+    document["scene"] = _scene(system, values)
+    return PageContent(document, _script(code, system, conserved))
+
+
+def _unspecified(eom: EquationsOfMotion, definitions: Mapping[str, str] | None) -> list[str]:
+    """The declared functions the equations use that ``definitions`` does not give."""
+    used = {
+        applied.func.__name__
+        for entry in (*eom.mass_matrix, *eom.forcing)
+        for applied in entry.atoms(AppliedUndef)
+    }
+    return sorted(used - set(definitions or {}))
+
+
+def _parameters(system: System) -> list[str]:
+    inputs = set(system.input_names)
+    return [p.name for p in system.parameters if p.name not in inputs]
+
+
+def _parameter_values(system: System, given: Mapping[str, float] | None) -> dict[str, float]:
+    given = {name: float(value) for name, value in (given or {}).items()}
+    check_parameter_values(system, given)
+    values = {**system.parameter_values, **given}
+    missing = [p.name for p in system.parameters if p.name not in values]
+    if missing:
+        raise ModelError(f"no value for parameter(s) {', '.join(missing)}")
+    return {name: float(value) for name, value in values.items()}
+
+
+def _initial_state(system: System, given: Mapping[str, float] | None) -> dict[str, float]:
+    """{q: value, q_dot: value} for every coordinate: the model's, then ``given``."""
+    names = [n for c in system.coordinates for n in (c.name, c.q_dot.name)]
+    given = dict(given or {})
+    unknown = sorted(set(given) - set(names))
+    if unknown:
+        raise ModelError(
+            f"'{unknown[0]}' is not a coordinate or velocity of the model"
+            f" (they are: {', '.join(names)})"
+        )
+    state = {name: float(system.initial.get(name, 0.0)) for name in names}
+    for name, value in given.items():
+        state[name] = float(value)
+        if not np.isfinite(state[name]):
+            raise ModelError(f"the initial value of '{name}' must be finite, not {value!r}")
+    return state
+
+
+# -- the worked solution ---------------------------------------------------------------
+
+
+def _sections(eom: EquationsOfMotion, analysis: Analysis) -> list[dict]:
+    """Titled blocks: each a list of items, ``{"latex": ...}`` (display math) or
+    ``{"text": ...}`` (a sentence, shown as text)."""
+    system = eom.system
+    show = latex_printer(system)
+    sections = [
+        {"title": "Lagrange's equations", "items": [{"latex": latex_equations(eom)}]},
+        {"title": "Step by step", "items": [{"latex": latex_steps(eom)}], "folded": True},
+        {"title": "M q'' = f", "items": [{"latex": _matrix_form(eom, show)}]},
+    ]
+    conservation = analysis.conservation
+    items: list[dict] = []
+    if conservation is not None:
+        for q in conservation.conserved:
+            items.append(
+                {
+                    "latex": f"{_quantity_latex(q.name)} = {_shown(q.expression, show)}",
+                    "text": f"conserved: {q.description}" if q.description else "conserved",
+                }
+            )
+        for q in conservation.not_conserved:
+            items.append(
+                {
+                    "latex": f"{_quantity_latex(q.name)} = {_shown(q.expression, show)}",
+                    "text": f"not conserved: {q.reason}",
+                }
+            )
+        if not items:
+            items.append({"text": "No conserved quantity was found."})
+    sections.append({"title": "Conserved quantities", "items": items})
+    sections.append(
+        {
+            "title": "Equilibria and small oscillations",
+            "items": [{"latex": latex_analysis(analysis)}, *_mode_items(analysis, show)],
+        }
+    )
+    notes = [*analysis.notes, *(f"{u.stage}: {u.reason}" for u in analysis.undecided)]
+    if notes:
+        sections.append({"title": "Notes", "items": [{"text": note} for note in notes]})
+    return sections
+
+
+def _matrix_form(eom: EquationsOfMotion, show) -> str:
+    mass = sympy.Matrix(eom.mass_matrix)
+    forcing = sympy.Matrix(eom.forcing)
+    accelerations = r"\\".join(latex_name(c.q_ddot.name) for c in eom.coordinates)
+    if any(too_long_to_print(e) for e in (*mass, *forcing)):
+        return r"M\,\ddot{q} = f:\ \text{too long to print; derive --json gives it}"
+    rows_m = r"\\".join(" & ".join(show(x) for x in mass.row(i)) for i in range(mass.rows))
+    rows_f = r"\\".join(show(entry) for entry in forcing)
+    return (
+        rf"\begin{{pmatrix}}{rows_m}\end{{pmatrix}}"
+        rf"\begin{{pmatrix}}{accelerations}\end{{pmatrix}}"
+        rf" = \begin{{pmatrix}}{rows_f}\end{{pmatrix}}"
+    )
+
+
+def _mode_items(analysis: Analysis, show) -> list[dict]:
+    """The normal modes of every equilibrium that has them: omega^2 and the mode shape."""
+    items = []
+    for e in analysis.equilibria:
+        modes = e.modes
+        if not modes.shapes:
+            continue
+        point = ", ".join(f"{latex_name(k)} = {show(v)}" for k, v in e.point.items())
+        rows = [rf"&\text{{about }} {point}\ \text{{({modes.stability.value})}}"]
+        for w2, shape in zip(modes.omega_squared, modes.shapes, strict=False):
+            vector = r"\\".join(_shown(x, show) for x in shape)
+            shape_latex = rf"\begin{{pmatrix}}{vector}\end{{pmatrix}}"
+            rows.append(rf"\omega^2 = {_shown(w2, show)}:\ &{shape_latex}")
+        items.append({"latex": r"\begin{aligned}" + r"\\".join(rows) + r"\end{aligned}"})
+    if items:
+        items.insert(0, {"text": "Normal modes: squared angular frequency and shape"})
+    return items
+
+
+def _shown(expr: sympy.Expr, show) -> str:
+    return r"\text{too long to print}" if too_long_to_print(expr) else show(expr)
+
+
+def _quantity_latex(name: str) -> str:
+    if name.startswith("p_"):
+        return f"p_{{{latex_name(name[2:])}}}"
+    return {"energy": "h"}.get(name, rf"\mathrm{{{latex_name(name)}}}")
+
+
+# -- the drawing -----------------------------------------------------------------------
+
+
+def _drawn(system: System) -> System:
+    return coordinates_drawn(system) if not system.particles and not system.bodies else system
+
+
+def _scene(system: System, values: Mapping[str, float]) -> dict:
+    """What is drawn and how; the positions come from ``scene`` in the code, and the page
+    decides which points a rod joins as :func:`~lagrangian.output.geometry.rods` does (a
+    distance constant along the motion, within ``rod_tolerance``), along its own run."""
+    view = geometry(system, values)
+    shapes = [
+        {"points": shape.points.tolist(), "paths": [list(p) for p in shape.paths]}
+        for shape in view.solid_shapes
+    ]
+    masses = np.clip(np.nan_to_num(view.masses), 0, None)
+    relative = (masses / masses.max()) ** (1 / 3) if masses.size and masses.max() > 0 else masses
+    return {
+        "dimension": view.dimension,
+        "views": [list(v) for v in view.views],
+        "vertical": view.vertical,
+        "coordinates_only": view.coordinates_only,
+        "particles": [
+            {"name": name, "size": float(size), "color": PARTICLE_COLORS[i % 10]}
+            for i, (name, size) in enumerate(zip(view.particle_names, relative, strict=True))
+        ],
+        "rod_tolerance": ROD_TOLERANCE,
+        "springs": len(view.system.springs),
+        "body_lengths": view.body_lengths.tolist(),
+        "solids": shapes,
+        "palette": list(PARTICLE_COLORS),
+        "style": _style(),
+    }
+
+
+def _style() -> dict:
+    """The colours and proportions ``animate`` draws with (:mod:`lagrangian.output.mechanism`)."""
+    from matplotlib.colors import to_hex
+
+    return {
+        "rod": to_hex(ROD_COLOR),
+        "spring": to_hex(SPRING_COLOR),
+        "body": to_hex(BODY_COLOR),
+        "pivot": to_hex(PIVOT_COLOR),
+        "solid": to_hex(SOLID_COLOR),
+        "margin": MARGIN,
+        "trail_alpha": TRAIL_ALPHA,
+    }
+
+
+# -- the code --------------------------------------------------------------------------
+
+
+def _script(code: Program, system: System, conserved) -> str:
+    """The target's module (rhs) and the page's routines, one ES module text."""
+    target = JavaScriptTarget()
+    drawn = _drawn(system)
+    forms = code.forms
+
+    def defined(matrix) -> sympy.Matrix:
+        return sympy.Matrix(matrix).applyfunc(lambda e: substitute(e, forms.definitions))
+
+    dimension = len(drawn.particles[0].position) if drawn.particles else 3
+    solids = [b for b in drawn.bodies if isinstance(b, RigidBody)]
+    planar = [b for b in drawn.bodies if not isinstance(b, RigidBody)]
+    scene = code.routine(
+        "scene",
+        [
+            ("P", defined(_rows([p.position for p in drawn.particles], dimension))),
+            ("C", defined(_rows([b.center for b in planar], 2))),
+            ("A", defined(_rows([[b.angle] for b in planar], 1))),
+            ("S", defined(_rows([end for s in drawn.springs for end in s.ends], dimension))),
+            ("G", defined(_rows([b.position for b in solids], 3))),
+            ("R", defined(_rows([[x for row in b.rotation for x in row] for b in solids], 9))),
+        ],
+    )
+    observables = code.routine(
+        "observables",
+        [
+            ("E", sympy.Matrix([forms.energy])),
+            ("I", defined(_rows([[q.expression] for q in conserved], 1))),
+        ],
+    )
+    gradient = [sympy.diff(forms.lagrangian, q) for q in forms.coordinates]
+    variational = code.routine(
+        "variational",
+        [
+            ("p", sympy.Matrix(forms.momenta)),
+            ("F", sympy.Matrix(gradient) + sympy.Matrix(forms.nonconservative_forces)),
+        ],
+    )
+    lines = [target.render(code, "page")]
+    for name, routine in (
+        ("scene", scene),
+        ("observables", observables),
+        ("variational", variational),
+    ):
+        lines += target.function(name, code, routine, exported=False)
+    return "\n".join(lines) + "\n"
+
+
+def _rows(rows: list, width: int) -> sympy.Matrix:
+    """The rows as a matrix of ``width`` columns (an empty one for no rows)."""
+    if not rows:
+        return sympy.zeros(0, width)
+    return sympy.Matrix([[as_expression(x) for x in row] for row in rows])
+
+
+def _dop853() -> dict:
+    """The coefficients of Dormand and Prince's 8(5,3) pair as SciPy's DOP853 uses them
+    (``simulate --method dop853``), so that the page steps as ``simulate`` does."""
+    from scipy.integrate._ivp import dop853_coefficients as c
+
+    stages = c.N_STAGES
+    return {
+        "stages": stages,
+        "A": [row[:stages].tolist() for row in c.A[:stages]],
+        "B": c.B.tolist(),
+        "C": c.C[:stages].tolist(),
+        "E3": c.E3.tolist(),
+        "E5": c.E5.tolist(),
+    }
