@@ -135,6 +135,20 @@ class System(ModelSystem):
 
         return lyapunov_of_system(self, **options)
 
+    def poincare(self, **options: object):
+        """A Poincaré section -> :class:`~lagrangian.integrate.poincare.PoincareSection`
+        (``.values``, ``["y"]``, ``.save("points.csv")``, ``.plot()``).
+
+        Options: axes (two names: coordinates, velocities, momenta p_q), section
+        ("x = 0") and direction ("+", "-", "both") or strobe (a period) and transient,
+        energy and orbits (starts on an energy shell) or spread ({name: (low, high)}),
+        t_end, rtol, atol, initial, params, backend, timeout (see
+        :func:`lagrangian.simulation.poincare_of_system`).
+        """
+        from .simulation import poincare_of_system
+
+        return poincare_of_system(self, **options)
+
     def animate(self, path=None, *, trajectory=None, **options: object):
         """The mechanism in motion (default: a run with the model's simulate settings)."""
         from .output.animation import animate
@@ -196,6 +210,13 @@ def _plot_lyapunov(self):
     return plot_lyapunov(self)
 
 
+def _plot_section(self, **options: object):
+    """A matplotlib Figure: the section's points on its two axes, coloured by orbit."""
+    from .output.sections import plot_section
+
+    return plot_section(self, **options)
+
+
 def _equations_latex(self) -> str:
     from .output.latex import latex_equations
 
@@ -225,11 +246,13 @@ def _add_display_methods() -> None:
     from .analysis.report import Analysis
     from .analysis.state_space import StateSpace
     from .integrate.lyapunov import LyapunovSpectrum
+    from .integrate.poincare import PoincareSection
 
     Trajectory.plot = _plot
     Trajectory.animate = _animate
     Trajectory._repr_html_ = _trajectory_html
     LyapunovSpectrum.plot = _plot_lyapunov
+    PoincareSection.plot = _plot_section
     EquationsOfMotion._repr_latex_ = _equations_latex
     Hamiltonian._repr_latex_ = _hamiltonian_latex
     Analysis._repr_latex_ = _report_latex

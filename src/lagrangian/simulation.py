@@ -9,11 +9,15 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping
 
+import numpy as np
+
 from .derive import derive
 from .errors import ModelError, setting
 from .integrate import method_class, simulate
 from .integrate.lyapunov import DEFAULT_INTERVAL, LyapunovSpectrum, lyapunov_spectrum
 from .integrate.pace import RUN_SECONDS, RunPace, watching
+from .integrate.poincare import PoincareSection, poincare_section, shell_starts
+from .integrate.section import parse_section
 from .integrate.simulate import DEFAULT_METHOD
 from .model import System
 from .model.values import check_parameter_values
@@ -151,3 +155,74 @@ def lyapunov_of_system(
         compiled, t_end=t_end, count=count, initial=initial, params=params,
         transient=transient, interval=interval, rtol=rtol, atol=atol, watch=watch,
     )  # fmt: skip
+
+
+#: Orbits of a section sampled on an energy shell, unless told.
+DEFAULT_ORBITS = 10
+
+
+def poincare_of_system(
+    system: System,
+    *,
+    axes: tuple[str, str],
+    section: str | None = None,
+    direction: str = "+",
+    strobe: float | None = None,
+    transient: float = 0.0,
+    energy: float | None = None,
+    orbits: int | None = None,
+    spread: Mapping[str, tuple[float, float]] | None = None,
+    t_end: float | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    initial: Mapping[str, float] | None = None,
+    params: Mapping[str, float] | None = None,
+    assignments: Mapping[str, float] | None = None,
+    progress: Callable[[float], None] | None = None,
+    definitions: Mapping[str, str] | None = None,
+    backend: str | None = None,
+    timeout: float | None = RUN_SECONDS,  # the settings as for simulate_system
+) -> PoincareSection:
+    """The Poincaré section of ``system`` (see :mod:`lagrangian.integrate.poincare`):
+    crossings of ``section`` ("x = 0") in ``direction``, or with ``strobe`` the state
+    every period after ``transient``, drawn on ``axes`` (coordinates, velocities or
+    momenta p_q).  The orbits start on the energy shell ``energy`` (``orbits`` of them,
+    default 10, see :func:`~lagrangian.integrate.poincare.shell_starts`), or from the
+    initial state with one value ``spread`` {name: (low, high)} over ``orbits`` starts,
+    or, with neither, from the initial state alone.  Each runs to ``t_end`` (default: the
+    model's t_end)."""
+    initial, params = split_assignments(system, assignments, initial, params)
+    if energy is not None and spread:
+        raise ModelError("give an energy or a spread of start values, not both")
+    if t_end is None:
+        t_end = system.simulate_settings.get("t_end", DEFAULT_T_END)
+    compiled, watch = _compiled_run(system, 1.0, backend, definitions, progress, timeout)
+    parsed = None if section is None else parse_section(compiled, section, direction)
+    count = DEFAULT_ORBITS if orbits is None else int(orbits)
+    if energy is not None:
+        if parsed is None:
+            raise ModelError("sampling an energy shell needs a section 'coordinate = number'")
+        starts = shell_starts(
+            compiled, parsed, float(energy), count, axes[0], initial=initial, params=params
+        )
+    else:
+        starts = _spread_starts(compiled, initial, spread or {}, count)
+    return poincare_section(
+        compiled, starts, axes=axes, t_end=t_end, section=parsed, strobe=strobe,
+        transient=transient, params=params, rtol=rtol, atol=atol, watch=watch,
+    )  # fmt: skip
+
+
+def _spread_starts(compiled, initial, spread: Mapping[str, tuple[float, float]], count: int):
+    """The initial state, with each ``spread`` value going from low to high over ``count``
+    starts (2n, count); the initial state alone (2n, 1) without a spread."""
+    base = compiled.state_vector(initial)
+    if not spread:
+        return base[:, None]
+    starts = np.repeat(base[:, None], count, axis=1)
+    names = [*compiled.coordinate_names, *(f"{q}_dot" for q in compiled.coordinate_names)]
+    for name, (low, high) in spread.items():
+        if name not in names:
+            raise ModelError(f"'{name}' is not a coordinate or velocity", field="spread")
+        starts[names.index(name)] = np.linspace(float(low), float(high), count)
+    return starts

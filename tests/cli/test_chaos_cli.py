@@ -58,3 +58,47 @@ def test_lyapunov_errors_are_one_line(capsys, argv, message):
     assert status == ExitStatus.BAD_INPUT
     assert message in err
     assert len(err.strip().splitlines()) == 1 and out == ""
+
+
+def test_poincare_writes_points_and_picture(capsys, tmp_path):
+    table, picture = tmp_path / "points.csv", tmp_path / "section.png"
+    status, out, _ = run(
+        capsys, "poincare", "henon_heiles", "--section", "x = 0", "--axes", "y,p_y",
+        "--energy", "0.125", "--orbits", "2", "--t-end", "20", "--out", str(table),
+        "--plot", str(picture),
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    assert out.startswith("Henon-Heiles system: section x = 0, 2 orbits to t = 20,")
+    assert table.read_text().splitlines()[0] == "orbit,t,x,y,x_dot,y_dot,p_y,energy"
+    assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_poincare_json_with_a_strobe(capsys):
+    status, out, _ = run(
+        capsys, "poincare", "driven_damped_pendulum", "--strobe", "9.42477796076938",
+        "--transient", "10", "--t-end", "60", "--axes", "theta,theta_dot", "--json",
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    summary = json.loads(out)
+    assert summary["orbits"] == 1 and summary["points"] == 5
+    assert summary["strobe"] == pytest.approx(9.42477796076938)
+    assert summary["method"] == "dop853"
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--axes", "y"], "give two names, e.g. y,p_y"),
+        (["--axes", "y,p_y"], "give --section or --strobe (one of them)"),
+        (["--axes", "y,p_y", "--section", "x = 0", "--strobe", "1"], "one of them"),
+        (["--axes", "y,q_y", "--section", "x = 0"], "unknown axis 'q_y'"),
+        (["--axes", "y,p_y", "--section", "x = 0", "--out", "p.txt"], "must end in .csv or .nc"),
+        (["--axes", "y,p_y", "--section", "x = 0", "--spread", "y=1"], "expected NAME=LO:HI"),
+        (["--axes", "y,p_y", "--section", "x + y = 0", "--energy", "0.1"], "'coordinate = number'"),
+    ],
+)
+def test_poincare_errors_are_one_line(capsys, argv, message):
+    status, out, err = run(capsys, "poincare", "henon_heiles", "--t-end", "1", *argv)
+    assert status == ExitStatus.BAD_INPUT
+    assert message in err
+    assert len(err.strip().splitlines()) == 1 and out == ""

@@ -1,16 +1,19 @@
-"""The commands that measure chaos: ``lyapunov`` (registered on ``app``)."""
+"""The commands that show and measure chaos: ``lyapunov`` and ``poincare`` (registered on
+``app``)."""
 
 from __future__ import annotations
 
 import json
 
 import click
+import numpy as np
 
 from ..numeric.compile import RUN_BACKENDS
 from .app import (
     MODEL_HELP,
     _assignments,
     _definitions,
+    _pairs,
     _progress_bar,
     app,
     define_option,
@@ -109,3 +112,119 @@ def lyapunov(
     click.echo(lyapunov_text(spectrum))
     if picture is not None:
         click.echo(f"wrote {picture}")
+
+
+def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
+    """NAME=LO:HI of --spread (a bad one: usage error naming it)."""
+    spread = {}
+    for name, text in _pairs(values, "--spread", "NAME=LO:HI").items():
+        try:
+            low, high = (float(part) for part in text.split(":"))
+        except ValueError:
+            raise click.BadParameter(
+                f"expected NAME=LO:HI, got {f'{name}={text}'!r}", param_hint="--spread"
+            ) from None
+        spread[name] = (low, high)
+    return spread
+
+
+@app.command(epilog=MODEL_HELP)
+@click.argument("model")
+@click.option(
+    "--axes",
+    required=True,
+    metavar="A,B",
+    help="The two variables drawn: coordinates, velocities q_dot or momenta p_q.",
+)
+@click.option("--section", metavar="EXPR=EXPR", help="The surface of section, e.g. 'x = 0'.")
+@click.option(
+    "--direction",
+    type=click.Choice(["+", "-", "both"]),
+    default="+",
+    show_default=True,
+    help="Crossings where left - right increases (+), decreases (-), or both.",
+)
+@click.option("--strobe", type=float, metavar="PERIOD", help="A stroboscopic section instead.")
+@click.option(
+    "--transient", type=float, default=0.0, show_default=True, help="Time before the strobe."
+)
+@click.option("--energy", type=float, help="Start the orbits on this energy shell.")
+@click.option("--orbits", type=int, help="How many orbits (default 10 with --energy/--spread).")
+@click.option(
+    "--spread",
+    "spreads",
+    multiple=True,
+    metavar="NAME=LO:HI",
+    help="Start the orbits with NAME going from LO to HI (others: the initial state).",
+)
+@click.option("--t-end", type=float, help="Time each orbit runs (default: the model's t_end).")
+@click.option("--rtol", type=float, help="Relative tolerance (default 1e-10).")
+@click.option("--atol", type=float, help="Absolute tolerance (default 1e-12).")
+@set_option
+@define_option
+@backend_option
+@click.option("--out", type=click.Path(dir_okay=False), help="Write the points to F.csv or F.nc.")
+@click.option(
+    "--plot", "picture", type=click.Path(dir_okay=False), help="Draw the section to FILE.png."
+)
+@click.option("--json", "as_json", is_flag=True, help="Print a summary as JSON.")
+@timeout_option
+def poincare(
+    model, axes, section, direction, strobe, transient, energy, orbits, spreads, t_end, rtol,
+    atol, assignments, definitions, backend, out, picture, as_json, timeout,
+) -> None:  # fmt: skip
+    """Poincaré section of MODEL: where its orbits cross --section, or --strobe PERIOD."""
+    from ..facade import load
+    from ..simulation import poincare_of_system
+
+    names = tuple(name.strip() for name in axes.split(","))
+    if len(names) != 2 or not all(names):
+        raise click.BadParameter("give two names, e.g. y,p_y", param_hint="--axes")
+    if (section is None) == (strobe is None):
+        raise click.BadParameter("give --section or --strobe (one of them)", param_hint="--section")
+    if out is not None and not out.endswith((".csv", ".nc")):
+        raise click.BadParameter("the output file must end in .csv or .nc", param_hint="--out")
+    if out is not None:
+        from ..files import check_output_path
+
+        check_output_path(out)
+    _png(picture, "--plot")
+    system = load(model)
+    with _progress_bar(enabled=not as_json) as progress:
+        points = poincare_of_system(
+            system, axes=names, section=section, direction=direction, strobe=strobe,
+            transient=transient, energy=energy, orbits=orbits, spread=_spread(spreads),
+            t_end=t_end, rtol=rtol, atol=atol, assignments=_assignments(assignments),
+            progress=progress, definitions=_definitions(definitions), backend=backend,
+            timeout=timeout,
+        )  # fmt: skip
+    if out is not None:
+        points.save(out)
+    if picture is not None:
+        from ..output.plots import save_figure
+        from ..output.sections import plot_section
+
+        save_figure(plot_section(points), picture, dpi=120)
+    counts = np.bincount(points.orbits, minlength=points.orbit_count)
+    summary = {
+        "model": points.name,
+        "axes": list(points.axes),
+        "orbits": points.orbit_count,
+        "points": points.count,
+        "points_per_orbit": counts.tolist(),
+        "energy_spread": float(np.ptp(points.energies)) if points.count else 0.0,
+        **points.settings,
+        **({"out": out} if out is not None else {}),
+        **({"plot": picture} if picture is not None else {}),
+    }
+    if as_json:
+        click.echo(json.dumps(summary, indent=2))
+        return
+    where = f"strobe {strobe:g}" if strobe is not None else f"section {section}"
+    click.echo(
+        f"{points.name}: {where}, {points.orbit_count} orbits to t = {summary['t_end']:g}, "
+        f"{points.count} points ({counts.min()} to {counts.max()} per orbit)"
+    )
+    for path in (out, picture):
+        if path is not None:
+            click.echo(f"wrote {path}")

@@ -1,0 +1,270 @@
+"""Poincaré sections: where many motions cross a surface, or where they are every period.
+
+For each start state one motion is integrated by DOP853 (rtol 1e-10, atol 1e-12 unless
+told) from t = 0 to ``t_end``; its crossings of the section g = 0
+(:mod:`lagrangian.integrate.section`) are the roots of g along the method's 7th-order
+dense output, located by SciPy's event finder to the integration tolerance
+(:func:`lagrangian.integrate.events.scipy_event`).  A stroboscopic section instead
+keeps the state at t = transient + k * period, k = 1, 2, ..., from the same dense
+output: the Poincaré map of a system driven with that period.
+
+Start states are given, or sampled on an energy shell (:func:`shell_starts`): for a
+section ``q_c = c`` the other values of the start are the model's initial state, the
+first axis is spread over the range the energy allows, and q_c' is solved from
+h(q, q') = E (h is quadratic in q_c': its three coefficients are read from h at
+q_c' = -1, 0, 1), the root of the crossing direction.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import ModelError
+from ..files import write_atomically
+from .base import Status, check_time_span, positive_setting
+from .events import Event
+from .scipy_methods import Dop853
+from .section import Section, axis_values, state_names
+
+#: Widest excursion searched for the ends of an energy shell along the first axis.
+SHELL_LIMIT = 1e6
+
+
+@dataclass(frozen=True)
+class PoincareSection:
+    """The points of a section: ``values`` (V, K) of ``variables`` (the state, then any
+    momentum axes) at K crossings (or strobe times) ``times``, of orbit ``orbits`` (K,)."""
+
+    variables: tuple[str, ...]
+    values: np.ndarray
+    times: np.ndarray
+    orbits: np.ndarray
+    axes: tuple[str, str]
+    starts: np.ndarray  # (2n, N): the orbits' start states
+    energies: np.ndarray  # (K,): h at each point (the energy function)
+    settings: Mapping[str, object] = field(default_factory=dict)
+    name: str = ""
+    system: object = field(default=None, repr=False, compare=False)  # the model, if known
+
+    def __getitem__(self, variable: str) -> np.ndarray:
+        return self.values[self.variables.index(variable)]
+
+    @property
+    def count(self) -> int:
+        return int(self.times.shape[0])
+
+    @property
+    def orbit_count(self) -> int:
+        return int(self.starts.shape[1])
+
+    def columns(self) -> tuple[str, ...]:
+        """The columns of the files: orbit, t, the variables, energy."""
+        return ("orbit", "t", *self.variables, "energy")
+
+    def table(self) -> np.ndarray:
+        """(K, columns) of the points, in the order of :meth:`columns`."""
+        return np.column_stack([self.orbits, self.times, *self.values, self.energies])
+
+    def to_csv(self, path: str | os.PathLike) -> Path:
+        """The points as CSV (orbit numbered from 0, full float precision), atomically."""
+        table = self.table()
+        header = ",".join(self.columns())
+
+        def write(target: Path) -> None:
+            with open(target, "w", newline="", encoding="utf-8") as stream:
+                np.savetxt(stream, table, fmt="%.17g", delimiter=",", header=header, comments="")
+
+        return write_atomically(path, write)
+
+    def to_netcdf(self, path: str | os.PathLike) -> Path:
+        """The points as netCDF-3 (dimension ``point``; the starts and settings in
+        attributes), atomically."""
+        import xarray
+
+        data = {name: ("point", self.values[i]) for i, name in enumerate(self.variables)}
+        data |= {"orbit": ("point", self.orbits), "energy": ("point", self.energies)}
+        attrs = {
+            "model": self.name,
+            "axes": ",".join(self.axes),
+            **{key: str(value) for key, value in self.settings.items()},
+        }
+        dataset = xarray.Dataset(data, coords={"t": ("point", self.times)}, attrs=attrs)
+        return write_atomically(path, lambda target: dataset.to_netcdf(target, engine="scipy"))
+
+    def save(self, path: str | os.PathLike) -> Path:
+        """``to_csv`` or ``to_netcdf`` by the suffix of ``path`` (.csv, .nc)."""
+        suffix = Path(path).suffix
+        writers = {".csv": self.to_csv, ".nc": self.to_netcdf}
+        if suffix not in writers:
+            raise ModelError(f"the points are written to .csv or .nc, not {suffix or path!r}")
+        return writers[suffix](path)
+
+
+def poincare_section(
+    compiled,
+    starts: np.ndarray,
+    *,
+    axes: Sequence[str],
+    t_end: float,
+    section: Section | None = None,
+    strobe: float | None = None,
+    transient: float = 0.0,
+    params: Mapping[str, float] | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    watch: Callable[[float], None] | None = None,
+) -> PoincareSection:
+    """The section's points of the motions from ``starts`` (2n, N): the crossings of
+    ``section``, or with ``strobe`` the states every ``strobe`` after ``transient``.
+
+    ``watch`` is told the fraction of the work done (0 to 1) at every step.
+    """
+    if (section is None) == (strobe is None):
+        raise ModelError("give a section or a strobe period (one of them)")
+    axes = tuple(axes)
+    if len(axes) != 2:
+        raise ModelError(f"give two axes, e.g. 'y,p_y', not {len(axes)}", field="axes")
+    t0, t1 = check_time_span((0.0, t_end))
+    p = compiled.parameter_vector(params)
+    n = compiled.n
+    axis_values(compiled, axes, np.empty(0), np.empty((2 * n, 0)), p)  # an unknown axis: now
+    integrator = Dop853.configure(t_span=(t0, t1), rtol=rtol, atol=atol)
+    events = ()
+    t_eval = None
+    if strobe is not None:
+        strobe = positive_setting("strobe", strobe)
+        t_eval = np.arange(float(transient) + strobe, t1 + 1e-12 * strobe, strobe)
+        if t_eval.size == 0:
+            raise ModelError(f"no strobe time before t_end = {t1:g} (period {strobe:g})")
+    else:
+        events = (Event(section.function, section.direction, name="section"),)
+    starts = np.asarray(starts, dtype=float).reshape(2 * n, -1)
+    times, states, orbits = [], [], []
+    count = starts.shape[1]
+    for k in range(count):
+        told = None if watch is None else (lambda t, k=k: watch((k + t / t1) / count))
+        result = integrator.solve(
+            compiled, (t0, t1), starts[:, k], p, t_eval=t_eval, events=events, watch=told
+        )
+        if result.status is Status.FAILED:
+            raise ModelError(f"the integration of orbit {k + 1} failed: {result.message}")
+        if strobe is not None:
+            found_t, found_y = result.t, result.y
+        else:
+            found_t, found_y = result.events[0].times, result.events[0].states
+        times.append(found_t)
+        states.append(found_y)
+        orbits.append(np.full(found_t.shape, k))
+    t = np.concatenate(times)
+    y = np.concatenate(states, axis=1) if states else np.empty((2 * n, 0))
+    names = state_names(compiled)
+    extra = [name for name in axes if name not in names]
+    values = np.vstack([y, axis_values(compiled, extra, t, y, p)])
+    energies = np.asarray(compiled.energy(t, y, p), dtype=float).reshape(-1)
+    settings = {
+        **integrator.settings(),
+        "t_end": t1,
+        "section": None if section is None else section.text,
+        "direction": None if section is None else section.direction,
+        "strobe": strobe,
+        "transient": float(transient),
+    }
+    return PoincareSection(
+        variables=(*names, *extra),
+        values=values,
+        times=t,
+        orbits=np.concatenate(orbits).astype(int),
+        axes=(axes[0], axes[1]),
+        starts=starts,
+        energies=energies,
+        settings=settings,
+        name=compiled.equations.system.name if compiled.derived else "",
+        system=compiled.equations.system if compiled.derived else None,
+    )
+
+
+def shell_starts(
+    compiled,
+    section: Section,
+    energy: float,
+    count: int,
+    axis: str,
+    *,
+    initial: Mapping[str, float] | None = None,
+    params: Mapping[str, float] | None = None,
+) -> np.ndarray:
+    """``count`` start states (2n, count) on the section q_c = c at energy ``energy``: the
+    initial state with q_c = c, ``axis`` spread evenly over the interval about its initial
+    value where h = E has a solution for q_c', and q_c' solved."""
+    if section.coordinate is None or section.value is None:
+        raise ModelError(
+            f"sampling an energy shell needs a section 'coordinate = number', not {section.text!r}"
+        )
+    names = state_names(compiled)
+    c = names.index(section.coordinate)
+    velocity = compiled.n + c
+    if axis not in names or names.index(axis) in (c, velocity):
+        raise ModelError(
+            f"the energy shell is spread along the first axis: a coordinate or velocity "
+            f"other than {section.coordinate} and its velocity, not {axis!r}",
+            field="axes",
+        )
+    if not (np.isfinite(energy) and int(count) >= 1):
+        raise ModelError(f"give a finite energy and at least one orbit, not {energy}, {count}")
+    p = compiled.parameter_vector(params)
+    base = compiled.state_vector(initial)
+    base[c] = section.value
+    index = names.index(axis)
+
+    def solved(value: float) -> float | None:
+        """q_c' on the shell with the axis at ``value``, None where none is real."""
+        y = np.repeat(base[:, None], 4, axis=1)
+        y[index] = value
+        y[velocity] = (-1.0, 0.0, 1.0, 2.0)
+        h = np.asarray(compiled.energy(0.0, y, p), dtype=float)
+        a = (h[0] + h[2]) / 2 - h[1]
+        b = (h[2] - h[0]) / 2
+        if not (a > 0 and np.isclose(4 * a + 2 * b + h[1], h[3], rtol=1e-9, atol=1e-12)):
+            raise ModelError(
+                f"the energy is not a convex quadratic in {names[velocity]}: "
+                "it cannot be solved on the shell"
+            )
+        discriminant = b * b - 4 * a * (h[1] - energy)
+        if discriminant < 0:
+            return None
+        return (-b + (-1.0 if section.direction < 0 else 1.0) * np.sqrt(discriminant)) / (2 * a)
+
+    start = float(base[index])
+    if solved(start) is None:
+        raise ModelError(
+            f"the energy {energy:g} is below the energy of the section's start "
+            f"({axis} = {start:g} at rest across the section)"
+        )
+    low, high = (_shell_end(solved, start, sign) for sign in (-1.0, 1.0))
+    starts = np.repeat(base[:, None], int(count), axis=1)
+    starts[index] = low + (np.arange(int(count)) + 0.5) * (high - low) / int(count)
+    starts[velocity] = [solved(value) for value in starts[index]]
+    return starts
+
+
+def _shell_end(solved: Callable[[float], float | None], start: float, sign: float) -> float:
+    """The end of the shell's interval from ``start`` in direction ``sign``: doubling
+    steps out, then bisection to 1e-12 relative."""
+    inside, step = start, 1e-3 * max(1.0, abs(start))
+    while solved(inside + sign * step) is not None:
+        inside += sign * step
+        step *= 2
+        if abs(inside - start) > SHELL_LIMIT:
+            raise ModelError(
+                "the energy shell is unbounded along the first axis: give starts instead"
+            )
+    outside = inside + sign * step
+    while abs(outside - inside) > 1e-12 * max(1.0, abs(inside)):
+        middle = (inside + outside) / 2
+        inside, outside = (middle, outside) if solved(middle) is not None else (inside, middle)
+    return inside
