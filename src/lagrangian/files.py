@@ -81,6 +81,20 @@ def write_atomically(path: str | os.PathLike, write: Callable[[Path], object]) -
     return target
 
 
+def write_csv(path: str | os.PathLike, table, columns: tuple[str, ...] | list[str]) -> Path:
+    """The rows of ``table`` (a 2-D NumPy array) as CSV under the header ``columns``, in
+    full float precision (``%.17g``: read back bit for bit), atomically."""
+    import numpy as np
+
+    def write(target: Path) -> None:
+        with open(target, "w", newline="", encoding="utf-8") as stream:
+            np.savetxt(
+                stream, table, fmt="%.17g", delimiter=",", header=",".join(columns), comments=""
+            )
+
+    return write_atomically(path, write)
+
+
 def check_output_path(path: str | os.PathLike) -> Path:
     """The path a file will be written to (links resolved), or a FileError saying why not.
 

@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from .errors import ModelError
-from .files import write_atomically
+from .files import write_atomically, write_csv
 from .trajectory_files import name_list, read_csv, read_netcdf
 
 if TYPE_CHECKING:
@@ -233,15 +233,7 @@ class Trajectory:
         """Write the time series as CSV (full float precision), atomically."""
         names = self.columns()
         table = np.column_stack([self.t, *(self[name] for name in names)])
-
-        def write(target: Path) -> None:
-            with open(target, "w", newline="", encoding="utf-8") as stream:
-                np.savetxt(
-                    stream, table, fmt="%.17g", delimiter=",", header=",".join(["t", *names]),
-                    comments="",
-                )  # fmt: skip
-
-        return write_atomically(path, write)
+        return write_csv(path, table, ["t", *names])
 
     def to_netcdf(self, path: str | os.PathLike) -> Path:
         """Write the dataset as netCDF-3 (``engine="scipy"``), atomically."""

@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ModelError
-from ..files import write_atomically
+from ..files import write_atomically, write_csv
 from .base import Status, check_time_span, positive_setting
 from .events import Event
 from .scipy_methods import Dop853
@@ -72,14 +72,7 @@ class PoincareSection:
 
     def to_csv(self, path: str | os.PathLike) -> Path:
         """The points as CSV (orbit numbered from 0, full float precision), atomically."""
-        table = self.table()
-        header = ",".join(self.columns())
-
-        def write(target: Path) -> None:
-            with open(target, "w", newline="", encoding="utf-8") as stream:
-                np.savetxt(stream, table, fmt="%.17g", delimiter=",", header=header, comments="")
-
-        return write_atomically(path, write)
+        return write_csv(path, self.table(), self.columns())
 
     def to_netcdf(self, path: str | os.PathLike) -> Path:
         """The points as netCDF-3 (dimension ``point``; the starts and settings in
