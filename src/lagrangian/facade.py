@@ -149,6 +149,18 @@ class System(ModelSystem):
 
         return poincare_of_system(self, **options)
 
+    def bifurcation(self, **options: object):
+        """A bifurcation diagram -> :class:`~lagrangian.ensemble.bifurcation.
+        BifurcationDiagram` (``.points``, ``.to_csv(path)``, ``.plot()``).
+
+        Options: vary ({parameter: values}), variable, period, transient, samples,
+        steps_per_period, initial, params, method, backend (numpy, numba, jax, cuda,
+        dask), timeout (see :func:`lagrangian.ensemble.bifurcation.bifurcation_diagram`).
+        """
+        from .ensemble import bifurcation_of_system
+
+        return bifurcation_of_system(self, **options)
+
     def animate(self, path=None, *, trajectory=None, **options: object):
         """The mechanism in motion (default: a run with the model's simulate settings)."""
         from .output.animation import animate
@@ -217,6 +229,13 @@ def _plot_section(self, **options: object):
     return plot_section(self, **options)
 
 
+def _plot_bifurcation(self, **options: object):
+    """A matplotlib Figure: the strobed values against the parameter."""
+    from .output.bifurcation import plot_bifurcation
+
+    return plot_bifurcation(self, **options)
+
+
 def _equations_latex(self) -> str:
     from .output.latex import latex_equations
 
@@ -245,6 +264,7 @@ def _add_display_methods() -> None:
     from .analysis.hamiltonian import Hamiltonian
     from .analysis.report import Analysis
     from .analysis.state_space import StateSpace
+    from .ensemble.bifurcation import BifurcationDiagram
     from .integrate.lyapunov import LyapunovSpectrum
     from .integrate.poincare import PoincareSection
 
@@ -253,6 +273,7 @@ def _add_display_methods() -> None:
     Trajectory._repr_html_ = _trajectory_html
     LyapunovSpectrum.plot = _plot_lyapunov
     PoincareSection.plot = _plot_section
+    BifurcationDiagram.plot = _plot_bifurcation
     EquationsOfMotion._repr_latex_ = _equations_latex
     Hamiltonian._repr_latex_ = _hamiltonian_latex
     Analysis._repr_latex_ = _report_latex

@@ -102,3 +102,35 @@ def test_poincare_errors_are_one_line(capsys, argv, message):
     assert status == ExitStatus.BAD_INPUT
     assert message in err
     assert len(err.strip().splitlines()) == 1 and out == ""
+
+
+def test_bifurcation_writes_points_and_picture(capsys, tmp_path):
+    table, picture = tmp_path / "points.csv", tmp_path / "diagram.png"
+    status, out, _ = run(
+        capsys, "bifurcation", "driven_damped_pendulum", "--vary", "A=1.0:1.1:3",
+        "--strobe", "9.42477796076938", "--axis", "theta_dot", "--samples", "2",
+        "--steps-per-period", "50", "--out", str(table), "--plot", str(picture),
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    assert out.startswith("Driven damped pendulum: theta_dot every 9.42478 for 3 values of A")
+    rows = table.read_text().splitlines()
+    assert rows[0] == "A,t,theta_dot" and len(rows) == 1 + 3 * 2
+    assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--vary", "A=1:2"], "expected NAME=LO:HI:N"),
+        (["--vary", "A=1:2:3", "--out", "x.nc"], "must end in .csv"),
+        (["--vary", "omega=1:2:3", "--axis", "x"], "'x' is not a coordinate or velocity"),
+    ],
+)
+def test_bifurcation_errors_are_one_line(capsys, argv, message):
+    status, out, err = run(
+        capsys, "bifurcation", "driven_damped_pendulum", "--strobe", "1", "--axis", "theta",
+        *argv,
+    )  # fmt: skip
+    assert status == ExitStatus.BAD_INPUT
+    assert message in err
+    assert len(err.strip().splitlines()) == 1 and out == ""

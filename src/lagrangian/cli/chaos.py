@@ -1,5 +1,5 @@
-"""The commands that show and measure chaos: ``lyapunov`` and ``poincare`` (registered on
-``app``)."""
+"""The commands that show and measure chaos: ``lyapunov``, ``poincare`` and
+``bifurcation`` (registered on ``app``)."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ import json
 import click
 import numpy as np
 
+from ..ensemble.choices import BACKENDS, METHODS
 from ..numeric.compile import RUN_BACKENDS
 from .app import (
     MODEL_HELP,
@@ -34,6 +35,36 @@ backend_option = click.option(
     default=None,
     help="Compiled code (default llvm where SymEngine has it, else numpy).",
 )
+
+
+def plot_option(what: str):
+    """--plot FILE.png, drawing ``what``."""
+    return click.option(
+        "--plot", "picture", type=click.Path(dir_okay=False), help=f"Draw {what} to FILE.png."
+    )
+
+
+json_option = click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+
+
+def _check_outputs(out: str | None, suffixes: tuple[str, ...], picture: str | None) -> None:
+    """Usage errors, before any run, for an --out without one of ``suffixes`` or a --plot
+    that is not a .png, and for either where it cannot be written."""
+    if out is not None and not out.endswith(suffixes):
+        raise click.BadParameter(
+            f"the output file must end in {' or '.join(suffixes)}", param_hint="--out"
+        )
+    if out is not None:
+        from ..files import check_output_path
+
+        check_output_path(out)
+    _png(picture, "--plot")
+
+
+def _wrote(*paths: str | None) -> None:
+    for path in paths:
+        if path is not None:
+            click.echo(f"wrote {path}")
 
 
 def _png(path: str | None, hint: str) -> None:
@@ -69,13 +100,8 @@ def _png(path: str | None, hint: str) -> None:
 @set_option
 @define_option
 @backend_option
-@click.option(
-    "--plot",
-    "picture",
-    type=click.Path(dir_okay=False),
-    help="Draw the convergence of the estimates to FILE.png.",
-)
-@click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
+@plot_option("the convergence of the estimates")
+@json_option
 @timeout_option
 def lyapunov(
     model, t_end, transient, count, largest, interval, rtol, atol, assignments, definitions,
@@ -110,8 +136,7 @@ def lyapunov(
         click.echo(json.dumps(summary, indent=2))
         return
     click.echo(lyapunov_text(spectrum))
-    if picture is not None:
-        click.echo(f"wrote {picture}")
+    _wrote(picture)
 
 
 def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
@@ -164,10 +189,8 @@ def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
 @define_option
 @backend_option
 @click.option("--out", type=click.Path(dir_okay=False), help="Write the points to F.csv or F.nc.")
-@click.option(
-    "--plot", "picture", type=click.Path(dir_okay=False), help="Draw the section to FILE.png."
-)
-@click.option("--json", "as_json", is_flag=True, help="Print a summary as JSON.")
+@plot_option("the section")
+@json_option
 @timeout_option
 def poincare(
     model, axes, section, direction, strobe, transient, energy, orbits, spreads, t_end, rtol,
@@ -182,13 +205,7 @@ def poincare(
         raise click.BadParameter("give two names, e.g. y,p_y", param_hint="--axes")
     if (section is None) == (strobe is None):
         raise click.BadParameter("give --section or --strobe (one of them)", param_hint="--section")
-    if out is not None and not out.endswith((".csv", ".nc")):
-        raise click.BadParameter("the output file must end in .csv or .nc", param_hint="--out")
-    if out is not None:
-        from ..files import check_output_path
-
-        check_output_path(out)
-    _png(picture, "--plot")
+    _check_outputs(out, (".csv", ".nc"), picture)
     system = load(model)
     with _progress_bar(enabled=not as_json) as progress:
         points = poincare_of_system(
@@ -225,6 +242,84 @@ def poincare(
         f"{points.name}: {where}, {points.orbit_count} orbits to t = {summary['t_end']:g}, "
         f"{points.count} points ({counts.min()} to {counts.max()} per orbit)"
     )
-    for path in (out, picture):
-        if path is not None:
-            click.echo(f"wrote {path}")
+    _wrote(out, picture)
+
+
+@app.command(epilog=MODEL_HELP)
+@click.argument("model")
+@click.option(
+    "--vary",
+    required=True,
+    metavar="NAME=LO:HI:N",
+    help="N values of the parameter NAME from LO to HI.",
+)
+@click.option("--strobe", type=float, required=True, metavar="PERIOD", help="Strobe period.")
+@click.option("--axis", "variable", required=True, help="The coordinate or velocity drawn.")
+@click.option("--transient", type=float, default=0.0, show_default=True, help="Time dropped first.")
+@click.option("--samples", type=int, help="Points kept per value (default 100).")
+@click.option("--steps-per-period", type=int, help="Fixed steps per period (default 200).")
+@click.option("--method", type=click.Choice(list(METHODS)), default="rk4", show_default=True)
+@click.option(
+    "--backend",
+    type=click.Choice(list(BACKENDS)),
+    default="numpy",
+    show_default=True,
+    help="How the values are integrated together (the ensemble's backends).",
+)
+@set_option
+@define_option
+@click.option("--out", type=click.Path(dir_okay=False), help="Write the points to F.csv.")
+@plot_option("the diagram")
+@json_option
+@timeout_option
+def bifurcation(
+    model, vary, strobe, variable, transient, samples, steps_per_period, method, backend,
+    assignments, definitions, out, picture, as_json, timeout,
+) -> None:  # fmt: skip
+    """Bifurcation diagram of MODEL: the strobed --axis against the --vary parameter."""
+    from ..ensemble import bifurcation_of_system
+    from ..facade import load
+    from ..simulation import split_assignments
+    from .ensemble import _grids
+
+    _check_outputs(out, (".csv",), picture)
+    ((parameter, values),) = _grids((vary,)).items()
+    system = load(model)
+    initial, params = split_assignments(system, _assignments(assignments))
+    options = {"samples": samples, "steps_per_period": steps_per_period}
+    with _progress_bar(enabled=not as_json) as progress:
+        diagram = bifurcation_of_system(
+            system, vary={parameter: values}, variable=variable, period=strobe,
+            transient=transient, initial=initial, params=params, method=method,
+            backend=backend, definitions=_definitions(definitions), timeout=timeout,
+            progress=progress, **{k: v for k, v in options.items() if v is not None},
+        )  # fmt: skip
+    if out is not None:
+        diagram.to_csv(out)
+    if picture is not None:
+        from ..output.bifurcation import plot_bifurcation
+        from ..output.plots import save_figure
+
+        save_figure(plot_bifurcation(diagram), picture, dpi=150)
+    settings = diagram.settings
+    distinct = [len(np.unique(np.round(row, 6))) for row in diagram.points]
+    summary = {
+        "model": diagram.name,
+        "parameter": parameter,
+        "values": len(diagram.values),
+        "variable": variable,
+        **settings,
+        "distinct_points": {"min": min(distinct), "max": max(distinct)},
+        **({"out": out} if out is not None else {}),
+        **({"plot": picture} if picture is not None else {}),
+    }
+    if as_json:
+        click.echo(json.dumps(summary, indent=2))
+        return
+    click.echo(
+        f"{diagram.name}: {variable} every {strobe:g} for {len(diagram.values)} values of "
+        f"{parameter}, {settings['samples']} each after t = {settings['transient']:g}; "
+        f"{settings['method']} dt={settings['dt']:g}, backend {settings['backend']}, "
+        f"{settings['wall_time']:.3f} s"
+    )
+    _wrote(out, picture)

@@ -24,6 +24,8 @@ _LAZY = {
     "observable_names": ".observables",
     "EnsembleTrajectory": ".result",
     "ensemble_of_system": ".system",
+    "bifurcation_of_system": ".system",
+    "BifurcationDiagram": ".bifurcation",
 }
 
 
@@ -38,8 +40,10 @@ __all__ = [
     "DEFAULT_CHUNK_SIZE",
     "METHODS",
     "OBSERVABLES",
+    "BifurcationDiagram",
     "EnsembleTrajectory",
     "Observable",
+    "bifurcation_of_system",
     "ensemble_of_system",
     "observable_names",
     "run_ensemble",

@@ -1,4 +1,5 @@
-"""`ensemble_of_system`: `System` -> `EnsembleTrajectory` with the model's defaults."""
+"""`ensemble_of_system`: `System` -> `EnsembleTrajectory` with the model's defaults;
+`bifurcation_of_system`: `System` -> `BifurcationDiagram`."""
 
 from __future__ import annotations
 
@@ -6,7 +7,9 @@ from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
 from ..derive import derive
+from ..errors import ModelError
 from ..integrate.pace import ENSEMBLE_ADVICE, RUN_SECONDS, RunPace, watching
+from .bifurcation import BifurcationDiagram, bifurcation_diagram
 from .core import METHODS, run_ensemble
 from .result import EnsembleTrajectory
 
@@ -34,7 +37,6 @@ def ensemble_of_system(
     whose pace projects more than twice that is refused; a backend that compiles the
     whole loop reports progress per chunk).
     """
-    from ..numeric import compile_equations
     from ..simulation import DEFAULT_T_END
 
     settings = dict(system.simulate_settings)
@@ -44,6 +46,35 @@ def ensemble_of_system(
         t_end = float(settings.get("t_end", DEFAULT_T_END))
     if dt is None and settings.get("dt") is not None:
         dt = float(settings["dt"])
+    compiled, progress = _compiled_runs(system, definitions, timeout, progress)
+    return run_ensemble(compiled, t_end=t_end, method=method, dt=dt, progress=progress, **options)
+
+
+def bifurcation_of_system(
+    system: System,
+    *,
+    vary: Mapping[str, object],
+    definitions: Mapping[str, str] | None = None,
+    timeout: float | None = RUN_SECONDS,
+    progress: Callable[[float], None] | None = None,
+    **options: object,
+) -> BifurcationDiagram:
+    """The bifurcation diagram of ``system`` over ``vary`` ({parameter: values}, one
+    parameter); options as :func:`~lagrangian.ensemble.bifurcation.bifurcation_diagram`
+    (variable, period, transient, samples, ...); ``timeout`` as for an ensemble."""
+    if len(vary) != 1:
+        raise ModelError(f"vary one parameter, not {len(vary)}")
+    ((parameter, values),) = vary.items()
+    compiled, progress = _compiled_runs(system, definitions, timeout, progress)
+    return bifurcation_diagram(
+        compiled, parameter=parameter, values=values, progress=progress, **options
+    )
+
+
+def _compiled_runs(system, definitions, timeout, progress):
+    """(the compiled equations, the progress callback with the runs' pace watched)."""
+    from ..numeric import compile_equations
+
     pace = None
     if timeout is not None:
         pace = RunPace(
@@ -53,5 +84,4 @@ def ensemble_of_system(
             advice=ENSEMBLE_ADVICE,
         )
     compiled = compile_equations(derive(system), definitions=definitions)
-    progress = watching(pace, progress)
-    return run_ensemble(compiled, t_end=t_end, method=method, dt=dt, progress=progress, **options)
+    return compiled, watching(pace, progress)

@@ -1,0 +1,68 @@
+"""Bifurcation diagrams (ensemble/bifurcation.py) against analytic and published results."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import lagrangian as lg
+from lagrangian.errors import ModelError
+
+
+def test_linear_oscillator_has_one_point_per_value_its_steady_state():
+    # x'' + b x' + x = A cos(omega t): after the transient x(t_k) = R cos(omega t_k - phi),
+    # R = A / sqrt((1 - omega^2)^2 + (b omega)^2): one point per drive, growing with it
+    b, omega = 0.6, 1.3
+    system = lg.System.from_lagrangian(
+        "x_dot**2/2 - x**2/2", coordinates=["x"], forces={"x": "A*cos(omega*t) - b*x_dot"},
+        parameters={"A": 1.0, "omega": omega, "b": b},
+    )  # fmt: skip
+    drives = np.linspace(0.2, 1.0, 5)
+    period = 2 * math.pi / omega
+    diagram = system.bifurcation(
+        vary={"A": drives}, variable="x", period=period, transient=60.0, samples=4
+    )
+    assert diagram.points.shape == (5, 4)
+    np.testing.assert_allclose(diagram.values, drives)
+    assert diagram.settings["transient"] == pytest.approx(period * math.ceil(60.0 / period))
+    np.testing.assert_allclose(np.diff(diagram.times), period, rtol=1e-12)
+    phase = math.atan2(b * omega, 1 - omega**2)
+    amplitude = drives / math.hypot(1 - omega**2, b * omega)
+    expected = amplitude[:, None] * np.cos(omega * diagram.times[None, :] - phase)
+    np.testing.assert_allclose(diagram.points, expected, atol=1e-7)
+    table = diagram.table()
+    assert table.shape == (20, 3) and table[4, 0] == drives[1]
+
+
+def test_driven_pendulum_doubles_its_period_as_published():
+    # J. R. Taylor, Classical Mechanics (University Science Books, 2005), section 12.5:
+    # phi'' + 2 beta phi' + w0^2 sin(phi) = gamma w0^2 cos(w t) with w = 2 pi, w0 = 1.5 w,
+    # beta = w0 / 4, from phi(0) = -pi/2 at rest: period 1 at gamma = 1.060, period 2 at
+    # 1.078, period 4 at 1.081 (his Figs. 12.8-12.10 and the table of thresholds).
+    w0 = 3 * math.pi
+    diagram = lg.load("driven_damped_pendulum").bifurcation(
+        vary={"A": np.array([1.060, 1.078, 1.081]) * w0**2}, variable="theta", period=1.0,
+        transient=250, samples=8, steps_per_period=150,
+        params={"g": w0**2, "b": w0 / 2, "omega": 2 * math.pi}, initial={"theta": -math.pi / 2},
+    )  # fmt: skip
+    periods = [len(np.unique(np.round(row, 4))) for row in diagram.points]
+    assert periods == [1, 2, 4]
+
+
+@pytest.mark.parametrize(
+    ("options", "message"),
+    [
+        ({"variable": "phi"}, "'phi' is not a coordinate or velocity"),
+        ({"vary": {"q": [1.0]}}, "unknown parameter 'q'"),
+        ({"vary": {"A": [1.0], "b": [1.0]}}, "vary one parameter, not 2"),
+        ({"period": -1.0}, "period must be a finite number > 0"),
+        ({"samples": 0}, "samples must be a whole number >= 1"),
+    ],
+)
+def test_bad_settings_are_one_line_errors(options, message):
+    settings = {"vary": {"A": [1.0]}, "variable": "theta", "period": 1.0, **options}
+    with pytest.raises(ModelError) as error:
+        lg.load("driven_damped_pendulum").bifurcation(**settings)
+    assert message in str(error.value)
