@@ -206,3 +206,58 @@ CASES += [
         model='coordinates = ["theta"]\nlagrangian = "m*thetadot**2/2 + k*cos(theta)"' + PARAMETERS,
     ),
 ]
+
+# -- masses: > 0 in the file's defaults and in every value given later, whatever the sign ----
+PENDULUM = (
+    'coordinates = ["x"]\n[parameters]\nm = {m}\n'
+    '[[particles]]\nname = "bob"\nmass = "{mass}"\nposition = ["x", "0"]\n'
+    '[[bodies]]\nname = "disc"\nmass = "1"\ninertia = "{inertia}"\ncenter = ["x", "0"]\n'
+    'angle = "x"\n'
+)
+CASES += [
+    HostileCase(
+        f"model-mass-{name}-refused",
+        MODEL,
+        error=error,
+        model=PENDULUM.format(m=m, mass=mass, inertia=inertia),
+    )
+    for name, m, mass, inertia, error in (
+        (
+            "negative-default",
+            "-1.0",
+            "m",
+            "1",
+            r"model.toml: parameters.m: the mass of 'bob' \(particles\[0\].mass = m\) is -1 "
+            r"with m = -1: it must be > 0$",
+        ),
+        ("zero-default", "0.0", "m", "1", r"parameters.m: the mass of 'bob' .* is 0 with m = 0"),
+        (
+            "declared-real",
+            '{value = -2.0, sign = "real"}',
+            "m",
+            "1",
+            r"parameters.m: the mass of 'bob' .* is -2 with m = -2: it must be > 0$",
+        ),
+        ("literal", "1.0", "-m", "1", r"parameters.m: the mass of 'bob' \(.* = -m\) is -1 with"),
+        ("zero-literal", "1.0", "0", "1", r"model.toml: the mass of 'bob' is 0: it must be > 0$"),
+        (
+            "planar-inertia",
+            "1.0",
+            "m",
+            "-m/2",
+            r"parameters.m: the moment of inertia of .disc. .* is -0.5 with m = 1: it must be >= 0",
+        ),
+    )
+]
+CASES += [
+    HostileCase(
+        f"{argv[0]}-{name}-mass-refused",
+        argv,
+        error=r"the mass of 'bob' \(particles\[0\].mass = m\) is -1 with m = -1: it must be > 0$",
+        model=PENDULUM.format(m='{value = 1.0, sign = "real"}', mass="m", inertia="1"),
+    )
+    for name, argv in (
+        ("set", ("simulate", "{dir}/model.toml", "--t-end", "0.1", "--set", "m=-1")),
+        ("grid", ("ensemble", "{dir}/model.toml", "--t-end", "0.1", "--grid", "m=-1:1:3")),
+    )
+]

@@ -49,6 +49,7 @@ from .spec import (
     expression_fields,
 )
 from .system import FunctionDeclaration, Parameter, System
+from .values import check_masses
 
 __all__ = ["ModelSpec", "build_system"]
 
@@ -73,6 +74,7 @@ def build_system(spec: ModelSpec) -> System:
                 f"the model was not built within {BUILD_SECONDS:g} s: its expressions are "
                 "too costly to assemble"
             )
+        check_masses(system)
         return system
     except ModelError as error:
         raise error.located(source=spec.source) from None

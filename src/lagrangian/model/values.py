@@ -8,17 +8,22 @@ within the triangle inequalities).  A value given later in place of a default
 conditions, or the results are silently wrong for it: :func:`check_parameter_values`
 applies the model file's own checks (:data:`SIGN_BREAKS`, which the file's entries
 use too, and :func:`~lagrangian.model.rigid_body.check_inertia`) to the values given.
+
+Whatever sign a parameter is declared with, the mass of each particle and body must be
+positive (and a planar body's moment of inertia not negative): :func:`check_masses`,
+applied to the defaults when the model is built and to every value given later.  A
+negative mass gives equations with no physics in them, a zero one a singular mass matrix.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
 
 import numpy as np
 import sympy
 
 from ..errors import ModelError
-from .components import RigidBody
+from .components import RigidBody, RigidBody2D
 from .rigid_body import check_inertia
 from .system import System
 
@@ -67,6 +72,46 @@ def check_parameter_values(system: System, values: Mapping[str, float | np.ndarr
     for i, body in enumerate(system.bodies):
         if isinstance(body, RigidBody):
             _check_body(system, body, f"bodies[{i}].inertia", values)
+    check_masses(system, values)
+
+
+def check_masses(system: System, values: Mapping[str, float | np.ndarray] | None = None) -> None:
+    """ModelError unless every particle's and body's mass is > 0 (and a planar body's
+    moment of inertia >= 0) at the parameters' defaults, ``values`` in their place.
+
+    Without ``values`` (the model being built) the defaults are checked, and the error
+    names the parameter's entry when the mass uses one parameter: ``parameters.m``.
+    """
+    given_any = bool(values)
+    values = values or {}
+    for field, what, expression, sign in _masses(system):
+        used = sorted(s.name for s in expression.free_symbols)
+        names = [name for name in used if name in values]
+        if given_any and not names:
+            continue  # checked at the defaults when the model was built
+        for at, shown in _combinations(system, names, values):
+            value = expression.xreplace({k: sympy.Float(v) for k, v in at.items()})
+            if not (value.is_number and value.is_real) or not SIGN_BREAKS[sign](float(value)):
+                continue
+            if not shown:  # the defaults
+                shown = ", ".join(f"{n} = {system.parameter_values[n]:g}" for n in used)
+            formula = f" ({field} = {expression})" if expression.free_symbols else ""
+            at_values = f" with {shown}" if shown else ""
+            raise ModelError(
+                f"{what}{formula} is {float(value):g}{at_values}: it must be {SIGN_RANGE[sign]}",
+                field=f"parameters.{used[0]}" if len(used) == 1 and not names else None,
+            )
+
+
+def _masses(system: System) -> Iterator[tuple[str, str, sympy.Expr, str]]:
+    """(field, what it is, expression, sign it must have) of each mass and planar inertia."""
+    for i, particle in enumerate(system.particles):
+        yield f"particles[{i}].mass", f"the mass of '{particle.name}'", particle.mass, "positive"
+    for i, body in enumerate(system.bodies):
+        yield f"bodies[{i}].mass", f"the mass of '{body.name}'", body.mass, "positive"
+        if isinstance(body, RigidBody2D):
+            what = f"the moment of inertia of '{body.name}'"
+            yield f"bodies[{i}].inertia", what, body.inertia, "nonnegative"
 
 
 def check_parameter_expressions(system: System, given: Mapping[str, sympy.Expr]) -> None:
@@ -94,13 +139,24 @@ def _check_body(
     names = sorted(used & set(values))
     if not names:
         return  # checked at the defaults when the model was built
-    symbols = {p.name: p.symbol for p in system.parameters}
-    defaults = {symbols[n]: v for n, v in system.parameter_values.items()}
-    columns = np.broadcast_arrays(*(np.asarray(values[n], dtype=float) for n in names))
-    for row in np.unique(np.stack([np.ravel(c) for c in columns], axis=1), axis=0):
-        at = defaults | {symbols[n]: float(v) for n, v in zip(names, row, strict=True)}
+    for at, given in _combinations(system, names, values):
         try:
             check_inertia(body.inertia, at, field)
         except ModelError as error:
-            given = ", ".join(f"{n} = {v:g}" for n, v in zip(names, row, strict=True))
             raise ModelError(f"{error.message} (with {given})", field=field) from None
+
+
+def _combinations(
+    system: System, names: list[str], values: Mapping[str, float | np.ndarray]
+) -> Iterator[tuple[dict[sympy.Symbol, float], str]]:
+    """Each distinct combination of the given values of the parameters ``names`` (arrays
+    broadcast together), the defaults for the others: ({symbol: value}, "a = 1, b = 2")."""
+    symbols = {p.name: p.symbol for p in system.parameters}
+    defaults = {symbols[n]: v for n, v in system.parameter_values.items()}
+    if not names:
+        yield defaults, ""
+        return
+    columns = np.broadcast_arrays(*(np.asarray(values[n], dtype=float) for n in names))
+    for row in np.unique(np.stack([np.ravel(c) for c in columns], axis=1), axis=0):
+        at = defaults | {symbols[n]: float(v) for n, v in zip(names, row, strict=True)}
+        yield at, ", ".join(f"{n} = {v:g}" for n, v in zip(names, row, strict=True))
