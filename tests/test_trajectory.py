@@ -94,6 +94,16 @@ def test_summary_is_the_simulate_json_document():
     json.dumps(summary)  # plain Python types only
 
 
+def test_energy_not_conserved_leaves_the_drifts_for_the_summary_with_its_reason():
+    trajectory = make()
+    trajectory.dataset.attrs["energy_not_conserved"] = "dissipation"
+    assert trajectory.drifts() == {"angular_momentum": 0.0}
+    summary = trajectory.summary()
+    assert summary["not_conserved"] == {
+        "energy": {"change": pytest.approx(4e-9), "reason": "dissipation"}
+    }
+
+
 # -- files ------------------------------------------------------------------------------------
 def test_csv_has_the_documented_columns_and_round_trips_exactly(tmp_path):
     trajectory = make()

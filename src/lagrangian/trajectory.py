@@ -190,13 +190,21 @@ class Trajectory:
         scale = abs(float(values[0])) if values.size else 0.0
         return deviation / scale if scale > DRIFT_RELATIVE_FLOOR else deviation
 
-    def drifts(self) -> dict[str, float]:
-        """The drift of the energy and of every conserved quantity.
+    @property
+    def energy_not_conserved(self) -> str:
+        """Why the energy is not conserved along this run ("" when it is, or not known: a
+        trajectory read from CSV)."""
+        return str(self.dataset.attrs.get("energy_not_conserved", ""))
 
-        The energy's "drift" is physics, not error, for forced, dissipative or
-        time-dependent systems.
+    def drifts(self) -> dict[str, float]:
+        """The drift of every conserved quantity: the energy where it is conserved.
+
+        Where it is not (:attr:`energy_not_conserved`: forced, dissipative or
+        time-dependent systems) its change is physics, not error:
+        :meth:`summary` gives it under ``not_conserved`` with the reason.
         """
-        return {name: self.drift(name) for name in ("energy", *self.invariants)}
+        energy = () if self.energy_not_conserved else ("energy",)
+        return {name: self.drift(name) for name in (*energy, *self.invariants)}
 
     def summary(self) -> dict[str, object]:
         """The ``simulate --json`` document (DESIGN section 5) as a dict."""
@@ -204,8 +212,12 @@ class Trajectory:
         document: dict[str, object] = {
             "final_state": self.final_state,
             "invariants": self.drifts(),
-            "method": attrs.get("method"),
         }
+        if self.energy_not_conserved:
+            document["not_conserved"] = {
+                "energy": {"change": self.drift("energy"), "reason": self.energy_not_conserved}
+            }
+        document["method"] = attrs.get("method")
         for key in ("rtol", "atol", "dt"):
             if key in attrs:
                 document[key] = float(attrs[key])

@@ -188,3 +188,30 @@ def test_output_sampling(capsys, tmp_path, sampling, times):
     with out.open() as file:
         rows = list(csv.DictReader(file))
     assert [float(row["t"]) for row in rows] == pytest.approx(times, abs=1e-12)
+
+
+def test_a_forced_run_says_the_energy_is_not_conserved_and_why(capsys):
+    # cart-pole pushed by F = 0.5: the energy grows, which is physics, not the method's drift
+    argv = ("simulate", "cart_pole", "--t-end", "2", "--set", "F=0.5")
+    status, out, _ = run(capsys, *argv, "--json")
+    assert status == ExitStatus.SUCCESS
+    summary = json.loads(out)
+    assert "energy" not in summary["invariants"]
+    energy = summary["not_conserved"]["energy"]
+    assert energy["reason"] == "Q_x does work" and energy["change"] > 0.1
+    status, out, _ = run(capsys, *argv)
+    assert "energy is not conserved (Q_x does work): it changed by 9." in out
+    assert "drift along the run" not in out  # nothing conserved to drift
+
+
+def test_time_dependent_lagrangian_energy_not_conserved(capsys):
+    # a pendulum in a gravity that varies in time: L depends on t
+    shaken = "x_dot^2/2 + (1 + a*cos(w*t))*cos(x)"
+    status, out, _ = run(
+        capsys, "simulate", "--lagrangian", shaken, "--coordinates", "x", "--set", "a=0.5",
+        "--set", "w=3", "--set", "x=0.3", "--t-end", "2", "--json",
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    summary = json.loads(out)
+    assert summary["invariants"] == {}
+    assert summary["not_conserved"]["energy"]["reason"] == "L depends on t"

@@ -427,8 +427,13 @@ def simulate(
     click.echo("final state:")
     for name, value in summary["final_state"].items():
         click.echo(f"  {name} = {value:.12g}")
-    click.echo("drift along the run (max |X(t) - X(0)|, relative where X(0) != 0):")
+    if summary["invariants"]:
+        click.echo("drift along the run (max |X(t) - X(0)|, relative where X(0) != 0):")
     for name, value in summary["invariants"].items():
         click.echo(f"  {name}: {value:.3e}")
+    for name, entry in summary.get("not_conserved", {}).items():
+        click.echo(
+            f"{name} is not conserved ({entry['reason']}): it changed by {entry['change']:.3e}"
+        )
     if out is not None:
         click.echo(f"wrote {out}")

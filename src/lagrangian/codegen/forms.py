@@ -19,7 +19,7 @@ import sympy
 from sympy.core.function import AppliedUndef
 
 from ..algebra import is_zero
-from ..analysis.conserved import SYMMETRY_SECONDS, conserved_quantities
+from ..analysis.conserved import SYMMETRY_SECONDS, Conservation, conserved_quantities
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from .definitions import (
@@ -136,21 +136,28 @@ class SymbolicForms:
         return forms_fingerprint(self)
 
     @cached_property
-    def invariants(self) -> Mapping[str, sympy.Expr]:
-        """The conserved quantities found by :func:`~lagrangian.analysis.conserved_quantities`.
+    def conservation(self) -> Conservation:
+        """:func:`~lagrangian.analysis.conserved_quantities` of the equations: found on first
+        use, the analysis simplifies, which takes seconds for a large system that a run may
+        never need."""
+        # a run reports drifts, it does not wait on a long search for more charges
+        return conserved_quantities(self.equations, symmetry_seconds=SYMMETRY_SECONDS)
 
-        Found on first use: the analysis simplifies, which takes seconds for a
-        large system that a run may never need.
-        """
+    @property
+    def invariants(self) -> Mapping[str, sympy.Expr]:
+        """The conserved quantities (:attr:`conservation`), the definitions substituted."""
         found = {
             quantity.name: substitute(quantity.expression, self.definitions)
-            # a run reports drifts, it does not wait on a long search for more charges
-            for quantity in conserved_quantities(
-                self.equations, symmetry_seconds=SYMMETRY_SECONDS
-            ).conserved
+            for quantity in self.conservation.conserved
         }
         _check_no_functions_left(list(found.values()))
         return found
+
+    @property
+    def not_conserved(self) -> Mapping[str, str]:
+        """Name -> why, of the quantities that are not conserved (the energy when L depends
+        on t, forces or inputs do work, or dissipation acts)."""
+        return {quantity.name: quantity.reason for quantity in self.conservation.not_conserved}
 
     @property
     def constant_mass_matrix(self) -> bool:

@@ -192,6 +192,9 @@ def trajectory_of(
         "jacobian_evaluations": result.jacobian_evaluations,
         "wall_time": wall_time,
         "parameters": dict(parameters or {}),
+        # why the energy changes along the run, where it is not conserved (forces, inputs,
+        # dissipation, L depending on t): its change is physics, not the method's drift
+        "energy_not_conserved": compiled.not_conserved.get("energy"),
     }
     return Trajectory.build(
         t=t,

@@ -132,6 +132,7 @@ def compile_equations(
                 for name, expression in forms.invariants.items()
             }
         ),
+        not_conserved=LazyMapping(lambda: forms.not_conserved),
         constant_mass_matrix=forms.constant_mass_matrix,
         separable=forms.separable,
         autonomous_lagrangian=not forms.lagrangian.has(forms.time),
