@@ -70,7 +70,7 @@ def test_rotating_hoop_bottom_is_stable_iff_omega_squared_r_below_g(rng):
     analysis = analyze(system.equations_of_motion(), timeout=None)
     document = analysis_document(analysis)
     (first, *_) = [e for e in document["equilibria"] if e["point"] == {"theta": "0"}]
-    assert first["stability_at_defaults"] is True
+    assert first["stability_at_defaults"] == first["stability"] == "stable"
     names = {s.name: s for s in system.parameters}
     condition = sympy.parse_expr(
         first["stability_condition"], {n: p.symbol for n, p in names.items()}
@@ -131,3 +131,21 @@ def test_penning_trap_is_stable_iff_the_magnetic_field_beats_the_radial_hill(rng
     (centre,) = system.equilibria()
     assert centre.stable and centre.at_defaults
     assert agrees(centre.stability_condition, q**2 * B**2 - 4 * k * m, system, rng, samples=80)
+
+
+def test_an_unstable_point_says_unstable_at_the_defaults():
+    # x = 0 of x'' = -a x - x^3 with a = -1: unstable (stable iff a > 0), and the numbers
+    system = lg.System.from_lagrangian(
+        "x_dot^2/2 - a*x^2/2 - x^4/4",
+        coordinates=["x"],
+        parameters={"a": {"value": -1.0, "sign": "real"}},
+    )
+    document = analysis_document(analyze(system.equations_of_motion(), timeout=None))
+    (origin,) = [e for e in document["equilibria"] if e["point"] == {"x": "0"}]
+    assert origin["stability_at_defaults"] == "unstable"
+    assert origin["at_parameter_values"] == {
+        "parameters": {"a": -1.0},
+        "omega_squared": [-1.0],
+        "omega": [None],
+        "periods": [None],
+    }

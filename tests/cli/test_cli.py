@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import math
 import subprocess
 import sys
 
@@ -93,7 +94,7 @@ def test_steps_show_the_hand_derivation(capsys):
     "argv, fragment",
     [
         (["derive", "no_such_model"], "no such model file or built-in example"),
-        (["derive"], "Missing argument"),
+        (["derive"], "give MODEL (a model file or example) or --lagrangian"),
         (["derive", "simple_pendulum", "--json", "--latex"], "choose one of"),
         (["frobnicate"], "No such command"),
     ],
@@ -133,9 +134,38 @@ def test_derive_takes_a_lagrangian_string(capsys):
 
 def test_analyze_and_simulate_take_a_lagrangian_string(capsys):
     two = ("--lagrangian", "x_dot^2/2 + y_dot^2/2 - k*(x^2 + y^2)/2", "--coordinates", "x, y")
-    status, out, _ = run(capsys, "analyze", *two, "--json")
+    status, out, _ = run(capsys, "analyze", *two, "--json", "--timeout", "120")
     assert status == ExitStatus.SUCCESS
     assert json.loads(out)["equilibria"][0]["omega_squared"] == ["k", "k"]
     status, out, _ = run(capsys, "simulate", *two, "--set", "k=1", "--set", "x=1", "--json")
     assert status == ExitStatus.SUCCESS
     assert set(json.loads(out)["final_state"]) == {"x", "y", "x_dot", "y_dot"}
+
+
+COUPLED = "x_dot^2/2 + y_dot^2/2 - k*(x^2 + y^2)/2 - c*(x - y)^2/2"
+
+
+def test_analyze_prints_the_modes_as_numbers_at_the_set_values(capsys):
+    # two oscillators coupled by a spring: ω² = k and k + 2c, shapes (1, 1) and (1, -1)
+    given = ("--lagrangian", COUPLED, "--coordinates", "x,y", "--set", "k=4", "--set", "c=0.5")
+    status, out, _ = run(capsys, "analyze", *given, "--json", "--timeout", "120")
+    assert status == ExitStatus.SUCCESS
+    (rest,) = json.loads(out)["equilibria"]
+    numbers = rest["at_parameter_values"]
+    assert numbers["parameters"] == {"c": 0.5, "k": 4.0}
+    assert numbers["omega_squared"] == pytest.approx([4.0, 5.0])
+    assert numbers["omega"] == pytest.approx([2.0, 5**0.5])
+    assert numbers["periods"] == pytest.approx([math.pi, 2 * math.pi / 5**0.5])
+    shapes = [x for shape in numbers["mode_shapes"] for x in shape]
+    assert shapes == pytest.approx([1.0, 1.0, 1.0, -1.0])
+    status, out, _ = run(capsys, "analyze", *given, "--timeout", "120")
+    assert (
+        "    at c = 0.5, k = 4: ω² = 4, 5\n      ω = 2, 2.23607;  periods 3.14159, 2.80993" in out
+    )
+    assert "      mode shapes: (1, 1), (1, -1)" in out
+
+
+def test_analyze_set_is_checked_as_the_run_commands_check_it(capsys):
+    status, _, err = run(capsys, "analyze", "simple_pendulum", "--set", "l=-2")
+    assert status == ExitStatus.BAD_INPUT
+    assert "parameter l = -2 breaks the model's assumption that l is positive" in err

@@ -150,6 +150,14 @@ def derive(model, lagrangian_text, coordinates, as_json: bool, as_latex: bool, s
     help="An output y of --state-space, e.g. tip='x + l*sin(theta)' (default: the state).",
 )
 @click.option(
+    "--set",
+    "assignments",
+    multiple=True,
+    metavar="NAME=VALUE",
+    help="A parameter value, or an input's (held at it; default 0), repeatable: the "
+    "numbers printed (ω, periods, mode shapes) and numerical searches are at these values.",
+)
+@click.option(
     "--momentum",
     "momenta",
     multiple=True,
@@ -166,10 +174,11 @@ def analyze(
     with_state_space: bool,
     at: tuple[str, ...],
     outputs: tuple[str, ...],
+    assignments: tuple[str, ...] = (),
     momenta: tuple[str, ...] = (),
 ) -> None:
     """Conserved quantities, Hamiltonian, equilibria and small oscillations of MODEL
-    (inputs held at 0); with --state-space also A, B, C, D."""
+    (inputs held at 0 or at their --set value); with --state-space also A, B, C, D."""
     from ..analysis import analyze as run_analysis
     from ..output.analysis import analysis_document, format_analysis, latex_analysis
 
@@ -178,6 +187,12 @@ def analyze(
     if (at or outputs) and not with_state_space:
         raise click.UsageError("--at and --output go with --state-space")
     system = _load(model, lagrangian_text, coordinates)
+    given = _assignments(assignments)
+    held = {name: given.pop(name) for name in system.input_names if name in given}
+    if given:
+        from ..model.values import with_values
+
+        system = with_values(system, given)
     linear = None
     if with_state_space:  # first: a bad --at fails before the long analysis
         from ..analysis.state_space import state_space
@@ -193,7 +208,7 @@ def analyze(
         except OutOfTime as error:
             raise LagrangianError(f"{error} (more time: --timeout)") from None
     analysis = run_analysis(
-        system.without_inputs().equations_of_motion(),
+        system.without_inputs(held).equations_of_motion(),
         timeout=timeout,
         momenta=_numbers(_pairs(momenta, "--momentum", "NAME=NUMBER"), "--momentum"),
     )

@@ -18,6 +18,7 @@ negative mass gives equations with no physics in them, a zero one a singular mas
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping
+from dataclasses import replace
 
 import numpy as np
 import sympy
@@ -73,6 +74,20 @@ def check_parameter_values(system: System, values: Mapping[str, float | np.ndarr
         if isinstance(body, RigidBody):
             _check_body(system, body, f"bodies[{i}].inertia", values)
     check_masses(system, values)
+
+
+def with_values(system: System, values: Mapping[str, float]) -> System:
+    """``system`` with ``values`` as the default values of its parameters, checked as
+    values given in place of the defaults are (:func:`check_parameter_values`): what
+    ``analyze --set`` is about, and where its numerical results are evaluated."""
+    check_parameter_values(system, values)
+    return replace(
+        system,
+        parameters=tuple(
+            replace(p, default=float(values[p.name])) if p.name in values else p
+            for p in system.parameters
+        ),
+    )
 
 
 def check_masses(system: System, values: Mapping[str, float | np.ndarray] | None = None) -> None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+from ..algebra import as_expression
 from ..analysis import Analysis
 from ..errors import PYTHON_SPELLING, setting, spelled
 from .large import latex_printer, plain_printer, unicode_printer
@@ -27,7 +28,8 @@ def analysis_document(analysis: Analysis) -> dict:
     """
     conservation = analysis.conservation
     decided = conservation is not None
-    text = plain_printer(analysis.equations.system)  # SymEngine's str for large ones
+    system = analysis.equations.system
+    text = plain_printer(system)  # SymEngine's str for large ones
     document: dict = {
         "name": analysis.equations.system.name,
         "cyclic_coordinates": list(conservation.cyclic_coordinates) if decided else None,
@@ -46,8 +48,8 @@ def analysis_document(analysis: Analysis) -> dict:
         "hamiltonian": None
         if analysis.hamiltonian is None
         else text(analysis.hamiltonian.expression),
-        "equilibria": [_equilibrium_document(e, text) for e in analysis.equilibria],
-        "steady_motions": [_equilibrium_document(e, text) for e in analysis.steady_motions],
+        "equilibria": [_equilibrium_document(e, text, system) for e in analysis.equilibria],
+        "steady_motions": [_equilibrium_document(e, text, system) for e in analysis.steady_motions],
         "notes": list(analysis.notes),
         "undecided": [{"stage": u.stage, "reason": u.reason} for u in analysis.undecided],
     }
@@ -62,7 +64,7 @@ def analysis_document(analysis: Analysis) -> dict:
     return document
 
 
-def _equilibrium_document(e, text) -> dict:
+def _equilibrium_document(e, text, system) -> dict:
     multipliers = getattr(e, "multipliers", None)
     extra = {"multipliers": {k: text(v) for k, v in multipliers.items()}} if multipliers else {}
     document = extra | {
@@ -85,8 +87,11 @@ def _equilibrium_document(e, text) -> dict:
         document["degenerate"] = list(e.degenerate)
     if getattr(e, "zero_modes", ()):
         document["zero_modes"] = list(e.zero_modes)
-    if getattr(e, "at_defaults", False):
-        document["stability_at_defaults"] = True
+    if getattr(e, "at_defaults", False):  # the verdict, said: "unstable", not just true
+        document["stability_at_defaults"] = e.modes.stability.value
+    numbers = modes_at_values(e.modes, system)
+    if numbers is not None:
+        document["at_parameter_values"] = numbers
     condition = getattr(e, "stability_condition", None)
     if condition is not None:
         document["stability_condition"] = text(condition)
@@ -131,7 +136,7 @@ def format_analysis(analysis: Analysis, *, spelling: Mapping[str, str] = PYTHON_
     elif not analysis.equilibria and not_applied:  # not searched is not "none found"
         lines.append(f"  not computed: {not_applied[0].removeprefix('equilibria: ')}")
     else:
-        lines += _equilibrium_lines(analysis.equilibria, show)
+        lines += _equilibrium_lines(analysis.equilibria, show, system)
     if analysis.reduction is not None:
         reduction = analysis.reduction
         lines += ["", f"Routh reduction of {', '.join(map(unicode_name, reduction.cyclic))}:"]
@@ -141,7 +146,7 @@ def format_analysis(analysis: Analysis, *, spelling: Mapping[str, str] = PYTHON_
         if "steady motions" in missing:
             lines.append(f"  {missing['steady motions']}")
         else:
-            lines += _equilibrium_lines(analysis.steady_motions, show)
+            lines += _equilibrium_lines(analysis.steady_motions, show, system)
     if analysis.notes:
         lines += ["", "Notes:"] + [f"  {note}" for note in analysis.notes]
     if analysis.undecided:
@@ -151,7 +156,7 @@ def format_analysis(analysis: Analysis, *, spelling: Mapping[str, str] = PYTHON_
     return "\n".join(lines)
 
 
-def _equilibrium_lines(points, show) -> list[str]:
+def _equilibrium_lines(points, show, system) -> list[str]:
     lines = []
     for e in points:
         point = ", ".join(f"{unicode_name(k)} = {show(v)}" for k, v in e.point.items()) or (
@@ -191,6 +196,9 @@ def _equilibrium_lines(points, show) -> list[str]:
         if e.modes.periods:
             periods = [p if e.modes.closed_form else p.evalf(6) for p in e.modes.periods]
             lines.append("    periods: " + ", ".join(show(p) for p in periods))
+        numbers = modes_at_values(e.modes, system)
+        if numbers is not None:
+            lines += _number_lines(numbers)
         zero_modes = list(getattr(e, "zero_modes", ()))
         for name in dict.fromkeys(zero_modes):  # each kind once, with its count
             count = zero_modes.count(name)
@@ -198,6 +206,64 @@ def _equilibrium_lines(points, show) -> list[str]:
         if e.modes.note:
             lines.append(f"    ({e.modes.note})")
     return lines or ["  none found"]
+
+
+def modes_at_values(modes, system) -> dict | None:
+    """ω², ω, periods and mode shapes of ``modes`` as numbers at the system's parameter
+    values (its defaults, or what ``--set`` gave), as the demo prints them.
+
+    None where the symbolic ω² are numbers already (nothing to add), or where one is not
+    a real number at the values (a parameter without one, complex gyroscopic roots).
+    """
+    import math
+
+    import sympy
+
+    squares = [as_expression(w2) for w2 in modes.omega_squared]
+    if not squares or all(w2.is_number for w2 in squares):
+        return None
+    used = sorted({s.name for w2 in squares for s in w2.free_symbols})
+    values = system.parameter_values
+    if any(name not in values for name in used):
+        return None
+    at = {p.symbol: sympy.Float(values[p.name]) for p in system.parameters if p.name in values}
+    numbers = []
+    for w2 in squares:
+        number = complex(w2.xreplace(at).evalf())
+        if abs(number.imag) > 1e-9 * max(1.0, abs(number.real)):
+            return None
+        numbers.append(number.real)
+    omega = [math.sqrt(w2) if w2 > 0 else None for w2 in numbers]
+    document = {
+        "parameters": {name: values[name] for name in used},
+        "omega_squared": numbers,
+        "omega": omega,
+        "periods": [2 * math.pi / w if w else None for w in omega],
+    }
+    shapes = []
+    for shape in modes.shapes:
+        entries = [complex(as_expression(x).xreplace(at).evalf()) for x in shape]
+        shapes.append([x.real for x in entries])
+    if shapes and len(shapes[0]) > 1:  # one coordinate: the shape says nothing
+        document["mode_shapes"] = shapes
+    return document
+
+
+def _number_lines(numbers: dict) -> list[str]:
+    """The lines of :func:`modes_at_values`: ω, periods and shapes at the values."""
+    at = ", ".join(f"{unicode_name(n)} = {v:g}" for n, v in numbers["parameters"].items())
+    squares = ", ".join(f"{w2:.6g}" for w2 in numbers["omega_squared"])
+    lines = [f"    at {at}: ω² = {squares}"]
+    if any(w is not None for w in numbers["omega"]):
+        omega = ", ".join("-" if w is None else f"{w:.6g}" for w in numbers["omega"])
+        periods = ", ".join("-" if p is None else f"{p:.6g}" for p in numbers["periods"])
+        lines.append(f"      ω = {omega};  periods {periods}")
+    if numbers.get("mode_shapes"):
+        shapes = ", ".join(
+            "(" + ", ".join(f"{x:.4g}" for x in shape) + ")" for shape in numbers["mode_shapes"]
+        )
+        lines.append(f"      mode shapes: {shapes}")
+    return lines
 
 
 def _verdict(e, show) -> str:
