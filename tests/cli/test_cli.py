@@ -169,3 +169,13 @@ def test_analyze_set_is_checked_as_the_run_commands_check_it(capsys):
     status, _, err = run(capsys, "analyze", "simple_pendulum", "--set", "l=-2")
     assert status == ExitStatus.BAD_INPUT
     assert "parameter l = -2 breaks the model's assumption that l is positive" in err
+
+
+def test_derive_steps_says_where_an_equation_is_divided_by_a_common_factor(capsys):
+    status, out, _ = run(capsys, "derive", "simple_pendulum", "--steps")
+    assert status == ExitStatus.SUCCESS
+    assert "  equation: l θ̈ + g sin(θ) = 0   (divided by l m)\n" in out
+    status, out, _ = run(capsys, "derive", "harmonic_oscillator", "--steps")
+    assert "  equation: m ẍ + k x = 0\n" in out  # nothing divided: nothing said
+    status, out, _ = run(capsys, "derive", "simple_pendulum", "--steps", "--latex")
+    assert r"&&\text{(divided by } l m\text{)}" in out

@@ -30,6 +30,8 @@ class CoordinateDerivation:
     dissipation_force: sympy.Expr  # dF/dq_dot
     constraint_force: sympy.Expr  # sum_j lambda_j A_jq (zero without constraints)
     equation: sympy.Expr  # the left side minus the right side, = 0
+    # the positive constant factor the equation was divided by (1: none), said with it
+    divided_by: sympy.Expr = sympy.S.One
 
 
 class Deferred(Sequence):

@@ -127,6 +127,7 @@ def _parts(system: System, forms: ConstraintForms | None) -> tuple:
         inertia = sympy.Add(*(m * a for m, a in zip(row, accelerations, strict=True)))
         mass_rows.append(row)
         forcing.append(tidy(-rest, state))
+        equation, factor = _readable_equation(inertia + rest - constraint_force, state)
         steps.append(
             CoordinateDerivation(
                 coordinate=c,
@@ -136,7 +137,8 @@ def _parts(system: System, forms: ConstraintForms | None) -> tuple:
                 generalized_force=generalized_force,
                 dissipation_force=dissipation_force,
                 constraint_force=constraint_force,
-                equation=_readable_equation(inertia + rest - constraint_force, state),
+                equation=equation,
+                divided_by=factor,
             )
         )
     mass_matrix = sympy.ImmutableMatrix(n, n, [m for row in mass_rows for m in row])
@@ -174,6 +176,8 @@ def _solved(mass_matrix, forcing, forms: ConstraintForms | None, system: System)
     return named(within(SOLVE_SECONDS, "accelerations", tidied, untidied))
 
 
-def _readable_equation(expr: sympy.Expr, state) -> sympy.Expr:
-    """The equation expr = 0 divided by its positive constant factor, terms grouped."""
-    return tidy(expr / positive_content(expr, state), state)
+def _readable_equation(expr: sympy.Expr, state) -> tuple[sympy.Expr, sympy.Expr]:
+    """The equation expr = 0 divided by its positive constant factor, terms grouped, and
+    that factor (shown by ``derive --steps``: a step done by hand is said)."""
+    factor = positive_content(expr, state)
+    return tidy(expr / factor, state), factor

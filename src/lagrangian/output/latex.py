@@ -68,7 +68,12 @@ def latex_steps(eom: EquationsOfMotion) -> str:
             rows.append(rf"{d_f} &= {show(step.dissipation_force)}")
         if step.constraint_force != 0:
             rows.append(rf"\sum_j \lambda_j a_{{j {q}}} &= {show(step.constraint_force)}")
-        rows.append(rf"0 &= {show(step.equation)}")
+        divided = (
+            rf" &&\text{{(divided by }} {show(step.divided_by)}\text{{)}}"
+            if step.divided_by != 1
+            else ""
+        )
+        rows.append(rf"0 &= {show(step.equation)}{divided}")
         if eom.accelerations is not None:
             rows.append(_solved(latex_name(c.q_ddot.name), eom.accelerations[c.name], system))
     return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"

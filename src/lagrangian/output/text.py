@@ -82,7 +82,8 @@ def format_steps(eom: EquationsOfMotion) -> str:
             lines.append(f"  ∂F/∂{q_dot} = {show(step.dissipation_force)}")
         if step.constraint_force != 0:
             lines.append(f"  Σ λ a_{q} = {show(step.constraint_force)}   (constraint force)")
-        lines.append(f"  equation: {show(step.equation)} = 0")
+        divided = f"   (divided by {show(step.divided_by)})" if step.divided_by != 1 else ""
+        lines.append(f"  equation: {show(step.equation)} = 0{divided}")
         if eom.accelerations is not None:
             lines.append(
                 "  " + _equality(unicode_name(c.q_ddot.name), eom.accelerations[c.name], system)
