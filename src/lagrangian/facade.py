@@ -248,6 +248,18 @@ def _hamiltonian_latex(self) -> str:
     return f"$H = {latex_expression(self.expression)}$"
 
 
+def _equations_text(self) -> str:
+    from .output import format_equations
+
+    return format_equations(self)
+
+
+def _report_text(self) -> str:
+    from .output.analysis import format_analysis
+
+    return format_analysis(self)
+
+
 def _report_latex(self) -> str:
     from .output.analysis import latex_analysis
 
@@ -275,6 +287,9 @@ def _add_display_methods() -> None:
     PoincareSection.plot = _plot_section
     BifurcationDiagram.plot = _plot_bifurcation
     EquationsOfMotion._repr_latex_ = _equations_latex
+    # the REPL shows what the CLI prints, not the dataclass fields (pages of SymPy)
+    EquationsOfMotion.__repr__ = _equations_text
+    Analysis.__repr__ = _report_text
     Hamiltonian._repr_latex_ = _hamiltonian_latex
     Analysis._repr_latex_ = _report_latex
     StateSpace._repr_latex_ = _state_space_latex

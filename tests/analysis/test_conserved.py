@@ -144,3 +144,25 @@ def test_moving_constraint_does_work():
     )
     (energy,) = [q for q in conservation(system).not_conserved if q.name == "energy"]
     assert "constraints move" in energy.reason
+
+
+def test_results_read_in_the_repl():
+    # the REPL shows the quantities, not pages of dataclass fields (issue 22)
+    system = lg.load("cart_pole")
+    conservation = system.conserved_quantities()
+    assert repr(conservation).splitlines() == [
+        "Conservation (cyclic coordinates: x)",
+        "  p_x = l*m*theta_dot*cos(theta) + x_dot*(M + m)   (x is cyclic: the Lagrangian does "
+        "not depend on it)",
+        "  energy = g*l*m*cos(theta) + l**2*m*theta_dot**2/2 + l*m*theta_dot*x_dot*cos(theta) "
+        "+ x_dot**2*(M + m)/2   (h = T + V, the total energy)",
+    ]
+    assert repr(conservation["p_x"]).startswith("<conserved p_x = l*m*theta_dot*cos(theta)")
+    top, bottom = system.equilibria()
+    assert repr(top) == "<Equilibrium theta = 0: unstable; omega^2 = -g*(M + m)/(M*l), 0>"
+    assert repr(bottom.modes) == "<NormalModes marginal: omega^2 = 0, g*(M + m)/(M*l)>"
+    assert repr(system.hamiltonian()).startswith("<Hamiltonian H = g*l*m*cos(theta) + ")
+    assert repr(system).startswith(
+        "<System 'Cart-pole': coordinates x, theta; parameters M = 1, m = 0.1, l = 0.5, g = 9.81"
+    )
+    assert repr(system.equations_of_motion()).startswith("Cart-pole   (coordinates: x, θ)")

@@ -50,6 +50,10 @@ class ConservedQuantity:
     expression: sympy.Expr
     description: str = ""
 
+    def __repr__(self) -> str:  # the REPL shows the quantity, not the dataclass fields
+        why = f"   ({self.description})" if self.description else ""
+        return f"<conserved {self.name} = {self.expression}{why}>"
+
 
 @dataclass(frozen=True)
 class NotConserved:
@@ -58,6 +62,9 @@ class NotConserved:
     name: str
     expression: sympy.Expr
     reason: str
+
+    def __repr__(self) -> str:
+        return f"<not conserved {self.name} = {self.expression}   because {self.reason}>"
 
 
 @dataclass(frozen=True)
@@ -78,6 +85,18 @@ class Conservation:
     @property
     def names(self) -> tuple[str, ...]:
         return tuple(q.name for q in self.conserved)
+
+    def __repr__(self) -> str:
+        """One line per quantity, as ``analyze`` lists them (REPL and Jupyter)."""
+        lines = [
+            f"Conservation (cyclic coordinates: {', '.join(self.cyclic_coordinates) or 'none'})"
+        ]
+        lines += [f"  {q.name} = {q.expression}   ({q.description})" for q in self.conserved]
+        lines += [
+            f"  not {q.name} = {q.expression}   because {q.reason}" for q in self.not_conserved
+        ]
+        lines += [f"  note: {note}" for note in self.notes]
+        return "\n".join(lines)
 
 
 def conserved_quantities(

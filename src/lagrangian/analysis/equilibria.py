@@ -110,6 +110,16 @@ class Equilibrium:
     def omega_squared(self) -> tuple[sympy.Expr, ...]:
         return self.modes.omega_squared
 
+    def __repr__(self) -> str:  # the REPL shows the point and its verdict, as analyze does
+        point = ", ".join(f"{k} = {v}" for k, v in self.point.items()) or "every configuration"
+        free = f" (free: {', '.join(self.free)})" if self.free else ""
+        numeric = ", numeric" if self.numeric else ""
+        squares = ", ".join(map(str, self.modes.omega_squared)) or "none"
+        return (
+            f"<Equilibrium {point}{free}: {self.modes.stability.value}{numeric}; "
+            f"omega^2 = {squares}>"
+        )
+
 
 def equilibria(eom: EquationsOfMotion, *, timeout: float = 10.0) -> tuple[Equilibrium, ...]:
     """Every rest point G(q0) = f(q0, 0, t) = 0 of ``eom`` (see the module docstring).

@@ -38,6 +38,9 @@ class Hamiltonian:
     velocities: Mapping[str, sympy.Expr]  # coordinate name -> q'(q, p, t)
     equations: Mapping[str, tuple[sympy.Expr, sympy.Expr]]  # name -> (q', p')
 
+    def __repr__(self) -> str:  # the REPL shows H, not the dataclass fields
+        return f"<Hamiltonian H = {self.expression}>"
+
 
 def hamiltonian(eom: EquationsOfMotion) -> Hamiltonian:
     """The Legendre transform of L (requires a Lagrangian at most quadratic in q')."""

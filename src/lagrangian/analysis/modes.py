@@ -73,6 +73,11 @@ class NormalModes:
     def stable(self) -> bool:
         return self.stability in (Stability.STABLE, Stability.ASYMPTOTICALLY_STABLE)
 
+    def __repr__(self) -> str:  # the REPL shows the verdict and the numbers
+        squares = ", ".join(map(str, self.omega_squared)) or "none"
+        note = f"; {self.note}" if self.note else ""
+        return f"<NormalModes {self.stability.value}: omega^2 = {squares}{note}>"
+
     @classmethod
     def undetermined(cls, note: str) -> NormalModes:
         return cls(omega_squared=(), stability=Stability.UNDETERMINED, closed_form=False, note=note)

@@ -91,6 +91,16 @@ class System:
         for name in ("forces", "initial", "simulate_settings"):
             object.__setattr__(self, name, _frozen(getattr(self, name)))
 
+    def __repr__(self) -> str:  # the REPL shows the model, not every field of it
+        values = ", ".join(
+            f"{p.name} = {p.default:g}" if p.default is not None else p.name
+            for p in self.parameters
+        )
+        return (
+            f"<System {self.name!r}: coordinates {', '.join(self.coordinate_names)}; "
+            f"parameters {values or 'none'}; L = {self.lagrangian}>"
+        )
+
     # -- names ---------------------------------------------------------------
     @property
     def time(self) -> sympy.Symbol:
