@@ -220,3 +220,33 @@ def test_mp4_goes_through_ffmpeg(bob_pendulum, tmp_path, monkeypatch):
     arguments = (tmp_path / "pendulum.mp4").read_text()
     assert "-framerate 25" in arguments and "-f mp4" in arguments
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bin", "pendulum.mp4"]
+
+
+SHAKEN = lg.System.from_particles(
+    ["theta"],
+    particles=[Particle("bob", "m", ("a*cos(w*t) + l*sin(theta)", "-l*cos(theta)"))],
+    gravity=Gravity("g"),
+    parameters={"m": 1.0, "l": 1.0, "g": 9.81, "a": 0.3, "w": 6.0},
+)
+
+
+def test_a_moving_support_is_the_pivot_of_the_rod():
+    # the part of the position that depends on t alone is the support: drawn, with the rod
+    scene = geometry(SHAKEN)
+    t = np.linspace(0, 2, 80)
+    positions = scene.at(t, np.stack([0.5 * np.sin(4 * t)]))
+    np.testing.assert_allclose(positions.point(ORIGIN), [0.3 * np.cos(6 * t), 0 * t])
+    assert rods(positions) == ((ORIGIN, 0),)
+    assert geometry(lg.load("double_pendulum")).at(t, np.zeros((2, 80))).support is None
+
+
+def test_the_moving_pivot_is_drawn_where_the_support_is():
+    run = SHAKEN.simulate(t_end=1.0, initial={"theta": 0.5})
+    view, plan = mechanism_view(run, SHAKEN)
+    image = view.render(10)[..., :3].astype(int)
+    t = plan.times[10]
+    (panel,) = view._panels
+    (pivot,) = panel["pivot"]
+    assert pivot.get_xdata()[0] == pytest.approx(0.3 * np.cos(6 * t), abs=1e-2)
+    row, column = pixel_of(view.axes[0], 0.3 * np.cos(6 * t), 0.0, image.shape[0])
+    assert near(image, row, column, 2).min() < 200  # the pivot's ring is drawn there

@@ -5,8 +5,10 @@ A :class:`Geometry` turns the particles, rigid bodies and springs of a
 parameter values; :meth:`Geometry.at` evaluates them at many times at once and
 returns a :class:`Positions`.  :func:`rods` decides which pairs of points are
 joined by a rigid rod: a rod is drawn between consecutive particles, or from the
-origin (the pivot), when the distance between them is constant along the motion
-(checked numerically, relative variation below :data:`ROD_TOLERANCE`).
+pivot, when the distance between them is constant along the motion (checked
+numerically, relative variation below :data:`ROD_TOLERANCE`).  The pivot is the
+origin, or a moving support: the part of a particle's position that depends on t
+alone (``a*cos(w*t)`` of a pendulum whose support is shaken), see :func:`support_of`.
 
 A planar rigid body is drawn as a uniform rod through its centre along its angle,
 with the length L = sqrt(12 I / m) of the uniform rod of the same mass and moment
@@ -52,10 +54,14 @@ class Positions:
     springs: np.ndarray
     solid_centers: np.ndarray | None = None
     rotations: np.ndarray | None = None
+    support: np.ndarray | None = None  # (D, T) of a moving support; None: the origin
 
     def point(self, index: int) -> np.ndarray:
-        """(D, T) of a particle, or of the origin for :data:`ORIGIN`."""
+        """(D, T) of a particle, or of the pivot (the origin or the moving support) for
+        :data:`ORIGIN`."""
         if index == ORIGIN:
+            if self.support is not None:
+                return self.support
             return np.zeros((self.particles.shape[1], self.t.shape[0]))
         return self.particles[index]
 
@@ -77,6 +83,7 @@ class Geometry:
     _spring_functions: tuple
     _solid_center_functions: tuple = ()
     _rotation_functions: tuple = ()
+    _support_functions: tuple = ()  # of the moving support (see support_of); () for none
     coordinates_only: bool = False  # stand-in dots for the coordinates: no rods between them
 
     @property
@@ -119,7 +126,10 @@ class Geometry:
         springs = evaluate(ends, self.dimension).reshape(-1, 2, self.dimension, t.shape[0])
         solid_centers = evaluate(self._solid_center_functions, 3)
         rotations = evaluate(self._rotation_functions, 9).reshape(-1, 3, 3, t.shape[0])
-        return Positions(t, particles, centers, angles, springs, solid_centers, rotations)
+        support = None
+        if self._support_functions:
+            support = evaluate([self._support_functions], self.dimension)[0]
+        return Positions(t, particles, centers, angles, springs, solid_centers, rotations, support)
 
     def solid_outlines(self, positions: Positions) -> list[np.ndarray]:
         """The outline of each 3-D body in space, (K, 3, T) each: r_c + R p for the
@@ -146,7 +156,7 @@ class Geometry:
         if self.system.springs:
             pieces.append(positions.springs.transpose(2, 0, 1, 3).reshape(self.dimension, -1))
         if any(ORIGIN in rod for rod in rods):
-            pieces.append(np.zeros((self.dimension, 1)))
+            pieces.append(positions.point(ORIGIN))
         points = np.concatenate(pieces, axis=1)
         points = points[:, np.all(np.isfinite(points), axis=0)]
         if points.size == 0:
@@ -189,6 +199,7 @@ def geometry(system: System, parameters: Mapping[str, float] | None = None) -> G
 
     solids = [b for b in system.bodies if isinstance(b, RigidBody)]
     planar = [b for b in system.bodies if not isinstance(b, RigidBody)]
+    support = support_of(system)
     dimension = len(system.particles[0].position) if system.particles else (3 if solids else 2)
     masses = np.array([number(p.mass, f"the mass of {p.name}") for p in system.particles])
     shapes = tuple(
@@ -224,8 +235,27 @@ def geometry(system: System, parameters: Mapping[str, float] | None = None) -> G
         _rotation_functions=tuple(
             compile_point([x for row in b.rotation for x in row], b.name) for b in solids
         ),
+        _support_functions=compile_point(support, "the support") if support else (),
         coordinates_only=coordinates_only,
     )
+
+
+def support_of(system: System) -> tuple[sympy.Expr, ...] | None:
+    """The moving point the mechanism hangs from, or None when it hangs from a fixed one.
+
+    The support is the part of a particle's position that depends on t and the
+    parameters alone, the terms without a coordinate: (a cos(w t), 0) of a pendulum
+    at (a cos(w t) + l sin θ, -l cos θ).  The first particle that has one that moves
+    gives it (the later links of a chain carry the same terms).
+    """
+    q = [c.q for c in system.coordinates]
+    for particle in system.particles:
+        support = tuple(
+            as_expression(x).as_independent(*q, as_Add=True)[0] for x in particle.position
+        )
+        if any(x.has(system.time) for x in support):
+            return support
+    return None
 
 
 def coordinates_drawn(system: System) -> System:

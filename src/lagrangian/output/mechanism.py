@@ -122,7 +122,16 @@ class MechanismView:
 
         geometry = self.geometry
         panel: dict = {"axes": axes}
-        if any(ORIGIN in rod for rod in self.rods) or self.stems:
+        support = self.positions.support
+        panel["pivot"] = []
+        if support is not None and any(ORIGIN in rod for rod in self.rods):
+            # a moving support: its path dotted, the pivot moving along it
+            a, b = axes
+            ax.plot(support[a], support[b], ":", color=PIVOT_COLOR, lw=1.0, zorder=1)
+            panel["pivot"] = [
+                ax.plot([], [], "o", ms=6, mfc="white", mec=PIVOT_COLOR, mew=1.5, zorder=4)[0]
+            ]
+        elif any(ORIGIN in rod for rod in self.rods) or self.stems:
             ax.plot([0], [0], "o", ms=6, mfc="white", mec=PIVOT_COLOR, mew=1.5, zorder=4)
         panel["springs"] = [
             ax.plot([], [], "-", color=SPRING_COLOR, lw=1.2, zorder=2)[0]
@@ -164,7 +173,7 @@ class MechanismView:
             ax.plot([], [], "o", ms=size, color=color, mec=_darker(color), mew=1.0, zorder=5)[0]
             for size, color in zip(self.marker_sizes, self.particle_colors, strict=True)
         ]
-        for kind in ("springs", "rods", "bodies", "centers", "stems", "particles"):
+        for kind in ("springs", "rods", "bodies", "centers", "stems", "particles", "pivot"):
             self._moving.extend(panel[kind])
         for lines in panel["solids"]:
             self._moving.extend(lines)
@@ -221,6 +230,8 @@ class MechanismView:
             a, b = panel["axes"]
             for line, i in zip(panel["particles"], range(p.particles.shape[0]), strict=True):
                 line.set_data([p.particles[i, a, j]], [p.particles[i, b, j]])
+            for line in panel["pivot"]:
+                line.set_data([p.support[a, j]], [p.support[b, j]])
             for line, (i, n) in zip(panel["rods"], self.rods, strict=True):
                 first, second = p.point(i)[:, j], p.point(n)[:, j]
                 line.set_data([first[a], second[a]], [first[b], second[b]])
