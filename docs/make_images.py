@@ -256,6 +256,45 @@ def heavy_top() -> None:
     save(plot_timeseries(run, system), "heavy_top_timeseries.png")
 
 
+def serve_editor() -> None:
+    """A screenshot of `lagrangian serve`: the editor beside the double pendulum's page,
+    taken by Debian's Chromium through Playwright (pip install playwright)."""
+    import os
+    import re
+    import signal
+    import subprocess
+
+    from playwright.sync_api import sync_playwright
+
+    sources = Path(__file__).resolve().parents[1] / "src"
+    server = subprocess.Popen(
+        [sys.executable, "-m", "lagrangian", "serve", "--port", "0"],
+        stdout=subprocess.PIPE,
+        text=True,
+        env=dict(os.environ, PYTHONPATH=str(sources)),
+    )
+    try:
+        url = re.search(r"http://\S+", server.stdout.readline())[0]
+        with sync_playwright() as driver:
+            browser = driver.chromium.launch(executable_path="/usr/bin/chromium")
+            page = browser.new_page(viewport={"width": 1280, "height": 760})
+            page.set_default_timeout(120_000)
+            page.goto(url)
+            page.wait_for_function(
+                "document.getElementById('status').textContent.startsWith('derived')"
+            )
+            page.wait_for_timeout(3000)  # the page's typesetting and a few frames of motion
+            picture = IMAGES / "serve_editor.png"
+            page.screenshot(path=picture)
+            browser.close()
+    finally:
+        server.send_signal(signal.SIGINT)
+        server.wait(timeout=30)
+    print(f"  {picture.name:34s} {picture.stat().st_size / 1000:6.1f} kB")
+    if picture.stat().st_size > LIMIT:
+        raise SystemExit(f"{picture.name} is larger than {LIMIT // 1000} kB")
+
+
 PICTURES = (
     simple_pendulum,
     velocity_dependent_potential,
@@ -270,6 +309,7 @@ PICTURES = (
     rotating_wire_bead,
     heavy_top,
     cart_pole,
+    serve_editor,
 )
 
 

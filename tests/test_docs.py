@@ -32,6 +32,7 @@ SKIPPED = {
     "&& pytest": "runs this very test suite",
     "--backend cuda": "needs an NVIDIA GPU",
     "--scheduler tcp://": "needs a Dask cluster",
+    "lagrangian serve": "serves until stopped (tests/serve/test_editor_browser.py runs it)",
 }
 #: Synopsis lines (placeholders in capitals, alternatives with |, options in [...]).
 SYNOPSIS = re.compile(r"\b(MODEL|TRAJECTORY)\b|\[--")

@@ -169,6 +169,20 @@ class System(ModelSystem):
             trajectory if trajectory is not None else self.simulate(), self, path, **options
         )
 
+    def page(
+        self,
+        *,
+        parameters: Mapping[str, float] | None = None,
+        initial: Mapping[str, float] | None = None,
+    ):
+        """The model's interactive page (worked solution, live simulation): shown inline
+        in Jupyter in a sandboxed frame, ``.html`` its text, ``.save(path)`` a file
+        (see :func:`lagrangian.output.page.page_html`)."""
+        from .output.display import ModelPage
+        from .output.page import page_html
+
+        return ModelPage(page_html(self, parameters=parameters, initial=initial))
+
     def _repr_latex_(self) -> str:
         from .output.latex import latex_expression
 

@@ -35,6 +35,7 @@ FLAGS = {
     "path": "--out",
     "n_out": "--samples",
     "dt_out": "--dt-out",
+    "allow_remote": "--allow-remote",
 }
 
 

@@ -1,4 +1,4 @@
-"""Jupyter display of a trajectory: a small HTML summary table (``_repr_html_``).
+"""Jupyter display: a trajectory's HTML summary table, and a model's page in a frame.
 
 The animation's display is :class:`lagrangian.output.animation.Animation`.
 """
@@ -6,9 +6,49 @@ The animation's display is :class:`lagrangian.output.animation.Animation`.
 from __future__ import annotations
 
 import html
+import os
+from dataclasses import dataclass, field
 
+from ..files import check_output_path, write_atomically
 from ..trajectory import Trajectory
 from .notation import latex_name
+
+#: Height in CSS pixels of a model's page shown inline (its width is the notebook's).
+PAGE_FRAME_HEIGHT = 720
+
+
+@dataclass(frozen=True)
+class ModelPage:
+    """A model's page (:func:`lagrangian.output.page.page_html`), shown inline in Jupyter
+    in a sandboxed frame: its scripts run, but in an origin of their own, so they can
+    reach neither the notebook nor its kernel."""
+
+    html: str = field(repr=False)  # a whole document: megabytes in a terminal otherwise
+    height: int = PAGE_FRAME_HEIGHT
+
+    def _repr_html_(self) -> str:
+        return sandboxed_frame(self.html, height=self.height)
+
+    def save(self, path: str | os.PathLike) -> None:
+        """Write the page to ``path`` (an .html file that works offline), atomically."""
+        write_atomically(
+            check_output_path(path),
+            lambda temporary: temporary.write_text(self.html, encoding="utf-8"),
+        )
+
+
+def sandboxed_frame(document: str, *, height: int = PAGE_FRAME_HEIGHT) -> str:
+    """An ``<iframe>`` showing the HTML ``document`` from its ``srcdoc`` attribute, escaped
+    (so that no text of the document can end the attribute), sandboxed to run scripts only.
+
+    >>> sandboxed_frame('<p title="a">x</p>', height=100)[:62]
+    '<iframe sandbox="allow-scripts" srcdoc="&lt;p title=&quot;a&quot;'
+    """
+    return (
+        f'<iframe sandbox="allow-scripts" srcdoc="{html.escape(document, quote=True)}" '
+        f'style="width: 100%; height: {int(height)}px; border: 1px solid #ddd" '
+        'title="the page of the model"></iframe>'
+    )
 
 
 def trajectory_html(trajectory: Trajectory) -> str:

@@ -1,0 +1,167 @@
+"""Pages made in a process of their own, one at a time, each within a time budget.
+
+The symbolic stages bound themselves with :func:`lagrangian.budget.deadline`, which
+arms a signal and so works only in a process's main thread: in a web server's thread
+it would arm nothing.  So the server hands each model text to a worker process, whose
+main thread runs the whole page within :data:`PAGE_SECONDS` (the stages' own budgets
+inside it), and waits for the answer off the event loop.  A worker that does not
+answer :data:`GRACE_SECONDS` after that (stuck in code no signal interrupts) is killed
+and replaced; so is one that died.  The worker is started with ``spawn``, never
+``fork``: the server has threads, and a forked copy of a threaded process may hang.
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import signal
+import threading
+from dataclasses import dataclass
+from typing import Protocol
+
+from ..budget import OutOfTime, deadline
+from ..errors import LagrangianError
+
+#: Seconds for one page: reading the model, deriving, analysing, writing the page.
+PAGE_SECONDS = 60.0
+#: Seconds past PAGE_SECONDS before a worker that has not answered is killed.
+GRACE_SECONDS = 10.0
+#: Seconds a new worker may take to import the toolkit (SymPy, ...) and say it is ready:
+#: not counted in a page's time, and generous, as a busy machine may be slow to start one.
+START_SECONDS = 120.0
+_READY = "ready"
+
+
+@dataclass(frozen=True)
+class Rendered:
+    """The page of a model text, or the one-line error that says why there is none."""
+
+    page: str | None = None
+    error: str | None = None
+
+
+class Renderer(Protocol):
+    """What the server needs of a page maker (:class:`PageWorker`, or a test's stand-in)."""
+
+    def start(self) -> None: ...
+    def render(self, text: str) -> Rendered: ...
+    def close(self) -> None: ...
+
+
+def render(text: str, *, seconds: float = PAGE_SECONDS) -> Rendered:
+    """The page of the model ``text`` (see :mod:`lagrangian.serve.models`), made within
+    ``seconds``; an error the user caused comes back as its line, as the CLI prints it."""
+    from ..output.page import page_html
+    from .models import model_from_text
+
+    try:
+        with deadline(seconds, "page"):
+            return Rendered(page=page_html(model_from_text(text)))
+    except LagrangianError as error:
+        return Rendered(error=_line(str(error)))
+    except OutOfTime as error:
+        return Rendered(error=_line(f"{error}: the model is too costly to derive here"))
+    except (RecursionError, MemoryError) as error:
+        return Rendered(error=_line(f"the model is too large to derive ({type(error).__name__})"))
+    except Exception as error:  # a bug of ours: one line, as the CLI says it
+        return Rendered(error=_line(f"internal error: {type(error).__name__}: {error}"))
+
+
+class PageWorker:
+    """A worker process that renders model texts, restarted when it hangs or dies.
+
+    :meth:`render` blocks (call it from a thread); calls are served one at a time.
+    """
+
+    def __init__(self, *, seconds: float = PAGE_SECONDS, grace: float = GRACE_SECONDS):
+        self.seconds = seconds
+        self.grace = grace
+        self._lock = threading.Lock()
+        self._context = multiprocessing.get_context("spawn")
+        self._process = None
+        self._connection = None
+
+    def start(self) -> None:
+        """Start the worker now (else the first :meth:`render` does), so that the first
+        page does not wait for the worker's imports.  A worker that fails to start is
+        tried again by :meth:`render`, which reports it."""
+        with self._lock:
+            try:
+                self._ensure_started()
+            except _NotStarted:
+                self._stop()
+
+    def render(self, text: str) -> Rendered:
+        """The page of ``text``, or its error line (one for a model out of time too)."""
+        with self._lock:
+            try:
+                self._ensure_started()
+                self._connection.send(text)
+                if self._connection.poll(self.seconds + self.grace):
+                    return self._connection.recv()
+                error = f"page: not made within {self.seconds + self.grace:g} s; stopped"
+            except (EOFError, OSError):
+                code = self._process.exitcode
+                error = f"the process making the page ended (exit code {code}); try again"
+            except _NotStarted as failure:
+                error = str(failure)
+            self._stop()
+            return Rendered(error=error)
+
+    def close(self) -> None:
+        """Stop the worker process."""
+        with self._lock:
+            self._stop()
+
+    def _ensure_started(self) -> None:
+        if self._process is not None and self._process.is_alive():
+            return
+        self._stop()
+        ours, theirs = self._context.Pipe()
+        process = self._context.Process(
+            target=_serve, args=(theirs, self.seconds), name="lagrangian-page", daemon=True
+        )
+        process.start()
+        theirs.close()
+        self._process, self._connection = process, ours
+        try:
+            ready = ours.poll(START_SECONDS) and ours.recv() == _READY
+        except (EOFError, OSError):
+            ready = False
+        if not ready:
+            raise _NotStarted(
+                f"the process making the pages did not start within {START_SECONDS:g} s "
+                f"(exit code {process.exitcode})"
+            )
+
+    def _stop(self) -> None:
+        if self._connection is not None:
+            self._connection.close()
+        if self._process is not None:
+            self._process.kill()
+            self._process.join(timeout=5)
+            self._process.close()
+        self._process = self._connection = None
+
+
+def _serve(connection, seconds: float) -> None:
+    """The worker's loop: a text in, a :class:`Rendered` out, until the pipe closes."""
+    # Ctrl-C in the terminal reaches the whole process group: the server stops the worker.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    from . import models  # noqa: F401  (imported before the first page, not in its time)
+    from ..output import page  # noqa: F401
+
+    connection.send(_READY)
+    while True:
+        try:
+            text = connection.recv()
+        except (EOFError, OSError):
+            return
+        connection.send(render(text, seconds=seconds))
+
+
+class _NotStarted(Exception):
+    """The worker process did not say it was ready."""
+
+
+def _line(text: str) -> str:
+    return " ".join(text.split())

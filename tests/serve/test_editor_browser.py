@@ -1,0 +1,103 @@
+"""The editor in a real browser: `lagrangian serve` run as a process, driven by Playwright.
+
+Chromium is Debian's (chromium on PATH, /usr/bin/chromium), never a download; the
+test skips, saying so, where there is none.  The server is stopped, and waited for,
+however the test ends; every wait is bounded.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("uvicorn", reason="the serve extra (uvicorn) is not installed")
+playwright = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+SOURCES = Path(__file__).resolve().parents[2] / "src"
+#: Seconds for the server to say where it listens, and for a page or error to show.
+START_SECONDS = 120
+SHOW_SECONDS = 120
+
+
+@pytest.fixture(scope="module")
+def editor_url():
+    """The address of a `lagrangian serve --port 0` process, stopped after the module."""
+    environment = dict(os.environ, PYTHONPATH=str(SOURCES))
+    server = subprocess.Popen(
+        [sys.executable, "-m", "lagrangian", "serve", "--port", "0"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=environment,
+        start_new_session=True,  # its worker too is in the group stopped below
+    )
+    try:
+        lines: list[str] = []
+        reader = threading.Thread(target=lambda: lines.append(server.stdout.readline()))
+        reader.start()
+        reader.join(START_SECONDS)
+        found = re.search(r"http://\S+", lines[0]) if lines else None
+        if found is None:
+            pytest.fail(f"the server did not start: {server.stderr.read() if lines else ''}")
+        yield found[0]
+        server.send_signal(signal.SIGINT)  # as Ctrl-C: the server stops its worker
+        assert server.wait(timeout=30) == 0
+    finally:
+        if server.poll() is None:
+            os.killpg(server.pid, signal.SIGKILL)
+            server.wait(timeout=30)
+
+
+@pytest.fixture(scope="module")
+def browser():
+    if CHROMIUM is None:
+        pytest.skip("no Chromium on PATH (Debian: apt-get install chromium)")
+    with playwright.sync_playwright() as driver:
+        browser = driver.chromium.launch(executable_path=CHROMIUM, headless=True)
+        yield browser
+        browser.close()
+
+
+def test_the_editor_shows_the_error_line_then_the_page(editor_url, browser):
+    page = browser.new_page()
+    problems: list[str] = []
+    page.on("console", lambda m: problems.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda error: problems.append(str(error)))
+    page.on("dialog", lambda dialog: problems.append(f"a dialog: {dialog.message}"))
+    page.set_default_timeout(SHOW_SECONDS * 1000)
+    page.goto(editor_url)
+    frame = page.frame_locator("#page")
+    frame.locator("body").wait_for()  # the first example's page
+
+    editor = page.locator("#model")
+    editor.fill("")
+    editor.type("m*x_dot**2/2 - k*x**2/2 + </p><b>bold</b><script>alert(1)</script>")
+    error = page.locator("#error")
+    error.wait_for(state="visible")
+    assert error.text_content() == (
+        "editor: lagrangian: unexpected character '<' at position 27 in "
+        "'m*x_dot**2/2 - k*x**2/2 + </p><b>bold</b><script>alert(1)...'"
+    )
+    assert page.locator("#error *").count() == 0  # shown as text, not markup
+
+    editor.fill("")
+    editor.type("m*x_dot**2/2 - k*x**2/2")
+    error.wait_for(state="hidden")
+    page.wait_for_function(
+        "document.getElementById('page').srcdoc.includes('x')"
+        " && document.getElementById('status').textContent.startsWith('derived')"
+    )
+    inner = page.frames[1]
+    inner.wait_for_load_state()
+    assert inner.evaluate("typeof window.lagrangian") == "object"
+    assert problems == []
+    page.close()

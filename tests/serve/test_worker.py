@@ -1,0 +1,44 @@
+"""Pages made in a worker process within a time budget; a stuck or dead worker is replaced."""
+
+from __future__ import annotations
+
+import os
+import signal
+
+import pytest
+
+from lagrangian.serve.worker import PageWorker, render
+
+OSCILLATOR = "m*x_dot**2/2 - k*x**2/2"
+
+
+def test_render_gives_the_page_or_the_error_line():
+    assert render(OSCILLATOR).page.lower().startswith("<!doctype html")
+    assert render(OSCILLATOR).error is None
+    bad = render("x_dot**2 + )")
+    assert bad.page is None
+    assert bad.error == "editor: lagrangian: unexpected ')' at position 12 in 'x_dot**2 + )'"
+
+
+def test_render_stops_a_model_out_of_time():
+    rendered = render(OSCILLATOR, seconds=1e-6)
+    assert rendered.page is None
+    assert rendered.error.startswith("page: not decided within 1e-06 s")
+
+
+@pytest.mark.slow
+def test_a_dead_or_stuck_worker_is_replaced():
+    worker = PageWorker(seconds=2.0, grace=0.5)
+    try:
+        worker.start()
+        os.kill(worker._process.pid, signal.SIGKILL)  # died between two pages
+        worker._process.join(timeout=60)
+        assert worker.render(OSCILLATOR).page is not None
+        os.kill(worker._process.pid, signal.SIGSTOP)  # stuck where no deadline reaches
+        stuck = worker.render(OSCILLATOR)
+        assert stuck.error == "page: not made within 2.5 s; stopped"
+        assert worker._process is None  # killed
+        assert worker.render(OSCILLATOR).page is not None
+    finally:
+        worker.close()
+    assert worker._process is None
