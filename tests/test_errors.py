@@ -58,6 +58,7 @@ def test_no_library_message_names_a_flag_of_the_command_line():
 
     source = Path(lg.__file__).parent
     flags = "set|dt|rtol|atol|t-end|timeout|define|grid|at|to|out|backend|method|output"
+    flags += "|allow-remote|host|port"
     flag = re.compile(rf"""["'](?:[^"'\n]*\s)?--({flags})\b""")
     found = [
         f"{path.relative_to(source)}:{number}"
