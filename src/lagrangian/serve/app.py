@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import contextlib
 import json
-import tomllib
 from collections.abc import AsyncIterator, Collection
 from importlib import resources
 
@@ -32,7 +31,7 @@ from starlette.responses import Response
 from starlette.routing import Route
 from starlette.types import ASGIApp, Receive, Scope, Send
 
-from ..examples import example_names, example_path
+from ..examples import example_names, example_path, example_title
 from .worker import Renderer
 
 #: The largest model text accepted (the model loader's own limit is the same 1 MiB).
@@ -157,12 +156,14 @@ def _asset(name: str, media_type: str):
 
 def _examples() -> list[dict[str, str]]:
     """The built-in models as the editor's menu shows them: name, title, file text."""
-    examples = []
-    for name in example_names():
-        text = example_path(name).read_text(encoding="utf-8")
-        title = tomllib.loads(text).get("name", name)
-        examples.append({"name": name, "title": str(title), "text": text})
-    return examples
+    return [
+        {
+            "name": name,
+            "title": example_title(name)[0],
+            "text": example_path(name).read_text(encoding="utf-8"),
+        }
+        for name in example_names()
+    ]
 
 
 def _json(content: object, status: int) -> Response:

@@ -147,8 +147,9 @@ def _serve(connection, seconds: float) -> None:
     """The worker's loop: a text in, a :class:`Rendered` out, until the pipe closes."""
     # Ctrl-C in the terminal reaches the whole process group: the server stops the worker.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    from . import models  # noqa: F401  (imported before the first page, not in its time)
+    # Imported before the first page, so that their import is not counted in its time.
     from ..output import page  # noqa: F401
+    from . import models  # noqa: F401
 
     connection.send(_READY)
     while True:
