@@ -10,6 +10,7 @@ from __future__ import annotations
 import asyncio
 import json
 import warnings
+from collections.abc import Iterator
 
 import pytest
 
@@ -147,21 +148,9 @@ def test_a_body_declared_over_one_megabyte_is_refused(client, recorder):
     assert recorder.texts == []
 
 
-def test_a_body_without_length_is_refused_before_it_is_read_whole(recorder):
-    """An endless chunked body: refused once the bytes read exceed the limit."""
-    app = create_app(recorder, hosts=None)
-    chunk = b"x" * 65536
-    received = []
-
-    async def receive():
-        received.append(chunk)
-        return {"type": "http.request", "body": chunk, "more_body": True}
-
-    sent = []
-
-    async def send(message):
-        sent.append(message)
-
+def call(app, messages: Iterator[dict]) -> list[dict]:
+    """Run ``app`` on one POST /page whose receive hands out ``messages``, then waits;
+    the messages it sent back."""
     scope = {
         "type": "http",
         "method": "POST",
@@ -174,9 +163,35 @@ def test_a_body_without_length_is_refused_before_it_is_read_whole(recorder):
         "server": ("127.0.0.1", 8765),
         "headers": [(b"host", HOST.encode()), (b"origin", ORIGIN.encode())],
     }
+    sent = []
+
+    async def receive():
+        message = next(messages, None)
+        if message is None:
+            await asyncio.sleep(3600)  # nothing more from the client
+        return message
+
+    async def send(message):
+        sent.append(message)
+
     asyncio.run(app(scope, receive, send))
+    return sent
+
+
+def test_a_body_without_length_is_refused_before_it_is_read_whole(recorder):
+    """An endless chunked body: refused once the bytes read exceed the limit."""
+    chunk = {"type": "http.request", "body": b"x" * 65536, "more_body": True}
+    chunks = iter([chunk] * 100)  # 6.5 MB offered
+    sent = call(create_app(recorder, hosts=None), chunks)
     assert sent[0]["status"] == 413
-    assert len(received) == MAX_BODY_BYTES // len(chunk) + 1
+    assert len(list(chunks)) == 100 - (MAX_BODY_BYTES // 65536 + 1)  # the rest never read
+    assert recorder.texts == []
+
+
+def test_a_request_given_up_while_it_waited_is_not_derived(recorder):
+    body = {"type": "http.request", "body": OSCILLATOR.encode(), "more_body": False}
+    sent = call(create_app(recorder, hosts=None), iter([body, {"type": "http.disconnect"}]))
+    assert sent[0]["status"] == 204
     assert recorder.texts == []
 
 

@@ -24,6 +24,7 @@ import json
 from collections.abc import AsyncIterator, Collection
 from importlib import resources
 
+import anyio
 from starlette.applications import Starlette
 from starlette.concurrency import run_in_threadpool
 from starlette.requests import Request
@@ -71,6 +72,10 @@ def create_app(renderer: Renderer, *, hosts: Collection[str] | None) -> ASGIApp:
         finally:
             await run_in_threadpool(renderer.close)
 
+    # Pages are made one at a time: a request that waited while the user typed on (the
+    # editor then gave it up and closed it) is dropped rather than derived for no one.
+    one_at_a_time = anyio.Lock()
+
     async def page(request: Request) -> Response:
         body = await _bounded_body(request)
         if isinstance(body, Response):
@@ -79,7 +84,10 @@ def create_app(renderer: Renderer, *, hosts: Collection[str] | None) -> ASGIApp:
             text = body.decode("utf-8")
         except UnicodeDecodeError:
             return _json({"error": "the model text is not UTF-8"}, 400)
-        rendered = await run_in_threadpool(renderer.render, text)
+        async with one_at_a_time:
+            if await request.is_disconnected():
+                return Response(status_code=204)
+            rendered = await run_in_threadpool(renderer.render, text)
         answer = {"page": rendered.page} if rendered.error is None else {"error": rendered.error}
         return _json(answer, 200)
 
