@@ -280,9 +280,7 @@ def serve_editor() -> None:
             page = browser.new_page(viewport={"width": 1280, "height": 760})
             page.set_default_timeout(120_000)
             page.goto(url)
-            page.wait_for_function(
-                "document.getElementById('status').textContent.startsWith('derived')"
-            )
+            page.locator("#status", has_text="derived in").wait_for()
             page.wait_for_timeout(3000)  # the page's typesetting and a few frames of motion
             picture = IMAGES / "serve_editor.png"
             page.screenshot(path=picture)

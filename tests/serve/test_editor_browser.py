@@ -92,12 +92,11 @@ def test_the_editor_shows_the_error_line_then_the_page(editor_url, browser):
     editor.fill("")
     editor.type("m*x_dot**2/2 - k*x**2/2")
     error.wait_for(state="hidden")
-    page.wait_for_function(
-        "document.getElementById('page').srcdoc.includes('x')"
-        " && document.getElementById('status').textContent.startsWith('derived')"
-    )
+    page.locator("#status", has_text="derived in").wait_for()
     inner = page.frames[1]
     inner.wait_for_load_state()
-    assert inner.evaluate("typeof window.lagrangian") == "object"
+    # the oscillator's page, running: its hook has the parameters of the typed Lagrangian
+    assert inner.evaluate("window.lagrangian.parameters") == {"k": 1, "m": 1}
+    assert inner.evaluate("Object.keys(window.lagrangian.state().q)") == ["x"]
     assert problems == []
     page.close()

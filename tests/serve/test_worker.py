@@ -27,18 +27,21 @@ def test_render_stops_a_model_out_of_time():
 
 
 @pytest.mark.slow
-def test_a_dead_or_stuck_worker_is_replaced():
+def test_a_dead_or_stuck_worker_is_replaced_and_pages_are_kept():
     worker = PageWorker(seconds=2.0, grace=0.5)
+    other = "m*x_dot**2/2 - k*x**4/4"
     try:
         worker.start()
         os.kill(worker._process.pid, signal.SIGKILL)  # died between two pages
         worker._process.join(timeout=60)
-        assert worker.render(OSCILLATOR).page is not None
+        page = worker.render(OSCILLATOR).page
+        assert page is not None
         os.kill(worker._process.pid, signal.SIGSTOP)  # stuck where no deadline reaches
-        stuck = worker.render(OSCILLATOR)
+        assert worker.render(OSCILLATOR).page == page  # kept: the worker is not asked
+        stuck = worker.render(other)
         assert stuck.error == "page: not made within 2.5 s; stopped"
         assert worker._process is None  # killed
-        assert worker.render(OSCILLATOR).page is not None
+        assert worker.render(other).page is not None
     finally:
         worker.close()
     assert worker._process is None

@@ -15,6 +15,7 @@ from __future__ import annotations
 import multiprocessing
 import signal
 import threading
+from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Protocol
 
@@ -28,6 +29,9 @@ GRACE_SECONDS = 10.0
 #: Seconds a new worker may take to import the toolkit (SymPy, ...) and say it is ready:
 #: not counted in a page's time, and generous, as a busy machine may be slow to start one.
 START_SECONDS = 120.0
+#: Pages kept for texts seen again (an example chosen again, an edit undone): each is
+#: about a megabyte, and made anew costs seconds of derivation and analysis.
+PAGES_KEPT = 16
 _READY = "ready"
 
 
@@ -69,7 +73,9 @@ def render(text: str, *, seconds: float = PAGE_SECONDS) -> Rendered:
 class PageWorker:
     """A worker process that renders model texts, restarted when it hangs or dies.
 
-    :meth:`render` blocks (call it from a thread); calls are served one at a time.
+    :meth:`render` blocks (call it from a thread); calls are served one at a time.  The
+    last :data:`PAGES_KEPT` pages are kept, by text (errors are not: they come quickly,
+    and one of being out of time depends on the machine's load).
     """
 
     def __init__(self, *, seconds: float = PAGE_SECONDS, grace: float = GRACE_SECONDS):
@@ -79,6 +85,7 @@ class PageWorker:
         self._context = multiprocessing.get_context("spawn")
         self._process = None
         self._connection = None
+        self._pages: OrderedDict[str, str] = OrderedDict()
 
     def start(self) -> None:
         """Start the worker now (else the first :meth:`render` does), so that the first
@@ -93,11 +100,14 @@ class PageWorker:
     def render(self, text: str) -> Rendered:
         """The page of ``text``, or its error line (one for a model out of time too)."""
         with self._lock:
+            if text in self._pages:
+                self._pages.move_to_end(text)
+                return Rendered(page=self._pages[text])
             try:
                 self._ensure_started()
                 self._connection.send(text)
                 if self._connection.poll(self.seconds + self.grace):
-                    return self._connection.recv()
+                    return self._kept(text, self._connection.recv())
                 error = f"page: not made within {self.seconds + self.grace:g} s; stopped"
             except (EOFError, OSError):
                 code = self._process.exitcode
@@ -106,6 +116,13 @@ class PageWorker:
                 error = str(failure)
             self._stop()
             return Rendered(error=error)
+
+    def _kept(self, text: str, rendered: Rendered) -> Rendered:
+        if rendered.page is not None:
+            self._pages[text] = rendered.page
+            while len(self._pages) > PAGES_KEPT:
+                self._pages.popitem(last=False)
+        return rendered
 
     def close(self) -> None:
         """Stop the worker process."""
@@ -117,8 +134,11 @@ class PageWorker:
             return
         self._stop()
         ours, theirs = self._context.Pipe()
+        # Not a daemon: the analysis forks children of its own (bounded solves), which a
+        # daemonic process may not; the server stops it (close), and it ends by itself
+        # when the server's end of the pipe closes.
         process = self._context.Process(
-            target=_serve, args=(theirs, self.seconds), name="lagrangian-page", daemon=True
+            target=_serve, args=(theirs, self.seconds), name="lagrangian-page"
         )
         process.start()
         theirs.close()
