@@ -116,6 +116,40 @@ def test_a_bad_model_returns_the_error_line_the_cli_prints(
         assert capsys.readouterr().err == f"lagrangian: error: {error}\n"
 
 
+def test_a_page_in_the_making_does_not_hold_up_other_requests():
+    """The renderer, once called, waits until the editor has been served meanwhile: were
+    it run on the event loop, nothing else would be served until it gave up."""
+    import threading
+
+    import httpx
+
+    rendering, served = threading.Event(), threading.Event()
+
+    class Waiting(Recorder):
+        def render(self, text: str) -> Rendered:
+            rendering.set()
+            if not served.wait(timeout=60):
+                return Rendered(error="the editor was not served meanwhile")
+            return super().render(text)
+
+    app = create_app(Waiting(), hosts=None)
+
+    async def both():
+        transport = httpx.ASGITransport(app=app)
+        async with httpx.AsyncClient(transport=transport, base_url=ORIGIN) as client:
+            posting = asyncio.ensure_future(
+                client.post("/page", content=OSCILLATOR, headers=SAME_ORIGIN)
+            )
+            await asyncio.to_thread(rendering.wait, 60)
+            editor = await client.get("/")
+            served.set()
+            return editor, await posting
+
+    editor, page = asyncio.run(asyncio.wait_for(both(), timeout=120))
+    assert editor.status_code == 200
+    assert page.json() == {"page": "<!doctype html><p>page</p>"}
+
+
 # -- the editor and its examples --------------------------------------------------------
 def test_the_editor_is_served_with_its_policy(client):
     response = client.get("/")
