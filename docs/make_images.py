@@ -261,6 +261,7 @@ def serve_editor() -> None:
     taken by Debian's Chromium through Playwright (pip install playwright)."""
     import os
     import re
+    import shutil
     import signal
     import subprocess
 
@@ -276,7 +277,8 @@ def serve_editor() -> None:
     try:
         url = re.search(r"http://\S+", server.stdout.readline())[0]
         with sync_playwright() as driver:
-            browser = driver.chromium.launch(executable_path="/usr/bin/chromium")
+            chromium = shutil.which("chromium") or "/usr/bin/chromium"  # Debian's
+            browser = driver.chromium.launch(executable_path=chromium)
             page = browser.new_page(viewport={"width": 1280, "height": 760})
             page.set_default_timeout(120_000)
             page.goto(url)

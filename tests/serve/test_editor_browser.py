@@ -1,15 +1,14 @@
 """The editor in a real browser: `lagrangian serve` run as a process, driven by Playwright.
 
-Chromium is Debian's (chromium on PATH, /usr/bin/chromium), never a download; the
-test skips, saying so, where there is none.  The server is stopped, and waited for,
-however the test ends; every wait is bounded.
+Chromium is Debian's, found as the page's checks find it (tests/output/browser.py), never
+a download; the test skips, saying so, where there is none.  The server is stopped, and
+waited for, however the test ends; every wait is bounded.
 """
 
 from __future__ import annotations
 
 import os
 import re
-import shutil
 import signal
 import subprocess
 import sys
@@ -18,10 +17,9 @@ from pathlib import Path
 
 import pytest
 
-pytest.importorskip("uvicorn", reason="the serve extra (uvicorn) is not installed")
-playwright = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
+from output.browser import chromium
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+pytest.importorskip("uvicorn", reason="the serve extra (uvicorn) is not installed")
 SOURCES = Path(__file__).resolve().parents[2] / "src"
 #: Seconds for the server to say where it listens, and for a page or error to show.
 START_SECONDS = 120
@@ -59,15 +57,11 @@ def editor_url():
 
 @pytest.fixture(scope="module")
 def browser():
-    if CHROMIUM is None:
-        pytest.skip("no Chromium on PATH (Debian: apt-get install chromium)")
-    with playwright.sync_playwright() as driver:
-        browser = driver.chromium.launch(executable_path=CHROMIUM, headless=True)
+    with chromium() as browser:
         yield browser
-        browser.close()
 
 
-def test_the_editor_shows_the_error_line_then_the_page(editor_url, browser):
+def test_the_editor_shows_the_error_line_then_the_page(browser, editor_url):
     page = browser.new_page()
     problems: list[str] = []
     page.on("console", lambda m: problems.append(m.text) if m.type == "error" else None)
