@@ -18,8 +18,10 @@ from pathlib import Path
 import pytest
 
 from output.browser import chromium
+from output.test_page import HOSTILE_MODEL, HOSTILE_NAME
 
 pytest.importorskip("uvicorn", reason="the serve extra (uvicorn) is not installed")
+playwright_errors = pytest.importorskip("playwright.sync_api", reason="no Playwright")
 SOURCES = Path(__file__).resolve().parents[2] / "src"
 #: Seconds for the server to say where it listens, and for a page or error to show.
 START_SECONDS = 120
@@ -86,11 +88,26 @@ def test_the_editor_shows_the_error_line_then_the_page(browser, editor_url):
     editor.fill("")
     editor.type("m*x_dot**2/2 - k*x**2/2")
     error.wait_for(state="hidden")
-    page.locator("#status", has_text="derived in").wait_for()
-    inner = page.frames[1]
-    inner.wait_for_load_state()
     # the oscillator's page, running: its hook has the parameters of the typed Lagrangian
-    assert inner.evaluate("window.lagrangian.parameters") == {"k": 1, "m": 1}
-    assert inner.evaluate("Object.keys(window.lagrangian.state().q)") == ["x"]
+    frame_shows(page, "window.lagrangian?.parameters", {"k": 1, "m": 1})
+    assert page.frames[1].evaluate("Object.keys(window.lagrangian.state().q)") == ["x"]
+
+    editor.fill(HOSTILE_MODEL)  # its name and description try to break out of the page
+    frame_shows(page, "document.getElementById('title')?.textContent", HOSTILE_NAME)
+    assert page.frames[1].evaluate("window.pwned") is None
+    assert page.evaluate("window.pwned") is None
     assert problems == []
     page.close()
+
+
+def frame_shows(page, expression: str, expected: object) -> None:
+    """Wait (bounded) until ``expression`` in the page's frame is ``expected``: the frame
+    shows the new document some time after the editor received it."""
+    for _ in range(SHOW_SECONDS * 10):
+        try:
+            if page.frames[1].evaluate(expression) == expected:
+                return
+        except playwright_errors.Error:  # evaluated while the frame navigated
+            pass
+        page.wait_for_timeout(100)
+    raise AssertionError(f"the frame never showed {expected!r} as {expression}")
