@@ -1,25 +1,31 @@
 """The command ``serve``: the web editor of models (registered on ``app``).
 
-A thin shell over :mod:`lagrangian.serve`, imported only when the command runs, so
-that the other commands never load Starlette or uvicorn.
+A thin shell over :mod:`lagrangian.serve`, whose package imports Starlette and uvicorn
+only when a server is made, so that the other commands never load them.
 """
 
 from __future__ import annotations
 
 import click
 
+from ..serve import DEFAULT_HOST, DEFAULT_PORT
+from ..serve import serve as run_server
 from .app import app
 
 
 @app.command()
 @click.option(
     "--host",
-    default="127.0.0.1",
+    default=DEFAULT_HOST,
     show_default=True,
     help="Address to listen on: a loopback one, unless --allow-remote.",
 )
 @click.option(
-    "--port", type=click.IntRange(0, 65535), default=8765, show_default=True, help="0: any free."
+    "--port",
+    type=click.IntRange(0, 65535),
+    default=DEFAULT_PORT,
+    show_default=True,
+    help="Port to listen on (0: any free one; the address is printed).",
 )
 @click.option(
     "--allow-remote",
@@ -28,11 +34,6 @@ from .app import app
     "this machine derive models).",
 )
 def serve(host: str, port: int, allow_remote: bool) -> None:
-    """Open the model editor in a browser: edit a model (TOML or a Lagrangian) and see its
-    page, derived on this machine, beside the editor."""
-    from ..serve import check_host
-
-    check_host(host, allow_remote=allow_remote)  # before the imports: a bad host fails at once
-    from ..serve import serve as run_server
-
+    """Serve the model editor until Ctrl-C: in a browser, edit a model (TOML or a
+    Lagrangian) and see its page, derived on this machine, beside the editor."""
     run_server(host, port, allow_remote=allow_remote, announce=click.echo)
