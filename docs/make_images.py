@@ -256,6 +256,39 @@ def heavy_top() -> None:
     save(plot_timeseries(run, system), "heavy_top_timeseries.png")
 
 
+def double_pendulum_page() -> None:
+    """A screenshot of ``lagrangian page double_pendulum`` in headless Chromium after a few
+    seconds of play (Debian's chromium, driven by Playwright)."""
+    import shutil
+    import tempfile
+
+    from playwright.sync_api import sync_playwright
+
+    from lagrangian.output.page import page_html
+
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    if chromium is None:
+        raise SystemExit("the page's screenshot needs chromium on the PATH")
+    name = "double_pendulum_page.png"
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "double_pendulum.html"
+        path.write_text(page_html(lg.load("double_pendulum")), encoding="utf-8")
+        with sync_playwright() as playwright:
+            browser = playwright.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
+            tab = browser.new_page(viewport={"width": 1280, "height": 900})
+            tab.goto(path.as_uri())
+            tab.wait_for_function("() => window.lagrangian !== undefined")
+            tab.wait_for_function("() => lagrangian.state().t > 3", timeout=60_000)
+            tab.evaluate("() => lagrangian.pause()")
+            tab.wait_for_timeout(300)
+            tab.screenshot(path=str(IMAGES / name))
+            browser.close()
+    size = (IMAGES / name).stat().st_size
+    print(f"  {name:34s} {size / 1000:6.1f} kB")
+    if size > LIMIT:
+        raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+
+
 def serve_editor() -> None:
     """A screenshot of `lagrangian serve`: the editor beside the double pendulum's page,
     taken by Debian's Chromium through Playwright (pip install playwright)."""
@@ -303,6 +336,7 @@ PICTURES = (
     spherical_pendulum,
     double_pendulum,
     double_pendulum_flip_map,
+    double_pendulum_page,
     vertical_spring,
     free_particle_spherical,
     planar_particle_forces,

@@ -126,6 +126,26 @@ def test_dragging_a_mass_sets_the_initial_state(double_pendulum):
     page.evaluate("() => { lagrangian.set('theta1', 2.0); lagrangian.set('theta2', 0.5); }")
 
 
+def test_variational_integrator_keeps_the_energy_and_follows_dop853(double_pendulum):
+    page = double_pendulum.page
+    page.evaluate("() => { lagrangian.pause(); lagrangian.reset(); }")
+    reference = page.evaluate("() => lagrangian.run(1)")
+    page.select_option("select[aria-label=integrator]", "variational")
+    assert page.evaluate("() => lagrangian.stats().method") == "variational"
+    start = page.evaluate(
+        "() => { lagrangian.pause(); lagrangian.reset(); return lagrangian.energy(); }"
+    )
+    state = page.evaluate("() => lagrangian.run(1)")
+    # second order at dt = 0.001 over 1 s of the chaotic motion: about 1e-5
+    for name in ("theta1", "theta2"):
+        assert state["q"][name] == pytest.approx(reference["q"][name], abs=1e-4)
+    page.evaluate("() => lagrangian.run(20)")
+    energy = page.evaluate("() => lagrangian.energy()")
+    assert abs(energy - start) < 1e-4 * abs(start)  # bounded: the method is symplectic
+    assert page.evaluate("() => lagrangian.stats().steps") == pytest.approx(20_000, abs=2)
+    page.select_option("select[aria-label=integrator]", "dop853")
+
+
 def _drawn_pixels(page, color: str) -> int:
     """Pixels of the mechanism's canvas within a small distance of ``color`` (#rrggbb)."""
     return page.evaluate(

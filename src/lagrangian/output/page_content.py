@@ -24,6 +24,7 @@ points a rod joins (and which 3-D bodies hang from the origin) the page decides 
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -211,10 +212,12 @@ def _sections(eom: EquationsOfMotion, analysis: Analysis) -> list[dict]:
         if not items:
             items.append({"text": "No conserved quantity was found."})
     sections.append({"title": "Conserved quantities", "items": items})
+    # the conserved quantities have their section: H, the equilibria, V_eff here
+    rest = latex_analysis(dataclasses.replace(analysis, conservation=None))
     sections.append(
         {
-            "title": "Equilibria and small oscillations",
-            "items": [{"latex": latex_analysis(analysis)}, *_mode_items(analysis, show)],
+            "title": "Hamiltonian, equilibria and small oscillations",
+            "items": [{"latex": rest}, *_mode_items(analysis, show)],
         }
     )
     notes = [*analysis.notes, *(f"{u.stage}: {u.reason}" for u in analysis.undecided)]

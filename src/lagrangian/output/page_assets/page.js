@@ -24,7 +24,7 @@
 //                         behind), at the page's accuracy; returns state()
 //   energy()              the energy function h = q' dL/dq' - L now
 //   conserved()           {name: value} of the conserved quantities the analysis found
-//   reset(), play(), pause(), stats() -> {fps, steps, steps_per_second, method}
+//   reset(), play(), pause(), stats() -> {fps, frame_ms, steps, steps_per_second, method}
 //   screenPosition(particle) [x, y] of a particle on the mechanism's canvas (CSS pixels)
 // A model that cannot run (unspecified functions) has the solution only, and the hook
 // {unavailable: why}.
@@ -409,7 +409,7 @@ function lagrangianPage(model, code) {
     const gap = 16;
     const total = boxes.reduce((s, [x]) => s + (x[1] - x[0]), 0);
     const scale = (width - gap * (boxes.length - 1) - 8) / total;
-    const height = Math.min(Math.max(...boxes.map(([, y]) => (y[1] - y[0]) * scale)) + 8, 0.9 * window.innerHeight);
+    const height = Math.min(Math.max(...boxes.map(([, y]) => (y[1] - y[0]) * scale)) + 8, 0.7 * window.innerHeight);
     const fit = Math.min(scale, (height - 8) / Math.max(...boxes.map(([, y]) => y[1] - y[0])));
     canvas.width = Math.round(width * ratio);
     canvas.height = Math.round(height * ratio);
@@ -556,9 +556,12 @@ function lagrangianPage(model, code) {
     const ratio = window.devicePixelRatio || 1;
     const width = Math.max(100, target.clientWidth);
     const height = Math.round(width * 0.7);
-    target.width = width * ratio;
-    target.height = height * ratio;
-    target.style.height = `${height}px`;
+    if (target.width !== width * ratio) {
+      // resizing lays out the whole page again: only when the width changed
+      target.width = width * ratio;
+      target.height = height * ratio;
+      target.style.height = `${height}px`;
+    }
     c.setTransform(ratio, 0, 0, ratio, 0, 0);
     c.clearRect(0, 0, width, height);
     const xs = series.flatMap((s) => s.points.map((p) => p[0])).filter(Number.isFinite);
@@ -586,6 +589,15 @@ function lagrangianPage(model, code) {
     c.restore();
     c.fillText(ya.toPrecision(3), pad + 2, height - pad + 2);
     c.fillText(yb.toPrecision(3), pad + 2, 18);
+    if (series.length > 1) {
+      let x = width - 8;
+      for (const s of [...series].reverse()) {
+        x -= c.measureText(s.label).width;
+        c.fillStyle = s.color;
+        c.fillText(s.label, x, 18);
+        x -= 8;
+      }
+    }
     for (const s of series) {
       c.beginPath();
       s.points.forEach(([x, y], i) => (i ? c.lineTo(X(x), Y(y)) : c.moveTo(X(x), Y(y))));
@@ -601,7 +613,7 @@ function lagrangianPage(model, code) {
     plot(ui.phase, [{ color: "#1f77b4", points: recent.map((s) => [s.y[k], s.y[n + k]]) }], [names[k], rates[k]]);
     plot(
       ui.series,
-      names.map((q, i) => ({ color: scene.palette[i % scene.palette.length], points: recent.map((s) => [s.t, s.y[i]]) })),
+      names.map((q, i) => ({ label: q, color: scene.palette[i % scene.palette.length], points: recent.map((s) => [s.t, s.y[i]]) })),
       ["t", names.length === 1 ? names[0] : "q"],
     );
   }
@@ -630,7 +642,14 @@ function lagrangianPage(model, code) {
       if (quantity.name !== "energy") lines.push(`${quantity.name} = ${value.toPrecision(10)} (drift ${drift(value, invariants0[k]).toExponential(2)})`);
     });
     if (sim.error) lines.push(`stopped: ${sim.error}`);
-    ui.readouts.replaceChildren(...lines.map((text) => element("div", {}, text)));
+    const rows = ui.readouts.children;
+    if (rows.length !== lines.length) {
+      ui.readouts.replaceChildren(...lines.map((text) => element("div", {}, text)));
+    } else {
+      lines.forEach((text, k) => {
+        if (rows[k].textContent !== text) rows[k].textContent = text;
+      });
+    }
   }
 
   function fail(error) {
@@ -647,8 +666,11 @@ function lagrangianPage(model, code) {
   let fps = 0;
   let frames = 0;
   let frameClock = performance.now();
+  let work = 0; // ms spent in the frames of the current second
+  let frameWork = 0; // ms per frame over the last second: integration, drawing, plots
 
   function frame(now) {
+    const started = performance.now();
     if (running && last !== null && !sim.error) {
       const wall = Math.min(0.1, (now - last) / 1000);
       try {
@@ -660,15 +682,18 @@ function lagrangianPage(model, code) {
     }
     last = now;
     frames += 1;
-    if (now - frameClock >= 1000) {
-      fps = (1000 * frames) / (now - frameClock);
-      frames = 0;
-      frameClock = now;
-    }
     draw();
     if (frames % 4 === 0 || !running) {
       drawPlots();
       readouts();
+    }
+    work += performance.now() - started;
+    if (now - frameClock >= 1000) {
+      fps = (1000 * frames) / (now - frameClock);
+      frameWork = work / frames;
+      frames = 0;
+      work = 0;
+      frameClock = now;
     }
     window.requestAnimationFrame(frame);
   }
@@ -925,7 +950,7 @@ function lagrangianPage(model, code) {
     reset: restart,
     play: () => setRunning(true),
     pause: () => setRunning(false),
-    stats: () => ({ fps, steps: sim.steps, steps_per_second: sim.t > 0 ? sim.steps / sim.t : 0, method: sim.method }),
+    stats: () => ({ fps, frame_ms: frameWork, steps: sim.steps, steps_per_second: sim.t > 0 ? sim.steps / sim.t : 0, method: sim.method }),
     screenPosition(particle) {
       const k = scene.particles.findIndex((p) => p.name === particle);
       if (k < 0 || !panels.length) return null;
