@@ -100,7 +100,10 @@ def page_content(
     eom = derive(system)
     missing = _unspecified(eom, definitions)
     code = None if missing else program(eom, definitions=definitions)
-    analysis = analyze(derive(system.without_inputs()), timeout=ANALYSIS_SECONDS)
+    # the analysis is of the system with its inputs at 0 (as analyze's); derived once
+    # where there are none
+    free = derive(system.without_inputs()) if system.input_names else eom
+    analysis = analyze(free, timeout=ANALYSIS_SECONDS)
     conserved = analysis.conservation.conserved if analysis.conservation is not None else ()
     parameter_names = [q.name for q in code.parameters] if code else _parameters(system)
     document = {
