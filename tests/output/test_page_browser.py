@@ -12,6 +12,7 @@ import json
 import pytest
 
 import lagrangian as lg
+from lagrangian import Gravity, Particle, RigidBody2D, Spring
 from lagrangian.cli import ExitStatus, main
 from lagrangian.examples import example_names
 from lagrangian.output.page import page_html
@@ -174,6 +175,31 @@ def test_heavy_top_draws_its_disc_in_two_views(browser, written):
     )
     assert _drawn_pixels(page, style["solid"]) > DRAWN_PIXELS
     assert page.evaluate("() => lagrangian.state().q.theta") != 0
+    assert opened.errors == []
+    page.close()
+
+
+def test_springs_planar_bodies_and_particles_draw(browser, tmp_path):
+    system = lg.System.from_particles(
+        ["y", "phi"],
+        particles=[Particle("bob", "m", ("0", "-y"))],
+        bodies=[RigidBody2D("bar", "M", "M*a**2/12", ("1", "0"), "phi")],
+        springs=[Spring("k", ("bob", (0, 0)), rest_length="L0")],
+        gravity=Gravity("g"),
+        parameters={"m": 1.0, "M": 2.0, "a": 0.6, "k": 20.0, "L0": 0.5, "g": 9.81},
+        initial={"y": 0.9, "phi_dot": 1.0},
+    )
+    path = tmp_path / "spring.html"
+    path.write_text(page_html(system), encoding="utf-8")
+    opened = open_page(browser, path)
+    page = opened.page
+    page.evaluate("() => { lagrangian.pause(); lagrangian.run(0.3); }")
+    page.wait_for_timeout(200)
+    scene = page.evaluate(
+        "() => JSON.parse(document.getElementById('lagrangian-model').textContent).scene"
+    )
+    for color in (scene["style"]["spring"], scene["style"]["body"], scene["particles"][0]["color"]):
+        assert _drawn_pixels(page, color) > DRAWN_PIXELS, color
     assert opened.errors == []
     page.close()
 
