@@ -7,10 +7,12 @@ the page runs, all generated through the JavaScript target of
 :mod:`lagrangian.codegen` from one :class:`~lagrangian.codegen.Program`:
 
     rhs(t, y, params)          y' = [q', q''] (the target's module, M q'' = f solved)
-    scene(t, y, params)        [P, C, A, S, G, R]: the particles (P x D), the centres
-                               (B x 2) and angles (B x 1) of the planar bodies, both
-                               ends of every spring (2S x D), the centres (S3 x 3) and
-                               rotations (S3 x 9, row by row) of the 3-D bodies
+    scene(t, y, params)        [P, C, A, S, G, R, m, W]: the particles (P x D), the
+                               centres (B x 2) and angles (B x 1) of the planar bodies,
+                               both ends of every spring (2S x D), the centres (S3 x 3)
+                               and rotations (S3 x 9, row by row) of the 3-D bodies, the
+                               particles' masses (P x 1), the planar bodies' mass and
+                               moment of inertia (B x 2)
     observables(t, y, params)  [E, I]: the energy function h = q' dL/dq' - L and the
                                conserved quantities the analysis found
     variational(t, y, params)  [p, F]: the momenta dL/dq' and L_q + Q, for the
@@ -289,20 +291,17 @@ def _scene(system: System, values: Mapping[str, float]) -> dict:
         {"points": shape.points.tolist(), "paths": [list(p) for p in shape.paths]}
         for shape in view.solid_shapes
     ]
-    masses = np.clip(np.nan_to_num(view.masses), 0, None)
-    relative = (masses / masses.max()) ** (1 / 3) if masses.size and masses.max() > 0 else masses
     return {
         "dimension": view.dimension,
         "views": [list(v) for v in view.views],
         "vertical": view.vertical,
         "coordinates_only": view.coordinates_only,
         "particles": [
-            {"name": name, "size": float(size), "color": PARTICLE_COLORS[i % 10]}
-            for i, (name, size) in enumerate(zip(view.particle_names, relative, strict=True))
+            {"name": name, "color": PARTICLE_COLORS[i % 10]}
+            for i, name in enumerate(view.particle_names)
         ],
         "rod_tolerance": ROD_TOLERANCE,
         "springs": len(view.system.springs),
-        "body_lengths": view.body_lengths.tolist(),
         "solids": shapes,
         "palette": list(PARTICLE_COLORS),
         "style": _style(),
@@ -348,6 +347,10 @@ def _script(code: Program, system: System, conserved) -> str:
             ("S", defined(_rows([end for s in drawn.springs for end in s.ends], dimension))),
             ("G", defined(_rows([b.position for b in solids], 3))),
             ("R", defined(_rows([[x for row in b.rotation for x in row] for b in solids], 9))),
+            # masses and moments, so that sizes follow the parameters: a particle's dot,
+            # a planar body's bar of the uniform rod's length sqrt(12 I / m)
+            ("m", defined(_rows([[p.mass] for p in drawn.particles], 1))),
+            ("W", defined(_rows([[b.mass, b.inertia] for b in planar], 2))),
         ],
     )
     observables = code.routine(

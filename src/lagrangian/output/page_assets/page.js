@@ -252,6 +252,11 @@ function lagrangianPage(model, code) {
     } catch (error) {
       fail(error);
     }
+    try {
+      measure();
+    } catch (error) {
+      fail(error);
+    }
     record();
     fitView();
     layout();
@@ -271,8 +276,21 @@ function lagrangianPage(model, code) {
     return { P, C, A: flat(A), S, G, R };
   }
 
+  // sizes at the parameters now (as animate: dots of area ~ m^(2/3), bars of the uniform
+  // rod's length sqrt(12 I / m))
+  let sizes = [];
+  let lengths = [];
+
+  function measure() {
+    const [, , , , , , m, W] = code.scene(0, initialState(), params);
+    const masses = flat(m).map((x) => (Number.isFinite(x) && x > 0 ? x : 0));
+    const heaviest = Math.max(0, ...masses);
+    sizes = masses.map((x) => (heaviest > 0 ? (x / heaviest) ** (1 / 3) : 0.8));
+    lengths = W.map(([mass, inertia]) => (mass > 0 && inertia > 0 ? Math.sqrt((12 * inertia) / mass) : 0));
+  }
+
   function bodyEnds(p, k) {
-    const half = scene.body_lengths[k] / 2;
+    const half = lengths[k] / 2;
     const c = p.C[k];
     const a = p.A[k];
     return [
@@ -464,7 +482,7 @@ function lagrangianPage(model, code) {
     return points;
   }
 
-  const radius = (k, ratio) => (4 + 6 * scene.particles[k].size) * ratio;
+  const radius = (k, ratio) => (4 + 6 * sizes[k]) * ratio;
 
   function draw() {
     let p;
