@@ -253,3 +253,16 @@ def test_the_identity_route_equals_differentiating_h(monkeypatch):
     system = lg.load("double_pendulum")
     monkeypatch.setattr(module, "DIFFERENTIATE_MAX_NODES", 0)
     _check_hamilton_equations(system, hamiltonian(system.equations_of_motion()), random.Random(2))
+
+
+def test_only_the_stages_asked_for_run():
+    eom = lg.load("spherical_pendulum").equations_of_motion()
+    analysis = analyze(eom, stages=("conserved quantities", "Routh reduction"))
+    assert analysis.conservation is not None and analysis.reduction is not None
+    assert analysis.hamiltonian is None and analysis.equilibria == ()
+    assert analysis.steady_motions == () and analysis.undecided == ()
+    assert not [note for note in analysis.notes if "Hamiltonian" in note]
+    constrained = lg.load("cartesian_pendulum").equations_of_motion()
+    assert analyze(constrained, stages=("conserved quantities",)).notes == ()
+    with pytest.raises(ValueError, match="unknown analysis stages"):
+        analyze(eom, stages=("hamiltonian",))

@@ -9,7 +9,7 @@ a half-made answer.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from dataclasses import dataclass
 
 from ..budget import STAGE_SECONDS, Undecided, attempt, checked_seconds
@@ -65,13 +65,19 @@ def analyze(
     *,
     timeout: float | None = STAGE_SECONDS,
     momenta: Mapping[str, float] | None = None,
+    stages: Collection[str] = STAGES,
 ) -> Analysis:
     """Run every analysis that applies to ``eom``, each stage within ``timeout`` seconds.
 
     ``timeout=None`` runs every stage to its end.  ``momenta`` gives values to
     cyclic momenta (``{"p_phi": 1.0}``): the steady motions are then found for
-    them, numerically where SymPy cannot.
+    them, numerically where SymPy cannot.  ``stages`` (some of :data:`STAGES`) are
+    those to run; the others are not attempted (their parts are ``None`` or empty, and
+    no note or undecided entry speaks of them).
     """
+    unknown = sorted(set(stages) - set(STAGES))
+    if unknown:
+        raise ValueError(f"unknown analysis stages {unknown} (stages: {', '.join(STAGES)})")
     if timeout is not None:
         timeout = checked_seconds(timeout, "timeout")
     if momenta:
@@ -86,7 +92,10 @@ def analyze(
     undecided: list[Undecided] = []
 
     def stage(name: str, work, *arguments):
-        """``work(*arguments)`` within ``timeout``; None with a note when it does not apply."""
+        """``work(*arguments)`` within ``timeout``; None with a note when it does not apply
+        (and None, silently, for a stage not asked for)."""
+        if name not in stages:
+            return None
         result, missing = attempt(name, timeout, lambda: _or_note(notes, name, work, *arguments))
         if missing is not None:
             undecided.append(missing)
@@ -97,7 +106,7 @@ def analyze(
         notes.extend(conservation.notes)
     constrained = eom.constraints is not None
     h = None
-    if constrained:
+    if constrained and "Hamiltonian" in stages:
         notes.append("Hamiltonian: not computed for systems with constraints")
     else:
         h = stage("Hamiltonian", hamiltonian, eom)

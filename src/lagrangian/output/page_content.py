@@ -60,6 +60,9 @@ from .notation import latex_name, too_long_to_print
 
 #: Seconds each stage of the analysis may take for a page (the rest is said undecided).
 ANALYSIS_SECONDS = 5.0
+#: What the worked solution shows (the Hamiltonian and the steady motions are left to
+#: ``analyze``: for the double pendulum H was a third of the page's writing time).
+PAGE_STAGES = ("conserved quantities", "equilibria", "modes", "Routh reduction")
 #: The page's integration time when the model gives none.
 DEFAULT_T_END = 20.0
 #: matplotlib's tab10, the colours ``animate`` gives the particles (C0, C1, ...).
@@ -105,7 +108,7 @@ def page_content(
     # the analysis is of the system with its inputs at 0 (as analyze's); derived once
     # where there are none
     free = derive(system.without_inputs()) if system.input_names else eom
-    analysis = analyze(free, timeout=ANALYSIS_SECONDS)
+    analysis = analyze(free, timeout=ANALYSIS_SECONDS, stages=PAGE_STAGES)
     conserved = analysis.conservation.conserved if analysis.conservation is not None else ()
     parameter_names = [q.name for q in code.parameters] if code else _parameters(system)
     document = {
@@ -217,11 +220,11 @@ def _sections(eom: EquationsOfMotion, analysis: Analysis) -> list[dict]:
         if not items:
             items.append({"text": "No conserved quantity was found."})
     sections.append({"title": "Conserved quantities", "items": items})
-    # the conserved quantities have their section: H, the equilibria, V_eff here
+    # the conserved quantities have their section: the equilibria and V_eff here
     rest = latex_analysis(dataclasses.replace(analysis, conservation=None))
     sections.append(
         {
-            "title": "Hamiltonian, equilibria and small oscillations",
+            "title": "Equilibria and small oscillations",
             "items": [{"latex": rest}, *_mode_items(analysis, show)],
         }
     )
