@@ -1,0 +1,191 @@
+"""The page (``lagrangian page``): write time, size, and the live animation in Chromium.
+
+    python benchmarks/page.py [--repeat 3] [--links 10] [--seconds 10]
+
+1. Write time of the double pendulum's page: ``lagrangian page double_pendulum`` as a
+   child process (interpreter start-up and imports included), median of ``--repeat``;
+   then, in this process, the parts of one ``page_html`` (derive, analyse, the generated
+   code, the rest) timed by wrapping them.
+2. Page size (bytes) of the double pendulum and of the ``--links`` chain.
+3. The ``--links`` chain (benchmarks/cli.py's n-link pendulum, theta1 = 0.5) animating in
+   headless Chromium (Debian's, driven by Playwright) for ``--seconds`` of wall time at
+   speed 1: frames per second, the ms of page work per frame (integration, drawing,
+   plots), DOP853 steps per simulated second, simulated seconds per wall second (1.0 =
+   real time), and a synchronous ``run(10)`` from the start; beside it, the frames per
+   second of an empty page that only draws a square (the browser on this machine now).
+
+The machine may be shared: the load average is printed beside the figures.  Nothing is
+asserted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import lagrangian as lg
+from cli import chain_model
+from lagrangian.output import page, page_content
+
+
+def write_seconds(repeat: int, folder: Path) -> list[float]:
+    seconds = []
+    for k in range(repeat):
+        out = folder / f"double_pendulum_{k}.html"
+        start = time.perf_counter()
+        subprocess.run(
+            [sys.executable, "-m", "lagrangian", "page", "double_pendulum", "--out", str(out)],
+            check=True,
+            capture_output=True,
+        )
+        seconds.append(time.perf_counter() - start)
+    return seconds
+
+
+def parts_of_one_write(system) -> dict[str, float]:
+    """Seconds in derive, analyze and the code of one page_html (in this process)."""
+    spent = {"derive": 0.0, "analyze": 0.0, "code": 0.0}
+    originals = {
+        "derive": page_content.derive,
+        "analyze": page_content.analyze,
+        "code": page_content._script,
+    }
+
+    def timed(name):
+        def wrapper(*args, **kwargs):
+            start = time.perf_counter()
+            try:
+                return originals[name](*args, **kwargs)
+            finally:
+                spent[name] += time.perf_counter() - start
+
+        return wrapper
+
+    page_content.derive, page_content.analyze = timed("derive"), timed("analyze")
+    page_content._script = timed("code")
+    try:
+        start = time.perf_counter()
+        page.page_html(system)
+        total = time.perf_counter() - start
+    finally:
+        page_content.derive = originals["derive"]
+        page_content.analyze = originals["analyze"]
+        page_content._script = originals["code"]
+    spent["rest"] = total - sum(spent.values())
+    spent["total"] = total
+    return spent
+
+
+def animation(path: Path, seconds: float) -> dict:
+    from playwright.sync_api import sync_playwright
+
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    if chromium is None:
+        return {"skipped": "no chromium on the PATH"}
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
+        tab = browser.new_page(viewport={"width": 1300, "height": 900})
+        baseline = _empty_page_fps(tab)
+        tab.goto(path.resolve().as_uri())
+        tab.wait_for_function("() => window.lagrangian !== undefined")
+        tab.evaluate("() => { lagrangian.reset(); lagrangian.play(); }")
+        samples = []
+        start = time.perf_counter()
+        t0 = tab.evaluate("() => lagrangian.state().t")
+        while time.perf_counter() - start < seconds:
+            tab.wait_for_timeout(1000)
+            samples.append(tab.evaluate("() => lagrangian.stats()"))
+        wall = time.perf_counter() - start
+        simulated = tab.evaluate("() => lagrangian.state().t") - t0
+        begin = time.perf_counter()
+        tab.evaluate("() => { lagrangian.pause(); lagrangian.reset(); lagrangian.run(10); }")
+        run_wall = time.perf_counter() - begin
+        steps = tab.evaluate("() => lagrangian.stats().steps")
+        browser.close()
+    steady = samples[1:] or samples  # the first second includes the start
+    return {
+        "baseline_fps": baseline,
+        "fps": statistics.median(s["fps"] for s in steady),
+        "frame_ms": statistics.median(s["frame_ms"] for s in steady),
+        "steps_per_second": samples[-1]["steps_per_second"],
+        "pace": simulated / wall,
+        "run10_wall": run_wall,
+        "run10_steps": steps,
+    }
+
+
+#: A page that only counts its animation frames: what this browser on this machine gives.
+_EMPTY = """<canvas width="600" height="600"></canvas><script>
+window.frames_counted = 0;
+const c = document.querySelector("canvas").getContext("2d");
+function frame() {
+  window.frames_counted += 1;
+  c.clearRect(0, 0, 600, 600);
+  c.fillRect(window.frames_counted % 600, 10, 20, 20);
+  requestAnimationFrame(frame);
+}
+requestAnimationFrame(frame);
+</script>"""
+
+
+def _empty_page_fps(tab, seconds: float = 3.0) -> float:
+    tab.set_content(_EMPTY)
+    first = tab.evaluate("() => window.frames_counted")
+    start = time.perf_counter()
+    tab.wait_for_timeout(seconds * 1000)
+    counted = tab.evaluate("() => window.frames_counted") - first
+    return counted / (time.perf_counter() - start)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--links", type=int, default=10)
+    parser.add_argument("--seconds", type=float, default=10.0)
+    options = parser.parse_args()
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
+    with tempfile.TemporaryDirectory() as name:
+        folder = Path(name)
+        seconds = write_seconds(options.repeat, folder)
+        size = (folder / "double_pendulum_0.html").stat().st_size
+        print(
+            f"lagrangian page double_pendulum (a process): median {statistics.median(seconds):.2f}"
+            f" s of {', '.join(f'{s:.2f}' for s in seconds)}; {size:,} bytes"
+        )
+        parts = parts_of_one_write(lg.load("double_pendulum"))
+        print("  in this process: " + ", ".join(f"{k} {v:.2f} s" for k, v in parts.items()))
+        chain = lg.loads(chain_model(options.links))
+        start = time.perf_counter()
+        text = page.page_html(chain)
+        written = time.perf_counter() - start
+        path = folder / "chain.html"
+        path.write_text(text, encoding="utf-8")
+        print(f"{options.links}-link chain: page written in {written:.2f} s, {len(text):,} bytes")
+        result = animation(path, options.seconds)
+        if "skipped" in result:
+            print(f"  animation: skipped, {result['skipped']}")
+            return
+        print(
+            f"  an empty page that only draws a square per frame: {result['baseline_fps']:.1f}"
+            " frames/s (the browser on this machine now)"
+        )
+        print(
+            f"  animation in headless Chromium over {options.seconds:g} s: {result['fps']:.1f}"
+            f" frames/s, {result['frame_ms']:.2f} ms of page work per frame,"
+            f" {result['steps_per_second']:.0f} DOP853 steps per simulated second,"
+            f" {result['pace']:.2f} simulated s per wall s;"
+            f" run(10): {result['run10_wall']:.2f} s wall, {result['run10_steps']} steps"
+        )
+    print(f"load average {os.getloadavg()[0]:.1f}")
+
+
+if __name__ == "__main__":
+    main()
