@@ -112,10 +112,11 @@ def _compiled_run(
     definitions: Mapping[str, str] | None,
     progress: Callable[[float], None] | None,
     timeout: float | None,
+    describe: Callable[[float], str] | None = None,
 ):
     """(the compiled equations, the watch of a run from 0 to ``t_final``: its pace and
-    progress)."""
-    pace = None if timeout is None else RunPace((0.0, t_final), timeout)
+    progress; ``describe`` says how far a run got, see :class:`RunPace`)."""
+    pace = None if timeout is None else RunPace((0.0, t_final), timeout, describe=describe)
     share = None if progress is None else (lambda t: progress(min(1.0, t / t_final)))
     compiled = compile_equations(
         derive(system), backend=backend or default_backend(), definitions=definitions
@@ -196,7 +197,10 @@ def poincare_of_system(
         raise ModelError("give an energy or a spread of start values, not both")
     if t_end is None:
         t_end = system.simulate_settings.get("t_end", DEFAULT_T_END)
-    compiled, watch = _compiled_run(system, 1.0, backend, definitions, progress, timeout)
+    compiled, watch = _compiled_run(
+        system, 1.0, backend, definitions, progress, timeout,
+        describe=lambda done: f"{100 * done:.3g} % of the orbits",
+    )  # fmt: skip
     parsed = None if section is None else parse_section(compiled, section, direction)
     count = DEFAULT_ORBITS if orbits is None else int(orbits)
     if energy is not None:

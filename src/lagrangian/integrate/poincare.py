@@ -31,8 +31,9 @@ from .events import Event
 from .scipy_methods import Dop853
 from .section import Section, axis_values, state_names
 
-#: Widest excursion searched for the ends of an energy shell along the first axis.
-SHELL_LIMIT = 1e6
+#: Steps (of 1e-3 of the first axis' scale) searched for each end of an energy shell,
+#: and how many are tried at once.
+SHELL_SPAN, SHELL_CHUNK = 100_000, 1000
 
 
 @dataclass(frozen=True)
@@ -214,26 +215,30 @@ def shell_starts(
     base[c] = section.value
     index = names.index(axis)
 
-    def solved(value: float) -> float | None:
-        """q_c' on the shell with the axis at ``value``, None where none is real."""
-        y = np.repeat(base[:, None], 4, axis=1)
-        y[index] = value
-        y[velocity] = (-1.0, 0.0, 1.0, 2.0)
-        h = np.asarray(compiled.energy(0.0, y, p), dtype=float)
+    root = -1.0 if section.direction < 0 else 1.0
+
+    def solved(values: np.ndarray, check: bool = False) -> np.ndarray:
+        """q_c' on the shell with the axis at each of ``values``, NaN where none is real."""
+        values = np.asarray(values, dtype=float)
+        y = np.repeat(base[:, None, None], 4, axis=1) * np.ones(values.shape)
+        y[index] = values
+        y[velocity] = np.array([-1.0, 0.0, 1.0, 2.0])[:, None]
+        h = np.asarray(compiled.energy(0.0, y.reshape(len(base), -1), p), dtype=float)
+        h = h.reshape(4, -1)
         a = (h[0] + h[2]) / 2 - h[1]
         b = (h[2] - h[0]) / 2
-        if not (a > 0 and np.isclose(4 * a + 2 * b + h[1], h[3], rtol=1e-9, atol=1e-12)):
+        if check and not (
+            a[0] > 0 and np.isclose(4 * a[0] + 2 * b[0] + h[1, 0], h[3, 0], rtol=1e-9, atol=1e-12)
+        ):
             raise ModelError(
                 f"the energy is not a convex quadratic in {names[velocity]}: "
                 "it cannot be solved on the shell"
             )
-        discriminant = b * b - 4 * a * (h[1] - energy)
-        if discriminant < 0:
-            return None
-        return (-b + (-1.0 if section.direction < 0 else 1.0) * np.sqrt(discriminant)) / (2 * a)
+        with np.errstate(invalid="ignore"):
+            return (-b + root * np.sqrt(b * b - 4 * a * (h[1] - energy))) / (2 * a)
 
     start = float(base[index])
-    if solved(start) is None:
+    if np.isnan(solved(np.array([start]), check=True)[0]):
         raise ModelError(
             f"the energy {energy:g} is below the energy of the section's start "
             f"({axis} = {start:g} at rest across the section)"
@@ -241,23 +246,32 @@ def shell_starts(
     low, high = (_shell_end(solved, start, sign) for sign in (-1.0, 1.0))
     starts = np.repeat(base[:, None], int(count), axis=1)
     starts[index] = low + (np.arange(int(count)) + 0.5) * (high - low) / int(count)
-    starts[velocity] = [solved(value) for value in starts[index]]
+    starts[velocity] = solved(starts[index])
     return starts
 
 
-def _shell_end(solved: Callable[[float], float | None], start: float, sign: float) -> float:
-    """The end of the shell's interval from ``start`` in direction ``sign``: doubling
-    steps out, then bisection to 1e-12 relative."""
-    inside, step = start, 1e-3 * max(1.0, abs(start))
-    while solved(inside + sign * step) is not None:
-        inside += sign * step
-        step *= 2
-        if abs(inside - start) > SHELL_LIMIT:
-            raise ModelError(
-                "the energy shell is unbounded along the first axis: give starts instead"
-            )
-    outside = inside + sign * step
-    while abs(outside - inside) > 1e-12 * max(1.0, abs(inside)):
+def _shell_end(solved: Callable[[np.ndarray], np.ndarray], start: float, sign: float) -> float:
+    """The end of the shell's interval from ``start`` in direction ``sign``: the first
+    value without a solution on a grid of steps of 1e-3 (of max(1, |start|)) out to
+    :data:`SHELL_SPAN` of them, then bisection to 1e-12 relative."""
+    scale = max(1.0, abs(start))
+    step = 1e-3 * scale
+    for first in range(0, SHELL_SPAN, SHELL_CHUNK):
+        grid = start + sign * step * np.arange(first + 1, first + SHELL_CHUNK + 1)
+        outside = np.flatnonzero(np.isnan(solved(grid)))
+        if outside.size:
+            break
+    else:
+        raise ModelError(
+            "the energy shell reaches beyond "
+            f"{SHELL_SPAN * 1e-3:g} x the first axis' scale: give the starts instead"
+        )
+    k = int(outside[0])
+    inside, outside = (grid[k - 1] if k else start), grid[k]
+    while abs(outside - inside) > 1e-12 * scale:
         middle = (inside + outside) / 2
-        inside, outside = (middle, outside) if solved(middle) is not None else (inside, middle)
-    return inside
+        if np.isnan(solved(np.array([middle]))[0]):
+            outside = middle
+        else:
+            inside = middle
+    return float(inside)
