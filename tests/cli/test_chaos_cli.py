@@ -134,3 +134,14 @@ def test_bifurcation_errors_are_one_line(capsys, argv, message):
     assert status == ExitStatus.BAD_INPUT
     assert message in err
     assert len(err.strip().splitlines()) == 1 and out == ""
+
+
+def test_ensemble_lyapunov_map(capsys, tmp_path):
+    picture = tmp_path / "map.png"
+    status, out, _ = run(
+        capsys, "ensemble", "henon_heiles", "--grid", "y=-0.3:0.3:3", "--grid", "x_dot=0.3:0.4:2",
+        "--t-end", "2", "--observable", "lyapunov", "--out", str(picture),
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    assert "lyapunov: median" in out
+    assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -81,7 +81,7 @@ def _grids(values: tuple[str, ...]) -> dict[str, GridAxis]:
     "observables",
     multiple=True,
     metavar="NAME",
-    help="final_state, flip_time or energy_drift (repeatable; default final_state).",
+    help="final_state, flip_time, energy_drift or lyapunov (repeatable; default final_state).",
 )
 @click.option("--t-end", type=float, help="End time (default: the model's t_end).")
 @click.option("--dt", type=float, help="Step (default: the model's dt, else t_end / 1000).")
@@ -165,6 +165,9 @@ def ensemble(
             click.echo(f"flip_time: {np.mean(np.isfinite(values)):.1%} of the members flip")
         elif name == "energy_drift":
             click.echo(f"energy_drift: max {np.nanmax(result['energy_drift']):.3g}")
+        elif name == "lyapunov":
+            values = result["lyapunov"]
+            click.echo(f"lyapunov: median {np.nanmedian(values):.3g}, max {np.nanmax(values):.3g}")
     if out is not None:
         click.echo(f"wrote {out}")
 

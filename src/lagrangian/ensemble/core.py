@@ -103,6 +103,8 @@ def run_ensemble(
     if chunk_size is None:
         chunk_size = GPU_CHUNK_SIZE if backend in ("jax", "cuda") else DEFAULT_CHUNK_SIZE
     names = observable_names(observables)
+    if "lyapunov" in names and backend not in ("numpy", "dask"):
+        raise ModelError(f"observable lyapunov runs on backends numpy and dask, not {backend}")
     integrator = method_class(method).configure(t_span=(t0, t1), dt=dt)
     assert isinstance(integrator, AbstractFixedStepIntegrator)
     integrator.check(compiled)

@@ -8,7 +8,9 @@ does for one state (the compiled functions are vectorised over the trailing
 batch axis), and records the observables along the way.  When only
 ``flip_time`` is asked for, members that have flipped leave the batch (an
 explicit method keeps no state of its own, so the batch can shrink) and the
-run stops when all have.
+run stops when all have.  For ``lyapunov`` the method steps the state with one
+displacement (:class:`~lagrangian.integrate.lyapunov.TangentFlow`, explicit
+Runge-Kutta methods only), renormalised after every step.
 """
 
 from __future__ import annotations
@@ -21,7 +23,9 @@ import numpy as np
 
 from ..errors import ModelError
 from ..integrate.base import Work
+from ..integrate.explicit_rk import AbstractExplicitRungeKutta
 from ..integrate.fixed_step import StepFailure, step_grid
+from ..integrate.lyapunov import TangentFlow
 from .observables import finish, flipped, stops_early
 
 if TYPE_CHECKING:
@@ -59,6 +63,14 @@ def integrate_chunk(
     if track_flips:
         flip_time[flipped(y, n)] = grid[0]
     shrink = stops_early(names) and save_every is None
+    tangent = None
+    if "lyapunov" in names:
+        if not isinstance(integrator, AbstractExplicitRungeKutta):
+            raise ModelError(
+                f"the lyapunov observable needs an explicit method (rk4), not {integrator.name}"
+            )
+        tangent = TangentFlow(compiled)
+        z, stretch = tangent.start(y), np.zeros(count)
     state = integrator.init(compiled, grid[0], y, p, work)
     if shrink and state is None:
         keep = np.isnan(flip_time)
@@ -71,7 +83,13 @@ def integrate_chunk(
         if active.size == 0:
             break
         try:
-            y, state = integrator.step(compiled, ta, tb - ta, y, state, p, work)
+            if tangent is not None:  # the same step of the state with its displacement
+                z, state = integrator.step(tangent, ta, tb - ta, z, state, p, work)
+                z, logarithm = tangent.renormalised(z)
+                stretch += logarithm
+                y = z[: 2 * n]
+            else:
+                y, state = integrator.step(compiled, ta, tb - ta, y, state, p, work)
         except StepFailure as failure:
             raise ModelError(
                 f"the ensemble integration failed: {failure} at t = {ta:.17g}"
@@ -97,6 +115,8 @@ def integrate_chunk(
         compiled, names, t0=grid[0], y0=y_start, t1=grid[-1], y1=final, params=params,
         flip_time=flip_time,
     )  # fmt: skip
+    if tangent is not None:
+        values["lyapunov"] = stretch / (grid[-1] - grid[0])
     if save_every:
         values["paths"] = np.stack(saved, axis=-1)
     values["steps"] = np.array(steps)

@@ -12,7 +12,11 @@ implementation of the physics:
   (0 when the initial state already does; NaN when it never happens).  For the
   double pendulum that is the time the first arm flips over.  It needs no
   state at t_end, so a run asking only for it stops each member when it has
-  flipped.
+  flipped;
+- ``lyapunov``: the largest Lyapunov exponent, the mean logarithmic stretch per unit
+  time of one displacement stepped with the state by the members' explicit method
+  (the variational equations, :class:`~lagrangian.integrate.lyapunov.TangentFlow`),
+  renormalised every step; the numpy and dask backends compute it.
 
 Every run also reports ``failed``: the members whose state at the end (or where
 they stopped) is not finite, NaN or overflowed.
@@ -50,6 +54,7 @@ OBSERVABLES: dict[str, Observable] = {
         Observable("final_state", "the state at t_end (final_<q>, final_<q>_dot)", True),
         Observable("energy_drift", "|E(t_end) - E(0)| / |E(0)|", True),
         Observable("flip_time", "first time some |q| exceeds pi (NaN: never)", False),
+        Observable("lyapunov", "largest Lyapunov exponent over the run (backend numpy)", True),
     )
 }
 

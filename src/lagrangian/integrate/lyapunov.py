@@ -225,3 +225,35 @@ class _Flow:
 
         z = self._solve(function, t0, t1, np.concatenate((y0, w0.ravel())))
         return z[:size], z[size:].reshape(size, count)
+
+
+class TangentFlow:
+    """The state with one displacement, z = [y, w] (4n[, B]), as a system an explicit
+    Runge-Kutta method steps unchanged: ``rhs(t, z, params)`` = [F(t, y), J(t, y) w].
+
+    The ensemble's ``lyapunov`` observable steps it with the members' own method and
+    renormalises w after every step (:meth:`renormalised`); the largest exponent is the
+    mean of the logarithms of the stretches per unit time.
+    """
+
+    def __init__(self, compiled: CompiledSystem):
+        self.compiled = compiled
+        self.size = 2 * compiled.n
+
+    def start(self, y: np.ndarray) -> np.ndarray:
+        """z at the start: y with the unit displacement along (1, ..., 1) / sqrt(2n)."""
+        w = np.full_like(y, 1.0 / np.sqrt(self.size))
+        return np.concatenate((y, w), axis=0)
+
+    def rhs(self, t, z, params):
+        y, w = z[: self.size], z[self.size :]
+        jacobian = self.compiled.rhs_jacobian(t, y, params)
+        tangent = np.einsum("ij...,j...->i...", jacobian, w)
+        return np.concatenate((self.compiled.rhs(t, y, params), tangent), axis=0)
+
+    def renormalised(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(z with |w| = 1, log |w| before): the stretch of the last step per member."""
+        w = z[self.size :]
+        norm = np.sqrt(np.sum(w * w, axis=0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.concatenate((z[: self.size], w / norm), axis=0), np.log(norm)
