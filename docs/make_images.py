@@ -328,6 +328,52 @@ def serve_editor() -> None:
         raise SystemExit(f"{picture.name} is larger than {LIMIT // 1000} kB")
 
 
+#: The Baker-Gollub pendulum's drive period 2 pi / (2/3).
+DRIVE_PERIOD = 3 * np.pi
+
+
+def henon_heiles() -> None:
+    """Sections x = 0 at E = 1/12, 1/8 and just below the escape energy 1/6 (at 1/6 the
+    shell opens along y = 1): islands breaking into a chaotic sea."""
+    system = lg.load("henon_heiles")
+    figure, axes = new_figure(1, 3, width=12.0, height=4.4)
+    energies = (("1/12", 1 / 12), ("1/8", 1 / 8), ("0.1666 ≈ 1/6", 0.1666))
+    for ax, (label, energy) in zip(axes[0], energies, strict=True):
+        points = system.poincare(
+            section="x = 0",
+            axes=("y", "p_y"),
+            energy=energy,
+            orbits=16,
+            t_end=400,
+            rtol=1e-9,
+            timeout=None,
+        )
+        colours = [f"C{k % 10}" for k in points.orbits]
+        ax.scatter(points["y"], points["p_y"], s=0.6, c=colours, linewidths=0, rasterized=True)
+        ax.set_title(f"E = {label} ({points.count} points)", fontsize=10)
+        ax.set_xlabel("$y$")
+        ax.grid(True, alpha=0.3)
+    axes[0, 0].set_ylabel("$p_y$")
+    figure.suptitle("Hénon–Heiles: section x = 0, ẋ > 0, 16 orbits per energy")
+    save(figure, "henon_heiles_sections.png")
+    save(system.lyapunov(t_end=500, interval=2.0).plot(), "henon_heiles_lyapunov.png")
+
+
+def driven_pendulum() -> None:
+    """The strange attractor (stroboscopic section) and the period-doubling diagram."""
+    system = lg.load("driven_damped_pendulum")
+    points = system.poincare(
+        strobe=DRIVE_PERIOD, transient=100, axes=("theta", "theta_dot"), t_end=10_000,
+        rtol=1e-8, atol=1e-10, timeout=None,
+    )  # fmt: skip
+    save(points.plot(size=1.0), "driven_pendulum_attractor.png")
+    diagram = system.bifurcation(
+        vary={"A": np.linspace(1.35, 1.5, 300)}, variable="theta_dot", period=DRIVE_PERIOD,
+        transient=300, samples=60, backend="numba", timeout=None,
+    )  # fmt: skip
+    save(diagram.plot(size=0.5), "driven_pendulum_bifurcation.png")
+
+
 PICTURES = (
     simple_pendulum,
     velocity_dependent_potential,
@@ -344,6 +390,8 @@ PICTURES = (
     heavy_top,
     cart_pole,
     serve_editor,
+    henon_heiles,
+    driven_pendulum,
 )
 
 

@@ -46,6 +46,19 @@ SMALLER = (
     ("-3.14:3.14:300 ", "-3.14:3.14:20 "),
     # the README's Python ensemble of 10,000 members: 100 members
     ("np.linspace(-3, 3, 10_000)", "np.linspace(-3, 3, 100)"),
+    # the chaos commands (minutes at full size): a few orbits, values and periods each
+    ("--t-end 500 --plot lyapunov.png", "--t-end 5 --plot lyapunov.png"),
+    ("--transient 100 --largest", "--transient 5 --t-end 5 --largest"),
+    ("--orbits 12 ", "--orbits 2 --t-end 10 "),
+    ("--orbits 16 ", "--orbits 2 --t-end 10 "),
+    ("--t-end 500 --interval 2", "--t-end 6 --interval 2"),
+    ("--transient 100 --t-end 1000", "--transient 5 --t-end 5"),
+    ("--t-end 10000 --axes", "--t-end 40 --axes"),
+    ("9.42477796076938 --transient 100 ", "9.42477796076938 --transient 10 --t-end 40 "),
+    ("A=1.35:1.5:400", "A=1.35:1.5:2"),
+    ("--transient 300 --axis", "--transient 10 --samples 2 --steps-per-period 50 --axis"),
+    ("A=1.35:1.5:300", "A=1.35:1.5:2"),
+    ("--transient 300 --samples 60 ", "--transient 10 --samples 2 --steps-per-period 50 "),
 )
 #: ``python docs/make_images.py [FILTER]`` remakes the pictures (every one: about a
 #: minute; the double pendulum's: half a minute): the test runs it, into a temporary
