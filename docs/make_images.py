@@ -1,6 +1,6 @@
 """Make the reference pictures of docs/tutorial.md (into docs/images/).
 
-    python docs/make_images.py            # every picture, about a minute
+    python docs/make_images.py            # every picture: minutes, most for henon, driven
     python docs/make_images.py double     # only those whose name contains "double"
 
 Every picture comes from the toolkit's own functions (the same ones the CLI
