@@ -63,7 +63,7 @@ def tidy(expr: sympy.Expr, state: Iterable[sympy.Symbol] = (), *, trig: bool = F
         return expr
     expanded = expand_products(expr)
     if trig and expanded.has(sympy.sin, sympy.cos) and not _expands_far(expanded):
-        expanded = _angle_sums_combined(expanded)
+        expanded = _angle_sums_combined(squares_combined(expanded))
         ops = sympy.count_ops(expanded)
         short = not _has_long_numbers(expanded, TRIGSIMP_MAX_DIGITS)
         if ops <= TRIGSIMP_MAX_OPS and short and _has_trig_products(expanded):
@@ -95,6 +95,38 @@ def _angle_sums_combined(expr: sympy.Expr) -> sympy.Expr:
     # doit: SymPy's own evaluation, so cos(-a + b) is written cos(a - b) as SymPy prints it
     combined = expand_products(to_sympy(combine_angles(converted), symbols).doit())
     return combined if sympy.count_ops(combined) < sympy.count_ops(expr) else expr
+
+
+def squares_combined(expr: sympy.Expr) -> sympy.Expr:
+    """``expr`` with each sum that holds both sin(a)^2 and cos(a)^2 rewritten by
+    cos^2 = 1 - sin^2 (or sin^2 = 1 - cos^2) where that makes the sum shorter.
+
+    I1 sin^2 - I3 sin^2 - I3 cos^2 + I3 + M l^2 sin^2 becomes (I1 + M l^2) sin^2: the
+    determinant of a top's mass matrix, and every fraction over it.  Linear in the size
+    of the sums (one substitution and expansion each), unlike ``trigsimp``.
+    """
+    return expr.replace(_has_both_squares, _shortest_in_squares)
+
+
+def _squares(add: sympy.Expr, kind) -> set[sympy.Expr]:
+    return {p for p in add.atoms(sympy.Pow) if p.exp == 2 and isinstance(p.base, kind)}
+
+
+def _has_both_squares(expr: sympy.Expr) -> bool:
+    if not expr.is_Add:
+        return False
+    sines = {p.base.args[0] for p in _squares(expr, sympy.sin)}
+    return any(p.base.args[0] in sines for p in _squares(expr, sympy.cos))
+
+
+def _shortest_in_squares(add: sympy.Expr) -> sympy.Expr:
+    best, ops = add, sympy.count_ops(add)
+    for kind, other in ((sympy.cos, sympy.sin), (sympy.sin, sympy.cos)):
+        rewritten = {p: 1 - other(p.base.args[0]) ** 2 for p in _squares(add, kind)}
+        candidate = sympy.expand_mul(add.xreplace(rewritten))
+        if sympy.count_ops(candidate) < ops:
+            best, ops = sympy.factor_terms(candidate), sympy.count_ops(candidate)
+    return best
 
 
 #: Highest power of a sum that the full expansion behind the angle rule may multiply out:

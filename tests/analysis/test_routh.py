@@ -8,6 +8,7 @@ import pytest
 import sympy
 
 import lagrangian as lg
+from lagrangian.algebra import squares_combined
 from lagrangian.analysis.linear import Stability
 from lagrangian.analysis.routh import reduce, steady_motions
 
@@ -119,3 +120,31 @@ def test_nothing_to_reduce():
         reduce(free.equations_of_motion())
     with pytest.raises(lg.ModelError, match="p_r"):
         reduce(lg.load("central_force").equations_of_motion(), momenta={"p_r": 1.0})
+
+
+def test_heavy_top_routhian_is_tidy():
+    # (I1 + M l^2) sin^2 θ, not I1 sin^2 - I3 sin^2 - I3 cos^2 + I3 + M l^2 sin^2 (issue 22):
+    # R = ½ (I1 + M l²) θ'² - (p_φ - p_ψ cos θ)²/(2 (I1 + M l²) sin² θ) - p_ψ²/(2 I3) - M g l cos θ
+    system = lg.load("heavy_top")
+    reduction = reduce(system.equations_of_motion())
+    I1, I3, M, g, l = (system.symbol(n) for n in ("I1", "I3", "M", "g", "l"))
+    theta, theta_dot = system.symbol("theta"), system.symbol("theta_dot")
+    named = {s.name: s for s in reduction.routhian.free_symbols}
+    p_phi, p_psi = named["p_phi"], named["p_psi"]
+    textbook = (
+        (I1 + M * l**2) * theta_dot**2 / 2
+        - (p_phi - p_psi * sympy.cos(theta)) ** 2 / (2 * (I1 + M * l**2) * sympy.sin(theta) ** 2)
+        - p_psi**2 / (2 * I3)
+        - M * g * l * sympy.cos(theta)
+    )
+    assert sympy.simplify(reduction.routhian - textbook) == 0
+    assert len(str(reduction.routhian)) < 250 and len(str(reduction.effective_potential)) < 250
+    assert "cos(theta)**2" not in str(reduction.routhian).split("/")[-1]  # the denominator
+
+
+def test_squares_of_sines_and_cosines_combined():
+    a, b, x = sympy.symbols("a b x", positive=True)
+    s, c = sympy.sin(x), sympy.cos(x)
+    assert squares_combined(a * s**2 - b * s**2 - b * c**2 + b) == a * s**2
+    assert squares_combined(a * s**2 + b * c**2) == a * s**2 + b * c**2  # nothing shorter
+    assert squares_combined(1 / (a * s**2 + a * c**2 + b)) == 1 / (a + b)
