@@ -81,6 +81,24 @@ def test_run_agrees_with_lagrangian_simulate(double_pendulum, capsys):
         assert state["q_dot"][name] == pytest.approx(final[f"{name}_dot"], abs=1e-8)
 
 
+def test_an_input_held_constant_as_simulate_holds_it(browser, written, capsys):
+    argv = ["simulate", "cart_pole", "--t-end", "1", "--set", "F=0.5"]
+    argv += ["--rtol", "1e-12", "--atol", "1e-12", "--json"]
+    assert main(argv) == ExitStatus.SUCCESS
+    final = json.loads(capsys.readouterr().out)["final_state"]
+    opened = open_page(browser, written("cart_pole"))
+    page = opened.page
+    assert page.evaluate("() => lagrangian.inputs") == {"F": 0}
+    state = page.evaluate(
+        "() => { lagrangian.pause(); lagrangian.set('F', 0.5); return lagrangian.run(1); }"
+    )
+    for name, value in state["q"].items():
+        assert value == pytest.approx(final[name], abs=1e-8)
+    assert page.get_by_role("slider", name="F", exact=True).count() == 1
+    assert opened.errors == []
+    page.close()
+
+
 def test_moving_a_slider_changes_the_motion(double_pendulum):
     page = double_pendulum.page
     page.evaluate("() => lagrangian.pause()")  # no frames between the steps of the test

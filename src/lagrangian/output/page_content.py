@@ -114,16 +114,14 @@ def page_content(
     document = {
         "name": system.name,
         "description": system.description,
-        "coordinates": [
-            {"name": c.name, "latex": latex_name(c.name), "velocity": c.q_dot.name}
-            for c in system.coordinates
-        ],
-        "velocity_latex": [latex_name(c.q_dot.name) for c in system.coordinates],
-        "parameters": [
-            {"name": name, "latex": latex_name(name), "value": values[name]}
-            for name in parameter_names
-        ],
+        "coordinates": [{"name": c.name, "velocity": c.q_dot.name} for c in system.coordinates],
+        "parameters": [{"name": name, "value": values[name]} for name in parameter_names],
+        "inputs": [{"name": name, "value": values.get(name, 0.0)} for name in system.input_names],
         "initial": state,
+        # the controls' labels typeset: theta1_dot as \dot{\theta}_{1}
+        "labels": {
+            name: latex_name(name) for name in (*parameter_names, *system.input_names, *state)
+        },
         "t_end": float(system.simulate_settings.get("t_end", DEFAULT_T_END)),
         "constraints": code.constraints if code else 0,
         "conserved": [

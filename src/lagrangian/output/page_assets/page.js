@@ -16,9 +16,10 @@
 // solved for v by simplified Newton with M (symplectic, energy error bounded for long runs).
 //
 // window.lagrangian, the hook for scripts and tests:
-//   parameters            {name: value} of every parameter (a copy)
+//   parameters            {name: value} of every parameter (a copy; inputs in `inputs`)
 //   state()               {t, q: {name: value}, q_dot: {name: value}}
-//   set(name, value)      a parameter, or an initial value (theta1, theta1_dot); the motion
+//   set(name, value)      a parameter, an input (held constant), or an initial value
+//                         (theta1, theta1_dot); the motion
 //                         restarts from the initial state at t = 0
 //   run(t_end)            advances synchronously to t_end (from t = 0 again if t_end is
 //                         behind), at the page's accuracy; returns state()
@@ -45,6 +46,8 @@ function lagrangianPage(model, code) {
   const rates = model.coordinates.map((c) => c.velocity);
   const parameterNames = model.parameters.map((p) => p.name);
   const params = model.parameters.map((p) => p.value);
+  const inputNames = model.inputs.map((u) => u.name);
+  const inputs = model.inputs.map((u) => u.value); // held constant, as simulate --set F=...
   const initial = Object.assign({}, model.initial);
   const scene = model.scene;
   const RTOL = 1e-12;
@@ -59,7 +62,7 @@ function lagrangianPage(model, code) {
   const rms = (x) => Math.sqrt(x.reduce((s, v) => s + v * v, 0) / Math.max(1, x.length));
   const flat = (rows) => rows.map((row) => (Array.isArray(row) ? row[0] : row));
   const initialState = () => [...names.map((q) => initial[q]), ...rates.map((v) => initial[v])];
-  const derivative = (t, y) => code.rhs(t, y, params);
+  const derivative = (t, y) => code.rhs(t, y, params, inputs);
 
   // -- Dormand-Prince 8(5,3), SciPy's step control --------------------------------------
   const tab = model.dop853;
@@ -152,7 +155,7 @@ function lagrangianPage(model, code) {
 
   // -- the variational midpoint integrator --------------------------------------------
   const variationalAvailable = model.constraints === 0;
-  const momenta = (t, y) => flat(code.variational(t, y, params)[0]);
+  const momenta = (t, y) => flat(code.variational(t, y, params, inputs)[0]);
 
   // Newton's iteration x -> x - J(x)^-1 r(x) until |r| <= 1e-14 scale, or until an update
   // no longer halves the residual (rounding reached)
@@ -178,20 +181,20 @@ function lagrangianPage(model, code) {
     const scale = Math.max(1, ...pk.map(Math.abs));
     const v = newtonSolve(
       (w) => {
-        const [p, F] = code.variational(tm, mid(w), params);
+        const [p, F] = code.variational(tm, mid(w), params, inputs);
         return flat(p).map((x, i) => x - (h / 2) * flat(F)[i] - pk[i]);
       },
-      (w) => code.mass_matrix(tm, mid(w), params),
+      (w) => code.mass_matrix(tm, mid(w), params, inputs),
       run.y.slice(n),
       scale,
     );
-    const F = flat(code.variational(tm, mid(v), params)[1]);
+    const F = flat(code.variational(tm, mid(v), params, inputs)[1]);
     const qNew = q.map((x, i) => x + h * v[i]);
     const pNew = pk.map((x, i) => x + h * F[i]);
     const tNew = run.t + h;
     const rate = newtonSolve(
       (w) => momenta(tNew, [...qNew, ...w]).map((x, i) => x - pNew[i]),
-      (w) => code.mass_matrix(tNew, [...qNew, ...w], params),
+      (w) => code.mass_matrix(tNew, [...qNew, ...w], params, inputs),
       v,
       scale,
     );
@@ -234,7 +237,7 @@ function lagrangianPage(model, code) {
     return true;
   }
 
-  const observed = () => code.observables(sim.t, sim.y, params);
+  const observed = () => code.observables(sim.t, sim.y, params, inputs);
 
   function restart() {
     sim.t = 0;
@@ -272,7 +275,7 @@ function lagrangianPage(model, code) {
   const origin = new Array(D).fill(0);
 
   function parts(t, y) {
-    const [P, C, A, S, G, R] = code.scene(t, y, params);
+    const [P, C, A, S, G, R] = code.scene(t, y, params, inputs);
     return { P, C, A: flat(A), S, G, R };
   }
 
@@ -282,7 +285,7 @@ function lagrangianPage(model, code) {
   let lengths = [];
 
   function measure() {
-    const [, , , , , , m, W] = code.scene(0, initialState(), params);
+    const [, , , , , , m, W] = code.scene(0, initialState(), params, inputs);
     const masses = flat(m).map((x) => (Number.isFinite(x) && x > 0 ? x : 0));
     const heaviest = Math.max(0, ...masses);
     sizes = masses.map((x) => (heaviest > 0 ? (x / heaviest) ** (1 / 3) : 0.8));
@@ -787,7 +790,7 @@ function lagrangianPage(model, code) {
     const start = q.slice();
     const zeros = new Array(n).fill(0);
     const residual = (x) => {
-      const point = code.scene(0, [...x, ...zeros], params)[0][k];
+      const point = code.scene(0, [...x, ...zeros], params, inputs)[0][k];
       return axes.map((a, i) => point[a] - target[i]);
     };
     const weight = 1e-3;
@@ -858,13 +861,20 @@ function lagrangianPage(model, code) {
     const parameterBox = element("fieldset");
     parameterBox.append(element("legend", {}, "Parameters"));
     model.parameters.forEach((p) => parameterBox.append(field(p.name, p.value, fields, true)));
+    const boxes = [parameterBox];
+    if (model.inputs.length) {
+      const inputBox = element("fieldset");
+      inputBox.append(element("legend", {}, "Inputs (held constant)"));
+      model.inputs.forEach((u) => inputBox.append(field(u.name, u.value, fields, false)));
+      boxes.push(inputBox);
+    }
     const initialBox = element("fieldset");
     initialBox.append(element("legend", {}, "Initial state (drag a mass to place it)"));
     names.forEach((q, i) => {
       initialBox.append(field(q, initial[q], fields, false));
       initialBox.append(field(rates[i], initial[rates[i]], fields, false));
     });
-    live.append(mechanism, buttons, status, readoutBox, plots, parameterBox, initialBox);
+    live.append(mechanism, buttons, status, readoutBox, plots, ...boxes, initialBox);
     play.addEventListener("click", () => setRunning(!running));
     reset.addEventListener("click", () => restart());
     speedChoice.addEventListener("change", () => (speed = Number(speedChoice.value)));
@@ -878,7 +888,12 @@ function lagrangianPage(model, code) {
 
   function field(name, value, fields, isParameter) {
     const row = element("div", { class: "field" });
-    const label = element("label", {}, name);
+    const label = element("label", { title: name });
+    if (window.katex && model.labels[name]) {
+      window.katex.render(model.labels[name], label, { throwOnError: false, strict: "ignore" });
+    } else {
+      label.textContent = name;
+    }
     const magnitude = Math.abs(value);
     const [low, high] = isParameter && value > 0 ? [0, 3 * value] : [value - Math.max(3, 2 * magnitude), value + Math.max(3, 2 * magnitude)];
     const slider = element("input", { type: "range", min: String(low), max: String(high), step: String((high - low) / 1000), value: String(value), "aria-label": name });
@@ -897,6 +912,7 @@ function lagrangianPage(model, code) {
   function showValues() {
     const values = { ...initial };
     parameterNames.forEach((name, i) => (values[name] = params[i]));
+    inputNames.forEach((name, i) => (values[name] = inputs[i]));
     for (const [name, { slider, number }] of Object.entries(ui.fields)) {
       const value = values[name];
       if (document.activeElement !== number) number.value = String(Number(value.toPrecision(12)));
@@ -943,6 +959,7 @@ function lagrangianPage(model, code) {
     if (!Number.isFinite(x)) throw new Error(`${name}: not a finite number: ${value}`);
     const index = parameterNames.indexOf(name);
     if (index >= 0) params[index] = x;
+    else if (inputNames.includes(name)) inputs[inputNames.indexOf(name)] = x;
     else if (name in initial) initial[name] = x;
     else throw new Error(`'${name}' is neither a parameter nor a coordinate or velocity`);
     restart();
@@ -960,6 +977,9 @@ function lagrangianPage(model, code) {
   window.lagrangian = Object.freeze({
     get parameters() {
       return Object.fromEntries(parameterNames.map((name, i) => [name, params[i]]));
+    },
+    get inputs() {
+      return Object.fromEntries(inputNames.map((name, i) => [name, inputs[i]]));
     },
     state,
     set,
