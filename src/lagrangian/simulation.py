@@ -16,7 +16,7 @@ from .errors import ModelError, setting
 from .integrate import method_class, simulate
 from .integrate.lyapunov import DEFAULT_INTERVAL, LyapunovSpectrum, lyapunov_spectrum
 from .integrate.pace import RUN_SECONDS, RunPace, watching
-from .integrate.poincare import PoincareSection, poincare_section, shell_starts
+from .integrate.poincare import MAX_ORBITS, PoincareSection, poincare_section, shell_starts
 from .integrate.section import parse_section
 from .integrate.simulate import DEFAULT_METHOD
 from .model import System
@@ -203,6 +203,8 @@ def poincare_of_system(
     )  # fmt: skip
     parsed = None if section is None else parse_section(compiled, section, direction)
     count = DEFAULT_ORBITS if orbits is None else int(orbits)
+    if not 1 <= count <= MAX_ORBITS:
+        raise ModelError(f"give from 1 to {MAX_ORBITS:,} orbits, not {orbits}")
     if energy is not None:
         if parsed is None:
             raise ModelError("sampling an energy shell needs a section 'coordinate = number'")

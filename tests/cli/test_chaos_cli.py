@@ -95,6 +95,11 @@ def test_poincare_json_with_a_strobe(capsys):
         (["--axes", "y,p_y", "--section", "x = 0", "--out", "p.txt"], "must end in .csv or .nc"),
         (["--axes", "y,p_y", "--section", "x = 0", "--spread", "y=1"], "expected NAME=LO:HI"),
         (["--axes", "y,p_y", "--section", "x + y = 0", "--energy", "0.1"], "'coordinate = number'"),
+        (
+            ["--axes", "y,p_y", "--section", "x = 0", "--energy", "0.1", "--orbits", "10000000"],
+            "give from 1 to 100,000 orbits, not 10000000",
+        ),
+        (["--axes", "y,p_y", "--strobe", "1e-300"], "strobe times per orbit needs about"),
     ],
 )
 def test_poincare_errors_are_one_line(capsys, argv, message):

@@ -17,6 +17,7 @@ q_c' = -1, 0, 1), the root of the crossing direction.
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -24,13 +25,16 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import ModelError, setting
 from ..files import write_atomically, write_csv
 from .base import Status, check_time_span, positive_setting
 from .events import Event
+from .memory import check_fits, count_text, run_bytes
 from .scipy_methods import Dop853
 from .section import Section, axis_values, state_names
 
+#: The most orbits of one section (each is a run of its own: more would take days).
+MAX_ORBITS = 100_000
 #: Steps (of 1e-3 of the first axis' scale) searched for each end of an energy shell,
 #: and how many are tried at once.
 SHELL_SPAN, SHELL_CHUNK = 100_000, 1000
@@ -130,14 +134,20 @@ def poincare_section(
     integrator = Dop853.configure(t_span=(t0, t1), rtol=rtol, atol=atol)
     events = ()
     t_eval = None
+    starts = np.asarray(starts, dtype=float).reshape(2 * n, -1)
     if strobe is not None:
         strobe = positive_setting("strobe", strobe)
+        times = max(0.0, (t1 - float(transient)) / strobe)
+        check_fits(
+            run_bytes(2 * n, 0, min(times, 1e300) * starts.shape[1]),
+            f"{count_text(math.floor(min(times, 1e300)))} strobe times per orbit",
+            f"give a longer strobe period or a shorter {setting('t_end')}",
+        )
         t_eval = np.arange(float(transient) + strobe, t1 + 1e-12 * strobe, strobe)
         if t_eval.size == 0:
             raise ModelError(f"no strobe time before t_end = {t1:g} (period {strobe:g})")
     else:
         events = (Event(section.function, section.direction, name="section"),)
-    starts = np.asarray(starts, dtype=float).reshape(2 * n, -1)
     times, states, orbits = [], [], []
     count = starts.shape[1]
     for k in range(count):
@@ -208,8 +218,10 @@ def shell_starts(
             f"other than {section.coordinate} and its velocity, not {axis!r}",
             field="axes",
         )
-    if not (np.isfinite(energy) and int(count) >= 1):
-        raise ModelError(f"give a finite energy and at least one orbit, not {energy}, {count}")
+    if not (np.isfinite(energy) and 1 <= int(count) <= MAX_ORBITS):
+        raise ModelError(
+            f"give a finite energy and from 1 to {MAX_ORBITS:,} orbits, not {energy}, {count}"
+        )
     p = compiled.parameter_vector(params)
     base = compiled.state_vector(initial)
     base[c] = section.value
