@@ -3,7 +3,9 @@
 :func:`page_html` returns the whole document: the worked solution typeset by KaTeX
 (vendored in ``page_assets/katex``, its fonts embedded as data URIs) and a live
 simulation of the model (:mod:`lagrangian.output.page_content` makes what the page
-shows and runs; ``page_assets/page.js`` integrates, draws and wires the controls).
+shows and runs; in ``page_assets``, ``integrators.js`` steps the motion, ``plots.js``
+draws the phase portrait and time series, ``page.js`` draws the mechanism and wires the
+controls).
 
 It works from the disk, offline, with no server: every script, style and font is
 inline, and its Content-Security-Policy allows nothing else (no network request, no
@@ -58,10 +60,11 @@ def page_html(
     model) for names or values that do not fit it.
     """
     content = page_content(system, parameters=parameters, initial=initial, definitions=definitions)
+    page_script = "\n".join(_asset(name) for name in _PAGE_SCRIPTS)
     if content.script is None:
-        code = _inside_script(_asset("page.js") + _START.format(code="null"))
+        code = _inside_script(page_script + _START.format(code="null"))
     else:
-        code = _inside_script(content.script + _asset("page.js") + _START.format(code=_CODE))
+        code = _inside_script(content.script + page_script + _START.format(code=_CODE))
     katex = _inside_script(_asset("katex/katex.min.js"))
     hashes = " ".join(f"'sha256-{_digest(text)}'" for text in (katex, code))
     parts = {
@@ -76,6 +79,9 @@ def page_html(
     return _PLACEHOLDER.sub(lambda match: parts[match.group(1)], _asset("page.html"))
 
 
+#: The page's own script, in the order appended to the generated module: the integrators,
+#: the plots, then the page that uses them.
+_PAGE_SCRIPTS = ("integrators.js", "plots.js", "page.js")
 #: Reads the document (data, never code) and starts the page with the generated functions.
 _START = """
 lagrangianPage(JSON.parse(document.getElementById("lagrangian-model").textContent), {code});

@@ -5,15 +5,7 @@
 // lagrangian/output/page_content.py) and is called once with the model's document (the JSON
 // of the page, read with textContent: every text of the model is data) and those functions.
 //
-// Integrators.  "dop853": Dormand and Prince's explicit Runge-Kutta pair of order 8(5,3)
-// with SciPy's error norm and step-size control (Hairer, Norsett & Wanner, Solving ODE I,
-// 2nd ed., II.10; scipy.integrate.DOP853), the coefficients taken from SciPy by the page
-// writer, so that the page steps as `lagrangian simulate --method dop853` does.
-// "variational": the midpoint discrete Lagrangian (Marsden & West, Acta Numerica 10 (2001),
-// 2.2, with the forces of 3.2) in position-momentum form, as lagrangian.integrate.variational:
-//   p_k = L_q'(q_m, v) - (h/2)[L_q + Q](q_m, v),  q_m = q_k + h v / 2,
-//   q_{k+1} = q_k + h v,  p_{k+1} = p_k + h [L_q + Q](q_m, v),
-// solved for v by simplified Newton with M (symplectic, energy error bounded for long runs).
+// The integrators are in integrators.js (lagrangianIntegrators), the plots in plots.js.
 //
 // window.lagrangian, the hook for scripts and tests:
 //   parameters            {name: value} of every parameter (a copy; inputs in `inputs`)
@@ -59,152 +51,18 @@ function lagrangianPage(model, code) {
   const PLOT_POINTS = 600;
 
   // -- numbers -------------------------------------------------------------------------
-  const rms = (x) => Math.sqrt(x.reduce((s, v) => s + v * v, 0) / Math.max(1, x.length));
   const flat = (rows) => rows.map((row) => (Array.isArray(row) ? row[0] : row));
   const initialState = () => [...names.map((q) => initial[q]), ...rates.map((v) => initial[v])];
   const derivative = (t, y) => code.rhs(t, y, params, inputs);
 
-  // -- Dormand-Prince 8(5,3), SciPy's step control --------------------------------------
-  const tab = model.dop853;
-  const SAFETY = 0.9;
-  const MIN_FACTOR = 0.2;
-  const MAX_FACTOR = 10;
-  const EXPONENT = -1 / 8;
-
-  function initialStep(t, y, f, rtol, atol, span) {
-    const scale = y.map((v) => atol + Math.abs(v) * rtol);
-    const d0 = rms(y.map((v, i) => v / scale[i]));
-    const d1 = rms(f.map((v, i) => v / scale[i]));
-    let h0 = d0 < 1e-5 || d1 < 1e-5 ? 1e-6 : (0.01 * d0) / d1;
-    h0 = Math.min(h0, span);
-    const f1 = derivative(t + h0, y.map((v, i) => v + h0 * f[i]));
-    const d2 = rms(f1.map((v, i) => (v - f[i]) / scale[i])) / h0;
-    const h1 =
-      d1 <= 1e-15 && d2 <= 1e-15 ? Math.max(1e-6, h0 * 1e-3) : (0.01 / Math.max(d1, d2)) ** (1 / 8);
-    return Math.min(100 * h0, h1, span);
-  }
-
-  function rkStep(t, y, f, h) {
-    const K = [f];
-    for (let s = 1; s < tab.stages; s++) {
-      const a = tab.A[s];
-      const z = y.slice();
-      for (let i = 0; i < y.length; i++) {
-        let sum = 0;
-        for (let j = 0; j < s; j++) sum += a[j] * K[j][i];
-        z[i] += h * sum;
-      }
-      K.push(derivative(t + tab.C[s] * h, z));
-    }
-    const yNew = y.map((v, i) => {
-      let sum = 0;
-      for (let j = 0; j < tab.stages; j++) sum += tab.B[j] * K[j][i];
-      return v + h * sum;
-    });
-    const fNew = derivative(t + h, yNew);
-    K.push(fNew);
-    return [yNew, fNew, K];
-  }
-
-  function errorNorm(K, h, scale) {
-    let e5 = 0;
-    let e3 = 0;
-    for (let i = 0; i < scale.length; i++) {
-      let s5 = 0;
-      let s3 = 0;
-      for (let j = 0; j < K.length; j++) {
-        s5 += tab.E5[j] * K[j][i];
-        s3 += tab.E3[j] * K[j][i];
-      }
-      e5 += (s5 / scale[i]) ** 2;
-      e3 += (s3 / scale[i]) ** 2;
-    }
-    if (e5 === 0 && e3 === 0) return 0;
-    return (Math.abs(h) * e5) / Math.sqrt((e5 + 0.01 * e3) * scale.length);
-  }
-
-  // One accepted step of `run` (a state {t, y, f, h, steps}) that ends at tEnd at the latest.
-  function dopStep(run, tEnd, rtol, atol) {
-    if (run.f === null) run.f = derivative(run.t, run.y);
-    if (run.h === null) run.h = initialStep(run.t, run.y, run.f, rtol, atol, model.t_end);
-    let hAbs = run.h;
-    let rejected = false;
-    for (;;) {
-      const minStep = 10 * Number.EPSILON * Math.max(1, Math.abs(run.t));
-      if (!(hAbs >= minStep)) throw new Error("the step size became too small (a singularity?)");
-      const clipped = run.t + hAbs >= tEnd;
-      const h = clipped ? tEnd - run.t : hAbs;
-      const [yNew, fNew, K] = rkStep(run.t, run.y, run.f, h);
-      const scale = run.y.map((v, i) => atol + Math.max(Math.abs(v), Math.abs(yNew[i])) * rtol);
-      const error = errorNorm(K, h, scale);
-      if (error < 1 && yNew.every(Number.isFinite)) {
-        let factor = error === 0 ? MAX_FACTOR : Math.min(MAX_FACTOR, SAFETY * error ** EXPONENT);
-        if (rejected) factor = Math.min(1, factor);
-        // a step shortened to land on tEnd does not shorten the next one
-        run.h = clipped ? Math.max(hAbs, h * factor) : h * factor;
-        run.t = clipped ? tEnd : run.t + h;
-        run.y = yNew;
-        run.f = fNew;
-        run.steps += 1;
-        return;
-      }
-      hAbs = Math.min(hAbs, h) * Math.max(MIN_FACTOR, Number.isFinite(error) ? SAFETY * error ** EXPONENT : MIN_FACTOR);
-      rejected = true;
-    }
-  }
-
-  // -- the variational midpoint integrator --------------------------------------------
+  // -- the integrators (integrators.js) -------------------------------------------------
   const variationalAvailable = model.constraints === 0;
-  const momenta = (t, y) => flat(code.variational(t, y, params, inputs)[0]);
-
-  // Newton's iteration x -> x - J(x)^-1 r(x) until |r| <= 1e-14 scale, or until an update
-  // no longer halves the residual (rounding reached)
-  function newtonSolve(residual, jacobianAt, x, scale) {
-    let previous = Infinity;
-    for (let k = 0; k < 50; k++) {
-      const r = residual(x);
-      const size = Math.max(...r.map(Math.abs));
-      if (size <= 1e-14 * scale || (k > 2 && size > previous / 2)) return x;
-      previous = size;
-      const dx = code.solve(jacobianAt(x), r.map((v) => -v));
-      x = x.map((v, i) => v + dx[i]);
-    }
-    return x;
-  }
-
-  function midpointStep(run, h) {
-    const q = run.y.slice(0, n);
-    if (run.p === null) run.p = momenta(run.t, run.y);
-    const pk = run.p;
-    const tm = run.t + h / 2;
-    const mid = (v) => [...q.map((x, i) => x + (h / 2) * v[i]), ...v];
-    const scale = Math.max(1, ...pk.map(Math.abs));
-    const v = newtonSolve(
-      (w) => {
-        const [p, F] = code.variational(tm, mid(w), params, inputs);
-        return flat(p).map((x, i) => x - (h / 2) * flat(F)[i] - pk[i]);
-      },
-      (w) => code.mass_matrix(tm, mid(w), params, inputs),
-      run.y.slice(n),
-      scale,
-    );
-    const F = flat(code.variational(tm, mid(v), params, inputs)[1]);
-    const qNew = q.map((x, i) => x + h * v[i]);
-    const pNew = pk.map((x, i) => x + h * F[i]);
-    const tNew = run.t + h;
-    const rate = newtonSolve(
-      (w) => momenta(tNew, [...qNew, ...w]).map((x, i) => x - pNew[i]),
-      (w) => code.mass_matrix(tNew, [...qNew, ...w], params, inputs),
-      v,
-      scale,
-    );
-    if (![...qNew, ...rate].every(Number.isFinite)) throw new Error("the motion left the numbers");
-    run.t = tNew;
-    run.y = [...qNew, ...rate];
-    run.p = pNew;
-    run.f = null;
-    run.steps += 1;
-  }
+  const integrators = lagrangianIntegrators(model.dop853, n, model.t_end, {
+    derivative,
+    momentaAndForces: (t, y) => code.variational(t, y, params, inputs).map(flat),
+    massMatrix: (t, y) => code.mass_matrix(t, y, params, inputs),
+    solve: code.solve,
+  });
 
   // -- the run ---------------------------------------------------------------------------
   const sim = {
@@ -228,9 +86,9 @@ function lagrangianPage(model, code) {
     const atol = options.atol ?? ATOL;
     while (run.t < tEnd) {
       if ((run.method ?? "dop853") === "variational") {
-        midpointStep(run, Math.min(run.dt, tEnd - run.t));
+        integrators.midpointStep(run, Math.min(run.dt, tEnd - run.t));
       } else {
-        dopStep(run, tEnd, rtol, atol);
+        integrators.dopStep(run, tEnd, rtol, atol);
       }
       if (performance.now() > deadline) return false;
     }
@@ -574,69 +432,13 @@ function lagrangianPage(model, code) {
   }
 
   // -- the plots beside the mechanism ----------------------------------------------------
-  function plot(target, series, labels) {
-    const c = target.getContext("2d");
-    const ratio = window.devicePixelRatio || 1;
-    const width = Math.max(100, target.clientWidth);
-    const height = Math.round(width * 0.7);
-    if (target.width !== width * ratio) {
-      // resizing lays out the whole page again: only when the width changed
-      target.width = width * ratio;
-      target.height = height * ratio;
-      target.style.height = `${height}px`;
-    }
-    c.setTransform(ratio, 0, 0, ratio, 0, 0);
-    c.clearRect(0, 0, width, height);
-    const xs = series.flatMap((s) => s.points.map((p) => p[0])).filter(Number.isFinite);
-    const ys = series.flatMap((s) => s.points.map((p) => p[1])).filter(Number.isFinite);
-    if (!xs.length) return;
-    const pad = 28;
-    const range = (v) => {
-      let [a, b] = [Math.min(...v), Math.max(...v)];
-      if (b - a < 1e-12) [a, b] = [a - 1, b + 1];
-      return [a - 0.05 * (b - a), b + 0.05 * (b - a)];
-    };
-    const [xa, xb] = range(xs);
-    const [ya, yb] = range(ys);
-    const X = (x) => pad + ((x - xa) / (xb - xa)) * (width - pad - 6);
-    const Y = (y) => height - pad + 6 - ((y - ya) / (yb - ya)) * (height - pad);
-    c.strokeStyle = "#c7cdd4";
-    c.strokeRect(pad, 6, width - pad - 6, height - pad);
-    c.fillStyle = "#5b6570";
-    c.font = "11px sans-serif";
-    c.fillText(labels[0], width / 2, height - 6);
-    c.save();
-    c.translate(11, height / 2);
-    c.rotate(-Math.PI / 2);
-    c.fillText(labels[1], 0, 0);
-    c.restore();
-    c.fillText(ya.toPrecision(3), pad + 2, height - pad + 2);
-    c.fillText(yb.toPrecision(3), pad + 2, 18);
-    if (series.length > 1) {
-      let x = width - 8;
-      for (const s of [...series].reverse()) {
-        x -= c.measureText(s.label).width;
-        c.fillStyle = s.color;
-        c.fillText(s.label, x, 18);
-        x -= 8;
-      }
-    }
-    for (const s of series) {
-      c.beginPath();
-      s.points.forEach(([x, y], i) => (i ? c.lineTo(X(x), Y(y)) : c.moveTo(X(x), Y(y))));
-      c.strokeStyle = s.color;
-      c.lineWidth = 1.3;
-      c.stroke();
-    }
-  }
-
   function drawPlots() {
     const k = Number(ui.phaseChoice.value) || 0;
     const window20 = history.filter((s) => s.t >= sim.t - 20);
     const every = Math.ceil(window20.length / PLOT_POINTS);
     const recent = window20.filter((_, i) => i % every === 0 || i === window20.length - 1);
-    plot(ui.phase, [{ color: "#1f77b4", points: recent.map((s) => [s.y[k], s.y[n + k]]) }], [names[k], rates[k]]);
-    plot(
+    lagrangianPlot(ui.phase, [{ color: "#1f77b4", points: recent.map((s) => [s.y[k], s.y[n + k]]) }], [names[k], rates[k]]);
+    lagrangianPlot(
       ui.series,
       names.map((q, i) => ({ label: q, color: scene.palette[i % scene.palette.length], points: recent.map((s) => [s.t, s.y[i]]) })),
       ["t", names.length === 1 ? names[0] : "q"],

@@ -1,0 +1,61 @@
+// A small line plot on a canvas (lagrangian page): the phase portrait and the time series.
+//
+// series: [{points: [[x, y], ...], color, label}], drawn over the box of all points with a
+// 5 % margin; labels: [x label, y label].  The canvas is resized only when its width
+// changed: a resize lays out the whole page again.
+function lagrangianPlot(target, series, labels) {
+  "use strict";
+  const c = target.getContext("2d");
+  const ratio = window.devicePixelRatio || 1;
+  const width = Math.max(100, target.clientWidth);
+  const height = Math.round(width * 0.7);
+  if (target.width !== width * ratio) {
+    // resizing lays out the whole page again: only when the width changed
+    target.width = width * ratio;
+    target.height = height * ratio;
+    target.style.height = `${height}px`;
+  }
+  c.setTransform(ratio, 0, 0, ratio, 0, 0);
+  c.clearRect(0, 0, width, height);
+  const xs = series.flatMap((s) => s.points.map((p) => p[0])).filter(Number.isFinite);
+  const ys = series.flatMap((s) => s.points.map((p) => p[1])).filter(Number.isFinite);
+  if (!xs.length) return;
+  const pad = 28;
+  const range = (v) => {
+    let [a, b] = [Math.min(...v), Math.max(...v)];
+    if (b - a < 1e-12) [a, b] = [a - 1, b + 1];
+    return [a - 0.05 * (b - a), b + 0.05 * (b - a)];
+  };
+  const [xa, xb] = range(xs);
+  const [ya, yb] = range(ys);
+  const X = (x) => pad + ((x - xa) / (xb - xa)) * (width - pad - 6);
+  const Y = (y) => height - pad + 6 - ((y - ya) / (yb - ya)) * (height - pad);
+  c.strokeStyle = "#c7cdd4";
+  c.strokeRect(pad, 6, width - pad - 6, height - pad);
+  c.fillStyle = "#5b6570";
+  c.font = "11px sans-serif";
+  c.fillText(labels[0], width / 2, height - 6);
+  c.save();
+  c.translate(11, height / 2);
+  c.rotate(-Math.PI / 2);
+  c.fillText(labels[1], 0, 0);
+  c.restore();
+  c.fillText(ya.toPrecision(3), pad + 2, height - pad + 2);
+  c.fillText(yb.toPrecision(3), pad + 2, 18);
+  if (series.length > 1) {
+    let x = width - 8;
+    for (const s of [...series].reverse()) {
+      x -= c.measureText(s.label).width;
+      c.fillStyle = s.color;
+      c.fillText(s.label, x, 18);
+      x -= 8;
+    }
+  }
+  for (const s of series) {
+    c.beginPath();
+    s.points.forEach(([x, y], i) => (i ? c.lineTo(X(x), Y(y)) : c.moveTo(X(x), Y(y))));
+    c.strokeStyle = s.color;
+    c.lineWidth = 1.3;
+    c.stroke();
+  }
+}
