@@ -90,6 +90,11 @@ def built(fingerprint: str, target: str, build: Callable[[], T], *options: Hasha
         return _BUILT[key]  # type: ignore[return-value]
 
 
+def built_already(fingerprint: str, target: str, *options: Hashable) -> bool:
+    """Whether :func:`built` holds what it made for these keys in this process."""
+    return (fingerprint, target, *options) in _BUILT
+
+
 def cache_directory() -> Path:
     """Where generated modules live: ``$LAGRANGIAN_CACHE/numba`` or the user cache."""
     root = os.environ.get("LAGRANGIAN_CACHE")
@@ -148,10 +153,22 @@ def _cached_bytes(path: Path) -> bytes | None:
     return None
 
 
+def module_name(path: Path) -> str:
+    """The name the generated module of ``path`` is imported under."""
+    folder = hashlib.sha256(str(path).encode()).hexdigest()[:8]
+    return f"_lagrangian_numba_{folder}_{path.stem[:16]}"
+
+
+def compiled_on_disk(digest: str, function: str) -> bool:
+    """Whether numba's machine code of ``function`` of the module ``<digest>.py`` is in the
+    cache (its index file; whether it is sound is checked when the module loads)."""
+    folder = usable_directory() / "__pycache__"
+    return any(folder.glob(f"{digest}.{function}-*.nbi"))
+
+
 def _import(path: Path, text: str) -> ModuleType:
     """Run ``text`` as the module of ``path`` (numba's disk cache finds globals by name)."""
-    folder = hashlib.sha256(str(path).encode()).hexdigest()[:8]
-    name = f"_lagrangian_numba_{folder}_{path.stem[:16]}"
+    name = module_name(path)
     loader = _VerifiedLoader(name, path, text.encode("utf-8"))
     spec = importlib.util.spec_from_file_location(name, path, loader=loader)
     module = importlib.util.module_from_spec(spec)

@@ -42,10 +42,13 @@ from .base import (
     reject_settings,
     tolerance_setting,
 )
+from .compiled_dop853 import compiled_loop, solve_compiled
 from .events import Event, named, scipy_event
 from .guard import UNDEFINED, describe_state, start_problem, state_problem
 
 if TYPE_CHECKING:
+    from types import ModuleType
+
     from ..numeric.compiled import CompiledSystem
 
 #: The smallest rtol SciPy's methods honour (100 machine epsilons); below it they use it.
@@ -116,6 +119,14 @@ class AbstractScipyIntegrator(AbstractIntegrator):
         problem = start_problem(compiled, t0, y0, params)
         if problem is not None:  # SciPy's first step size would be NaN: it would never stop
             return self._stopped(compiled, [t0], [y0], problem, events)
+        if watch is not None:  # the budget's clock starts before a compile, which counts
+            watch(t0)
+        loop = self.compiled_loop(compiled)
+        if loop is not None:
+            return solve_compiled(
+                loop, compiled, (t0, t1), y0, params, rtol=self.rtol, atol=self.atol,
+                t_eval=t_eval, events=events, watch=watch, settings=self.settings_for(compiled),
+            )  # fmt: skip
         # A trial stage may leave the domain of the equations (rejected, the step shrinks);
         # the last such evaluation explains a run that then fails for want of a step size.
         undefined: list[float] = []
@@ -199,6 +210,10 @@ class AbstractScipyIntegrator(AbstractIntegrator):
             settings=self.settings_for(compiled),
         )
 
+    def compiled_loop(self, compiled: CompiledSystem) -> ModuleType | None:
+        """The method's compiled loop for ``compiled`` (None: SciPy's loop runs)."""
+        return None
+
     def _stopped(self, compiled, times, states, message, events) -> IntegrationResult:
         """The failed result of a run that stopped, SciPy's steps lost, at the last state."""
         size = states[0].shape[0]
@@ -249,6 +264,10 @@ class Dop853(AbstractScipyIntegrator):
     scipy_method: ClassVar[str] = "DOP853"
     DEFAULT_RTOL: ClassVar[float] = 1e-10
     DEFAULT_ATOL: ClassVar[float] = 1e-12
+
+    def compiled_loop(self, compiled: CompiledSystem) -> ModuleType | None:
+        """On the numba backend, the whole loop compiled (:mod:`.compiled_dop853`)."""
+        return compiled_loop(compiled) if compiled.backend == "numba" else None
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,309 @@
+"""DOP853 with its whole step loop compiled: SciPy's method without Python per step.
+
+SciPy's ``DOP853`` runs each step in Python: about 150 us of interpreter and NumPy
+calls per step around 12 evaluations of a right-hand side that takes 0.1-2 us as
+generated machine code, so a long run is almost all overhead (double pendulum,
+t = 1000 at tol 1e-10: 12 s, where heyoka's Taylor method takes 0.025 s).  Here the
+same method (SciPy's coefficients, initial step, error norm and step-size control,
+:mod:`.numba_dop853`) runs as one numba loop over the system's generated M and f
+(:mod:`lagrangian.codegen.numba`, solved in the loop by Gaussian elimination with
+partial pivoting), so it takes the steps SciPy takes and gives its answers to
+rounding; the loop is written to the code cache once per system and numba keeps its
+machine code on disk.
+
+Why this and not the other ways to an adaptive method without Python per step
+(measured, benchmarks/user_paths.py, figures in benchmarks/README.md):
+
+- heyoka's Taylor method (``method="taylor"``) is faster still for small systems at
+  tight tolerances, but it is an optional 100 MB package that CI does not install,
+  cannot stop at our events (Python functions of the state) and takes constraints
+  nowhere; where it is installed the default uses it for long runs that it can do
+  (:mod:`.choice`).
+- A compiled solver from PyPI (numbalsoda, NumbaLSODA's LSODA; nbkode) would add a
+  dependency for what is 200 lines over code we generate already, and none of those
+  maintained gives DOP853's dense output and events.
+
+Events are located as SciPy locates them, in Python, on each step's interpolant
+(Brent's method to 4 eps), from the step ends the loop hands back in chunks; a
+terminal event discards the steps the chunk took beyond it.  ``watch`` is told the
+time once per chunk (64 steps at first, doubling to 4096), so a time budget or a
+progress bar still sees the run move.  Failures read as SciPy's path reads them
+(:mod:`.scipy_methods`): a start where y' is not finite, a step size that falls
+below the spacing of floating-point numbers (after a right-hand side that was not
+finite, saying so), an accepted state that is not finite.
+
+Applies to unconstrained systems with derived equations where numba is installed
+(:func:`compiled_loop` returns None otherwise and SciPy's loop runs).
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..codegen.cache import built, built_already
+from ..trajectory import EventRecord
+from .base import IntegrationResult, Status
+from .events import Event, scipy_event
+from .guard import UNDEFINED, describe_state, state_problem
+
+if TYPE_CHECKING:
+    from types import ModuleType
+
+    from ..numeric.compiled import CompiledSystem
+
+#: Steps per call of the compiled loop: the first chunk, and the most (it doubles).
+FIRST_CHUNK, LARGEST_CHUNK = 64, 4096
+#: SciPy's messages, so that both loops read the same.
+REACHED = "The solver successfully reached the end of the integration interval."
+TERMINATED = "A termination event occurred."
+TOO_SMALL_STEP = "Required step size is less than spacing between numbers."
+_EPS = float(np.finfo(float).eps)
+MIN_FACTOR = 0.2  # SciPy's smallest shrink of a rejected step
+
+
+def compiled_loop(compiled: CompiledSystem) -> ModuleType | None:
+    """The jitted DOP853 loop of ``compiled`` (built once, machine code cached on disk), or
+    None where it does not apply: constraints, functions given by hand, numba missing."""
+    if compiled.has_constraints or compiled.program is None or not numba_installed():
+        return None
+    return built(compiled.forms.fingerprint, "dop853", lambda: _build(compiled))
+
+
+def numba_installed() -> bool:
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def compiled_ready(compiled: CompiledSystem) -> bool:
+    """Whether the loop of ``compiled`` is built in this process or its machine code is in
+    the code cache (a run then loads it in a fraction of a second instead of compiling)."""
+    from ..codegen.cache import compiled_on_disk
+
+    if compiled.program is None:
+        return False
+    if built_already(compiled.forms.fingerprint, "dop853"):
+        return True
+    return compiled_on_disk(_loop_text(compiled)[0], "advance")
+
+
+def _build(compiled: CompiledSystem) -> ModuleType:
+    from ..codegen.cache import load_text
+    from ..codegen.numba import NumbaTarget
+
+    NumbaTarget().load(compiled.program)  # the fillers' module, imported by the loop's
+    return load_text(*_loop_text(compiled))
+
+
+def _loop_text(compiled: CompiledSystem) -> tuple[str, str]:
+    """(sha256, text) of the loop's module: the template with N and the fillers' import."""
+    from ..codegen.cache import module_name, usable_directory
+    from ..codegen.numba import generated_source
+
+    fillers = module_name(usable_directory() / f"{generated_source(compiled.forms)[0]}.py")
+    template = Path(__file__).with_name("numba_dop853.py").read_text(encoding="utf-8")
+    head, rest = template.split(_BEGIN, 1)
+    tail = rest.split(_END, 1)[1].split("\n", 1)[1]
+    generated = [f"N = {compiled.n}", f"from {fillers} import fill"]
+    text = "\n".join([head.rstrip("\n"), "", *generated, "", tail])
+    return hashlib.sha256(text.encode()).hexdigest(), text
+
+
+_BEGIN, _END = "# -- generated: begin", "# -- generated: end"
+
+
+def solve_compiled(
+    loop: ModuleType,
+    compiled: CompiledSystem,
+    t_span: tuple[float, float],
+    y0: np.ndarray,
+    params: np.ndarray,
+    *,
+    rtol: float,
+    atol: float,
+    t_eval: np.ndarray | None,
+    events: Sequence[Event],
+    watch: Callable[[float], None] | None,
+    settings: dict[str, object],
+) -> IntegrationResult:
+    """DOP853 from ``y0`` (finite, with a finite y') over ``t_span`` by the compiled loop;
+    the result reads as :class:`~lagrangian.integrate.scipy_methods.Dop853`'s."""
+    t0, t1 = t_span
+    y = np.array(y0, dtype=float)
+    p = np.ascontiguousarray(params, dtype=float)
+    size = y.shape[0]
+    f = np.asarray(compiled.rhs(t0, y, p), dtype=float).copy()
+    clock = np.array([t0, first_step(compiled, t0, y, f, p, t1, rtol, atol)])
+    counts = np.array([2, 0, 0, 0], dtype=np.int64)  # f at t0 and in first_step, as SciPy
+    flags = np.zeros(1, dtype=np.int64)
+    dense = t_eval is not None or bool(events)
+    grid = np.zeros(0) if t_eval is None else np.ascontiguousarray(t_eval, dtype=float)
+    out = np.empty((grid.shape[0], size))
+    watcher = _Events(events, params, t0, y, f) if events else None
+    times, states = [np.array([t0])], [y[None, :].copy()]
+    chunk, status = FIRST_CHUNK, 0
+    while status == 0:
+        ts, ys = np.empty(chunk), np.empty((chunk, size))
+        olds = np.empty((chunk if dense else 0, size))
+        slopes = np.empty((chunk if dense else 0, 7, size))
+        t_before, counts[1] = clock[0], 0
+        while True:
+            try:
+                status = loop.advance(
+                    clock, y, f, p, t1, rtol, atol, dense, grid, out, ts, ys, olds, slopes,
+                    counts, flags,
+                )  # fmt: skip
+                break
+            except ZeroDivisionError:  # NumPy's inf: rejected, as SciPy rejects a NaN error
+                flags[0], counts[3] = 1, 1
+                clock[1] *= MIN_FACTOR
+        steps = int(counts[1])
+        ts, ys = ts[:steps], ys[:steps]
+        if watcher is not None:
+            hit = watcher.steps(t_before, ts, ys, olds, slopes)
+            if hit is not None:
+                k, (t_stop, y_stop) = hit
+                ts, ys = np.append(ts[:k], t_stop), np.vstack([ys[:k], y_stop])
+                status = -1
+        times.append(ts)
+        states.append(ys)
+        if watch is not None:
+            watch(float(clock[0]))
+        chunk = min(2 * chunk, LARGEST_CHUNK)
+    t_out, y_out = np.concatenate(times), np.concatenate(states).T
+    result_status, message = Status.SUCCESS, REACHED
+    if status == -1:
+        result_status, message = Status.EVENT, TERMINATED
+    elif status == 2:
+        result_status = Status.FAILED
+        where = f"t = {t_out[-1]:.6g} ({describe_state(compiled, y_out[:, -1])})"
+        message = f"{TOO_SMALL_STEP.rstrip('.')} at {where}"
+        if flags[0]:
+            message = (
+                f"the right-hand side is not finite just after {where}, so no step "
+                f"size works: {UNDEFINED}, or the motion reaches a singularity"
+            )
+    elif status == 3:
+        result_status = Status.FAILED
+        message = state_problem(compiled, t_out[-2], y_out[:, -2], y_out[:, -1])
+        t_out, y_out = t_out[:-1], y_out[:, :-1]
+    steps = t_out.shape[0] - 1
+    if t_eval is not None:
+        reached = grid <= t_out[-1]
+        t_kept, y_kept = grid[reached], out[reached].T
+        if result_status is not Status.SUCCESS and (not t_kept.size or t_kept[-1] < t_out[-1]):
+            t_kept = np.append(t_kept, t_out[-1])
+            y_kept = np.concatenate([y_kept, y_out[:, -1:]], axis=1)
+        t_out, y_out = t_kept, y_kept
+    return IntegrationResult(
+        t=t_out,
+        y=y_out,
+        status=result_status,
+        message=message,
+        steps=steps,
+        rhs_evaluations=int(counts[0]),
+        jacobian_evaluations=0,
+        events=watcher.records(size) if watcher is not None else (),
+        settings=settings,
+    )  # fmt: skip
+
+
+def first_step(compiled, t0, y0, f0, p, t_end, rtol, atol) -> float:
+    """SciPy's ``select_initial_step`` for DOP853 (error estimator order 7; Hairer,
+    Norsett & Wanner, *Solving ODEs I*, II.4): one evaluation of y' ahead of t0."""
+    interval = abs(t_end - t0)
+    scale = atol + np.abs(y0) * rtol
+    d0, d1 = _rms(y0 / scale), _rms(f0 / scale)
+    h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
+    h0 = min(h0, interval)
+    f1 = np.asarray(compiled.rhs(t0 + h0, y0 + h0 * f0, p), dtype=float)
+    d2 = _rms((f1 - f0) / scale) / h0
+    flat = d1 <= 1e-15 and d2 <= 1e-15
+    h1 = max(1e-6, h0 * 1e-3) if flat else (0.01 / max(d1, d2)) ** (1 / 8)
+    return min(100 * h0, h1, interval)
+
+
+def _rms(x: np.ndarray) -> float:
+    return float(np.linalg.norm(x) / x.size**0.5)
+
+
+def interpolate(t: float, t_old: float, h: float, y_old: np.ndarray, slopes: np.ndarray):
+    """The step's 7th-order interpolant (SciPy's ``Dop853DenseOutput``) at ``t``."""
+    x = (t - t_old) / h
+    y = np.zeros_like(y_old)
+    for i, row in enumerate(slopes[::-1]):
+        y += row
+        y *= x if i % 2 == 0 else 1 - x
+    return y + y_old
+
+
+class _Events:
+    """SciPy's event handling (``solve_ivp``: find_active_events, handle_events) over the
+    steps of a chunk: sign changes of g at the step ends, roots by Brent's method on the
+    step's interpolant, the run stopped at the first terminal one."""
+
+    def __init__(self, events, params, t0, y0, f0):
+        self.events = tuple(events)
+        self.functions = [scipy_event(e, params, t0, y0, f0) for e in self.events]
+        self.values = [function(t0, y0) for function in self.functions]
+        self.times: list[list[float]] = [[] for _ in self.events]
+        self.states: list[list[np.ndarray]] = [[] for _ in self.events]
+
+    def steps(self, t_start, ts, ys, olds, slopes) -> tuple[int, tuple[float, np.ndarray]] | None:
+        """(index of the step that stops, (t, y) where) at the first terminal event, or None."""
+        from scipy.optimize import brentq
+
+        t_old = t_start
+        for k in range(ts.shape[0]):
+            t, y = float(ts[k]), ys[k]
+            new = [function(t, y) for function in self.functions]
+            active = [
+                i for i, event in enumerate(self.events)
+                if _crosses(self.values[i], new[i], event.direction)
+            ]  # fmt: skip
+            self.values = new
+            if active:
+                h = t - t_old
+
+                def at(s, k=k, t_old=t_old, h=h):
+                    return interpolate(s, t_old, h, olds[k], slopes[k])
+
+                roots = []
+                for i in active:
+                    function = self.functions[i]
+                    root = brentq(
+                        lambda s, g=function: g(s, at(s)), t_old, t, xtol=4 * _EPS, rtol=4 * _EPS
+                    )
+                    roots.append((root, i))
+                roots.sort()
+                for root, i in roots:
+                    self.times[i].append(root)
+                    self.states[i].append(at(root))
+                    if self.events[i].terminal:
+                        return k, (root, at(root))
+            t_old = t
+        return None
+
+    def records(self, size: int) -> tuple[EventRecord, ...]:
+        return tuple(
+            EventRecord(
+                event.name,
+                np.array(times, dtype=float),
+                np.stack(states, axis=-1) if states else np.empty((size, 0)),
+            )
+            for event, times, states in zip(self.events, self.times, self.states, strict=True)
+        )
+
+
+def _crosses(before: float, after: float, direction: int) -> bool:
+    """SciPy's find_active_events: g <= 0 <= g_new up, g >= 0 >= g_new down."""
+    up = before <= 0 <= after
+    down = before >= 0 >= after
+    return (up and direction > 0) or (down and direction < 0) or ((up or down) and direction == 0)

@@ -1,0 +1,181 @@
+"""DOP853's step loop in numba, as the text of a generated module.
+
+numba keeps machine code on disk only for functions at the top of a real module
+file, so :mod:`lagrangian.integrate.compiled_dop853` writes, per system, a copy of
+this text into the code cache with the globals between the ``generated`` markers
+filled in (N and the import of the system's generated ``fill`` of M and f, from
+:mod:`lagrangian.codegen.numba`), where ``@njit(cache=True)`` keeps the compiled loop.
+
+    advance(clock, y, f, p, t_end, rtol, atol, dense, t_eval, out, ts, ys, olds, slopes,
+            counts, flags) -> status
+
+is SciPy's ``DOP853._step_impl`` (scipy/integrate/_ivp/rk.py, BSD-3-Clause) for one
+state, repeated: the same coefficients, error norm and step-size control.  It takes
+accepted steps from (t, y, f = y') = (``clock[0]``, ``y``, ``f``) with the next step
+size ``clock[1]`` until t_end or until ``ts`` is full, keeping everything it works on in
+its arguments after every accepted step (so that a ZeroDivisionError, which numba
+raises where NumPy would give inf, leaves them at the last accepted step): the
+step's end into ``ts``/``ys`` at row ``counts[1]``, with ``dense`` its start and
+interpolant into ``olds``/``slopes`` (the rows of F of SciPy's
+``Dop853DenseOutput``) and the interpolant at the times ``t_eval[counts[2]:]`` it
+covers into ``out``.  ``counts[0]`` adds the right-hand side's evaluations,
+``counts[3]`` is 1 while the current step has been rejected; ``flags[0]`` is set to 1
+where an evaluation was not finite.  Status: 0 ``ts`` full, 1 t_end reached, 2 the
+step size fell below 10 ulp of t (SciPy's "Required step size is less than spacing
+between numbers."), 3 an accepted state is not finite.  This module itself is never run.
+"""
+
+import math
+
+import numpy as np
+from numba import njit
+
+from lagrangian.integrate.dop853_tableau import E3, E5, A, B, C, D
+from lagrangian.numeric.numba_linalg import eliminate
+
+# -- generated: begin (each generated module has its own values here) ----------------
+N = 1
+fill = None
+# -- generated: end ------------------------------------------------------------------
+
+SAFETY = 0.9  # SciPy's step-size controller (scipy/integrate/_ivp/rk.py)
+MIN_FACTOR = 0.2
+MAX_FACTOR = 10.0
+EXPONENT = -1.0 / 8.0  # -1 / (error estimator order + 1)
+STAGES = 12
+
+
+@njit(cache=True)
+def derivative(t, y, p, mass, force, out, flags):  # pragma: no cover - compiled by numba
+    """out = y' = [q', q''] at (t, y); flags[0] = 1 where it is not finite."""
+    fill(t, y, p, mass, force)
+    for i in range(N):
+        out[i] = y[N + i]
+    eliminate(mass, force, out, N, N)
+    for i in range(2 * N):
+        if not math.isfinite(out[i]):
+            flags[0] = 1
+
+
+@njit(cache=True)
+def take_stages(first, last, t, h, y, p, stages, stage, mass, force, flags):  # pragma: no cover
+    """Stages first..last-1 of the step of size h from (t, y), rows of ``stages``."""
+    for s in range(first, last):
+        for i in range(2 * N):
+            total = 0.0
+            for j in range(s):
+                total += stages[j, i] * A[s, j]
+            stage[i] = y[i] + total * h
+        derivative(t + C[s] * h, stage, p, mass, force, stages[s], flags)
+
+
+@njit(cache=True)
+def advance(
+    clock, y, f, p, t_end, rtol, atol, dense, t_eval, out, ts, ys, olds, slopes, counts, flags
+):  # pragma: no cover - compiled by numba
+    size = 2 * N
+    stages = np.empty((16, size))
+    stage = np.empty(size)
+    y_new = np.empty(size)
+    mass = np.empty((N, N))
+    force = np.empty(N)
+    interpolant = np.empty((7, size))
+    t = clock[0]
+    h_abs = clock[1]
+    capacity = ts.shape[0]
+    while counts[1] < capacity:
+        if t >= t_end:
+            return 1
+        min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
+        if h_abs < min_step:
+            h_abs = min_step
+        rejected = counts[3] == 1
+        while True:
+            if h_abs < min_step:
+                return 2
+            t_new = t + h_abs
+            if t_new - t_end > 0:
+                t_new = t_end
+            h = t_new - t
+            h_abs = abs(h)
+            for i in range(size):
+                stages[0, i] = f[i]
+            counts[0] += STAGES
+            take_stages(1, STAGES, t, h, y, p, stages, stage, mass, force, flags)
+            for i in range(size):
+                total = 0.0
+                for j in range(STAGES):
+                    total += stages[j, i] * B[j]
+                y_new[i] = y[i] + h * total
+            derivative(t + h, y_new, p, mass, force, stages[STAGES], flags)
+            error5 = 0.0
+            error3 = 0.0
+            for i in range(size):
+                scale = atol + max(abs(y[i]), abs(y_new[i])) * rtol
+                e5 = 0.0
+                e3 = 0.0
+                for j in range(STAGES + 1):
+                    e5 += stages[j, i] * E5[j]
+                    e3 += stages[j, i] * E3[j]
+                error5 += (e5 / scale) ** 2
+                error3 += (e3 / scale) ** 2
+            if error5 == 0.0 and error3 == 0.0:
+                norm = 0.0
+            else:
+                norm = h_abs * error5 / math.sqrt((error5 + 0.01 * error3) * size)
+            if norm < 1.0:
+                factor = MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm**EXPONENT)
+                if rejected:
+                    factor = min(1.0, factor)
+                h_abs *= factor
+                break
+            shrink = SAFETY * norm**EXPONENT
+            h_abs *= shrink if shrink > MIN_FACTOR else MIN_FACTOR  # NaN: MIN_FACTOR
+            rejected = True
+            clock[1] = h_abs
+            counts[3] = 1
+        k = counts[1]
+        if dense:
+            counts[0] += 3
+            take_stages(STAGES + 1, 16, t, h, y, p, stages, stage, mass, force, flags)
+            for i in range(size):
+                delta = y_new[i] - y[i]
+                interpolant[0, i] = delta
+                interpolant[1, i] = h * stages[0, i] - delta
+                interpolant[2, i] = 2 * delta - h * (stages[STAGES, i] + stages[0, i])
+                for r in range(4):
+                    total = 0.0
+                    for j in range(16):
+                        total += D[r, j] * stages[j, i]
+                    interpolant[3 + r, i] = h * total
+                olds[k, i] = y[i]
+                for r in range(7):
+                    slopes[k, r, i] = interpolant[r, i]
+            while counts[2] < t_eval.shape[0] and t_eval[counts[2]] <= t_new:
+                x = (t_eval[counts[2]] - t) / h
+                for i in range(size):
+                    value = 0.0
+                    for r in range(6, -1, -1):
+                        value += interpolant[r, i]
+                        if (6 - r) % 2 == 0:
+                            value *= x
+                        else:
+                            value *= 1 - x
+                    out[counts[2], i] = value + y[i]
+                counts[2] += 1
+        finite = True
+        for i in range(size):
+            y[i] = y_new[i]
+            f[i] = stages[STAGES, i]
+            ys[k, i] = y_new[i]
+            if not math.isfinite(y_new[i]):
+                finite = False
+        t = t_new
+        ts[k] = t
+        clock[0] = t
+        clock[1] = h_abs
+        counts[1] = k + 1
+        counts[3] = 0
+        if not finite:
+            return 3
+    return 0
