@@ -67,6 +67,8 @@ MAKE_IMAGES_FILTER = "modes"
 #: What the docs say a command prints: (command as in the docs, fragments of its output).
 PRINTS = {
     "lagrangian derive rotating_wire_bead": ["r̈ = ω² r"],
+    "lagrangian simulate double_pendulum": ["method: dop853 in SciPy's loop on"],
+    "lagrangian simulate double_pendulum --t-end 1000": ["method: "],
     "lagrangian derive simple_pendulum": ["θ:  l θ̈ + g sin(θ) = 0"],
     "lagrangian analyze simple_pendulum": ["energy = ", "θ = 0: stable", "g/l"],
     "lagrangian derive harmonic_oscillator": ["x:  m ẍ + k x = 0"],

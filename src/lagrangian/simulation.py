@@ -14,11 +14,11 @@ import numpy as np
 from .derive import derive
 from .errors import ModelError, setting
 from .integrate import method_class, simulate
+from .integrate.choice import choose_run
 from .integrate.lyapunov import DEFAULT_INTERVAL, LyapunovSpectrum, lyapunov_spectrum
 from .integrate.pace import RUN_SECONDS, RunPace, watching
 from .integrate.poincare import MAX_ORBITS, PoincareSection, poincare_section, shell_starts
 from .integrate.section import parse_section
-from .integrate.simulate import DEFAULT_METHOD
 from .model import System
 from .model.values import check_parameter_values
 from .numeric import compile_equations, default_backend
@@ -74,35 +74,37 @@ def simulate_system(
     or an initial coordinate / velocity (the CLI's ``--set``); ``progress`` is called with
     the fraction of the time span done (often: throttle it); ``definitions`` give the
     unspecified functions as expressions of their arguments ({"V": "x^2 + y^2"});
-    ``backend`` is the compiled code's (:func:`~lagrangian.numeric.compile_equations`:
-    ``"numba"`` runs the right-hand side as generated machine code; by default
-    :func:`~lagrangian.numeric.default_backend`, ``"llvm"`` where SymEngine has it);
+    ``method`` and ``backend`` (the compiled code's,
+    :func:`~lagrangian.numeric.compile_equations`) left out are chosen for the run by
+    :func:`~lagrangian.integrate.choice.choose_run`: dop853 in SciPy's loop on ``llvm``
+    for short runs, its compiled loop (numba) or heyoka's taylor for long ones;
     ``timeout``: seconds the integration may take (None: no limit), a run that would
     take longer ends with :class:`~lagrangian.integrate.pace.RunTooLong` as soon as
     its pace shows it (:mod:`lagrangian.integrate.pace`)."""
     settings = dict(system.simulate_settings)
     initial, params = split_assignments(system, assignments, initial, params)
-    method = method or settings.get("method") or DEFAULT_METHOD
+    method = method or settings.get("method")
     # The model's defaults apply where they fit the method; the caller's settings always
-    # go through, so a misfit (--dt for an adaptive method) is reported, not ignored.
-    adaptive = method_class(method).adaptive
+    # go through, so a misfit (--dt for an adaptive method) is reported, not ignored.  A
+    # method left to choose is adaptive (dop853 or taylor, integrate.choice).
+    adaptive = method is None or method_class(method).adaptive
     if adaptive:
         rtol = rtol if rtol is not None else settings.get("rtol")
         atol = atol if atol is not None else settings.get("atol")
     else:
         dt = dt if dt is not None else settings.get("dt")
-    chosen = {
-        "t_end": t_end if t_end is not None else settings.get("t_end", DEFAULT_T_END),
-        "method": method,
-        "dt": dt,
-        "rtol": rtol,
-        "atol": atol,
-    }
+    t_final = float(t_end if t_end is not None else settings.get("t_end", DEFAULT_T_END))
+    run = choose_run(
+        derive(system), t_end=t_final, method=method, backend=backend, rtol=rtol, atol=atol,
+        initial=initial, params=params, events=options.get("events", ()), definitions=definitions,
+        every_step=options.get("t_eval") is None and options.get("n_out") is None,
+    )  # fmt: skip
+    chosen = {"t_end": t_final, "method": run.method, "dt": dt, "rtol": run.rtol, "atol": run.atol}
     chosen = {key: value for key, value in chosen.items() if value is not None}
-    compiled, watch = _compiled_run(
-        system, float(chosen["t_end"]), backend, definitions, progress, timeout
-    )
-    return simulate(compiled, initial=initial, params=params, watch=watch, **chosen, **options)
+    return simulate(
+        run.compiled, initial=initial, params=params, watch=_watch(t_final, progress, timeout),
+        choice=run.reason, **chosen, **options,
+    )  # fmt: skip
 
 
 def _compiled_run(
@@ -116,12 +118,17 @@ def _compiled_run(
 ):
     """(the compiled equations, the watch of a run from 0 to ``t_final``: its pace and
     progress; ``describe`` says how far a run got, see :class:`RunPace`)."""
-    pace = None if timeout is None else RunPace((0.0, t_final), timeout, describe=describe)
-    share = None if progress is None else (lambda t: progress(min(1.0, t / t_final)))
     compiled = compile_equations(
         derive(system), backend=backend or default_backend(), definitions=definitions
     )
-    return compiled, watching(pace, share)
+    return compiled, _watch(t_final, progress, timeout, describe)
+
+
+def _watch(t_final: float, progress, timeout, describe=None):
+    """The watch of a run from 0 to ``t_final``: its pace and progress."""
+    pace = None if timeout is None else RunPace((0.0, t_final), timeout, describe=describe)
+    share = None if progress is None else (lambda t: progress(min(1.0, t / t_final)))
+    return watching(pace, share)
 
 
 def lyapunov_of_system(

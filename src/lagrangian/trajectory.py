@@ -218,6 +218,9 @@ class Trajectory:
                 "energy": {"change": self.drift("energy"), "reason": self.energy_not_conserved}
             }
         document["method"] = attrs.get("method")
+        for key in ("backend", "choice"):  # which code ran and why (integrate.choice)
+            if key in attrs:
+                document[key] = str(attrs[key])
         for key in ("rtol", "atol", "dt"):
             if key in attrs:
                 document[key] = float(attrs[key])

@@ -349,7 +349,8 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
 @click.option(
     "--method",
     type=click.Choice(list(METHODS)),
-    help="Integrator (default: the model's, else dop853).",
+    help="Integrator (default: the model's, else chosen for the run's length: dop853, "
+    "its loop compiled for long runs, or taylor where heyoka is installed).",
 )
 @click.option("--dt", type=float, help="Step of the fixed-step methods (rk4, variational).")
 @click.option("--rtol", type=float, help="Relative tolerance of the adaptive methods.")
@@ -366,8 +367,9 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
     "--backend",
     type=click.Choice(sorted(RUN_BACKENDS)),
     default=None,
-    help="Compiled code: llvm (the default where SymEngine has it, else numpy) compiles "
-    "in milliseconds; numba generates machine code, cached on disk (pip install numba).",
+    help="Compiled code (default: chosen with the method): llvm compiles in milliseconds; "
+    "numba generates machine code, cached on disk (pip install numba), and runs dop853's "
+    "whole loop.",
 )
 @click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.csv or FILE.nc.")
 @click.option(
@@ -440,6 +442,8 @@ def simulate(
         f"{system.name}: {summary['method']}, {summary['steps']} steps, "
         f"{summary['wall_time']:.3f} s, {summary['status']}"
     )
+    if "choice" in summary:
+        click.echo(f"method: {summary['choice']}")
     click.echo("final state:")
     for name, value in summary["final_state"].items():
         click.echo(f"  {name} = {value:.12g}")

@@ -1,9 +1,11 @@
 """Integration: one motion of a `CompiledSystem` -> `Trajectory`.
 
 ``simulate(compiled, t_end=..., method=...)`` is the entry point; the methods
-(registry ``METHODS``) are ``dop853`` and ``radau`` (SciPy, adaptive),
+(registry ``METHODS``) are ``dop853`` and ``radau`` (SciPy, adaptive; dop853's loop
+compiled on the numba backend),
 ``rk4`` (fixed step), ``variational`` (fixed step, symplectic) and ``taylor``
-(heyoka's Taylor method, optional: ``pip install ".[taylor]"``).
+(heyoka's Taylor method, optional: ``pip install ".[taylor]"``).  Without a method or
+backend, ``choice.choose_run`` picks them for the run's length.
 """
 
 from .base import AbstractIntegrator, IntegrationResult, Status

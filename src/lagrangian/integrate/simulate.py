@@ -11,7 +11,9 @@ the method, and evaluates the energy, the conserved quantities and the
 multipliers at the output times.
 
 Defaults (all echoed in the trajectory's attributes): method ``dop853``
-(rtol 1e-10, atol 1e-12); ``radau`` rtol 1e-8, atol 1e-10; ``rk4`` and
+(rtol 1e-10, atol 1e-12; its loop compiled on the numba backend, see
+:mod:`.compiled_dop853`; :mod:`.choice` picks method and backend for runs of the CLI
+and ``System.simulate``); ``radau`` rtol 1e-8, atol 1e-10; ``rk4`` and
 ``variational`` dt from the motion's time scale (:mod:`.step_size`: a fixed
 fraction of its period, at most t_end / 1000; a given dt past the method's
 stability limit is refused, a coarse one warned about).  Outputs: ``t_eval`` if given, else
@@ -60,6 +62,7 @@ def simulate(
     t_eval: Sequence[float] | np.ndarray | None = None,
     dt_out: float | None = None,
     watch: Callable[[float], None] | None = None,
+    choice: str | None = None,
 ) -> Trajectory:
     """Integrate ``compiled`` from t = 0 to ``t_end``; see the module docstring.
 
@@ -67,7 +70,8 @@ def simulate(
     ``[initial]`` table, else 0); ``params`` overrides parameter defaults;
     ``method`` is a registered name or a configured integrator instance (then
     ``dt``/``rtol``/``atol`` must be left out); ``watch`` is told the time reached
-    at every step (see :meth:`AbstractIntegrator.solve`).
+    at every step (see :meth:`AbstractIntegrator.solve`); ``choice``: why this method and
+    backend run (:mod:`.choice`), kept in the trajectory's attributes.
     """
     t_span = check_time_span((0.0, t_end))
     if isinstance(method, AbstractIntegrator):
@@ -100,7 +104,10 @@ def simulate(
         )
         wall_time = time.perf_counter() - start
         values = dict(zip(compiled.parameter_names, p.tolist(), strict=True))
-        return trajectory_of(compiled, result, p, parameters=values, wall_time=wall_time)
+        trajectory = trajectory_of(compiled, result, p, parameters=values, wall_time=wall_time)
+    if choice is not None:
+        trajectory.dataset.attrs["choice"] = choice
+    return trajectory
 
 
 def _check_memory(integrator, t_span, state_size, outputs: int) -> None:
@@ -185,6 +192,7 @@ def trajectory_of(
     attrs: dict[str, object] = {
         "model": getattr(system, "name", ""),
         **result.settings,
+        "backend": compiled.backend,
         "status": result.status.value,
         "message": result.message,
         "steps": result.steps,

@@ -203,16 +203,23 @@ def _tolerance(name: str, value: float) -> float:
 def _check_definite(compiled: CompiledSystem, t: float, y: np.ndarray, params: np.ndarray) -> None:
     """ModelError unless M at (t, y) is definite, as the elimination without pivoting needs
     (see the module docstring)."""
+    problem = indefinite_mass(compiled, t, y, params)
+    if problem is not None:
+        raise ModelError(problem)
+
+
+def indefinite_mass(
+    compiled: CompiledSystem, t: float, y: np.ndarray, params: np.ndarray
+) -> str | None:
+    """Why M at (t, y) is not the definite matrix the taylor method needs, or None."""
     n = compiled.n
     mass = np.asarray(compiled.mass_matrix(t, y[:n], y[n:], params), dtype=float)
     if not np.all(np.isfinite(mass)):
-        raise ModelError(
-            f"the mass matrix is not finite at the initial state ({describe_state(compiled, y)})"
-        )
+        return f"the mass matrix is not finite at the initial state ({describe_state(compiled, y)})"
     eigenvalues = np.linalg.eigvalsh((mass + mass.T) / 2)
     if eigenvalues[0] > 0 or eigenvalues[-1] < 0:
-        return
-    raise ModelError(
+        return None
+    return (
         "method 'taylor' solves M q'' = f without pivoting, which needs a definite mass "
         f"matrix M (as a kinetic energy gives), and M at the initial state is not "
         f"(eigenvalues from {eigenvalues[0]:.3g} to {eigenvalues[-1]:.3g}): use dop853"

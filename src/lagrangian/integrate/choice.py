@@ -1,0 +1,249 @@
+"""The method and backend of a single run, when the user names neither: the fastest at the
+requested accuracy for the run's length.
+
+Three ways to run the default accuracy (DOP853's rtol 1e-10, atol 1e-12, or the
+tolerances given) differ in what they cost before the first step and per step
+(measured, benchmarks/user_paths.py; figures in benchmarks/README.md):
+
+- ``dop853`` in SciPy's loop on the ``llvm`` backend: code in milliseconds, then
+  about 100 us of Python per step around 12 evaluations of the right-hand side;
+- ``dop853`` with its loop compiled (:mod:`.compiled_dop853`, backend ``numba``):
+  seconds of numba compilation the first time a system runs (its machine code is
+  then cached on disk and loads in a fraction of a second), then about 1 us per
+  step for small systems: 100-400x SciPy's loop;
+- ``taylor`` (heyoka, where installed and applicable: no events, no constraints, a
+  definite mass matrix), at tol = min(rtol, atol): its import and build take a
+  fraction of a second for small systems, more for large ones, and it then runs
+  2-3x faster than the compiled DOP853 with errors 30-200x smaller.
+
+So the run's length decides, and to know it the first :data:`PROBE_STEPS` steps of
+SciPy's DOP853 are taken (a few milliseconds): the step size they reach, over the
+time span, estimates the steps of the whole run; each way's cost is its start-up
+plus that many steps at its pace (the constants below, per coordinate count n).
+The estimate is deterministic for a given system, state and tolerance, except that a
+loop found in the code cache costs less to start.  The cheapest runs; the reason is
+one line, echoed in the run's summary (``choice``).  Where a way does not apply
+(constraints: the SciPy loop integrates the stabilised equations; numba or heyoka
+not installed; events for heyoka), that line says so.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+import warnings
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import ModelError
+from .compiled_dop853 import compiled_loop, compiled_ready, numba_installed
+from .guard import start_problem
+from .scipy_methods import MIN_RTOL, Dop853
+
+if TYPE_CHECKING:
+    from ..derive import EquationsOfMotion
+    from ..numeric.compiled import CompiledSystem
+    from .events import Event
+
+#: SciPy steps taken to estimate the step size of the run.
+PROBE_STEPS = 40
+
+
+def scipy_step_seconds(n: int) -> float:
+    """Seconds per step of SciPy's DOP853 on the llvm backend: about 0.75 ms of Python and
+    NumPy calls around 12 evaluations (0.8 s for the double pendulum's 819 steps to t = 20,
+    0.6 s for a 10-link chain's 828 to t = 10)."""
+    return 7.5e-4 + 12 * 2.5e-7 * n * n
+
+
+def compiled_step_seconds(n: int) -> float:
+    """Seconds per step of the compiled DOP853 loop (12 evaluations of generated code)."""
+    return 12 * (1e-7 + 2e-8 * n * n)
+
+
+def numba_start_seconds(n: int, cached: bool) -> float:
+    """Seconds before the compiled loop's first step: generate and compile (1.4 s for the
+    double pendulum's M and f, 3.5 s for a 10-link chain's, then the loop), or load the
+    machine code from the code cache."""
+    return 0.8 if cached else 3.0 + 0.05 * n * n
+
+
+def taylor_start_seconds(n: int) -> float:
+    """Seconds to import heyoka (about 0.3 s) and build its integrator (0.1-0.3 s for the
+    double pendulum, 1.3-1.6 s for a 10-link chain)."""
+    return 0.6 + 0.015 * n * n
+
+
+#: heyoka's integration time relative to the compiled DOP853 at the same tolerance, and
+#: its steps relative to DOP853's (larger steps of a higher order).
+TAYLOR_PACE, TAYLOR_STEPS = 0.4, 0.6
+#: Seconds of Python per taylor step where every step is an output (no t_eval / n_out).
+TAYLOR_STEP_OUTPUT = 2e-5
+
+
+#: A way that must compile first is chosen over SciPy's loop only when its estimate is this
+#: many times smaller: near a tie the estimates cannot tell, and SciPy's loop starts at once.
+SWITCH_MARGIN = 1.5
+
+
+@dataclass(frozen=True)
+class RunChoice:
+    """The compiled system to run, the method and tolerances to run it with, and why."""
+
+    compiled: CompiledSystem
+    method: str
+    rtol: float | None
+    atol: float | None
+    reason: str
+
+
+def choose_run(
+    eom: EquationsOfMotion,
+    *,
+    t_end: float,
+    method: str | None,
+    backend: str | None,
+    rtol: float | None,
+    atol: float | None,
+    initial: Mapping[str, float],
+    params: Mapping[str, float],
+    events: Sequence[Event] = (),
+    definitions: Mapping[str, str] | None = None,
+    every_step: bool = True,
+) -> RunChoice:
+    """The run's method and backend (see the module docstring); those given are kept.
+    ``every_step``: the outputs are the method's steps (no ``t_eval`` / ``n_out``)."""
+    from ..numeric import compile_equations, default_backend
+
+    def compiled_on(name: str) -> CompiledSystem:
+        return compile_equations(eom, backend=name, definitions=definitions)
+
+    too_tight = rtol is not None and rtol < MIN_RTOL  # dop853 refuses it, saying why
+    if method not in (None, "dop853") or backend is not None or too_tight:
+        chosen = method or "dop853"
+        compiled = compiled_on(backend or default_backend())
+        how = " with its loop compiled" if _compiled_loop_applies(chosen, compiled) else ""
+        asked = " and ".join(
+            name for name, value in (("method", method), ("backend", backend)) if value
+        )
+        why = f"the {asked} asked for" if asked else "the default"
+        return RunChoice(
+            compiled, chosen, rtol, atol, f"{chosen}{how} on {compiled.backend}: {why}"
+        )
+    quick = compiled_on(default_backend())
+    rtol = Dop853.DEFAULT_RTOL if rtol is None else rtol
+    atol = Dop853.DEFAULT_ATOL if atol is None else atol
+
+    def scipy_loop(why: str) -> RunChoice:
+        return RunChoice(
+            quick, "dop853", rtol, atol, f"dop853 in SciPy's loop on {quick.backend}: {why}"
+        )
+
+    if quick.has_constraints:
+        return scipy_loop("the compiled loop and taylor do not take constraints")
+    if quick.program is None:
+        return scipy_loop("functions given by hand, no code to generate")
+    y0, p = quick.state_vector(initial), quick.parameter_vector(params)
+    steps = estimated_steps(quick, (0.0, float(t_end)), y0, p, rtol, atol)
+    n = quick.n
+    costs = {"scipy": steps * scipy_step_seconds(n)}
+    notes, fast = [], None
+    if numba_installed():
+        fast = compiled_on("numba")
+        start = numba_start_seconds(n, cached=compiled_ready(fast))
+        costs["compiled loop"] = start + steps * compiled_step_seconds(n)
+    else:
+        notes.append("numba is not installed (the compiled loop)")
+    if method is None and importlib.util.find_spec("heyoka") is not None:
+        problem = _taylor_problem(quick, y0, p, events)
+        if problem is None:
+            pace = TAYLOR_PACE * steps * compiled_step_seconds(n)
+            if every_step:  # its steps are taken one Python call at a time
+                pace += TAYLOR_STEPS * steps * TAYLOR_STEP_OUTPUT
+            costs["taylor"] = taylor_start_seconds(n) + pace
+        else:
+            notes.append(f"taylor {problem}")
+    best = min(costs, key=lambda way: costs[way] * (1.0 if way == "scipy" else SWITCH_MARGIN))
+    estimates = ", ".join(f"{way} ~{costs[way]:.2g} s" for way in costs)
+    why = f"about {_count(steps)} steps: {estimates}" + "".join(f"; {note}" for note in notes)
+    if best == "scipy":
+        return scipy_loop(why)
+    if best == "compiled loop":
+        try:  # the loop's text is generated now (its compilation waits for the run)
+            compiled_loop(fast)
+        except ModelError as error:  # equations numba's printer cannot write
+            return scipy_loop(f"{why}; the compiled loop cannot be generated: {error}")
+        return RunChoice(
+            fast, "dop853", rtol, atol, f"dop853 with its loop compiled (numba): {why}"
+        )
+    tol = min(rtol, atol)
+    return RunChoice(quick, "taylor", rtol, atol, f"taylor (heyoka, tol {tol:g}): {why}")
+
+
+def _compiled_loop_applies(method: str, compiled: CompiledSystem) -> bool:
+    """Whether dop853 on ``compiled`` runs the compiled loop (without building it)."""
+    return (
+        method == "dop853"
+        and compiled.backend == "numba"
+        and not compiled.has_constraints
+        and compiled.program is not None
+    )
+
+
+def estimated_steps(
+    compiled: CompiledSystem,
+    t_span: tuple[float, float],
+    y0: np.ndarray,
+    params: np.ndarray,
+    rtol: float,
+    atol: float,
+) -> float:
+    """The steps DOP853 takes over ``t_span``: the first :data:`PROBE_STEPS`, then the rest
+    at the mean size of the later half of them (1 where the start cannot be stepped from)."""
+    from scipy.integrate import DOP853
+
+    t0, t1 = t_span
+    if start_problem(compiled, t0, np.asarray(y0, dtype=float), params) is not None:
+        return 1.0  # SciPy's first step would be NaN and its loop endless; the run says why
+    with np.errstate(all="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            solver = DOP853(
+                lambda t, y: compiled.rhs(t, y, params), t0, np.array(y0, dtype=float), t1,
+                rtol=max(rtol, MIN_RTOL), atol=atol,
+            )  # fmt: skip
+            times = [t0]
+            if not math.isfinite(solver.h_abs):
+                return 1.0
+            while len(times) <= PROBE_STEPS and solver.status == "running":
+                solver.step()
+                times.append(solver.t)
+        except (ArithmeticError, ValueError):
+            return 1.0
+    taken = len(times) - 1
+    if solver.status != "running" or taken < 2:
+        return float(max(taken, 1))
+    half = taken // 2
+    size = (times[-1] - times[half]) / (taken - half)
+    if not math.isfinite(size) or size <= 0:
+        return float(taken)
+    return taken + (t1 - times[-1]) / size
+
+
+def _taylor_problem(compiled, y0, params, events) -> str | None:
+    """Why the taylor method does not apply to this run, or None."""
+    from .taylor import indefinite_mass
+
+    if events:
+        return "does not watch events"
+    with np.errstate(all="ignore"):
+        if indefinite_mass(compiled, 0.0, y0, params) is not None:
+            return "needs a definite mass matrix"
+    return None
+
+
+def _count(steps: float) -> str:
+    return f"{steps:,.0f}" if steps < 1e6 else f"{steps:.1e}"

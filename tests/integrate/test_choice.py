@@ -1,0 +1,89 @@
+"""The default method and backend of a single run, chosen by the run's length (integrate.choice)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+import lagrangian as lg
+from lagrangian.cli import ExitStatus, main
+from lagrangian.integrate import choice as choice_module
+from lagrangian.integrate import simulate
+from lagrangian.integrate.choice import choose_run, estimated_steps
+from lagrangian.integrate.events import Event
+from lagrangian.numeric import compile_equations
+
+DOUBLE = lg.load("double_pendulum").equations_of_motion()
+START = {"theta1": 2.0, "theta2": 0.5}
+
+
+def choose(eom=DOUBLE, t_end=20.0, **given):
+    settings = {"method": None, "backend": None, "rtol": None, "atol": None, "params": {}}
+    settings.update(given)
+    settings.setdefault("initial", START)
+    return choose_run(eom, t_end=t_end, **settings)
+
+
+def test_the_probe_estimates_the_steps_dop853_takes():
+    compiled = compile_equations(DOUBLE, backend="numpy")
+    y0, p = compiled.state_vector(START), compiled.parameter_vector()
+    taken = simulate(compiled, t_end=20.0, initial=START).dataset.attrs["steps"]
+    estimate = estimated_steps(compiled, (0.0, 20.0), y0, p, 1e-10, 1e-12)
+    assert taken / 1.5 < estimate < 1.5 * taken
+    assert estimated_steps(compiled, (0.0, 20.0), y0, p, 1e-10, 1e-12) == estimate  # no clock
+
+
+def test_a_short_run_takes_scipys_loop_at_once():
+    run = choose()
+    assert run.method == "dop853"
+    assert run.compiled.backend in ("llvm", "numpy")
+    assert run.reason.startswith(f"dop853 in SciPy's loop on {run.compiled.backend}: about ")
+    assert (run.rtol, run.atol) == (1e-10, 1e-12)
+
+
+def test_a_long_run_with_events_compiles_dop853s_loop():
+    pytest.importorskip("numba")
+    run = choose(t_end=1e5, events=(Event(lambda t, y, p: y[0]),))
+    assert run.method == "dop853"
+    assert run.compiled.backend == "numba"
+    assert run.reason.startswith("dop853 with its loop compiled (numba): about ")
+    assert run.reason.count("\n") == 0
+
+
+def test_without_numba_a_long_run_says_what_is_missing(monkeypatch):
+    monkeypatch.setattr(choice_module, "numba_installed", lambda: False)
+    run = choose(t_end=1e5, events=(Event(lambda t, y, p: y[0]),))
+    assert run.method == "dop853" and run.compiled.backend != "numba"
+    assert "numba is not installed (the compiled loop)" in run.reason
+    assert "taylor does not watch events" in run.reason or "taylor" not in run.reason
+
+
+def test_constraints_keep_scipys_loop_and_say_why():
+    eom = lg.load("cartesian_pendulum").equations_of_motion()
+    run = choose(eom, t_end=1e4, initial={})
+    assert run.method == "dop853"
+    assert run.reason.endswith("the compiled loop and taylor do not take constraints")
+
+
+def test_a_method_or_backend_given_is_kept():
+    run = choose(method="rk4")
+    assert run.method == "rk4"
+    assert run.reason.endswith(": the method asked for")
+    run = choose(backend="numpy")
+    assert (run.method, run.compiled.backend) == ("dop853", "numpy")
+    assert run.reason == "dop853 on numpy: the backend asked for"
+
+
+def test_the_summary_says_which_method_and_backend_ran_and_why(capsys):
+    status = main(["simulate", "harmonic_oscillator", "--t-end", "2", "--json"])
+    summary = json.loads(capsys.readouterr().out)
+    assert status == ExitStatus.SUCCESS
+    assert summary["method"] == "dop853"
+    assert summary["backend"] in ("llvm", "numpy")
+    assert summary["choice"].startswith(f"dop853 in SciPy's loop on {summary['backend']}")
+    assert main(["simulate", "harmonic_oscillator", "--t-end", "2"]) == ExitStatus.SUCCESS
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[1] == f"method: {summary['choice']}"
+    assert np.isfinite(summary["final_state"]["x"])
