@@ -50,6 +50,10 @@ def _choices(command: str, option: str) -> list[str]:
         ("ensemble", "backend", ensemble_core.BACKENDS),
         ("ensemble", "precision", ensemble_core.PRECISIONS),
         ("export", "to", LANGUAGES),
+        ("lyapunov", "backend", RUN_BACKENDS),
+        ("poincare", "backend", RUN_BACKENDS),
+        ("bifurcation", "method", ensemble_core.METHODS),
+        ("bifurcation", "backend", ensemble_core.BACKENDS),
     ],
 )
 def test_choices_are_the_registries(command, option, registry):
@@ -119,3 +123,11 @@ def test_every_language_exports(capsys, tmp_path, language):
     out = tmp_path / ("model" + LANGUAGES[language].suffix)
     _run(capsys, "export", MODEL, "--to", language, "--out", str(out))
     assert out.read_text().strip()
+
+
+@pytest.mark.parametrize("backend", sorted(RUN_BACKENDS))
+def test_every_backend_gives_a_lyapunov_spectrum(capsys, backend):
+    summary = json.loads(
+        _run(capsys, "lyapunov", MODEL, "--t-end", "2", "--backend", backend, "--json")
+    )
+    assert summary["sum"] == pytest.approx(0.0, abs=1e-7)  # a conservative flow keeps volume
