@@ -17,12 +17,16 @@ import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import ModelError
 from ..files import write_csv
 from ..integrate.base import positive_setting
+
+if TYPE_CHECKING:
+    from ..numeric.compiled import CompiledSystem
 
 #: Steps of the fixed-step method per strobe period, unless told.
 DEFAULT_STEPS_PER_PERIOD = 200
@@ -61,7 +65,7 @@ class BifurcationDiagram:
 
 
 def bifurcation_diagram(
-    compiled,
+    compiled: CompiledSystem,
     *,
     parameter: str,
     values: object,

@@ -22,6 +22,7 @@ import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -32,6 +33,9 @@ from .events import Event
 from .memory import check_fits, count_text, run_bytes
 from .scipy_methods import Dop853
 from .section import Section, axis_values, state_names
+
+if TYPE_CHECKING:
+    from ..numeric.compiled import CompiledSystem
 
 #: The most orbits of one section (each is a run of its own: more would take days).
 MAX_ORBITS = 100_000
@@ -104,7 +108,7 @@ class PoincareSection:
 
 
 def poincare_section(
-    compiled,
+    compiled: CompiledSystem,
     starts: np.ndarray,
     *,
     axes: Sequence[str],
@@ -193,7 +197,7 @@ def poincare_section(
 
 
 def shell_starts(
-    compiled,
+    compiled: CompiledSystem,
     section: Section,
     energy: float,
     count: int,
