@@ -254,11 +254,19 @@ def poincare(
     help="N values of the parameter NAME from LO to HI.",
 )
 @click.option("--strobe", type=float, required=True, metavar="PERIOD", help="Strobe period.")
-@click.option("--axis", "variable", required=True, help="The coordinate or velocity drawn.")
+@click.option(
+    "--axis", "variable", required=True, metavar="NAME", help="The coordinate or velocity drawn."
+)
 @click.option("--transient", type=float, default=0.0, show_default=True, help="Time dropped first.")
 @click.option("--samples", type=int, help="Points kept per value (default 100).")
 @click.option("--steps-per-period", type=int, help="Fixed steps per period (default 200).")
-@click.option("--method", type=click.Choice(list(METHODS)), default="rk4", show_default=True)
+@click.option(
+    "--method",
+    type=click.Choice(list(METHODS)),
+    default="rk4",
+    show_default=True,
+    help="Fixed-step method of the runs.",
+)
 @click.option(
     "--backend",
     type=click.Choice(list(BACKENDS)),
