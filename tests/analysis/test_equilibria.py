@@ -214,3 +214,32 @@ def test_the_symbolic_solve_forks_quietly_after_jax_started_its_threads():
     jnp.ones(3).sum().block_until_ready()  # XLA's thread pools are running now
     found = lg.load("simple_pendulum").equilibria()
     assert sorted(round(float(e.point["theta"]), 9) for e in found) == [0.0, round(math.pi, 9)]
+
+
+def test_a_coordinate_singularity_is_not_an_equilibrium():
+    # spherical coordinates with a horizontal axis: at theta = 0 the bob is at (l, 0, 0),
+    # sideways; G = 0 there only because phi names nothing (issue 22: a gimbal lock)
+    system = lg.System.from_particles(
+        ["theta", "phi"],
+        particles=[
+            Particle("bob", "m", ("l*cos(theta)", "l*sin(theta)*cos(phi)", "l*sin(theta)*sin(phi)"))
+        ],
+        gravity=Gravity("g", (0, 0, -1)),
+        parameters={"m": 1.0, "l": 1.0, "g": 9.81},
+    )
+    points = system.equilibria()
+    assert {(str(e.point["theta"]), str(e.point["phi"])) for e in points} == {
+        ("pi/2", "pi/2"), ("3*pi/2", "pi/2"), ("pi/2", "3*pi/2"), ("3*pi/2", "3*pi/2"),
+    }  # fmt: skip
+    analysis = system.analyze(timeout=None)
+    assert "equilibria: theta = 0, phi = 0 is a singular point of the coordinates (phi " \
+        "degenerate there), not an equilibrium" in " ".join(analysis.notes)  # fmt: skip
+
+
+def test_the_singular_points_of_a_top_that_are_at_rest_stay_equilibria():
+    # zxz Euler angles are singular at theta = 0 and pi, where the top stands and hangs
+    top, hanging = lg.load("heavy_top").equilibria()
+    assert (top.point["theta"], hanging.point["theta"]) == (0, sympy.pi)
+    assert top.modes.stability.value == "unstable"
+    assert hanging.modes.stability.value == "marginal"  # the turn about the vertical: 0
+    assert set(hanging.degenerate) == {"phi", "psi"}

@@ -58,7 +58,7 @@ from .continua import grouped
 from .linear import NormalModes, Stability, linearize
 from .neutral import free_coordinates, representative, zero_mode_names
 from .search import RootSearch
-from .singular import Reduced, regular_modes
+from .singular import Reduced, at_rest_under_every_name, regular_modes
 
 #: Share of a stage's remaining time for SymPy's solve (the numerical search gets the rest).
 SYMBOLIC_SHARE = 0.5
@@ -91,6 +91,9 @@ class Equilibrium:
     at_defaults: bool = False
     stability_condition: sympy.Basic | None = None
     family_dimension: int = 0  # free directions of a family found numerically (.continua)
+    # G = 0 only under these names of a configuration the coordinates are singular at:
+    # not an equilibrium (a gimbal lock; see .singular.at_rest_under_every_name)
+    coordinate_singularity: bool = False
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "point", MappingProxyType(dict(self.point)))
@@ -128,7 +131,8 @@ def equilibria(eom: EquationsOfMotion, *, timeout: float = 10.0) -> tuple[Equili
     >>> [dict(e.point) for e in equilibria(lg.load("simple_pendulum").equations_of_motion())]
     [{'theta': 0}, {'theta': pi}]
     """
-    return tuple(with_modes(eom, rest) for rest in rest_points(eom, timeout=timeout))
+    found = (with_modes(eom, rest) for rest in rest_points(eom, timeout=timeout))
+    return tuple(e for e in found if not e.coordinate_singularity)
 
 
 @dataclass(frozen=True)
@@ -153,7 +157,7 @@ def with_modes(eom: EquationsOfMotion, rest: RestPoint) -> Equilibrium:
         return Equilibrium({}, False, modes, zero_modes=_everywhere_names(eom, modes))
     free = free_coordinates(eom, rest.point)
     member = representative(eom, rest.point, free) if free else dict(rest.point)
-    modes, degenerate, linear = _modes(eom, member, rest.numeric)
+    modes, degenerate, linear, singularity = _modes(eom, member, rest.numeric)
     zero = ()
     if linear is not None and any(_is_zero_root(w) for w in modes.omega_squared):
         family = len(free) or rest.dimension
@@ -170,6 +174,7 @@ def with_modes(eom: EquationsOfMotion, rest: RestPoint) -> Equilibrium:
         at_defaults=verdict.at_defaults,
         stability_condition=verdict.condition,
         family_dimension=rest.dimension,
+        coordinate_singularity=singularity,
     )
 
 
@@ -238,23 +243,24 @@ def _flat(system: System, rest: Mapping) -> bool:
 
 def _modes(
     eom: EquationsOfMotion, point: Mapping[str, sympy.Expr], numeric: bool
-) -> tuple[NormalModes, tuple[str, ...], Reduced | None]:
-    """(modes, degenerate coordinates, the linearization in the directions used) about
-    ``point``."""
+) -> tuple[NormalModes, tuple[str, ...], Reduced | None, bool]:
+    """(modes, degenerate coordinates, the linearization in the directions used, whether
+    the point is only a coordinate singularity) about ``point``."""
     at = dict(point)
     if numeric:
         at |= {name: sympy.Float(v) for name, v in eom.system.parameter_values.items()}
     try:
         linear = linearize(eom, at, check=not numeric)
     except ModelError as error:
-        return NormalModes.undetermined(str(error)), (), None
+        return NormalModes.undetermined(str(error)), (), None, False
     modes = linear.normal_modes()
     if modes.stability is Stability.UNDETERMINED and "singular" in modes.note:
         regular = regular_modes(linear)
         if regular is not None:
-            return regular
+            return (*regular, not at_rest_under_every_name(eom, linear))
     damped = not linear.dissipative.is_zero_matrix
-    return modes, (), Reduced(linear.stiffness, sympy.eye(len(eom.system.coordinates)), damped)
+    identity = sympy.eye(len(eom.system.coordinates))
+    return modes, (), Reduced(linear.stiffness, identity, damped), False
 
 
 def _modes_everywhere(eom: EquationsOfMotion) -> NormalModes:

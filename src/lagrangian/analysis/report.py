@@ -117,6 +117,8 @@ def analyze(
         rest = stage("equilibria", rest_points, eom)
         if rest is not None:
             points = _with_modes(eom, rest, stage)
+            notes += [_singularity_note(e) for e in points if e.coordinate_singularity]
+            points = tuple(e for e in points if not e.coordinate_singularity)
             if not points and not eom.system.is_autonomous:
                 notes.append("equilibria: none in general, the system depends explicitly on t")
     reduction, steady = None, ()
@@ -125,6 +127,17 @@ def analyze(
     if reduction is not None:
         steady = stage("steady motions", _steady, reduction, notes) or ()
     return Analysis(eom, conservation, h, points, reduction, steady, tuple(notes), tuple(undecided))
+
+
+def _singularity_note(e: Equilibrium) -> str:
+    """What a point where G = 0 only by the coordinates' names is, said apart."""
+    point = ", ".join(f"{name} = {value}" for name, value in e.point.items())
+    names = ", ".join(e.degenerate)
+    return (
+        f"equilibria: {point} is a singular point of the coordinates ({names} degenerate "
+        f"there), not an equilibrium: the same configuration under other values of {names} "
+        "is not at rest"
+    )
 
 
 def _or_note(notes: list[str], name: str, work, *arguments):

@@ -23,6 +23,8 @@ from dataclasses import dataclass
 
 import sympy
 
+from ..algebra import as_expression
+from ..model import RigidBody
 from .linear import LinearizedSystem, NormalModes
 
 
@@ -91,3 +93,73 @@ def regular_modes(
         degenerate,
         Reduced(regular.stiffness, basis, not regular.dissipative.is_zero_matrix),
     )
+
+
+#: Steps along a null direction of M0 at which a singular point is tried under other names.
+FIBER_STEPS = (0.7, -1.3, 2.1)
+
+
+def at_rest_under_every_name(eom, linear: LinearizedSystem) -> bool:
+    """Whether the configuration of a singular rest point is at rest under all its names.
+
+    Where the coordinates are singular one configuration has many names: moving along
+    a null vector n of M0 moves nothing (phi at the pole of spherical coordinates,
+    phi - psi at theta = 0 of Euler angles).  A configuration at rest is at rest under
+    each name, so the forces at rest G(q0 + s n) vanish for every s; where they do
+    not, G(q0) = 0 was an accident of the names (a gimbal lock), not an equilibrium:
+    a bob at the pole of spherical coordinates whose axis is horizontal.
+
+    Checked at a few s, at the default parameter values, where the particles' and
+    bodies' positions show that q0 + s n is the same configuration; True (an
+    equilibrium, as G(q0) = 0 says) when that cannot be shown.
+    """
+    system = eom.system
+    values = {p.symbol: sympy.Float(v) for p, v in _values(system, linear).items()}
+    if len(values) < len(system.parameters):
+        return True
+    rest = {c.q_dot: 0 for c in system.coordinates}
+    forces = [g.xreplace(rest).xreplace(values) for g in eom.forcing]
+    q0 = [as_expression(linear.point.get(c.name, 0)) for c in system.coordinates]
+    names = [c.q for c in system.coordinates]
+    here = _configuration(system, dict(zip(names, q0, strict=True)), values)
+    if here is None:
+        return True
+    for direction in degenerate_directions(linear):
+        for step in FIBER_STEPS:
+            named = {
+                c.q: x + step * d.xreplace(values)
+                for c, x, d in zip(system.coordinates, q0, direction, strict=True)
+            }
+            there = _configuration(system, named, values)
+            if there is None or max(abs(a - b) for a, b in zip(here, there, strict=True)) > 1e-9:
+                return True  # not the same configuration: the names say nothing more
+            pushed = [complex(g.xreplace(named).evalf()) for g in forces]
+            if max(abs(g) for g in pushed) > 1e-9:
+                return False
+    return True
+
+
+def _values(system, linear: LinearizedSystem) -> dict:
+    """Parameter -> value: the point's own, else the defaults."""
+    given = {**system.parameter_values, **linear.values}
+    return {p: given[p.name] for p in system.parameters if p.name in given}
+
+
+def _configuration(system, named: dict, values: dict) -> list[float] | None:
+    """Every particle's position and every body's placement at the coordinates ``named``
+    (at t = 0), as numbers; None where the model has no geometry or they are not numbers."""
+    parts: list[sympy.Expr] = []
+    for particle in system.particles:
+        parts += particle.position
+    for body in system.bodies:
+        if isinstance(body, RigidBody):
+            parts += [*body.position, *(x for row in body.rotation for x in row)]
+        else:
+            parts += [*body.center, sympy.cos(body.angle), sympy.sin(body.angle)]
+    if not parts:
+        return None
+    at = {**named, **values, system.time: 0}
+    numbers = [as_expression(x).xreplace(at).evalf() for x in parts]
+    if not all(x.is_number for x in numbers):
+        return None
+    return [complex(x) for x in numbers]
