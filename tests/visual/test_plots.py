@@ -187,3 +187,13 @@ def test_trajectory_html_summary(pendulum_run):
         "1001 samples",
     ):
         assert text in page
+
+
+def test_trajectory_html_says_the_energy_is_not_conserved_and_why(pendulum_run):
+    pendulum_run.dataset.attrs["energy_not_conserved"] = "dissipation"
+    try:
+        page = trajectory_html(pendulum_run)
+    finally:
+        del pendulum_run.dataset.attrs["energy_not_conserved"]
+    assert "drift of energy" not in page
+    assert "change of energy $h$, not conserved" in page and "(dissipation)" in page

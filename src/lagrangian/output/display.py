@@ -81,6 +81,9 @@ def trajectory_html(trajectory: Trajectory) -> str:
         for name, value in trajectory.drifts().items():
             shown = "energy $h$" if name == "energy" else f"${latex_name(name)}$"
             rows.append((f"drift of {shown}", f"{value:.3e}"))
+        if trajectory.energy_not_conserved:  # its change is physics, not drift
+            change = f"{trajectory.drift('energy'):.3e} ({trajectory.energy_not_conserved})"
+            rows.append(("change of energy $h$, not conserved", change))
     body = "\n".join(
         f'<tr><th style="text-align:left">{html.escape(key)}</th>'
         f'<td style="text-align:left">{html.escape(value)}</td></tr>'
