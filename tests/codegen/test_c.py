@@ -33,12 +33,12 @@ def test_elimination_solves_and_flags_singular_matrices(precision, n, compiler, 
     solve = built(text, tmp_path, compiler).solve
     dtype = np.float32 if precision == "float32" else np.float64
     pointer = ctypes.POINTER(ctypes.c_float if precision == "float32" else ctypes.c_double)
-    solve.argtypes, solve.restype = [pointer] * 3, ctypes.c_int
+    solve.argtypes, solve.restype = [pointer] * 3 + [ctypes.c_int], ctypes.c_int
 
     def run(matrix, rhs):
-        a, b = (np.ascontiguousarray(v, dtype=dtype) for v in (matrix, rhs))
+        a, b = (np.array(v, dtype=dtype) for v in (matrix, rhs))  # copies: both overwritten
         x = np.empty(n, dtype=dtype)
-        status = solve(*(v.ctypes.data_as(pointer) for v in (a, b, x)))
+        status = solve(*(v.ctypes.data_as(pointer) for v in (a, b, x)), 0)
         return status, x
 
     matrix = np_rng.uniform(-1, 1, (n, n)) + np.diag(np_rng.uniform(-1, 1, n))

@@ -147,7 +147,7 @@ def _loops(compiled):
     return {
         key[2]: value
         for key, value in code_cache._BUILT.items()
-        if key[:2] == (compiled.forms.fingerprint, "numba-ensemble")
+        if key[:2] == (compiled.forms.fingerprint, "numba-loop")
     }
 
 

@@ -1,4 +1,6 @@
-"""The compiled midpoint step of one state (integrate/midpoint_step.py) against the batch step.
+"""The midpoint step of one state against the batch step: the lambdified fillers of the
+numpy backend (integrate/midpoint_step.py) and the compiled loop of the numba backend
+(integrate/compiled_loop.py, the step printed from codegen/steps.py).
 
 The batch step (``Variational._midpoint`` over the NumPy functions) is the reference:
 the same iteration on the same equations, so the two agree to rounding, with the
@@ -11,6 +13,7 @@ import numpy as np
 import pytest
 
 import lagrangian as lg
+from lagrangian.integrate.compiled_loop import compiled_loop
 from lagrangian.integrate.midpoint_step import midpoint_functions
 from lagrangian.integrate.variational import Variational
 from lagrangian.numeric import compile_equations
@@ -39,7 +42,12 @@ def _runs(compiled, y0, t_end=2.0, dt=0.01):
 def test_one_state_step_equals_the_batch_step(backend, model):
     system = lg.load(model) if model == "double_pendulum" else DRIVEN
     compiled = compile_equations(system.equations_of_motion(), backend=backend)
-    assert midpoint_functions(compiled) is not None
+    integrator = Variational(dt=0.01)
+    loop = compiled_loop(
+        compiled, integrator.printed_scheme(compiled), integrator.newton_settings()
+    )
+    assert (loop is not None) == (backend == "numba")
+    assert (midpoint_functions(compiled) is not None) == (backend == "numpy")
     start = {"theta1": 2.0, "theta2": 0.5} if model == "double_pendulum" else {"x": 0.3, "phi": 1}
     y0 = compiled.state_vector(start)
     one, batch = _runs(compiled, y0)

@@ -30,7 +30,9 @@ def test_a_full_disk_while_numba_saves_its_code_is_a_warning(capsys, tmp_path, m
 
 
 def test_other_errors_of_the_save_pass_through(monkeypatch):
-    import lagrangian.numeric.numba_linalg  # noqa: F401  (installs the wrapper)
+    from lagrangian.codegen.numba_cache import tolerate_full_disk
+
+    tolerate_full_disk()  # installs the wrapper
 
     def broken(self, sig, data):
         raise OSError(errno.EIO, "Input/output error")

@@ -16,6 +16,11 @@ The data flow, one module each:
                     common subexpressions taken out once (sympy.cse, w_0, w_1, ...), made
                     on first use; and the one fingerprint (sha256 of the expressions)
     schemes.py      the entries the fixed-step schemes need (rk4, midpoint, Stormer-Verlet)
+    steps.py        the fixed-step schemes and the one linear solve (Gaussian elimination
+                    with partial pivoting) written once as a small program, printed as C,
+                    numba and JavaScript; arrays.py walks it over NumPy / JAX arrays (and
+                    heyoka's expressions); loops.py writes numba_loop.py (the template of
+                    the compiled fixed-step loops: the ensemble's and the single run's)
     target.py       the Target protocol (below)
     cache.py        one in-memory cache keyed by (fingerprint, target, options), and the
                     checked on-disk cache of generated modules

@@ -7,9 +7,9 @@
   (:class:`~lagrangian.codegen.literals.FloatLiterals`); pi and e are numbers and
   there are no math macros (``M_PI``, ``M_SQRT2``... are POSIX, not C99, and NVRTC
   has none); small integer powers are products (exact, and faster than ``pow``).
-- :func:`gaussian_elimination`: the one C linear solve, Gaussian elimination with
-  partial pivoting for one compile-time size (the exported ``rhs`` and the CUDA
-  kernel's steps).
+- :func:`gaussian_elimination`: the C text of the one linear solve
+  (:func:`lagrangian.codegen.steps.elimination`, Gaussian elimination with partial
+  pivoting for one compile-time size: the exported ``rhs`` and the CUDA kernel's steps).
 - :func:`fuse_sine_cosine`: ``sincos`` where both the sine and the cosine of one
   argument are used (a GNU and CUDA function, not C99: the CUDA kernel uses it).
 """
@@ -24,6 +24,7 @@ from sympy.printing.c import C99CodePrinter
 from sympy.printing.precedence import PRECEDENCE
 
 from .literals import FloatLiterals
+from .steps import CStepPrinter, elimination
 
 PRECISIONS = ("float64", "float32")
 
@@ -84,69 +85,26 @@ class CPrinter(FloatLiterals, C99CodePrinter):
 
 def gaussian_elimination(
     name: str,
-    size: int | str,
+    size: int,
     printer: CPrinter,
     *,
     qualifiers: str = "static",
     unroll: bool = False,
     real_type: str | None = None,
 ) -> str:
-    """The C function ``int name(real *a, real *b, real *x)``: x with a x = b.
+    """The C function ``int name(real *a, real *b, real *x, int offset)``: x[offset:] with
+    a x = b, printed from :func:`lagrangian.codegen.steps.elimination` (its contract).
 
-    ``a`` (``size`` x ``size``, row-major) and ``b`` are overwritten; ``x`` may be ``b``.
-    It returns 1 where a pivot is 0 or not finite (a singular ``a``; x is then inf or
-    NaN), else 0.  ``size`` is a compile-time constant (a number or a macro); ``real_type``
-    names the type of the entries (the printer's ``float`` or ``double`` by default); with
-    ``unroll`` the loops carry ``#pragma unroll``.  Rows are swapped by value while
-    scanning for the pivot (the first largest), so every index is a compile-time
-    constant once the loops are unrolled and the arrays stay in registers; each pivot
-    is inverted once (``size`` divisions instead of size(size+1)/2: a float64 division
-    is a dozen dependent instructions on a GPU).
+    ``size`` is the number of unknowns; ``real_type`` names the type of the entries (the
+    printer's ``float`` or ``double`` by default); with ``unroll`` the loops carry
+    ``#pragma unroll``.
     """
-    n, t, fabs = size, real_type or printer.real, printer.fabs
-    pragma = "#pragma unroll\n" if unroll else ""
-
-    def loop(indent: int, header: str) -> str:
-        pad = " " * indent
-        return "".join(f"{pad}{line}\n" for line in pragma.splitlines()) + f"{pad}{header}"
-
-    return f"""\
-/* x with a x = b by Gaussian elimination with partial pivoting (a, b overwritten; x may
-   be b). Returns 0, or 1 where a pivot is 0 or not finite (a singular). */
-{qualifiers} int {name}({t} *a, {t} *b, {t} *x)
-{{
-    {t} inverse[{n}];
-    int singular = 0;
-{loop(4, f"for (int k = 0; k < {n}; ++k) {{")}
-{loop(8, f"for (int i = k + 1; i < {n}; ++i) {{")}
-            if ({fabs}(a[i * {n} + k]) > {fabs}(a[k * {n} + k])) {{
-{loop(16, f"for (int j = 0; j < {n}; ++j) {{")}
-                    {t} swap = a[k * {n} + j];
-                    a[k * {n} + j] = a[i * {n} + j];
-                    a[i * {n} + j] = swap;
-                }}
-                {t} swap = b[k];
-                b[k] = b[i];
-                b[i] = swap;
-            }}
-        }}
-        {t} pivot = a[k * {n} + k];
-        singular |= !({fabs}(pivot) > 0) || pivot - pivot != 0;  /* 0, NaN; inf - inf: NaN */
-        inverse[k] = 1 / pivot;
-{loop(8, f"for (int i = k + 1; i < {n}; ++i) {{")}
-            {t} factor = a[i * {n} + k] * inverse[k];
-{loop(12, f"for (int j = k; j < {n}; ++j) a[i * {n} + j] -= factor * a[k * {n} + j];")}
-            b[i] -= factor * b[k];
-        }}
-    }}
-{loop(4, f"for (int i = {n} - 1; i >= 0; --i) {{")}
-        {t} total = b[i];
-{loop(8, f"for (int j = i + 1; j < {n}; ++j) total -= a[i * {n} + j] * x[j];")}
-        x[i] = total * inverse[i];
-    }}
-    return singular;
-}}
-"""
+    steps = CStepPrinter(size, printer, real_type or printer.real, unroll=unroll)
+    comment = (
+        "/* x with a x = b by Gaussian elimination with partial pivoting (a, b overwritten; x "
+        "may\n   be b). Returns 0, or 1 where a pivot is 0 or not finite (a singular). */"
+    )
+    return comment + "\n" + steps.function(elimination(size, name), qualifiers)
 
 
 def fuse_sine_cosine(replacements, reduced):

@@ -90,11 +90,11 @@ class CTarget(AbstractTarget, name="c", language="C", suffix=".c", base=0):
                 "        }",
                 f"        x[i] = i < {n} ? f[i] : b[i - {n}];",
                 "    }",
-                "    if (solve_linear(K, x, x)) return 1;",
+                "    if (solve_linear(K, x, x, 0)) return 1;",
             ]
             solved = "x"
         else:
-            parts.append("    if (solve_linear(M, f, f)) return 1;")
+            parts.append("    if (solve_linear(M, f, f, 0)) return 1;")
             solved = "f"
         parts += [
             f"    for (int i = 0; i < {n}; ++i) {{",

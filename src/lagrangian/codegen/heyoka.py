@@ -3,9 +3,11 @@
 M and f of M q'' = f (declared functions replaced by their definitions) are converted
 with ``heyoka.from_sympy``: time as ``heyoka.time``, q and q' as variables ``q<i>``,
 ``v<i>``, the parameters as heyoka's runtime parameters ``par[j]``; q'' = M^{-1} f is
-written out as Gaussian elimination in those expressions (:func:`eliminated`; why no
-pivoting is needed where M is definite: :mod:`lagrangian.integrate.taylor`, which
-builds heyoka's integrator from ``load``).  ``render`` gives the ODE as heyoka prints it.
+written out as Gaussian elimination in those expressions (the one elimination,
+:func:`lagrangian.codegen.steps.elimination`, walked over them without pivoting by
+:func:`lagrangian.codegen.arrays.eliminated`; why no pivoting is needed where M is
+definite: :mod:`lagrangian.integrate.taylor`, which builds heyoka's integrator from
+``load``).  ``render`` gives the ODE as heyoka prints it.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from __future__ import annotations
 import sympy
 
 from ..errors import MissingDependencyError, ModelError
+from .arrays import eliminated
 from .program import Program
 from .target import AbstractLoadedTarget
 
@@ -65,21 +68,3 @@ def _from_sympy(expression, replace: dict):
         if number.q & (number.q - 1)
     }
     return hy.from_sympy(expression.xreplace(inexact) if inexact else expression, replace)
-
-
-def eliminated(matrix: list, force: list) -> list:
-    """x with matrix x = force, as expressions: elimination without pivoting, back substitution."""
-    n = len(force)
-    for k in range(n):
-        for i in range(k + 1, n):
-            factor = matrix[i][k] / matrix[k][k]
-            for j in range(k + 1, n):
-                matrix[i][j] = matrix[i][j] - factor * matrix[k][j]
-            force[i] = force[i] - factor * force[k]
-    x = [None] * n
-    for i in range(n - 1, -1, -1):
-        total = force[i]
-        for j in range(i + 1, n):
-            total = total - matrix[i][j] * x[j]
-        x[i] = total / matrix[i][i]
-    return x

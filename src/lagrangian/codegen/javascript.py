@@ -7,14 +7,17 @@
 Plain functions over plain arrays (no dependency, no typed arrays required); ``u``
 null or omitted means every input 0.  ``rhs`` solves M q'' = f (with constraints the
 bordered system of :mod:`lagrangian.codegen.program`) by Gaussian elimination with
-partial pivoting, written out below, and throws an ``Error`` where the matrix is
-singular.  This module is the whole target: one class and one line in
+partial pivoting (the one every language prints,
+:func:`lagrangian.codegen.steps.elimination`) and throws an ``Error`` where the
+matrix is singular.  This module is the whole target: one class and one line in
 :data:`lagrangian.codegen.TARGETS`.
 """
 
 from __future__ import annotations
 
 import json
+import math
+from typing import ClassVar
 
 import sympy
 from sympy.printing.jscode import JavascriptCodePrinter
@@ -23,6 +26,7 @@ from .comments import CommentStyle, commented
 from .header import header_lines
 from .literals import FloatLiterals
 from .program import Program, Routine
+from .steps import Assign, Function, If, Index, Loop, StepPrinter, elimination
 from .target import AbstractTarget
 
 #: Line comments: only a line break ends one (U+2028 and U+2029 are line breaks in
@@ -32,32 +36,59 @@ JAVASCRIPT_COMMENT = CommentStyle("", "// ", "", ())
 #: The outputs that are vectors (f, the constraint bias b); the others are matrices.
 _VECTORS = frozenset({"f", "b"})
 
-#: Gaussian elimination with partial pivoting of K x = r in place (K: rows of numbers).
-_SOLVE = """\
-function solve(K, r) {
-  const n = r.length;
-  for (let k = 0; k < n; k++) {
-    let pivot = k;
-    for (let i = k + 1; i < n; i++) {
-      if (Math.abs(K[i][k]) > Math.abs(K[pivot][k])) pivot = i;
-    }
-    if (!(Math.abs(K[pivot][k]) > 0)) throw new Error("singular mass matrix");
-    [K[k], K[pivot]] = [K[pivot], K[k]];
-    [r[k], r[pivot]] = [r[pivot], r[k]];
-    for (let i = k + 1; i < n; i++) {
-      const factor = K[i][k] / K[k][k];
-      for (let j = k; j < n; j++) K[i][j] -= factor * K[k][j];
-      r[i] -= factor * r[k];
-    }
-  }
-  const x = new Array(n);
-  for (let i = n - 1; i >= 0; i--) {
-    let sum = r[i];
-    for (let j = i + 1; j < n; j++) sum -= K[i][j] * x[j];
-    x[i] = sum / K[i][i];
-  }
-  return x;
-}"""
+
+class JavaScriptStepPrinter(StepPrinter):
+    """Functions of :mod:`lagrangian.codegen.steps` as JavaScript (the linear solve)."""
+
+    operators: ClassVar[dict[str, str]] = {"and": "&&", "or": "||", "==": "===", "!=": "!=="}
+    end, absolute, indent = ";", "Math.abs", "  "
+
+    def number(self, value) -> str:
+        if isinstance(value, int):
+            return str(value)
+        return repr(float(value)) if math.isfinite(value) else f"{'-' * (value < 0)}Infinity"
+
+    def choose(self, condition: str, then: str, otherwise: str) -> str:
+        return f"({condition} ? {then} : {otherwise})"
+
+    def index(self, node: Index) -> str:
+        return self.expression(node.array) + "".join(
+            f"[{self.top(self.expression(e))}]" for e in node.indices
+        )
+
+    def _assign(self, node: Assign, depth: int, pad: str) -> list[str]:
+        kind = "" if node.kind is None else "let "
+        target, value = self.expression(node.target), self.top(self.expression(node.value))
+        return [f"{pad}{kind}{target} = {value};"]
+
+    def _loop(self, node: Loop, depth: int, pad: str) -> list[str]:
+        start, stop, index = self.bound(node.start), self.bound(node.stop), node.index
+        head = f"{pad}for (let {index} = {start}; {index} < {stop}; {index}++) {{"
+        return [head, *self.block(node.body, depth + 1), f"{pad}}}"]
+
+    def _if(self, node: If, depth: int, pad: str) -> list[str]:
+        head = f"{pad}if ({self.top(self.expression(node.condition))}) {{"
+        return [head, *self.block(node.then, depth + 1), f"{pad}}}"]
+
+    def function(self, function: Function) -> str:
+        arguments = ", ".join(name for name, _ in function.arguments)
+        return "\n".join(
+            [f"function {function.name}({arguments}) {{", *self.block(function.body, 1), "}"]
+        )
+
+
+def _solve(size: int) -> str:
+    """``solve(K, r)``: x with K x = r (K: ``size`` rows of numbers; K, r overwritten), by
+    the printed elimination; an ``Error`` where K is singular."""
+    return "\n".join([
+        JavaScriptStepPrinter(size).function(elimination(size)),
+        "",
+        "function solve(K, r) {",
+        f"  const x = new Array({size});",
+        '  if (eliminate(K, r, x, 0)) throw new Error("singular mass matrix");',
+        "  return x;",
+        "}",
+    ])  # fmt: skip
 
 
 class _Printer(FloatLiterals, JavascriptCodePrinter):
@@ -93,7 +124,7 @@ class JavaScriptTarget(
             f"export const INPUTS = {_names(program.inputs)};",
             f"export const DEFAULT_PARAMS = [{defaults}];",
             "",
-            _SOLVE,
+            _solve(program.n + program.constraints),
         ]
         lines += self.function("dynamics", program, program.dynamics, exported=False)
         lines += self.function("mass_matrix", program, program.mass_matrix)

@@ -1,4 +1,4 @@
-"""The fixed-step schemes written once, as a small language-neutral program, printed as C and numba.
+"""The fixed-step schemes and the linear solve written once, as a small program, printed.
 
 Each scheme (rk4, midpoint, Stormer-Verlet) is a :class:`Scheme`: the arrays it keeps
 from step to step, the scratch arrays it works in, and two bodies of statements,
@@ -7,16 +7,20 @@ from step to step, the scratch arrays it works in, and two bodies of statements,
 it returns 0, or 1 / 2 where the Newton iteration for the midpoint velocity / for the
 velocity from the momenta did not converge).  The statements call the generated
 fillers of :mod:`lagrangian.codegen.schemes` (``mass_force``, ``momenta``,
-``momenta_force``, ``mass``, ``jacobian``, ``gradient``) and the target's one linear
-solve.  Two printers turn a scheme into text:
+``momenta_force``, ``mass``, ``jacobian``, ``gradient``) and the one linear solve,
+:func:`elimination` (a :class:`Function`: Gaussian elimination with partial pivoting).
+The printers turn them into text:
 
 - :class:`CStepPrinter`: the ``lg_state`` struct and the ``__device__`` functions
   ``lg_init`` and ``lg_step`` of the CUDA kernel (:mod:`lagrangian.ensemble.cuda_source`),
-  with :func:`lagrangian.codegen.c.gaussian_elimination` as ``lg_solve``;
-- :class:`NumbaStepPrinter`: ``<scheme>_workspace``, ``<scheme>_init`` and
-  ``<scheme>_step`` for the numba ensemble loop (:mod:`lagrangian.ensemble.numba_loop`)
-  and the single-run midpoint step (:mod:`lagrangian.integrate.numba_midpoint`),
-  with :func:`lagrangian.numeric.numba_linalg.eliminate`.
+  and the solve (:func:`lagrangian.codegen.c.gaussian_elimination`, ``lg_solve``);
+- :class:`NumbaStepPrinter`: ``eliminate``, ``<scheme>_workspace``, ``<scheme>_init`` and
+  ``<scheme>_step`` for the numba loops (:mod:`lagrangian.codegen.numba_loop`: the
+  ensemble's and the single run's), counting evaluations;
+- the JavaScript target's printer of the solve
+  (:class:`lagrangian.codegen.javascript.JavaScriptStepPrinter`).
+
+NumPy and JAX walk the solve over arrays instead (:mod:`lagrangian.codegen.arrays`).
 
 The arithmetic is the numpy backend's, operation for operation (the tree of each
 expression is printed with its parentheses, so both languages evaluate it in the same
@@ -147,7 +151,7 @@ class Loop:
     index: str
     stop: Expr | int
     body: list
-    start: int = 0
+    start: Expr | int = 0
 
 
 @dataclass(frozen=True)
@@ -163,7 +167,7 @@ class Break:
 
 @dataclass(frozen=True)
 class Return:
-    value: int
+    value: Expr | int
 
 
 @dataclass(frozen=True)
@@ -192,6 +196,16 @@ class Count:
 
 
 @dataclass(frozen=True)
+class Function:
+    """A function ``name(arguments) -> int`` of arrays: (name, ``matrix`` | ``vector``)
+    (n x n row-major, n) and integers (name, ``int``)."""
+
+    name: str
+    arguments: tuple[tuple[str, str], ...]
+    body: list
+
+
+@dataclass(frozen=True)
 class Scheme:
     """One fixed-step scheme (see the module): arrays (name, shape) and two bodies."""
 
@@ -200,6 +214,62 @@ class Scheme:
     scratch: tuple[tuple[str, tuple[int, ...]], ...]
     init: list
     step: list
+
+
+# -- the linear solve ----------------------------------------------------------------------
+
+
+def elimination(n: int, name: str = "eliminate", *, pivoting: bool = True) -> Function:
+    """``name(a, b, x, offset)``: x[offset:offset + n] with a x = b, by Gaussian elimination
+    with partial pivoting; the one linear solve of every printed language.
+
+    ``a`` (n x n) and ``b`` are overwritten; ``x`` may be ``b`` (offset 0).  It returns 1
+    where a pivot is 0 or not finite (a singular ``a``; x is then inf or NaN), else 0.
+    Rows are swapped by value while scanning for the pivot (the first largest), so every
+    index is a compile-time constant once the loops are unrolled (C) and the arrays stay
+    in registers; each pivot is inverted once, into the diagonal (n divisions instead of
+    n(n+1)/2: a float64 division is a dozen dependent instructions on a GPU).  About
+    n^3/3 multiply-adds (G. H. Golub, C. F. Van Loan, *Matrix Computations*, 4th ed.,
+    algorithm 3.4.1).  Without ``pivoting`` (entries that are expressions, not numbers:
+    heyoka's) rows are neither compared nor swapped, and nothing is flagged.
+    """
+    a, b, x, offset = Name("a"), Name("b"), Name("x"), Name("offset")
+    k, row = Name("k"), Name("row")
+    swap, pivot, factor, total, singular = (
+        Name(s) for s in ("swap", "pivot", "factor", "total", "singular")
+    )
+    exchange = [
+        Loop("j", n, [Assign(swap, a[k, j], "real"), Assign(a[k, j], a[i, j]),
+                      Assign(a[i, j], swap)]),
+        Assign(swap, b[k], "real"),
+        Assign(b[k], b[i]),
+        Assign(b[i], swap),
+    ]  # fmt: skip
+    body = [
+        Assign(singular, Number(0), "int"),
+        Loop("k", n, [
+            *([Loop("i", n, [If(Abs(a[i, k]) > Abs(a[k, k]), exchange)], start=k + 1)]
+              if pivoting else []),
+            Assign(pivot, a[k, k], "real"),
+            *([If(either(Abs(pivot).equals(0.0), (pivot - pivot).differs(0.0)),  # 0, NaN, inf
+                  [Assign(singular, Number(1))])] if pivoting else []),
+            Assign(a[k, k], 1.0 / pivot),
+            Loop("i", n, [
+                Assign(factor, a[i, k] * a[k, k], "real"),
+                Loop("j", n, [Assign(a[i, j], a[i, j] - factor * a[k, j])], start=k + 1),
+                Assign(b[i], b[i] - factor * b[k]),
+            ], start=k + 1),
+        ]),
+        Loop("k", n, [  # back substitution, row = n - 1 - k
+            Assign(row, (n - 1) - k, "int"),
+            Assign(total, b[row], "real"),
+            Loop("j", n, [Assign(total, total - a[row, j] * x[offset + j])], start=row + 1),
+            Assign(x[offset + row], total * a[row, row]),
+        ]),
+        Return(singular),
+    ]  # fmt: skip
+    arguments = (("a", "matrix"), ("b", "vector"), ("x", "vector"), ("offset", "int"))
+    return Function(name, arguments, body)
 
 
 # -- the schemes ---------------------------------------------------------------------------
@@ -219,6 +289,7 @@ def rk4(n: int, a, b, c) -> Scheme:
     def derivative(time: Expr, state: Expr, out: Expr) -> list:
         return [
             Call("mass_force", (time, state, p, matrix, force)),
+            Count(0),
             Solve(matrix, force, out, n),
             Loop("i", n, [Assign(out[i], state[n + i])]),
         ]
@@ -340,7 +411,7 @@ def midpoint(n: int, stall: float) -> Scheme:
         ]),
         Return(2),
     ]  # fmt: skip
-    init = [Call("momenta", (t, y, p, kept)), Assign(started[0], Number(0.0))]
+    init = [Call("momenta", (t, y, p, kept)), Count(0), Assign(started[0], Number(0.0))]
     vectors = ("v", "momenta_now", "force", "residual", "change")
     scratch = (("z", (2 * n,)), *((s, (n,)) for s in vectors), ("matrix", (n, n)))
     return Scheme("midpoint", (("kept", (n,)), ("last", (n,)), ("started", (1,))), scratch,
@@ -375,12 +446,14 @@ def stormer_verlet(n: int) -> Scheme:
         ]),
         apply(matrix, y, n, kept, 0),
         Call("gradient", (t, y, p, force)),
+        Count(0),
     ]  # fmt: skip
     step = [
         Loop("i", n, [Assign(half[i], kept[i] + (h / 2) * force[i])]),
         apply(inverse, half, 0, z, n),
         Loop("i", n, [Assign(z[i], y[i] + h * z[n + i])]),
         Call("gradient", (t + h, z, p, force)),
+        Count(0),
         Loop("i", n, [Assign(kept[i], half[i] + (h / 2) * force[i]), Assign(y[i], z[i])]),
         apply(inverse, kept, 0, y, n),
         Return(0),
@@ -394,16 +467,16 @@ def stormer_verlet(n: int) -> Scheme:
 # -- printers ------------------------------------------------------------------------------
 
 
-class _StepPrinter:
+class StepPrinter:
     """What the C and Python printers share: statements walked with indentation."""
 
     indent = "    "
     end = ""  # of a statement
     prefix = ""  # of the generated fillers' names
+    counting = False  # whether Count statements are printed
 
-    def __init__(self, n: int, counting: bool = False):
+    def __init__(self, n: int):
         self.n = n
-        self.counting = counting
 
     def block(self, statements: list, depth: int) -> list[str]:
         lines: list[str] = []
@@ -445,7 +518,11 @@ class _StepPrinter:
         return [f"{pad}break{self.end}"]
 
     def _return(self, node: Return, depth: int, pad: str) -> list[str]:
-        return [f"{pad}return {node.value}{self.end}"]
+        return [f"{pad}return {self.top(self.expression(wrap(node.value)))}{self.end}"]
+
+    def bound(self, value: Expr | int) -> str:
+        """A loop's start or stop."""
+        return str(value) if isinstance(value, int) else self.top(self.expression(value))
 
     def _call(self, node: Call, depth: int, pad: str) -> list[str]:
         arguments = ", ".join(self.top(self.expression(e)) for e in node.arguments)
@@ -468,16 +545,17 @@ def _balanced(text: str) -> bool:
 _C_NAMES = {"floor": "rounding_floor", "tol": "newton_tol"}
 
 
-class CStepPrinter(_StepPrinter):
+class CStepPrinter(StepPrinter):
     """The scheme as CUDA C (see the module): ``lg_state``, ``lg_init``, ``lg_step``."""
 
     operators: ClassVar[dict[str, str]] = {"and": "&&", "or": "||"}
     end, prefix = ";", "lg_"
 
-    def __init__(self, n: int, printer, real_type: str = "real"):
+    def __init__(self, n: int, printer, real_type: str = "real", *, unroll: bool = True):
         super().__init__(n)
         self.printer = printer  # a lagrangian.codegen.c.CPrinter: literals, fabs
         self.real_type = real_type
+        self.unroll = unroll  # loops of a constant length carry #pragma unroll
         self.absolute = printer.fabs
         self.kept: set[str] = set()
 
@@ -508,10 +586,9 @@ class CStepPrinter(_StepPrinter):
         return [f"{pad}{kind}{target} = {value};"]
 
     def _loop(self, node: Loop, depth: int, pad: str) -> list[str]:
-        stop = node.stop if isinstance(node.stop, int) else self.top(self.expression(node.stop))
-        head = [f"{pad}#pragma unroll"] if isinstance(node.stop, int) else []
-        index = node.index
-        head.append(f"{pad}for (int {index} = {node.start}; {index} < {stop}; ++{index}) {{")
+        start, stop, index = self.bound(node.start), self.bound(node.stop), node.index
+        head = [f"{pad}#pragma unroll"] if isinstance(node.stop, int) and self.unroll else []
+        head.append(f"{pad}for (int {index} = {start}; {index} < {stop}; ++{index}) {{")
         return [*head, *self.block(node.body, depth + 1), f"{pad}}}"]
 
     def _if(self, node: If, depth: int, pad: str) -> list[str]:
@@ -519,11 +596,15 @@ class CStepPrinter(_StepPrinter):
         return [head, *self.block(node.then, depth + 1), f"{pad}}}"]
 
     def _solve(self, node: Solve, depth: int, pad: str) -> list[str]:
-        out = self.expression(node.out)
-        if node.offset:
-            out = f"{out} + {node.offset}"
-        matrix, rhs = self.expression(node.matrix), self.expression(node.rhs)
-        return [f"{pad}lg_solve({matrix}, {rhs}, {out});"]
+        matrix, rhs, out = (self.expression(e) for e in (node.matrix, node.rhs, node.out))
+        return [f"{pad}lg_solve({matrix}, {rhs}, {out}, {node.offset});"]
+
+    def function(self, function: Function, qualifiers: str = "static") -> str:
+        """``int name(real *a, ..., int offset)`` with ``function``'s body."""
+        types = {"matrix": f"{self.real_type} *", "vector": f"{self.real_type} *", "int": "int "}
+        arguments = ", ".join(f"{types[kind]}{name}" for name, kind in function.arguments)
+        head = f"{qualifiers} int {function.name}({arguments})".strip()
+        return "\n".join([head, "{", *self.block(function.body, 1), "}", ""])
 
     def scheme(self, scheme: Scheme) -> str:
         """The struct of the kept arrays and the two functions."""
@@ -563,12 +644,14 @@ class CStepPrinter(_StepPrinter):
         ]
 
 
-class NumbaStepPrinter(_StepPrinter):
-    """The scheme as numba Python (see the module): ``<name>_workspace``, ``_init``, ``_step``;
-    with ``counting``, ``_step`` takes a last argument ``counts`` (3 integers)."""
+class NumbaStepPrinter(StepPrinter):
+    """The scheme as numba Python (see the module): ``<name>_workspace``, ``_init``, ``_step``,
+    which takes a last argument ``counts`` (3 integers: the evaluations of the right-hand
+    side or of L_q' and L_q + Q, of the Jacobians, and the Newton updates)."""
 
     operators: ClassVar[dict[str, str]] = {}
     absolute = "abs"
+    counting = True
 
     def number(self, value) -> str:
         if isinstance(value, int):
@@ -592,8 +675,8 @@ class NumbaStepPrinter(_StepPrinter):
         return [f"{pad}{target} = {value}"]
 
     def _loop(self, node: Loop, depth: int, pad: str) -> list[str]:
-        stop = node.stop if isinstance(node.stop, int) else self.top(self.expression(node.stop))
-        bounds = f"{node.start}, {stop}" if node.start else f"{stop}"
+        stop = self.bound(node.stop)
+        bounds = f"{self.bound(node.start)}, {stop}" if node.start != 0 else stop
         body = self.block(node.body, depth + 1) or [f"{pad}{self.indent}pass"]
         return [f"{pad}for {node.index} in range({bounds}):", *body]
 
@@ -603,7 +686,18 @@ class NumbaStepPrinter(_StepPrinter):
 
     def _solve(self, node: Solve, depth: int, pad: str) -> list[str]:
         matrix, rhs, out = (self.expression(e) for e in (node.matrix, node.rhs, node.out))
-        return [f"{pad}eliminate({matrix}, {rhs}, {out}, {node.offset}, {self.n})"]
+        return [f"{pad}eliminate({matrix}, {rhs}, {out}, {node.offset})"]
+
+    def function(self, function: Function) -> str:
+        """The module-level numba function (inlined where it is called, cached on disk)."""
+        arguments = ", ".join(name for name, _ in function.arguments)
+        cover = "  # pragma: no cover - compiled by numba"
+        return "\n".join([
+            '@njit(inline="always", cache=True)',
+            f"def {function.name}({arguments}):{cover}",
+            *self.block(function.body, 1),
+            "",
+        ])  # fmt: skip
 
     def scheme(self, scheme: Scheme) -> str:
         """The three module-level functions (numba, cached on disk)."""
@@ -612,22 +706,23 @@ class NumbaStepPrinter(_StepPrinter):
         allocations = ", ".join(f"np.empty({shape[0] if len(shape) == 1 else shape})"
                                 for _, shape in arrays)  # fmt: skip
         unpack = f"    {', '.join(a for a, _ in arrays)}, = work"
-        counts = ", counts" if self.counting else ""
         cover = "  # pragma: no cover - compiled by numba"
         return "\n".join([
+            self.function(elimination(self.n)),
+            "",
             "@njit(cache=True)",
             f"def {name}_workspace():{cover}",
             f"    return ({allocations},)",
             "",
             "",
             "@njit(cache=True)",
-            f"def {name}_init(t, y, p, work):{cover}",
+            f"def {name}_init(t, y, p, work, counts):{cover}",
             unpack,
             *(self.block(scheme.init, 1) or ["    pass"]),
             "",
             "",
             '@njit(inline="always", cache=True)',
-            f"def {name}_step(t, h, y, p, work, tol, floor, iterations{counts}):{cover}",
+            f"def {name}_step(t, h, y, p, work, tol, floor, iterations, counts):{cover}",
             unpack,
             *self.block(scheme.step, 1),
             "",

@@ -178,7 +178,7 @@ def _text(forms: SymbolicForms, method: str, precision: str, arrays) -> str:
     program = scheme_program(method, forms.n, tableau=tableaus.RK4, stall=STALL_RATIO)
     scheme = CStepPrinter(forms.n, printer).scheme(program)
     solve = gaussian_elimination(
-        "lg_solve", "LG_N", printer, qualifiers="__device__ __forceinline__", unroll=True,
+        "lg_solve", forms.n, printer, qualifiers="__device__ __forceinline__", unroll=True,
         real_type="real",
     )  # fmt: skip
     parameters = ",\n    ".join(f"{ctype} {name}" for ctype, name in KERNEL_PARAMETERS)

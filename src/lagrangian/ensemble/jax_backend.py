@@ -17,8 +17,8 @@ compiles the whole chunk at once:
   does not converge is an error after the loop (traced code cannot raise).
 
 Linear solves (M q'' = f of the compiled ``mass_matrix`` and ``forcing``, the
-Newton steps) are Gaussian elimination unrolled over the batch (:func:`_solve`),
-as numba_linalg does, several times faster than XLA's batched LU for small n.
+Newton steps) are the Gaussian elimination every target prints, unrolled over the
+batch (:func:`_solve`), several times faster than XLA's batched LU for small n.
 Both use the step grid of :func:`~lagrangian.integrate.fixed_step.step_grid`,
 so in float64 a member agrees with the numpy backend to rounding.
 
@@ -41,6 +41,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
+from ..codegen import arrays
 from ..codegen.cache import built
 from ..errors import MissingDependencyError, ModelError
 from ..integrate.explicit_rk import AbstractExplicitRungeKutta
@@ -407,35 +408,15 @@ def _newton_solver(max_newton: int, tolerance: float, floor: float):
 def _solve(matrix, rhs):
     """x (n, B) with matrix[:, :, b] x[:, b] = rhs[:, b], for every member b.
 
-    Gaussian elimination with partial pivoting unrolled over the entries, each
-    an array over the batch (the algorithm of numba_linalg.solve_into): for the
-    small n of mechanics this is several times faster on CPU than the batched
-    LU of ``jnp.linalg.solve``, which a larger n falls back to.
+    The one Gaussian elimination with partial pivoting
+    (:func:`lagrangian.codegen.steps.elimination`) walked over the entries, each an array
+    over the batch, when traced (:func:`lagrangian.codegen.arrays.solve`): for the small
+    n of mechanics this is several times faster on CPU than the batched LU of
+    ``jnp.linalg.solve``, which a larger n falls back to.
     """
     jnp = _jax().numpy
     n = rhs.shape[0]
+    stacked = jnp.moveaxis(jnp.broadcast_to(matrix, (n, n, rhs.shape[1])), -1, 0)
     if n > UNROLLED_SOLVE:
-        stacked = jnp.moveaxis(jnp.broadcast_to(matrix, (n, n, rhs.shape[1])), -1, 0)
         return jnp.linalg.solve(stacked, rhs.T[..., None])[..., 0].T
-    a = [[matrix[i, j] for j in range(n)] for i in range(n)]
-    b = [rhs[i] for i in range(n)]
-    for k in range(n):
-        for i in range(k + 1, n):  # bring the largest |a[i][k]| into row k
-            swap = jnp.abs(a[i][k]) > jnp.abs(a[k][k])
-            a[k], a[i] = (
-                [jnp.where(swap, x, y) for x, y in zip(a[i], a[k], strict=True)],
-                [jnp.where(swap, y, x) for x, y in zip(a[i], a[k], strict=True)],
-            )
-            b[k], b[i] = jnp.where(swap, b[i], b[k]), jnp.where(swap, b[k], b[i])
-        for i in range(k + 1, n):
-            factor = a[i][k] / a[k][k]
-            for j in range(k + 1, n):
-                a[i][j] = a[i][j] - factor * a[k][j]
-            b[i] = b[i] - factor * b[k]
-    x: list[Any] = [None] * n
-    for i in reversed(range(n)):
-        total = b[i]
-        for j in range(i + 1, n):
-            total = total - a[i][j] * x[j]
-        x[i] = total / a[i][i]
-    return jnp.stack(x)
+    return arrays.solve(jnp, stacked, rhs.T)[0].T

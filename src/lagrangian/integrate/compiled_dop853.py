@@ -111,7 +111,7 @@ def _loop_text(compiled: CompiledSystem) -> tuple[str, str]:
     template = Path(__file__).with_name("numba_dop853.py").read_text(encoding="utf-8")
     head, rest = template.split(_BEGIN, 1)
     tail = rest.split(_END, 1)[1].split("\n", 1)[1]
-    generated = [f"N = {compiled.n}", f"from {fillers} import fill"]
+    generated = [f"N = {compiled.n}", f"from {fillers} import eliminate, fill"]
     text = "\n".join([head.rstrip("\n"), "", *generated, "", tail])
     return hashlib.sha256(text.encode()).hexdigest(), text
 

@@ -40,6 +40,9 @@ class AbstractExplicitRungeKutta(AbstractFixedStepIntegrator):
     def init(self, compiled, t, y, params, work):
         return None
 
+    def printed_scheme(self, compiled) -> str | None:
+        return "rk4" if self.tableau is tableaus.RK4 else None
+
     def step(self, compiled, t, h, y, state, params, work):
         a, b, c = self.tableau.a, self.tableau.b, self.tableau.c
         stages: list[np.ndarray] = []

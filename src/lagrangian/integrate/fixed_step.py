@@ -44,6 +44,7 @@ from .base import (
     positive_setting,
     reject_settings,
 )
+from .compiled_loop import CompiledLoop, Newton, Unavailable, compiled_loop
 from .events import Event, EventWatcher, hermite, named
 from .guard import energy_jump, start_problem, state_problem
 from .memory import step_count
@@ -113,6 +114,15 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
     ) -> tuple[np.ndarray, object]:
         """(y, state) at t + h from (y, state) at t; raise StepFailure when impossible."""
 
+    def printed_scheme(self, compiled: CompiledSystem) -> str | None:
+        """The scheme of :mod:`lagrangian.codegen.steps` this method takes on ``compiled``
+        (then a compiled backend runs its whole loop in generated code), or None."""
+        return None
+
+    def newton_settings(self) -> Newton:
+        """The settings of the printed scheme's Newton iterations (none by default)."""
+        return Newton(tol=0.0, floor=0.0, stall=0.0, iterations=0)
+
     def solve(
         self,
         compiled: CompiledSystem,
@@ -138,44 +148,26 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
             return compiled.rhs(t, state, params)
 
         watcher = EventWatcher(events, params, t0, y) if events else None
+        march = _March(compiled, params, watch, watcher, derivative, project)
         grid = step_grid(t0, t1, self.dt)
-        times, states = [t0], [y]
-        status, message = Status.SUCCESS, "reached the end time"
         problem = start_problem(compiled, t0, y, params)
         if problem is not None:
-            status, message, grid = Status.FAILED, problem, grid[:1]
+            t_out, y_out, status, message = grid[:1], y[..., None], Status.FAILED, problem
         else:
-            solver_state = self.init(compiled, t0, y, params, work)
-        for ta, tb in itertools.pairwise(grid):
+            loop = None
+            if y.ndim == 1 and np.ndim(params) == 1:
+                scheme = self.printed_scheme(compiled)
+                loop = compiled_loop(compiled, scheme, self.newton_settings())
             try:
-                y_new, solver_state = self.step(
-                    compiled, ta, tb - ta, y, solver_state, params, work
-                )
-            except StepFailure as failure:
-                status, message = Status.FAILED, f"{failure} at t = {ta:.17g}"
-                break
-            problem = state_problem(compiled, ta, y, y_new)
-            if problem is not None:
-                status, message = Status.FAILED, problem
-                break
-            if project is not None:
-                y_new = project(tb, y_new, params)
-            work.steps += 1
-            if watch is not None:
-                watch(tb)
-            if watcher is not None:
-                hit = watcher.step(ta, y, tb, y_new, derivative)
-                if hit is not None:
-                    times.append(hit[0])
-                    states.append(hit[1] if project is None else project(hit[0], hit[1], params))
-                    status = Status.EVENT
-                    message = f"stopped by a terminal event at t = {hit[0]:.17g}"
-                    break
-            times.append(tb)
-            states.append(y_new)
-            y = y_new
-        t_out, y_out = np.array(times), np.stack(states, axis=-1)
-        records = watcher.records(y.shape[0]) if watcher is not None else ()
+                if loop is None:
+                    raise Unavailable
+                t_out, y_out, status, message = self._compiled(loop, grid, y, work, march)
+            except Unavailable:  # step by step in Python (which reports the inf or NaN)
+                work = Work()
+                if events:
+                    march.watcher = EventWatcher(events, params, t0, y)
+                t_out, y_out, status, message = self._stepped(grid, y, work, march)
+        records = march.watcher.records(y.shape[0]) if events else ()
         jump = energy_jump(compiled, t_out, y_out, params) if y_out.ndim == 2 else None
         if jump is not None:  # the run ends at the start of the step that broke the balance
             k, message = jump
@@ -197,6 +189,101 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
             events=records,
             settings=self.settings_for(compiled),
         )
+
+    def _stepped(self, grid, y, work, march: _March):
+        """(t, y, status, message) of the steps taken one by one in Python along ``grid``."""
+        compiled, params, project = march.compiled, march.params, march.project
+        times, states = [grid[0]], [y]
+        status, message = Status.SUCCESS, "reached the end time"
+        solver_state = self.init(compiled, grid[0], y, params, work)
+        for ta, tb in itertools.pairwise(grid):
+            try:
+                y_new, solver_state = self.step(
+                    compiled, ta, tb - ta, y, solver_state, params, work
+                )
+            except StepFailure as failure:
+                status, message = Status.FAILED, f"{failure} at t = {ta:.17g}"
+                break
+            problem = state_problem(compiled, ta, y, y_new)
+            if problem is not None:
+                status, message = Status.FAILED, problem
+                break
+            if project is not None:
+                y_new = project(tb, y_new, params)
+            work.steps += 1
+            if march.watch is not None:
+                march.watch(tb)
+            hit = march.event(ta, y, tb, y_new)
+            if hit is not None:
+                times.append(hit[0])
+                states.append(hit[1])
+                status, message = Status.EVENT, march.stopped(hit[0])
+                break
+            times.append(tb)
+            states.append(y_new)
+            y = y_new
+        return np.array(times), np.stack(states, axis=-1), status, message
+
+    def _compiled(self, loop: CompiledLoop, grid, y, work, march: _March):
+        """As :meth:`_stepped`, the steps taken by the compiled loop, a chunk at a time."""
+        hits: list[tuple[int, tuple[float, np.ndarray]]] = []
+
+        def chunk(states: np.ndarray, start: int, stop: int) -> bool:
+            """Watch the steps start..stop - 1 just taken; True: stop at a terminal event."""
+            if march.watch is not None:
+                march.watch(float(grid[stop]))
+            if march.watcher is not None:
+                for k in range(start, stop):
+                    hit = march.event(grid[k], states[k], grid[k + 1], states[k + 1])
+                    if hit is not None:
+                        hits.append((k, hit))
+                        return True
+            return False
+
+        marched = loop.march(grid, y, march.params, work, chunk)
+        k = marched.reached
+        t_out, y_out = grid[: k + 1], marched.states[: k + 1].T
+        if hits:
+            k, (at, state) = hits[0]
+            t_out = np.append(grid[: k + 1], at)
+            y_out = np.concatenate([marched.states[: k + 1].T, state[:, None]], axis=1)
+            return t_out, y_out, Status.EVENT, march.stopped(at)
+        if not marched.failed:
+            return t_out, y_out, Status.SUCCESS, "reached the end time"
+        if marched.failed == 3:
+            message = state_problem(march.compiled, grid[k], y_out[:, k], marched.last)
+        else:
+            message = f"{self.failure_text(marched.failed)} at t = {grid[k]:.17g}"
+        return t_out, y_out, Status.FAILED, message
+
+    def failure_text(self, code: int) -> str:
+        """What failure ``code`` (1, 2) of the printed scheme's step means (see its Newton)."""
+        return f"the step failed (code {code})"
+
+
+@dataclass
+class _March:
+    """What both ways of stepping share: the system, the watch and the events."""
+
+    compiled: CompiledSystem
+    params: np.ndarray
+    watch: Callable[[float], None] | None
+    watcher: EventWatcher | None
+    derivative: Callable[[float, np.ndarray], np.ndarray]
+    project: Callable | None
+
+    def event(self, ta, ya, tb, yb) -> tuple[float, np.ndarray] | None:
+        """(time, state) of a terminal event in the step from (ta, ya) to (tb, yb), or None."""
+        if self.watcher is None:
+            return None
+        hit = self.watcher.step(ta, ya, tb, yb, self.derivative)
+        if hit is None or self.project is None:
+            return hit
+        return hit[0], self.project(hit[0], hit[1], self.params)
+
+    @staticmethod
+    def stopped(t: float) -> str:
+        return f"stopped by a terminal event at t = {t:.17g}"
 
 
 def _until(record: EventRecord, t: float) -> EventRecord:

@@ -7,12 +7,10 @@ pendulum.  For one state (a single run) the same step is taken here from four
 generated functions of (t, z = [q_m, v], p) that fill given arrays, the entries of
 :mod:`lagrangian.codegen.schemes` (``momenta_force``: L_q' and L_q + Q;
 ``jacobian``: the Newton Jacobian J, which depends on h; ``momenta``; ``mass``),
-each with its common subexpressions eliminated:
-
-- backend ``numba``: the ``numba.njit`` fillers the numba ensemble loop uses (the
-  same generated module, cached on disk);
-- backends ``numpy`` and ``llvm``: :func:`sympy.lambdify` of the same entries over
-  Python floats (``math`` functions), whose values are copied into the arrays.
+each with its common subexpressions eliminated, by :func:`sympy.lambdify` over Python
+floats (``math`` functions), whose values are copied into the arrays: the backends
+``numpy`` and ``llvm``.  (On the numba backend the whole run is compiled, the step
+printed from :mod:`lagrangian.codegen.steps`: :mod:`.compiled_loop`.)
 
 The iteration, its first guess and its convergence test are the batch step's
 (``Variational._midpoint``) for one element.  A filler that fails on a value (a
@@ -25,42 +23,26 @@ function given as data) are not built here (:func:`midpoint_functions` returns N
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy
 
 from ..codegen.cache import built
 from ..numeric.backends import solve_one
+from .compiled_loop import Newton, Unavailable
 from .fixed_step import StepFailure
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
     from .base import Work
 
-_FILLERS = ("momenta_force", "jacobian", "momenta", "mass")
-
-
-class Newton(NamedTuple):
-    """The settings of the Newton iterations (see :mod:`.variational`)."""
-
-    tol: float
-    floor: float  # ROUNDING_FLOOR
-    stall: float  # STALL_RATIO
-    iterations: int
-
-
-class Unavailable(Exception):
-    """A filler could not evaluate at this state; take the step with the NumPy functions."""
-
 
 class MidpointFunctions:
-    """The four fillers of one system (see the module), each ``f(t, z, p, [h], *outputs)``,
-    and with backend numba the whole step, jitted (:mod:`.numba_midpoint`), else None."""
+    """The four fillers of one system (see the module), each ``f(t, z, p, [h], *outputs)``."""
 
-    def __init__(self, n: int, fillers: dict, step=None):
+    def __init__(self, n: int, fillers: dict):
         self.n = n
-        self.step = step
         self.momenta_force = fillers["momenta_force"]
         self.jacobian = fillers["jacobian"]
         self.momenta = fillers["momenta"]
@@ -69,7 +51,7 @@ class MidpointFunctions:
 
 def midpoint_functions(compiled: CompiledSystem) -> MidpointFunctions | None:
     """The fillers of ``compiled`` (built on first use, then kept), or None where there are none."""
-    if compiled.backend not in ("numpy", "numba", "llvm") or compiled.has_constraints:
+    if compiled.backend not in ("numpy", "llvm") or compiled.has_constraints:
         return None
     if compiled.forms is None:
         return None  # functions given by hand: no equations to generate code from
@@ -79,66 +61,18 @@ def midpoint_functions(compiled: CompiledSystem) -> MidpointFunctions | None:
 
 
 def _build(compiled: CompiledSystem) -> MidpointFunctions | None:
-    from ..codegen.schemes import MATRICES, SCALARS, scheme_expressions
+    from ..codegen.schemes import SCALARS, scheme_expressions
     from ..errors import ModelError
 
     forms = compiled.forms
     try:
         functions = scheme_expressions(forms, "midpoint")
-        if compiled.backend == "numba":
-            from ..codegen.numba import load_functions
-
-            module = load_functions(
-                forms, "midpoint", functions, scalars=SCALARS, matrices=MATRICES
-            )
-            fillers = {name: _guarded(getattr(module, name)) for name in _FILLERS}
-            return MidpointFunctions(forms.n, fillers, _numba_step(forms.n, module))
-        else:
-            fillers = {
-                name: _lambdified(forms, outputs, SCALARS.get(name, ()))
-                for name, outputs in functions
-            }
+        fillers = {
+            name: _lambdified(forms, outputs, SCALARS.get(name, ())) for name, outputs in functions
+        }
     except (ModelError, NameError, TypeError, ValueError, KeyError):
         return None  # something the generated code cannot express: the NumPy step runs
     return MidpointFunctions(forms.n, fillers)
-
-
-def _numba_step(n: int, fillers) -> object:
-    """The jitted step of :mod:`.numba_midpoint` over the ``fillers`` module (cached on disk)."""
-    import hashlib
-    from pathlib import Path
-
-    from ..codegen.cache import load_text
-    from ..codegen.steps import NumbaStepPrinter, scheme_program
-    from .variational import STALL_RATIO  # imported when first built: no import cycle
-
-    template = Path(__file__).with_name("numba_midpoint.py").read_text(encoding="utf-8")
-    head, rest = template.split(_BEGIN, 1)
-    tail = rest.split(_END, 1)[1].split("\n", 1)[1]
-    before, rest = tail.split(_SCHEME_BEGIN, 1)
-    after = rest.split(_SCHEME_END, 1)[1].split("\n", 1)[1]
-    program = scheme_program("midpoint", n, stall=STALL_RATIO)
-    printed = NumbaStepPrinter(n, counting=True).scheme(program)
-    tail = "\n".join([before.rstrip("\n"), "", "", printed, "", after.lstrip("\n")])
-    generated = [f"N = {n}", f"from {fillers.__name__} import {', '.join(_FILLERS)}"]
-    text = "\n".join([head.rstrip("\n"), "", *generated, "", tail])
-    return load_text(hashlib.sha256(text.encode()).hexdigest(), text).step
-
-
-_BEGIN, _END = "# -- generated: begin", "# -- generated: end"
-_SCHEME_BEGIN, _SCHEME_END = "# -- scheme: begin", "# -- scheme: end"
-
-
-def _guarded(kernel):
-    """A numba filler whose ZeroDivisionError (NumPy gives inf there) becomes Unavailable."""
-
-    def filler(*arguments):
-        try:
-            kernel(*arguments)
-        except (ZeroDivisionError, ValueError, OverflowError):
-            raise Unavailable from None
-
-    return filler
 
 
 def _lambdified(forms, outputs, scalars):
@@ -183,8 +117,6 @@ def step_one(
     for one batch element, counted in ``work`` as there.
     """
     params = np.ascontiguousarray(params, dtype=float)
-    if functions.step is not None:
-        return _jitted(functions.step, t, h, y, p, last, params, work, newton)
     n = functions.n
     q, w = y[:n], y[n:]
     v = w if last is None else 2 * w - last
@@ -235,35 +167,6 @@ def step_one(
     raise StepFailure(
         f"the velocity for the momenta did not converge in {newton.iterations} iterations"
     )
-
-
-def _jitted(step, t, h, y, p, last, params, work, newton):
-    """:func:`step_one` as one call of the numba step (:mod:`.numba_midpoint`)."""
-    n = y.shape[0] // 2
-    y = np.ascontiguousarray(y, dtype=float)
-    started = last is not None
-    last = np.ascontiguousarray(last if started else y[n:])
-    y_new, p_new, v_new = np.empty(2 * n), np.empty(n), np.empty(n)
-    counts = np.zeros(3, dtype=np.int64)
-    options = (newton.tol, newton.floor, int(newton.iterations))
-    try:
-        failed = step(float(t), float(h), y, params, np.ascontiguousarray(p), last, started,
-                      *options, y_new, p_new, v_new, counts)  # fmt: skip
-    except (ZeroDivisionError, ValueError, OverflowError):
-        raise Unavailable from None
-    work.rhs_evaluations += int(counts[0])
-    work.jacobian_evaluations += int(counts[1])
-    work.newton_iterations += int(counts[2])
-    if failed == 1:
-        raise StepFailure(
-            "Newton's method for the midpoint velocity did not converge in "
-            f"{newton.iterations} iterations"
-        )
-    if failed:
-        raise StepFailure(
-            f"the velocity for the momenta did not converge in {newton.iterations} iterations"
-        )
-    return y_new, p_new, v_new
 
 
 def _converged(size: float, previous: float, scale: float, reach: float, newton: Newton) -> bool:

@@ -31,11 +31,10 @@ import numpy as np
 from numba import njit
 
 from lagrangian.integrate.dop853_tableau import E3, E5, A, B, C, D
-from lagrangian.numeric.numba_linalg import eliminate
 
 # -- generated: begin (each generated module has its own values here) ----------------
 N = 1
-fill = None
+fill = eliminate = None  # the system's M and f, and the printed linear solve
 # -- generated: end ------------------------------------------------------------------
 
 SAFETY = 0.9  # SciPy's step-size controller (scipy/integrate/_ivp/rk.py)
@@ -51,7 +50,7 @@ def derivative(t, y, p, mass, force, out, flags):  # pragma: no cover - compiled
     fill(t, y, p, mass, force)
     for i in range(N):
         out[i] = y[N + i]
-    eliminate(mass, force, out, N, N)
+    eliminate(mass, force, out, N)
     for i in range(2 * N):
         if not math.isfinite(out[i]):
             flags[0] = 1

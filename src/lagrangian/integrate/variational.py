@@ -54,8 +54,10 @@ from typing import TYPE_CHECKING, ClassVar
 import numpy as np
 
 from ..errors import ModelError, SingularMassMatrixError
+from ..numeric.backends import numpy_backend
+from .compiled_loop import Newton, Unavailable
 from .fixed_step import AbstractFixedStepIntegrator, StepFailure
-from .midpoint_step import Newton, Unavailable, midpoint_functions, step_one
+from .midpoint_step import midpoint_functions, step_one
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -71,6 +73,8 @@ ROUNDING_FLOOR = 1e-10
 #: long enough run of decreasing noise failed the step (float32 ensembles: one member
 #: in about 10^9 steps).
 STALL_RATIO = 0.5
+
+_NUMPY = numpy_backend()
 
 
 @dataclass(frozen=True)
@@ -118,6 +122,20 @@ class Variational(AbstractFixedStepIntegrator):
             "stormer-verlet" if compiled.separable and self.explicit_when_separable else "midpoint"
         )
 
+    def printed_scheme(self, compiled: CompiledSystem) -> str:
+        return self.scheme(compiled)
+
+    def newton_settings(self) -> Newton:
+        return Newton(self.newton_tol, ROUNDING_FLOOR, STALL_RATIO, int(self.max_newton))
+
+    def failure_text(self, code: int) -> str:
+        if code == 1:
+            return (
+                "Newton's method for the midpoint velocity did not converge in "
+                f"{self.max_newton} iterations"
+            )
+        return f"the velocity for the momenta did not converge in {self.max_newton} iterations"
+
     # -- the protocol of fixed-step methods ---------------------------------------
     def init(self, compiled, t, y, params, work):
         q, w = _split(_batch(y))
@@ -136,7 +154,7 @@ class Variational(AbstractFixedStepIntegrator):
         if single and isinstance(state, _MidpointState) and np.ndim(params) == 1:
             functions = midpoint_functions(compiled)
             if functions is not None:
-                newton = Newton(self.newton_tol, ROUNDING_FLOOR, STALL_RATIO, self.max_newton)
+                newton = self.newton_settings()
                 momenta, last = state.momenta[:, 0], state.velocity
                 try:
                     y_new, p_new, v_new = step_one(
@@ -286,16 +304,13 @@ def _split(y: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """x (n, B) with matrix[:, :, b] x[:, b] = rhs[:, b] for every batch element."""
+    """x (n, B) with matrix[:, :, b] x[:, b] = rhs[:, b] for every batch element (the
+    NumPy backend's solve)."""
     n, batch = rhs.shape
     if matrix.shape != (n, n, batch):
         matrix = np.broadcast_to(matrix, (n, n, batch))
-    if n == 1:
-        if np.any(matrix[0] == 0):
-            raise StepFailure("the Newton matrix (the mass matrix) is singular")
-        return rhs / matrix[0]
     try:
-        return np.linalg.solve(matrix.transpose(2, 0, 1), rhs.T[..., None])[..., 0].T
+        return _NUMPY.solve(matrix.transpose(2, 0, 1), rhs.T).T
     except np.linalg.LinAlgError:
         raise StepFailure("the Newton matrix (the mass matrix) is singular") from None
 

@@ -68,23 +68,11 @@ def solve_one(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
     """x with ``matrix x = rhs`` for one system, (n, n) and (n,) or (n, k); None where it is
     singular.
 
-    The one solve of a single small system in Python (the compiled midpoint step of one
-    state, the llvm right-hand sides): the closed forms for n <= 2 and one right-hand side,
-    LAPACK's LU solve
-    (``dgesv``, without numpy's wrapper: its call overhead is most of a small solve)
-    beyond.
+    The one solve of a single system in Python (the compiled midpoint step of one state,
+    the llvm right-hand sides and their Jacobians, the numpy backend's single state):
+    LAPACK's LU solve (``dgesv``) called without numpy's wrapper, whose overhead is most
+    of a small solve.
     """
-    n = rhs.shape[0] if rhs.ndim == 1 else 0  # several right-hand sides: LAPACK
-    if n == 1:  # in Python floats: array operations on one or two numbers cost microseconds
-        (a,), (f0,) = matrix[0].tolist(), rhs.tolist()
-        return None if a == 0 else np.array([f0 / a])
-    if n == 2:
-        (a, b), (c, d) = matrix.tolist()
-        determinant = a * d - b * c
-        if determinant == 0:
-            return None
-        f0, f1 = rhs.tolist()
-        return np.array([(d * f0 - b * f1) / determinant, (a * f1 - c * f0) / determinant])
     _, _, result, info = _gesv()(matrix, rhs)
     return None if info != 0 else result
 

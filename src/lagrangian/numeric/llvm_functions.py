@@ -3,7 +3,7 @@
 ``rhs``, ``accelerations`` and ``rhs_jacobian`` of one state (``y`` of shape
 ``(2n,)``, ``params`` ``(P,)``, scalar ``t``) evaluate the entries of M and f of M q'' = f with
 :class:`symengine.Lambdify` (``backend="llvm"``, common subexpressions
-eliminated), then solve M q'' = f (closed forms up to n = 2, else LAPACK's ``dgesv``);
+eliminated), then solve M q'' = f (LAPACK's ``dgesv``);
 the Jacobian solves M X = G for G = d(f - M a)/d(q, q') at a = q''
 (:func:`lagrangian.codegen.llvm.load_jacobian`, a second function).  The
 code is made on the first call, in milliseconds (a 10-link chain: about 0.05 s,

@@ -1,8 +1,8 @@
-"""The numba ensemble loop, as the text of a generated module (a template).
+"""The compiled fixed-step loops of the numba target, as the text of a generated module.
 
 numba caches compiled code on disk only for functions defined at the top of a
-real module file, not for closures; so the loop lives here as a module-level
-function over a few globals, and :func:`lagrangian.ensemble.numba_backend.kernel`
+real module file, not for closures; so the loops live here as module-level
+functions over a few globals, and :func:`lagrangian.codegen.loops.numba_loop`
 writes, per system and scheme, a copy of this text into the code cache with the
 globals filled in (the block between the ``generated`` markers) and the scheme's
 functions in place of the placeholder between the ``scheme`` markers.  There
@@ -17,21 +17,24 @@ state, is printed from :mod:`lagrangian.codegen.steps` (the same program the
 CUDA kernel prints as C):
 
     workspace()                       the arrays the scheme keeps and works in
-    init(t, y, p, work)               the scheme's state at the first step
-    step(t, h, y, p, work, tol, floor, iterations) -> int
+    init(t, y, p, work, counts)       the scheme's state at the first step
+    step(t, h, y, p, work, tol, floor, iterations, counts) -> int
                                       y (2n,) advanced by h in place; 0, or
-                                      not 0 when a Newton iteration did not converge
+                                      not 0 when a Newton iteration did not converge;
+                                      counts (3 integers): evaluations of the
+                                      right-hand side (or L_q', L_q + Q), of the
+                                      Jacobians, and Newton updates
 
-Linear solves are :func:`lagrangian.numeric.numba_linalg.eliminate` with n a
-constant, so that they unroll.  This module itself is never run.
+Two loops call it: ``run``, the ensemble's (one member per ``prange`` iteration),
+and ``advance``, a stretch of steps of one single run, every state kept.
+Linear solves are the printed ``eliminate`` (:func:`lagrangian.codegen.steps.elimination`)
+for a constant n.  This module itself is never run.
 """
 
 import math
 
 import numpy as np
 from numba import njit, prange
-
-from lagrangian.numeric.numba_linalg import eliminate  # noqa: F401 - the schemes call it
 
 # -- generated: begin (each generated module has its own values here) ----------------
 N = 1
@@ -49,12 +52,12 @@ def rk4_workspace():  # pragma: no cover - compiled by numba
 
 
 @njit(cache=True)
-def rk4_init(t, y, p, work):  # pragma: no cover - compiled by numba
+def rk4_init(t, y, p, work, counts):  # pragma: no cover - compiled by numba
     pass
 
 
 @njit(inline="always", cache=True)
-def rk4_step(t, h, y, p, work, tol, floor, iterations):  # pragma: no cover - compiled by numba
+def rk4_step(t, h, y, p, work, tol, floor, iterations, counts):  # pragma: no cover
     return 0
 
 
@@ -73,6 +76,7 @@ def run(
         y = y0[b].copy()
         p = params[b]
         work = workspace()
+        counts = np.zeros(3, dtype=np.int64)
         flip = np.nan
         failure = -1
         if track:
@@ -83,10 +87,10 @@ def run(
             for i in range(m):
                 paths[b, i, 0] = y[i]
         if not (stop and flip == flip):
-            init(grid[0], y, p, work)
+            init(grid[0], y, p, work, counts)
             for s in range(steps):
                 ta = grid[s]
-                if step(ta, grid[s + 1] - ta, y, p, work, tol, floor, iterations) != 0:
+                if step(ta, grid[s + 1] - ta, y, p, work, tol, floor, iterations, counts) != 0:
                     failure = s
                     break
                 if save_every > 0 and (s + 1) % save_every == 0:
@@ -102,6 +106,28 @@ def run(
         failures[b] = failure
         for i in range(m):
             final[b, i] = y[i]
+
+
+# -- a stretch of one single run ----------------------------------------------------
+@njit(cache=True)
+def advance(
+    y, p, work, grid, start, stop, tol, floor, iterations, states, counts
+):  # pragma: no cover - compiled by numba  # fmt: skip
+    """Steps start, ..., stop - 1 of ``grid`` from y (advanced in place), the state after
+    step s into ``states[s + 1]``.  Returns (the step reached, 0), or (the step that
+    failed, its code: 1 or 2 from the scheme's Newton iterations, 3 for a state that is
+    not finite)."""
+    for s in range(start, stop):
+        ta = grid[s]
+        failed = step(ta, grid[s + 1] - ta, y, p, work, tol, floor, iterations, counts)
+        if failed != 0:
+            return s, failed
+        for i in range(M):
+            value = y[i]
+            if value - value != 0:  # inf or NaN
+                return s, 3
+            states[s + 1, i] = value
+    return stop, 0
 
 
 # -- the scheme (each generated module selects its own) --------------------------------

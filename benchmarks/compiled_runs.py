@@ -1,0 +1,105 @@
+"""Fixed-step single runs in compiled code against the numba ensemble's per-member step.
+
+    python benchmarks/compiled_runs.py [--repeat 3] [--steps 200000] [--long 10000000]
+
+Issue 19's targets for rk4 and variational single runs on the numba backend, double
+pendulum, dt = 0.001, in one process:
+
+- µs per step of ``RK4(dt).solve`` and ``Variational(dt).solve`` (one state, the whole
+  loop in the generated module of ``codegen/loops.py``, every state kept, the energy
+  balance checked) against µs per member-step of the numba ensemble loop (the same
+  module's ``run``, 2,000 members, one numba thread so that both use one core), and
+  their ratio (target: within 3x);
+- ``--long`` steps of the variational run through ``simulate`` of the compiled system
+  (1001 output times):
+  the wall time (target: 10^7 steps in under 10 s) and the largest energy error
+  max |E - E(0)| over the outputs (bounded: the method is symplectic).
+
+Compilation is done before timing (a first short run).  Nothing is asserted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from variational import DT, per_step
+
+import lagrangian as lg
+from lagrangian.ensemble.numba_backend import integrate_numba
+from lagrangian.integrate import simulate
+from lagrangian.integrate.registry import method_class
+from lagrangian.numeric import compile_equations
+
+MEMBERS = 2000
+INITIAL = {"theta1": 2.0, "theta2": 0.5}
+
+
+def ensemble_member_step(compiled, method: str, steps: int, repeat: int) -> float:
+    """Median µs per member-step of the numba ensemble loop, one thread."""
+    import numba
+
+    rng = np.random.default_rng(1)
+    y0 = np.repeat(compiled.state_vector(INITIAL)[:, None], MEMBERS, axis=1)
+    y0[: compiled.n] += rng.uniform(-0.1, 0.1, (compiled.n, MEMBERS))
+    params = compiled.parameter_vector()
+    integrator = method_class(method)(dt=DT)
+    names = ("final_state",)
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        integrate_numba(compiled, integrator, y0, params, 20 * DT, names)  # compile and warm
+        times = []
+        for _ in range(repeat):
+            start = time.perf_counter()
+            integrate_numba(compiled, integrator, y0, params, steps * DT, names)
+            times.append(time.perf_counter() - start)
+    finally:
+        numba.set_num_threads(threads)
+    return 1e6 * statistics.median(times) / (steps * MEMBERS)
+
+
+def long_run(compiled, steps: int) -> tuple[float, float, str]:
+    """(wall s, max |E - E(0)|, status) of ``steps`` variational steps of ``compiled``
+    through ``simulate`` (the step size choice, the energy check and 1001 outputs
+    included; the derivation and the compilation, done before, are not)."""
+    simulate(compiled, t_end=20 * DT, initial=INITIAL, method="variational", dt=DT)  # warm
+    start = time.perf_counter()
+    trajectory = simulate(
+        compiled, t_end=steps * DT, initial=INITIAL, method="variational", dt=DT, n_out=1001
+    )
+    wall = time.perf_counter() - start
+    energy = np.asarray(trajectory["energy"])
+    return wall, float(np.max(np.abs(energy - energy[0]))), trajectory.status
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=3)
+    parser.add_argument("--steps", type=int, default=200_000)
+    parser.add_argument("--long", type=int, default=10_000_000)
+    args = parser.parse_args(argv)
+    system = lg.load("double_pendulum")
+    compiled = compile_equations(system.equations_of_motion(), backend="numba")
+    print(f"{'method':>12} {'single run µs/step':>19} {'ensemble µs/member-step':>24} {'ratio':>7}")
+    for method in ("rk4", "variational"):
+        y0, params = compiled.state_vector(INITIAL), compiled.parameter_vector()
+        single = per_step(compiled, method, args.steps, args.repeat, y0, params)
+        member = ensemble_member_step(compiled, method, max(args.steps // 100, 100), args.repeat)
+        print(f"{method:>12} {single:>19.3f} {member:>24.3f} {single / member:>7.2f}", flush=True)
+    if args.long:
+        wall, error, status = long_run(compiled, args.long)
+        print(
+            f"{args.long:,} variational steps (simulate, numba, 1001 outputs): {wall:.2f} s, "
+            f"max |E - E(0)| = {error:.2e}, status {status}"
+        )
+
+
+if __name__ == "__main__":
+    main()

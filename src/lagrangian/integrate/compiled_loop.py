@@ -1,0 +1,134 @@
+"""Fixed-step single runs in compiled code: the numba loop, a stretch of steps at a time.
+
+On the numba backend a single run of rk4 or variational (unconstrained, from derived
+equations) takes its steps in the generated loop of :mod:`lagrangian.codegen.loops`,
+the module whose ``run`` is the numba ensemble's loop, with the same printed step:
+``advance`` takes a stretch (a chunk) of steps in one call and keeps every state in
+one array.  Between chunks Python tells ``watch`` (progress, a time budget) the time
+reached; the fixed-step driver then checks events and the energy balance on the kept
+states as for any run.  A chunk lasts about :data:`CHUNK_SECONDS`: the first has
+:data:`FIRST_CHUNK` steps and the next ones double while they take less (the chunk
+sizes change how often Python looks, never the states).
+
+The step's failures come back as codes and become the messages of the Python loop's
+(Newton did not converge, a state that is not finite).  Where a generated function
+raises instead (numba's ``ZeroDivisionError`` for 1/x at x = 0, where NumPy gives inf),
+:meth:`CompiledLoop.march` raises :class:`Unavailable` and the driver runs the whole
+span again step by step in Python, which reports the inf or NaN as it does.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+from .base import Work
+
+if TYPE_CHECKING:
+    from ..numeric.compiled import CompiledSystem
+
+#: Seconds of stepping between two looks from Python (progress, time budget, events).
+CHUNK_SECONDS = 0.05
+#: Steps of the first chunk (then doubled while a chunk takes less than CHUNK_SECONDS).
+FIRST_CHUNK = 256
+
+
+class Unavailable(Exception):
+    """Generated code could not evaluate a value (numba and ``math`` raise where NumPy gives
+    inf or NaN): the caller takes the step, or the run, with the NumPy functions."""
+
+
+class Newton(NamedTuple):
+    """The settings of a scheme's Newton iterations (see :mod:`.variational`)."""
+
+    tol: float
+    floor: float  # ROUNDING_FLOOR
+    stall: float  # STALL_RATIO
+    iterations: int
+
+
+class Marched(NamedTuple):
+    """What :meth:`CompiledLoop.march` reached: ``states[k]`` is the state at ``grid[k]`` for
+    k <= ``reached``; ``failed``: 0, or the failure code of step ``reached`` (1, 2: the
+    scheme's Newton iterations; 3: the state after it is not finite, ``last``)."""
+
+    states: np.ndarray
+    reached: int
+    failed: int
+    last: np.ndarray
+
+
+class CompiledLoop:
+    """The generated loop module of one system and scheme (see the module docstring)."""
+
+    def __init__(self, module, newton: Newton):
+        self.module = module
+        self.newton = newton
+
+    def march(
+        self,
+        grid: np.ndarray,
+        y0: np.ndarray,
+        params: np.ndarray,
+        work: Work,
+        chunk: Callable[[np.ndarray, int, int], bool] | None = None,
+    ) -> Marched:
+        """Step ``y0`` along ``grid`` until its end, the first failure, or until
+        ``chunk(states, start, stop)``, told of each chunk of steps just taken, says stop."""
+        module, newton = self.module, self.newton
+        steps = grid.shape[0] - 1
+        y = np.array(y0, dtype=float)
+        p = np.ascontiguousarray(params, dtype=float)
+        states = np.empty((steps + 1, y.shape[0]))
+        states[0] = y
+        counts = np.zeros(3, dtype=np.int64)
+        reached, failed, size = 0, 0, FIRST_CHUNK
+        try:
+            workspace = module.workspace()
+            _generated(module.init, float(grid[0]), y, p, workspace, counts)
+            while reached < steps and not failed:
+                start, stop = reached, min(steps, reached + size)
+                began = time.perf_counter()
+                reached, failed = _generated(
+                    module.advance, y, p, workspace, grid, start, stop, newton.tol,
+                    newton.floor, newton.iterations, states, counts,
+                )  # fmt: skip
+                if time.perf_counter() - began < CHUNK_SECONDS / 2:
+                    size *= 2
+                if chunk is not None and chunk(states, start, reached):
+                    break
+        finally:
+            work.rhs_evaluations += int(counts[0])
+            work.jacobian_evaluations += int(counts[1])
+            work.newton_iterations += int(counts[2])
+            work.steps += int(reached)
+        return Marched(states, int(reached), int(failed), y)
+
+
+def _generated(function, *arguments):
+    """``function(*arguments)`` of the generated module; its errors of evaluation (numba
+    raises where NumPy gives inf or NaN) become :class:`Unavailable`."""
+    try:
+        return function(*arguments)
+    except (ZeroDivisionError, ValueError, OverflowError):
+        raise Unavailable from None
+
+
+def compiled_loop(
+    compiled: CompiledSystem, scheme: str | None, newton: Newton
+) -> CompiledLoop | None:
+    """The :class:`CompiledLoop` of ``compiled`` for ``scheme`` (None: the method has no
+    printed scheme), or None where the run is not compiled: a backend other than numba,
+    constraints, or functions given by hand instead of derived equations."""
+    if scheme is None or compiled.backend != "numba" or compiled.has_constraints:
+        return None
+    if compiled.forms is None:
+        return None
+    from ..codegen.loops import numba_loop
+    from . import tableaus
+
+    module = numba_loop(compiled.forms, scheme, tableau=tableaus.RK4, stall=newton.stall)
+    return CompiledLoop(module, newton)
