@@ -75,7 +75,7 @@ def test_a_newton_failure_reads_as_in_the_python_loop(pendulums):
         )
         assert result.status == Status.FAILED
         messages[backend] = result.message
-    assert messages["numba"] == messages["numpy"].split(" (residual")[0] + " at t = 0"
+    assert messages["numba"] == messages["numpy"]  # both the printed step's
     assert messages["numba"].startswith("Newton's method for the midpoint velocity did not")
 
 

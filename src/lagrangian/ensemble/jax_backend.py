@@ -11,7 +11,8 @@ compiles the whole chunk at once:
   constrained states are projected after every step (``compiled.project``)
   as the fixed-step driver does;
 - ``variational``: the schemes of :mod:`lagrangian.integrate.variational`
-  (Stormer-Verlet when separable, else the midpoint scheme), with each Newton
+  (Stormer-Verlet when separable, else the midpoint scheme: the NumPy batch's code,
+  :mod:`lagrangian.integrate.midpoint_batch`, traced), with each Newton
   iteration a ``lax.while_loop`` that runs until every member has converged
   by the same per-member test, at most ``max_newton`` times.  A member that
   does not converge is an error after the loop (traced code cannot raise).
@@ -46,7 +47,8 @@ from ..codegen.cache import built
 from ..errors import MissingDependencyError, ModelError
 from ..integrate.explicit_rk import AbstractExplicitRungeKutta
 from ..integrate.fixed_step import step_grid
-from ..integrate.variational import ROUNDING_FLOOR, STALL_RATIO, Variational
+from ..integrate.midpoint_batch import ArrayNewton, legendre_velocity, midpoint_velocity
+from ..integrate.variational import ROUNDING_FLOOR, Variational
 from .choices import PRECISIONS
 from .observables import finish
 
@@ -309,11 +311,14 @@ def _tolerances(integrator: Variational, eps: float) -> tuple[float, float]:
 
 
 def _midpoint(system: CompiledSystem, integrator: Variational, eps: float) -> Stepper:
-    """Variational._midpoint and _velocity: state (p_k, the last midpoint velocity)."""
-    jnp = _jax().numpy
+    """Variational's midpoint step (:mod:`lagrangian.integrate.midpoint_batch`, the NumPy
+    batch's code traced): state (p_k, the last midpoint velocity)."""
+    jax = _jax()
+    jnp = jax.numpy
     n = system.n
     tolerance, floor = _tolerances(integrator, eps)
-    newton = _newton_solver(integrator.max_newton, tolerance, floor)
+    settings = ArrayNewton(jnp, jax.lax.while_loop, _solve, tolerance, floor,
+                           integrator.max_newton)  # fmt: skip
 
     def init(t, y, params):
         q, w = y[:n], y[n:]
@@ -322,87 +327,14 @@ def _midpoint(system: CompiledSystem, integrator: Variational, eps: float) -> St
     def step(t, h, y, state, params):
         q, w = y[:n], y[n:]
         p, v_previous = state
-        tm = t + h / 2
-
-        def midpoint(v):
-            qm = q + (h / 2) * v
-            momenta = system.momenta(tm, qm, v, params)
-            force = system.lagrangian_gradient(tm, qm, v, params)
-            force = force + system.nonconservative_forces(tm, qm, v, params)
-            return momenta - (h / 2) * force - p, _scale(momenta, p), _extent(q), force
-
-        def jacobian(v):
-            qm = q + (h / 2) * v
-            mass = system.mass_matrix(tm, qm, v, params)
-            p_q = system.momenta_jacobian_q(tm, qm, v, params)
-            l_qq = system.lagrangian_hessian_q(tm, qm, v, params)
-            f_q = system.nonconservative_forces_jacobian_q(tm, qm, v, params)
-            f_v = system.nonconservative_forces_jacobian_v(tm, qm, v, params)
-            skew = p_q - jnp.swapaxes(p_q, 0, 1)
-            return mass + (h / 2) * skew - (h * h / 4) * (l_qq + f_q) - (h / 2) * f_v
-
-        v, force, failed = newton(midpoint, jacobian, 2 * w - v_previous)
-        p_new = p + h * force
-        q_new = q + h * v
-
-        def legendre(u):  # L_q'(q_new, u) = p_new
-            momenta = system.momenta(t + h, q_new, u, params)
-            return momenta - p_new, _scale(momenta, p_new), _extent(q_new), None
-
-        w_new, _, failed_velocity = newton(
-            legendre, lambda u: system.mass_matrix(t + h, q_new, u, params), v
-        )
-        return jnp.concatenate([q_new, w_new]), (p_new, v), failed | failed_velocity
+        found = midpoint_velocity(system, settings, t, h, q, w, p, v_previous, params)
+        p_new = p + h * found.extra
+        q_new = q + h * found.x
+        velocity = legendre_velocity(system, settings, t + h, q_new, p_new, found.x, params)
+        failed = found.failed | velocity.failed
+        return jnp.concatenate([q_new, velocity.x]), (p_new, found.x), failed
 
     return Stepper(init, step)
-
-
-def _scale(momenta, p):
-    jnp = _jax().numpy
-    return jnp.maximum(jnp.max(jnp.abs(p), axis=0), jnp.max(jnp.abs(momenta), axis=0))
-
-
-def _extent(q):
-    """Variational's max(1, max |q|): how the coordinates' rounding scales."""
-    jnp = _jax().numpy
-    return jnp.maximum(1.0, jnp.max(jnp.abs(q), axis=0))
-
-
-def _newton_solver(max_newton: int, tolerance: float, floor: float):
-    """``solve(residual, jacobian, x0) -> (x, extra, failed)``: per-member Newton.
-
-    ``residual(x) -> (r, scale, extent, extra)``.  As in Variational, a member
-    stops (its x frozen) when |r| <= tolerance * scale, or when |r| stopped
-    shrinking below floor * scale * extent; the loop ends when all have stopped or
-    after ``max_newton`` updates; members still iterating have failed.
-    """
-    jax = _jax()
-    jnp, lax = jax.numpy, jax.lax
-
-    def converged(size, previous, scale, reach):
-        small = (size <= tolerance * scale) | (size == 0.0)
-        return small | ((size >= STALL_RATIO * previous) & (size <= floor * scale * reach))
-
-    def solve(residual, jacobian, x):
-        r, scale, reach, extra = residual(x)
-        size = jnp.max(jnp.abs(r), axis=0)
-        active = ~converged(size, jnp.inf, scale, reach)
-
-        def more(carry):
-            count, _, active, *_ = carry
-            return (count < max_newton) & jnp.any(active)
-
-        def update(carry):
-            count, x, active, r, previous, _ = carry
-            x = jnp.where(active, x - _solve(jacobian(x), r), x)
-            r, scale, reach, extra = residual(x)
-            size = jnp.max(jnp.abs(r), axis=0)
-            return count + 1, x, active & ~converged(size, previous, scale, reach), r, size, extra
-
-        carry = lax.while_loop(more, update, (0, x, active, r, size, extra))
-        return carry[1], carry[5], carry[2]
-
-    return solve
 
 
 def _solve(matrix, rhs):

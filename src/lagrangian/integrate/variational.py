@@ -57,6 +57,13 @@ from ..errors import ModelError, SingularMassMatrixError
 from ..numeric.backends import numpy_backend
 from .compiled_loop import Newton, Unavailable
 from .fixed_step import AbstractFixedStepIntegrator, StepFailure
+from .midpoint_batch import (
+    STALL_RATIO,
+    ArrayNewton,
+    legendre_velocity,
+    midpoint_velocity,
+    python_while,
+)
 from .midpoint_step import midpoint_functions, step_one
 
 if TYPE_CHECKING:
@@ -67,12 +74,6 @@ if TYPE_CHECKING:
 #: and of coordinates that have grown (a spinning angle of 600 rad carries 600 times the
 #: absolute rounding of one of 1 rad, and the momenta depend on it).
 ROUNDING_FLOOR = 1e-10
-#: Below the floor, a Newton update that no longer shrinks the residual by this factor
-#: has reached the rounding noise (Newton's iteration, converging, shrinks it far more).
-#: Waiting for the noise to stop decreasing instead took up to max_newton updates, and a
-#: long enough run of decreasing noise failed the step (float32 ensembles: one member
-#: in about 10^9 steps).
-STALL_RATIO = 0.5
 
 _NUMPY = numpy_backend()
 
@@ -184,72 +185,28 @@ class Variational(AbstractFixedStepIntegrator):
         return q_new, _apply(state.inverse, p_new), _VerletState(p_new, force, state.inverse)
 
     def _midpoint(self, compiled, t, h, q, w, state, params, work):
-        p = state.momenta
-        v = w if state.velocity is None else 2 * w - state.velocity  # O(h^2) first guess
-        tm = t + h / 2
-        active = np.ones(q.shape[1], dtype=bool)
-        previous = np.full(q.shape[1], np.inf)
-        for iteration in range(self.max_newton + 1):
-            qm = q + (h / 2) * v
-            momenta = compiled.momenta(tm, qm, v, params)
-            force = compiled.lagrangian_gradient(
-                tm, qm, v, params
-            ) + compiled.nonconservative_forces(tm, qm, v, params)
-            work.rhs_evaluations += 1
-            residual = momenta - (h / 2) * force - p
-            size = np.max(np.abs(residual), axis=0)
-            scale = np.maximum(np.max(np.abs(p), axis=0), np.max(np.abs(momenta), axis=0))
-            active &= ~_converged(size, previous, scale, _extent(q), self.newton_tol)
-            if not active.any():
-                break
-            if iteration == self.max_newton:
-                raise StepFailure(
-                    "Newton's method for the midpoint velocity did not converge in "
-                    f"{self.max_newton} iterations (residual {np.max(size):.2e})"
-                )
-            previous = np.where(active, size, previous)
-            jacobian = self._jacobian(compiled, tm, qm, v, h, params)
-            work.jacobian_evaluations += 1
-            work.newton_iterations += 1
-            v = np.where(active, v - _solve(jacobian, residual), v)
-        p_new = p + h * force
-        q_new = q + h * v
-        w_new = self._velocity(compiled, t + h, q_new, p_new, v, params, work)
-        return q_new, w_new, _MidpointState(p_new, v)
-
-    def _jacobian(self, compiled, t, qm, v, h, params) -> np.ndarray:
-        """d(residual)/dv, shape (n, n, B); see the module docstring."""
-        mass = compiled.mass_matrix(t, qm, v, params)
-        p_q = compiled.momenta_jacobian_q(t, qm, v, params)
-        l_qq = compiled.lagrangian_hessian_q(t, qm, v, params)
-        f_q = compiled.nonconservative_forces_jacobian_q(t, qm, v, params)
-        f_v = compiled.nonconservative_forces_jacobian_v(t, qm, v, params)
-        skew = p_q - np.swapaxes(p_q, 0, 1)
-        return mass + (h / 2) * skew - (h * h / 4) * (l_qq + f_q) - (h / 2) * f_v
-
-    def _velocity(self, compiled, t, q, p, guess, params, work) -> np.ndarray:
-        """q' with L_q'(q, q', t) = p: Newton with M (one step is exact for quadratic L)."""
-        w = guess
-        active = np.ones(q.shape[1], dtype=bool)
-        previous = np.full(q.shape[1], np.inf)
-        for iteration in range(self.max_newton + 1):
-            momenta = compiled.momenta(t, q, w, params)
-            work.rhs_evaluations += 1
-            residual = momenta - p
-            size = np.max(np.abs(residual), axis=0)
-            scale = np.maximum(np.max(np.abs(p), axis=0), np.max(np.abs(momenta), axis=0))
-            active &= ~_converged(size, previous, scale, _extent(q), self.newton_tol)
-            if not active.any():
-                return w
-            if iteration == self.max_newton:
-                break
-            previous = np.where(active, size, previous)
-            mass = compiled.mass_matrix(t, q, w, params)
-            work.jacobian_evaluations += 1
-            w = np.where(active, w - _solve(mass, residual), w)
-        raise StepFailure(
-            f"the velocity for the momenta did not converge in {self.max_newton} iterations"
-        )
+        settings = ArrayNewton(np, python_while, _solve, self.newton_tol, ROUNDING_FLOOR,
+                               self.max_newton)  # fmt: skip
+        last = w if state.velocity is None else state.velocity  # 2 w - w = w: the guess is w
+        found = midpoint_velocity(compiled, settings, t, h, q, w, state.momenta, last, params)
+        work.rhs_evaluations += found.updates + 1
+        work.jacobian_evaluations += found.updates
+        work.newton_iterations += found.updates
+        if found.failed.any():
+            raise StepFailure(
+                "Newton's method for the midpoint velocity did not converge in "
+                f"{self.max_newton} iterations (residual {np.max(found.size):.2e})"
+            )
+        p_new = state.momenta + h * found.extra
+        q_new = q + h * found.x
+        velocity = legendre_velocity(compiled, settings, t + h, q_new, p_new, found.x, params)
+        work.rhs_evaluations += velocity.updates + 1
+        work.jacobian_evaluations += velocity.updates
+        if velocity.failed.any():
+            raise StepFailure(
+                f"the velocity for the momenta did not converge in {self.max_newton} iterations"
+            )
+        return q_new, velocity.x, _MidpointState(p_new, found.x)
 
 
 def _check_regular(compiled, t, q: np.ndarray, mass: np.ndarray) -> None:
@@ -267,18 +224,6 @@ def _check_regular(compiled, t, q: np.ndarray, mass: np.ndarray) -> None:
     raise SingularMassMatrixError.at_state(
         float(np.max(t)), compiled.coordinate_names, q[:, k].tolist()
     )
-
-
-def _converged(size, previous, scale, extent, tolerance) -> np.ndarray:
-    """Per batch element: residual small, or no longer shrinking at the rounding floor."""
-    small = (size <= tolerance * scale) | (size == 0.0)
-    stalled = size >= STALL_RATIO * previous
-    return small | (stalled & (size <= ROUNDING_FLOOR * scale * extent))
-
-
-def _extent(q: np.ndarray) -> np.ndarray:
-    """max(1, max |q|) per batch element: how the coordinates' rounding scales."""
-    return np.maximum(1.0, np.max(np.abs(q), axis=0))
 
 
 @dataclass(frozen=True)
