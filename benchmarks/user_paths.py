@@ -12,10 +12,15 @@ processes where it measures a fresh start):
    numpy and numba backends (target: within 3x);
 3. ``first_run.py``: a first run (compile + integrate) per backend (the default
    should be the fastest);
-4. ``taylor_peer.py``: heyoka against our DOP853 and Radau at 1e-10 and 1e-15.
+4. ``taylor_peer.py``: heyoka against our DOP853 and Radau at 1e-10 and 1e-15;
+5. ``adaptive.py`` (issue 19): the default single run against heyoka (double
+   pendulum t = 1000 at 1e-10, target within 3x at equal or smaller error; 10-link
+   chain t = 1000 at 1e-15, within 2x) and the first run of the double pendulum
+   against the path before (target: no slower than 0.82 s).
 
-``--quick`` runs smaller sizes (chains of 5 and 20 links, 2,000 steps) and skips
-the heyoka part (its t = 1000 runs take minutes).  Nothing is asserted.
+``--quick`` runs smaller sizes (chains of 5 and 20 links, 2,000 steps), skips
+the heyoka part (its t = 1000 runs take minutes) and runs ``adaptive.py --quick``.
+Nothing is asserted.
 """
 
 from __future__ import annotations
@@ -25,6 +30,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import adaptive
 import first_run
 import taylor_peer
 import variational
@@ -47,6 +53,10 @@ def main(argv: list[str] | None = None) -> None:
     if not args.quick:
         print("\n== 4. heyoka at tight tolerances (benchmarks/taylor_peer.py)")
         taylor_peer.main(args.repeat)
+    print(
+        "\n== 5. the default single run against heyoka and the first run (benchmarks/adaptive.py)"
+    )
+    adaptive.main(["--repeat", repeat, *(["--quick"] if args.quick else [])])
 
 
 if __name__ == "__main__":

@@ -14,7 +14,8 @@ tolerances given) differ in what they cost before the first step and per step
 - ``taylor`` (heyoka, where installed and applicable: no events, no constraints, a
   definite mass matrix), at tol = min(rtol, atol): its import and build take a
   fraction of a second for small systems, more for large ones, and it then runs
-  2-3x faster than the compiled DOP853 with errors 30-200x smaller.
+  2-3x faster than the compiled DOP853 for two coordinates with errors 30-200x
+  smaller, but 3x slower for a 10-link chain (heyoka's compact mode).
 
 So the run's length decides, and to know it the first :data:`PROBE_STEPS` steps of
 SciPy's DOP853 are taken (a few milliseconds): the step size they reach, over the
@@ -77,9 +78,11 @@ def taylor_start_seconds(n: int) -> float:
     return 0.6 + 0.015 * n * n
 
 
-#: heyoka's integration time relative to the compiled DOP853 at the same tolerance, and
-#: its steps relative to DOP853's (larger steps of a higher order).
-TAYLOR_PACE, TAYLOR_STEPS = 0.4, 0.6
+#: heyoka's integration time relative to the compiled DOP853 at the same tolerance: its
+#: code for two coordinates (0.36-0.45: the double pendulum at 1e-10 and 1e-15), and in
+#: the compact mode it is built in for more (3: a 10-link chain at 1e-15, 91 s against
+#: 30 s; benchmarks/adaptive.py); and its steps relative to DOP853's.
+TAYLOR_PACE, TAYLOR_COMPACT_PACE, TAYLOR_STEPS = 0.4, 3.0, 0.6
 #: Seconds of Python per taylor step where every step is an output (no t_eval / n_out).
 TAYLOR_STEP_OUTPUT = 2e-5
 
@@ -151,6 +154,10 @@ def choose_run(
     n = quick.n
     costs = {"scipy": steps * scipy_step_seconds(n)}
     notes, fast = [], None
+    quickest = min(numba_start_seconds(n, cached=True), taylor_start_seconds(n))
+    if costs["scipy"] <= SWITCH_MARGIN * quickest:  # nothing that compiles can win: go now
+        scipy = f"about {_count(steps)} steps: scipy ~{costs['scipy']:.2g} s"
+        return scipy_loop(f"{scipy}, too short for a compiled way (start ~{quickest:.2g} s)")
     if numba_installed():
         fast = compiled_on("numba")
         start = numba_start_seconds(n, cached=compiled_ready(fast))
@@ -160,7 +167,8 @@ def choose_run(
     if method is None and importlib.util.find_spec("heyoka") is not None:
         problem = _taylor_problem(quick, y0, p, events)
         if problem is None:
-            pace = TAYLOR_PACE * steps * compiled_step_seconds(n)
+            relative = TAYLOR_PACE if n <= 2 else TAYLOR_COMPACT_PACE  # taylor.py's modes
+            pace = relative * steps * compiled_step_seconds(n)
             if every_step:  # its steps are taken one Python call at a time
                 pace += TAYLOR_STEPS * steps * TAYLOR_STEP_OUTPUT
             costs["taylor"] = taylor_start_seconds(n) + pace
