@@ -13,8 +13,10 @@ arguments, e.g. ``{"A": lambda x, y, z: sympy.sin(x) * y}``.
 
 from __future__ import annotations
 
+import contextlib
 import random
-from collections.abc import Callable, Mapping, Sequence
+import signal
+from collections.abc import Callable, Iterator, Mapping, Sequence
 
 import mpmath
 import sympy
@@ -172,3 +174,17 @@ def total_time_derivative(expr: sympy.Expr, coordinates: Sequence[str]) -> sympy
         q, q_dot, q_ddot = sympy.symbols(f"{name} {name}_dot {name}_ddot")
         result += sympy.diff(expr, q) * q_dot + sympy.diff(expr, q_dot) * q_ddot
     return result
+
+
+@contextlib.contextmanager
+def timer_handler(which: int, signum: int, handler: Callable, delay: float) -> Iterator[None]:
+    """While inside, ``handler`` receives ``signum`` from the interval timer ``which``
+    armed ``delay`` seconds ahead; the timer is stopped and the handler restored on the
+    way out (a test leaves every disposition as it found it)."""
+    previous = signal.signal(signum, handler)
+    signal.setitimer(which, delay)
+    try:
+        yield
+    finally:
+        signal.setitimer(which, 0)
+        signal.signal(signum, previous)

@@ -1,18 +1,26 @@
 """Time and size budgets for the symbolic stages: nothing hangs, nothing is silently wrong.
 
-SymPy is pure Python, so a deadline can interrupt it anywhere: :func:`deadline`
-arms a real-time timer (``SIGALRM``) and raises :class:`OutOfTime` (a
-``BaseException``, so that no ``except Exception`` inside SymPy swallows it) in
-the code it guards.  The guarded code is abandoned whole: its caller gets either
-the complete result or :class:`OutOfTime`, never a half-made one, and reports
-the part as undecided (:func:`attempt`) or falls back to a cheaper route that is
-still correct.
+Budgets are seconds of this process's own CPU time (user + system, every thread,
+and the children it has waited for; :func:`cpu_seconds`), not wall time: a
+stage that needs 3 s of CPU needs them on a quiet machine and beside four busy
+processes alike, so the same machine gives the same verdict at any load.
 
-A process has one real-time timer, so deadlines nest: an inner one arms the
+SymPy is pure Python, so a deadline can interrupt it anywhere: :func:`deadline`
+arms the process's CPU-time timer (``ITIMER_PROF``, delivering ``SIGPROF``) and
+raises :class:`OutOfTime` (a ``BaseException``, so that no ``except Exception``
+inside SymPy swallows it) in the code it guards.  The guarded code is abandoned
+whole: its caller gets either the complete result or :class:`OutOfTime`, never
+a half-made one, and reports the part as undecided (:func:`attempt`) or falls
+back to a cheaper route that is still correct.
+
+A process has one CPU-time timer, so deadlines nest: an inner one arms the
 timer for the earlier of its own end and the outer end, and on leaving re-arms
-whatever was armed before it (a test harness's hang alarm included).  Signals
-reach only the main thread: elsewhere (a web server's worker) a deadline is not
-armed and the code runs to its end, bounded only by the size limits.
+whatever was armed before it (a profiler's timer included).  Signals reach only
+the main thread: elsewhere (a web server's worker) a deadline is not armed and
+the code runs to its end, bounded only by the size limits.  The timer counts
+this process only: work handed to a child (SymPy's solve in
+:mod:`lagrangian.analysis.solving`) is given :func:`remaining` as its own CPU
+budget, and :func:`recount` charges its time once it has been waited for.
 
 Sizes are measured with :func:`exceeds`, which stops counting at the limit, so
 asking whether a million-node expression is "too large" costs as much as a small
@@ -24,19 +32,29 @@ from __future__ import annotations
 import contextlib
 import math
 import numbers
+import os
 import signal
 import threading
-import time
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TypeVar
 
 import sympy
 
 from .errors import ModelError
 
-#: Default seconds for each stage of ``analyze`` (conserved quantities, H, equilibria, ...).
-STAGE_SECONDS = 5.0
+try:
+    import resource
+except ImportError:  # Windows
+    resource = None  # type: ignore[assignment]
+
+#: Default CPU seconds for each stage of ``analyze`` (conserved quantities, H, equilibria,
+#: ...): every built-in example decides each stage well within it (the longest, the heavy
+#: top's steady motions, takes 7.6 s of CPU on a 2-core x86_64 machine; benchmarks/load.py).
+STAGE_SECONDS = 20.0
+#: CPU seconds at least for work that always ends (linearization: normal modes, the state
+#: space at a point): a budget there only stops what would take unreasonably long.
+ENDING_SECONDS = 120.0
 #: The longest time budget a caller may give (a week): more is a typo, and infinity would
 #: switch the budget off (``None`` says "no limit" where a library function allows it).
 MAX_SECONDS = 7 * 86400.0
@@ -54,13 +72,20 @@ class OutOfTime(BaseException):  # like KeyboardInterrupt: an interruption, not 
 
 @dataclass(frozen=True)
 class Undecided:
-    """A part of a result that was not decided, and why (``"not decided within 5 s"``)."""
+    """A part of a result that was not decided, and why (``"not decided within 5 s"``);
+    ``seconds``: the CPU time it had, when it ran out of time."""
 
     stage: str
     reason: str
+    seconds: float | None = field(default=None, compare=False)
 
     def __str__(self) -> str:
         return f"{self.stage}: {self.reason}"
+
+
+def generous(seconds: float | None) -> float | None:
+    """The budget of work that always ends, given a stage's: at least :data:`ENDING_SECONDS`."""
+    return None if seconds is None else max(seconds, ENDING_SECONDS)
 
 
 def checked_seconds(value: object, name: str = "timeout") -> float:
@@ -85,74 +110,105 @@ def checked_seconds(value: object, name: str = "timeout") -> float:
     return float(value)
 
 
-# The armed deadlines, innermost last: (end on the monotonic clock, the exception to raise).
+def cpu_seconds() -> float:
+    """CPU seconds used so far by this process (all threads) and the children it waited for."""
+    if resource is None:  # Windows: no children's times, 1/64 s ticks
+        used = os.times()
+        return used.user + used.system
+    own, children = (
+        resource.getrusage(resource.RUSAGE_SELF),
+        resource.getrusage(resource.RUSAGE_CHILDREN),
+    )  # microseconds, where os.times counts 1/100 s ticks
+    return own.ru_utime + own.ru_stime + children.ru_utime + children.ru_stime
+
+
+# The armed deadlines, innermost last: (end on the cpu_seconds clock, the exception to raise).
 _active: list[tuple[float, OutOfTime]] = []
+
+#: The timer the deadlines use, and its signal: CPU time of the process, not wall time.
+TIMER, SIGNAL = getattr(signal, "ITIMER_PROF", None), getattr(signal, "SIGPROF", None)
 
 
 def _can_arm() -> bool:
-    return hasattr(signal, "setitimer") and threading.current_thread() is threading.main_thread()
+    return TIMER is not None and threading.current_thread() is threading.main_thread()
 
 
 @contextlib.contextmanager
 def deadline(seconds: float | None, stage: str) -> Iterator[None]:
-    """Raise :class:`OutOfTime` in the guarded block once ``seconds`` have passed.
+    """Raise :class:`OutOfTime` in the guarded block once it has used ``seconds`` of CPU.
 
     ``None`` (or a thread other than the main one) arms nothing.
     """
     if seconds is None or not _can_arm():
         yield
         return
-    now = time.monotonic()
+    now = cpu_seconds()
     mine = now + max(float(seconds), 0.0)
     error = OutOfTime(stage, seconds)
-    previous_handler = signal.getsignal(signal.SIGALRM)
-    previous_delay, previous_interval = signal.getitimer(signal.ITIMER_REAL)
+    previous_handler = signal.getsignal(SIGNAL)
+    previous_delay, previous_interval = signal.getitimer(TIMER)
     outer = now + previous_delay if previous_delay > 0 else None
     state = {"armed": True, "handed_on": False}
 
     def expired(signum, frame):
-        if outer is not None and outer < mine:  # the outer alarm is the one due: hand it on
+        if outer is not None and outer < mine:  # the outer timer is the one due: hand it on
             if state["armed"]:
                 state["handed_on"] = True
-                signal.signal(signal.SIGALRM, previous_handler)
+                signal.signal(SIGNAL, previous_handler)
                 if callable(previous_handler):
                     previous_handler(signum, frame)
                 else:
-                    signal.raise_signal(signal.SIGALRM)
-            return  # else: leaving the block re-arms the outer alarm, due at once
+                    signal.raise_signal(SIGNAL)
+            return  # else: leaving the block re-arms the outer timer, due at once
         if state["armed"]:
             raise error
 
-    # Everything from installing the handler on is inside the try: an alarm due at once
+    # Everything from installing the handler on is inside the try: a timer due at once
     # (a deadline of microseconds, or the outer one) may fire before the first line of the
     # guarded block, and must still leave through the finally, which undoes all of it.
     try:
-        signal.signal(signal.SIGALRM, expired)
+        signal.signal(SIGNAL, expired)
         _active.append((mine, error))
         end = mine if outer is None else min(mine, outer)
-        signal.setitimer(signal.ITIMER_REAL, max(end - now, 1e-6))
+        signal.setitimer(TIMER, max(end - now, 1e-6))
         yield
     finally:
         # First, before any call (where a pending signal could be delivered): a late
-        # alarm from here on is ignored rather than raised inside this cleanup.
+        # signal from here on is ignored rather than raised inside this cleanup.
         state["armed"] = False
-        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.setitimer(TIMER, 0)
         if _active and _active[-1][1] is error:
             _active.pop()
-        signal.signal(signal.SIGALRM, previous_handler)
+        signal.signal(SIGNAL, previous_handler)
         if outer is not None and not state["handed_on"]:  # re-arm what was armed before
-            delay = max(outer - time.monotonic(), 1e-6)
-            signal.setitimer(signal.ITIMER_REAL, delay, previous_interval)
+            delay = max(outer - cpu_seconds(), 1e-6)
+            signal.setitimer(TIMER, delay, previous_interval)
 
 
 def remaining() -> float | None:
-    """Seconds left before the earliest armed deadline (None when none is armed).
+    """CPU seconds left before the earliest armed deadline (None when none is armed).
 
     For work a deadline cannot interrupt in-process (a forked child's solve).
     """
     if not _active:
         return None
-    return max(min(end for end, _ in _active) - time.monotonic(), 0.0)
+    return max(min(end for end, _ in _active) - cpu_seconds(), 0.0)
+
+
+def recount() -> None:
+    """Charge the CPU time of children waited for since the timer was armed.
+
+    The timer counts this process only: it is re-armed for what is left on the clock
+    of :func:`cpu_seconds`, and a deadline already spent ends here (a signal due
+    after a microsecond of CPU would come late to a parent that goes on waiting).
+    """
+    if not _active or not _can_arm():
+        return
+    end, error = min(_active, key=lambda armed: armed[0])
+    left = end - cpu_seconds()
+    if left <= 0:
+        raise error
+    signal.setitimer(TIMER, left)
 
 
 def attempt(
@@ -168,7 +224,7 @@ def attempt(
     except OutOfTime as error:
         if any(error is outer for _, outer in _active):  # an enclosing deadline's: not ours
             raise
-        return None, Undecided(stage, f"not decided within {seconds:g} s")
+        return None, Undecided(stage, f"not decided within {seconds:g} s", seconds)
 
 
 def within(

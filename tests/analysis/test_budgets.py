@@ -10,20 +10,25 @@ from __future__ import annotations
 import importlib
 import json
 import random
+import signal
+import time
 
 import pytest
 import sympy
 
 import lagrangian as lg
+import lagrangian.budget as budget
 from derive.test_chain_pendulum import chain_pendulum
-from helpers import assert_close, evaluate, random_point
+from helpers import assert_close, evaluate, random_point, timer_handler
 from lagrangian.analysis import analyze
 from lagrangian.analysis.hamiltonian import hamiltonian
+from lagrangian.analysis.solving import in_child
 from lagrangian.budget import (
     OutOfTime,
     Undecided,
     attempt,
     checked_seconds,
+    cpu_seconds,
     deadline,
     exceeds,
     remaining,
@@ -79,23 +84,53 @@ def test_an_inner_deadline_leaves_the_outer_one_armed():
     assert attempt("outer", 0.1, inner_then_spin)[1].stage == "outer"
 
 
-def test_an_outer_alarm_of_someone_else_still_fires():
-    import signal
+class Alarm(Exception):
+    pass
 
-    class Alarm(Exception):
-        pass
 
-    def raise_alarm(signum, frame):
-        raise Alarm
+def _raise_alarm(signum, frame):
+    raise Alarm
 
-    previous = signal.signal(signal.SIGALRM, raise_alarm)
-    signal.setitimer(signal.ITIMER_REAL, 0.1)
-    try:
-        with pytest.raises(Alarm), deadline(30, "long stage"):
-            _spin()
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
+
+@pytest.mark.parametrize(
+    "timer", ["wall", "cpu"], ids=["someone's alarm", "a profiler's CPU-time timer"]
+)
+def test_a_timer_of_someone_else_armed_before_a_longer_deadline_still_fires(timer):
+    """The deadlines leave the wall-clock alarm alone, and share the process's one
+    CPU-time timer with whoever armed it before them."""
+    wall = (signal.ITIMER_REAL, signal.SIGALRM)
+    which, signum = wall if timer == "wall" else (budget.TIMER, budget.SIGNAL)
+    alarm = timer_handler(which, signum, _raise_alarm, 0.05)
+    with alarm, pytest.raises(Alarm), deadline(30, "long stage"):
+        _spin()
+
+
+def test_a_budget_counts_cpu_time_not_waiting():
+    """Sleeping uses no CPU: a stage that waits 0.3 s is within a budget of 0.05 s (on a busy
+    machine a stage waits for the CPU likewise, and its verdict must not change)."""
+    assert attempt("waiting", 0.05, lambda: time.sleep(0.3) or 42) == (42, None)
+
+
+def _spin_in_child(seconds: float) -> None:
+    assert in_child(_spin, (), seconds) is None  # its own CPU budget ended it
+
+
+def test_a_childs_cpu_time_is_charged_to_the_deadline_that_waited_for_it():
+    """The timer counts this process only; the children's time joins the clock when they
+    are waited for, and the stage ends there: two children of 0.2 s exceed a stage of 0.3 s
+    (waiting costs the parent no CPU, so without the recount all three would run)."""
+    started = []
+
+    def three_children():
+        for _ in range(3):
+            started.append(1)
+            _spin_in_child(0.2)
+
+    before = cpu_seconds()
+    outcome = attempt("children", 0.3, three_children)
+    assert outcome == (None, Undecided("children", "not decided within 0.3 s"))
+    assert len(started) == 2
+    assert cpu_seconds() - before >= 0.35  # both children's CPU time is on the clock
 
 
 def test_out_of_time_is_not_an_exception_that_library_code_swallows():
@@ -106,26 +141,22 @@ def test_an_alarm_due_before_the_guarded_block_starts_is_still_this_stages(monke
     """A deadline of microseconds can fire as the timer is armed, before the block's first
     line: it is still reported undecided, and leaves nothing armed (it escaped as a
     traceback when the arming stood outside the try)."""
-    import signal
-
-    import lagrangian.budget as budget
-
     real = signal.setitimer
     calls = []
 
     def due_at_once(which, delay, interval=0.0):
         calls.append(delay)
-        if len(calls) == 1:  # the arming: the alarm is delivered as the call returns
-            signal.raise_signal(signal.SIGALRM)
+        if len(calls) == 1:  # the arming: the signal is delivered as the call returns
+            signal.raise_signal(budget.SIGNAL)
             return (0.0, 0.0)
         return real(which, delay, interval)
 
-    before = signal.getsignal(signal.SIGALRM)
+    before = signal.getsignal(budget.SIGNAL)
     monkeypatch.setattr(budget.signal, "setitimer", due_at_once)
     outcome = attempt("instant", 1e-5, lambda: 42)
     assert outcome == (None, Undecided("instant", "not decided within 1e-05 s"))
     assert remaining() is None
-    assert signal.getsignal(signal.SIGALRM) is before
+    assert signal.getsignal(budget.SIGNAL) is before
 
 
 @pytest.mark.parametrize("value", [float("nan"), float("inf"), 0, -1.0, 1e9, True, "5", None])

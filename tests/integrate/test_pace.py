@@ -1,4 +1,4 @@
-"""The wall-clock budget of one run (integrate.pace), on a clock the test moves."""
+"""The time budget of one run (integrate.pace), on a clock the test moves."""
 
 import pytest
 
@@ -18,7 +18,7 @@ class Clock:
 @pytest.fixture
 def clock(monkeypatch):
     fake = Clock()
-    monkeypatch.setattr(pace.time, "monotonic", fake)
+    monkeypatch.setattr(pace, "cpu_seconds", fake)
     return fake
 
 
@@ -78,3 +78,22 @@ def test_every_method_tells_the_watch_the_time_reached(method):
     lg.simulate(compiled, t_end=1.0, method=method, watch=seen.append, **options)
     assert seen and max(seen) == pytest.approx(1.0, abs=0.02)
     assert seen == sorted(seen) or method in ("dop853", "radau")  # trial stages may step back
+
+
+def test_the_budget_is_cpu_time_so_waiting_does_not_spend_it():
+    """A run that waits (here: sleeps at every step, as on a machine busy with other work)
+    spends no CPU: 0.3 s of waiting fit a budget of 0.05 s."""
+    import time
+
+    watch = RunPace((0.0, 3.0), seconds=0.05)
+    for k in range(4):
+        time.sleep(0.1)
+        watch(float(k))
+
+
+def test_a_run_computed_elsewhere_is_timed_on_a_given_clock(clock):
+    watch = RunPace((0.0, 10.0), seconds=5.0, clock=lambda: clock.now * 2)
+    watch(0.0)
+    clock.now += 3.0  # 6 s on the given clock
+    with pytest.raises(RunTooLong, match="did not finish within 5 s"):
+        watch(1.0)

@@ -8,6 +8,7 @@ from collections.abc import Iterator
 
 import sympy
 
+from helpers import timer_handler
 from lagrangian.parsing import DeclaredFunction, Namespace
 
 NAMES = [
@@ -72,10 +73,5 @@ def hard_deadline(seconds: float, text: str) -> Iterator[None]:
     def expired(signum, frame):
         raise ParseDeadline(f"still parsing after {seconds} s: {text[:300]!r}")
 
-    previous = signal.signal(signal.SIGALRM, expired)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
-    try:
+    with timer_handler(signal.ITIMER_REAL, signal.SIGALRM, expired, seconds):
         yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)

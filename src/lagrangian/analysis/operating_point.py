@@ -87,10 +87,11 @@ class OperatingPoint:
 
 
 def first_equilibrium(system: System) -> dict[str, sympy.Expr]:
-    """The first equilibrium :func:`~lagrangian.analysis.equilibria` finds, inputs at 0."""
-    from .equilibria import equilibria
+    """The first equilibrium :func:`~lagrangian.analysis.equilibria` finds, inputs at 0
+    (its point only: the modes of every equilibrium found are not needed here)."""
+    from .equilibria import rest_points
 
-    found = equilibria(derive(system.without_inputs()))
+    found = rest_points(derive(system.without_inputs()))
     if not found:
         raise ModelError(f"no equilibrium found: give the operating point ({setting('at=')})")
     return dict(found[0].point)

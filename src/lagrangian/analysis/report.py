@@ -2,9 +2,10 @@
 
 Each stage (conserved quantities, Hamiltonian, equilibria, their modes, Routh's
 reduction, steady motions) runs under its own deadline (:mod:`lagrangian.budget`,
-``timeout`` seconds each).  A stage that runs out of time is abandoned whole and
-listed in ``undecided``; what it would have said is ``None`` (or empty), never
-a half-made answer.
+``timeout`` seconds of CPU time each; the modes, a linearization that always
+ends, at least :data:`~lagrangian.budget.ENDING_SECONDS`).  A stage that runs
+out of time is abandoned whole and listed in ``undecided``; what it would have
+said is ``None`` (or empty), never a half-made answer.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from __future__ import annotations
 from collections.abc import Collection, Mapping
 from dataclasses import dataclass
 
-from ..budget import STAGE_SECONDS, Undecided, attempt, checked_seconds
+from ..budget import STAGE_SECONDS, Undecided, attempt, checked_seconds, generous
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from ..symbols import momentum_name
@@ -23,8 +24,9 @@ from .hamiltonian import Hamiltonian, hamiltonian
 from .modes import NormalModes
 from .routh import Reduction, cyclic_coordinates, reduce, steady_motions_of
 
-#: Seconds for SymPy's solve of the steady motions within the stage.
-STEADY_SOLVE_SECONDS = 1.5
+#: CPU seconds for SymPy's solve of the steady motions within the stage (the heavy top's
+#: takes 2.1 s to find that it has no isolated solution).
+STEADY_SOLVE_SECONDS = 10.0
 
 #: The stages in the order they run (the names used in ``undecided``).
 STAGES = (
@@ -91,12 +93,12 @@ def analyze(
     notes: list[str] = []
     undecided: list[Undecided] = []
 
-    def stage(name: str, work, *arguments):
-        """``work(*arguments)`` within ``timeout``; None with a note when it does not apply
+    def stage(name: str, work, *arguments, seconds: float | None = timeout):
+        """``work(*arguments)`` within ``seconds``; None with a note when it does not apply
         (and None, silently, for a stage not asked for)."""
         if name not in stages:
             return None
-        result, missing = attempt(name, timeout, lambda: _or_note(notes, name, work, *arguments))
+        result, missing = attempt(name, seconds, lambda: _or_note(notes, name, work, *arguments))
         if missing is not None:
             undecided.append(missing)
         return result
@@ -116,7 +118,7 @@ def analyze(
     else:
         rest = stage("equilibria", rest_points, eom)
         if rest is not None:
-            points = _with_modes(eom, rest, stage)
+            points = _with_modes(eom, rest, stage, generous(timeout))
             notes += [_singularity_note(e) for e in points if e.coordinate_singularity]
             points = tuple(e for e in points if not e.coordinate_singularity)
             if not points and not eom.system.is_autonomous:
@@ -149,7 +151,7 @@ def _or_note(notes: list[str], name: str, work, *arguments):
         return None
 
 
-def _with_modes(eom: EquationsOfMotion, rest, stage) -> tuple[Equilibrium, ...]:
+def _with_modes(eom: EquationsOfMotion, rest, stage, seconds) -> tuple[Equilibrium, ...]:
     """The equilibria with their modes; past the modes' deadline, the rest undetermined."""
     done: list[Equilibrium] = []
 
@@ -157,7 +159,7 @@ def _with_modes(eom: EquationsOfMotion, rest, stage) -> tuple[Equilibrium, ...]:
         for point in rest[len(done) :]:
             done.append(with_modes(eom, point))
 
-    if stage("modes", all_modes) is None and len(done) < len(rest):
+    if stage("modes", all_modes, seconds=seconds) is None and len(done) < len(rest):
         note = "the normal modes were not decided in time"
         for point in rest[len(done) :]:
             done.append(Equilibrium(point.point, point.numeric, NormalModes.undetermined(note)))

@@ -1,8 +1,15 @@
-"""SymPy's solve of G = 0 in a forked child process, killed after a timeout.
+"""SymPy's solve of G = 0 in a forked child process, ended after a CPU-time budget.
 
 SymPy cannot be interrupted safely from outside a pure-Python call that holds
 no checkpoints (``solve`` on a hard system may run for minutes), so the solve
-runs in a child process that is simply killed when its time is up.
+runs in a child process that ends when its time is up.  The time is the child's
+own CPU time (its ``ITIMER_PROF``), as every budget (:mod:`lagrangian.budget`),
+so a busy machine gives the same answer as a quiet one; waiting for the child
+costs the parent no CPU, so the child's time is charged to the parent's deadlines
+once it has been waited for (:func:`lagrangian.budget.recount`).  The parent also
+stops waiting after ``WALL_FACTOR`` times the budget in wall time: a backstop for
+a child that makes no progress at all (stopped, or starved of CPU), never reached
+at the loads the budgets are sized for.
 """
 
 from __future__ import annotations
@@ -10,13 +17,20 @@ from __future__ import annotations
 import itertools
 import math
 import multiprocessing
+import os
 import pickle
+import signal
 import warnings
 
 import sympy
 
+from ..budget import recount
+
 #: Largest number of factor combinations solved symbolically.
 MAX_COMBINATIONS = 64
+#: Wall time the parent waits, in multiples of the child's CPU budget (plus WALL_EXTRA
+#: seconds): a child beside 18 busy processes on two cores gets a tenth of a core.
+WALL_FACTOR, WALL_EXTRA = 30.0, 5.0
 
 
 def solve_factored(equations: list[sympy.Expr], unknowns: list[sympy.Symbol]) -> list[dict]:
@@ -44,12 +58,15 @@ def solve_factored(equations: list[sympy.Expr], unknowns: list[sympy.Symbol]) ->
 
 
 def in_child(function, arguments: tuple, timeout: float):
-    """``function(*arguments)`` in a forked process; None on error or after ``timeout`` s."""
+    """``function(*arguments)`` in a forked process; None on error or after ``timeout``
+    CPU seconds of the child."""
     if "fork" not in multiprocessing.get_all_start_methods():
         return None
     context = multiprocessing.get_context("fork")
     receiver, sender = context.Pipe(duplex=False)
-    process = context.Process(target=_child, args=(sender, function, arguments), daemon=True)
+    process = context.Process(
+        target=_child, args=(sender, function, arguments, timeout), daemon=True
+    )
     with warnings.catch_warnings():
         # JAX warns at every fork that its threads may hold locks.  The child runs only
         # SymPy (pure Python), never XLA, and glibc's malloc is fork-safe; a fork server
@@ -60,7 +77,7 @@ def in_child(function, arguments: tuple, timeout: float):
         process.start()
     sender.close()
     try:
-        if receiver.poll(timeout):
+        if receiver.poll(WALL_FACTOR * timeout + WALL_EXTRA):
             ok, result = receiver.recv()
             return result if ok else None
         return None
@@ -71,16 +88,26 @@ def in_child(function, arguments: tuple, timeout: float):
         if process.is_alive():
             process.kill()
         process.join()
+        recount()  # the child's CPU time is on the clock now: charge it to the deadlines
 
 
-def _child(sender, function, arguments) -> None:
+def _child(sender, function, arguments, seconds: float) -> None:
+    if hasattr(signal, "ITIMER_PROF"):  # timers are not inherited across fork: arm ours
+        signal.signal(signal.SIGPROF, _out_of_time)
+        signal.setitimer(signal.ITIMER_PROF, max(seconds, 1e-6))
     try:
         result = (True, function(*arguments))
     except Exception:
         result = (False, None)
+    if hasattr(signal, "ITIMER_PROF"):  # decided within the budget: sending it is not cut
+        signal.setitimer(signal.ITIMER_PROF, 0)
     try:
         sender.send(result)
     except Exception:
         sender.send((False, None))
     finally:
         sender.close()
+
+
+def _out_of_time(signum, frame) -> None:
+    os._exit(0)  # nothing sent: the parent reads the closed pipe as "no result"

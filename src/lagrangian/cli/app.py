@@ -127,7 +127,8 @@ def derive(model, lagrangian_text, coordinates, as_json: bool, as_latex: bool, s
     metavar="SECONDS",
     default=STAGE_SECONDS,
     show_default=True,
-    help="Seconds for each stage (> 0, at most a week); a stage out of time is reported undecided.",
+    help="CPU seconds for each stage (> 0, at most a week); a stage out of time is reported "
+    "undecided.",
 )
 @click.option(
     "--state-space",
@@ -197,12 +198,12 @@ def analyze(
     linear = None
     if with_state_space:  # first: a bad --at fails before the long analysis
         from ..analysis.state_space import state_space
-        from ..budget import OutOfTime, deadline
+        from ..budget import OutOfTime, deadline, generous
         from ..errors import LagrangianError
 
         eom = system.equations_of_motion()
-        try:
-            with deadline(timeout, "state space"):
+        try:  # a linearization always ends: the budget only stops the unreasonable
+            with deadline(generous(timeout), "state space"):
                 linear = state_space(
                     eom, _pairs(at, "--at") or None, outputs=_pairs(outputs, "--output") or None
                 )
@@ -333,8 +334,8 @@ timeout_option = click.option(
     metavar="SECONDS",
     default=RUN_SECONDS,
     show_default=True,
-    help="Seconds the runs may take (> 0, at most a week); a run whose pace shows it would "
-    "take longer is stopped at once.",
+    help="CPU seconds the runs may take (wall seconds on a GPU or dask; > 0, at most a week); "
+    "a run whose pace shows it would take longer is stopped at once.",
 )
 
 

@@ -1,4 +1,10 @@
-"""The wall-clock budget of one run, judged from the time the integrator has reached.
+"""The time budget of one run, judged from the time the integrator has reached.
+
+The budget is seconds of this process's CPU time (every thread, and children
+waited for: :func:`lagrangian.budget.cpu_seconds`), so a run refused on a busy
+machine is refused on a quiet one too.  Work done elsewhere uses no CPU here
+(a GPU's kernels, dask's workers): such a run is timed on the wall clock
+(``clock=time.monotonic``).
 
 A run's cost is not known before it starts: an adaptive method's step follows
 the motion, and ``--t-end 1e9`` of an oscillator is a few billion steps, hours
@@ -16,10 +22,9 @@ time reached at every step and ends the run with a :class:`RunTooLong` error
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable
 
-from ..budget import checked_seconds
+from ..budget import checked_seconds, cpu_seconds
 from ..errors import LagrangianError, setting
 
 #: Default budget of a single run started from the command line or ``System.simulate``.
@@ -32,14 +37,14 @@ ENSEMBLE_ADVICE = (
     f"give fewer members, a shorter {setting('t_end')} or a larger {setting('dt')}, a faster "
     f"{setting('backend')}, or allow more time with {setting('timeout')}"
 )
-#: Wall time after which the pace so far is trusted enough to project the total.
+#: Seconds after which the pace so far is trusted enough to project the total.
 PROBE_SECONDS = 1.0
 #: A projected total over this many budgets ends the run at once.
 PROJECTION = 2.0
 
 
 class RunTooLong(LagrangianError):
-    """The run would not finish within its wall-clock budget."""
+    """The run would not finish within its time budget."""
 
 
 class RunPace:
@@ -47,7 +52,8 @@ class RunPace:
 
     The budget counts from the first call; the pace from the first call past the
     start time, so a compile on the way (numba's, seconds long) is not mistaken
-    for slow stepping.
+    for slow stepping.  ``clock``: seconds used so far (None: CPU time,
+    :func:`~lagrangian.budget.cpu_seconds`).
     """
 
     def __init__(
@@ -57,17 +63,19 @@ class RunPace:
         *,
         describe: Callable[[float], str] | None = None,
         advice: str = RUN_ADVICE,
+        clock: Callable[[], float] | None = None,
     ):
         self.t0, self.t1 = float(t_span[0]), float(t_span[1])
         self.seconds = checked_seconds(seconds, "timeout")
         self.describe = describe or (lambda t: f"t = {t:.6g} of t_end = {self.t1:g}")
         self.advice = advice
+        self.clock = clock or cpu_seconds
         self.started: float | None = None
         self.moving: tuple[float, float] | None = None  # (clock, t) when t first moved
         self.reached = self.t0
 
     def __call__(self, t: float) -> None:
-        now = time.monotonic()
+        now = self.clock()
         if self.started is None:
             self.started = now
         self.reached = max(self.reached, min(float(t), self.t1))

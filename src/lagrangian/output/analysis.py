@@ -150,10 +150,20 @@ def format_analysis(analysis: Analysis, *, spelling: Mapping[str, str] = PYTHON_
     if analysis.notes:
         lines += ["", "Notes:"] + [f"  {note}" for note in analysis.notes]
     if analysis.undecided:
-        more = spelled(f"a larger {setting('timeout')} gives more", spelling)
-        lines += ["", f"Undecided (out of time; {more}):"]
+        lines += ["", f"Undecided ({spelled(_more_time(analysis.undecided), spelling)}):"]
         lines += [f"  {u.stage}: {u.reason}" for u in analysis.undecided]
     return "\n".join(lines)
+
+
+def _more_time(undecided) -> str:
+    """Which budget ran out, and a --timeout that gives each stage four times as much."""
+    spent = [u.seconds for u in undecided if u.seconds is not None]
+    if not spent:
+        return f"out of time; a larger {setting('timeout')} gives more"
+    return (
+        f"out of time: each stage had {max(spent):g} s of CPU; a larger {setting('timeout')}"
+        f" gives more, e.g. {4 * max(spent):g}"
+    )
 
 
 def _equilibrium_lines(points, show, system) -> list[str]:
