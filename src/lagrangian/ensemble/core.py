@@ -2,7 +2,12 @@
 
 The members (initial values and parameters, broadcast together; see
 :mod:`.members`) are split into chunks of ``chunk_size`` so memory stays
-bounded whatever the ensemble's size; each chunk is integrated by a backend:
+bounded whatever the ensemble's size.  With ``chunk_seconds`` (a run with a
+time budget) the CPU backends size their chunks by measured time instead: a
+small first chunk, then each sized from the CPU time per member so far to take
+about ``chunk_seconds`` (``chunk_size`` the largest), so a budget checked
+between chunks is kept within a chunk's time whatever one member costs.  Each
+chunk is integrated by a backend:
 
 - ``numpy``: the single-run fixed-step integrator (rk4 or variational)
   stepping the chunk's states (2n, B) (:mod:`.numpy_backend`);
@@ -28,7 +33,6 @@ with the same method and dt.
 
 from __future__ import annotations
 
-import math
 import time
 import warnings
 from collections.abc import Callable, Iterable, Mapping
@@ -37,6 +41,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import xarray as xr
 
+from ..budget import cpu_seconds
 from ..errors import LagrangianError, LagrangianWarning, ModelError, setting
 from ..integrate import method_class
 from ..integrate.base import check_time_span
@@ -58,6 +63,15 @@ DEFAULT_CHUNK_SIZE = 65_536
 GPU_CHUNK_SIZE = 1_048_576
 #: The (2n)-vectors of work per member of a chunk (stages, Newton, observables).
 WORK_VECTORS = 40
+#: Members of the first chunk when chunks are sized by time: a cheap first measurement.
+FIRST_CHUNK = 256
+#: The most a chunk sized by time grows over the one before (the first may include a
+#: compile, the pace of a few members is noisy).
+CHUNK_GROWTH = 8
+#: Backends whose chunks are sized by time: those computing on this process's CPU with
+#: any chunk size at no extra cost (jax compiles once per shape; cuda and dask compute
+#: elsewhere, timed on the wall clock: :func:`runs_elsewhere`).
+TIMED_CHUNK_BACKENDS = ("numpy", "numba")
 
 
 def run_ensemble(
@@ -75,6 +89,7 @@ def run_ensemble(
     precision: str = "float64",
     scheduler: str | None = None,
     progress: Callable[[float], None] | None = None,
+    chunk_seconds: float | None = None,
 ) -> EnsembleTrajectory:
     """Integrate every member from t = 0 to ``t_end``; see the module docstring.
 
@@ -84,6 +99,8 @@ def run_ensemble(
     the address of a dask scheduler (backend ``dask``; default a local cluster
     of two worker processes).  ``chunk_size``: members per chunk (default
     65,536; 2^20 on the GPU backends).  ``progress`` is called with the fraction done.
+    ``chunk_seconds``: CPU seconds a chunk should take (numpy and numba: chunks sized by
+    measured time, at most ``chunk_size``; a budget gives about 1.5 % of itself).
     """
     t0, t1 = check_time_span((0.0, t_end))
     if method not in METHODS:
@@ -131,23 +148,28 @@ def run_ensemble(
     steps = step_count(t0, t1, integrator.dt)
     fits(batch.count)  # again with the step chosen
     options = {"save_every": save_every, "progress": progress}
+    timed = chunk_seconds if backend in TIMED_CHUNK_BACKENDS else None
+    chunks = _chunks(batch, int(chunk_size), timed)
     start = time.perf_counter()
     if backend == "numpy":
-        parts = _numpy_chunks(compiled, integrator, batch, t1, names, int(chunk_size), **options)
+        parts = _numpy_chunks(compiled, integrator, batch.count, chunks, t1, names, **options)
     elif backend in ("numba", "jax", "cuda"):
         integrate = _compiled_backend(backend)
         extra = {} if backend == "numba" else {"precision": precision}
         if backend == "jax" and batch.count > chunk_size:
             extra["pad_to"] = int(chunk_size)  # one compiled loop for every chunk
-        parts = [
-            integrate(compiled, integrator, y0, p, t1, names, save_every=save_every, **extra)
-            for y0, p in _chunks(batch, int(chunk_size), progress)
-        ]
+        parts = []
+        for y0, p, done in chunks:
+            parts.append(
+                integrate(compiled, integrator, y0, p, t1, names, save_every=save_every, **extra)
+            )
+            if progress is not None:
+                progress(done / batch.count)
     else:
         from .dask_backend import integrate_dask
 
         parts = integrate_dask(
-            compiled, integrator, list(_chunks(batch, int(chunk_size), None)), t1, names,
+            compiled, integrator, [(y0, p) for y0, p, _ in chunks], t1, names,
             save_every=save_every, scheduler=scheduler, progress=progress,
         )  # fmt: skip
     wall_time = time.perf_counter() - start
@@ -219,31 +241,52 @@ def _projected(compiled: CompiledSystem, batch: Members) -> Members:
     return Members(y0, batch.params, batch.shape, batch.dims, batch.coords)
 
 
-def _chunks(batch: Members, size: int, progress):
+def runs_elsewhere(backend: str) -> bool:
+    """Whether ``backend`` computes away from this process's CPU (a GPU, dask's workers):
+    its time budget is then wall time, as CPU time here would hardly move."""
+    if backend == "jax":
+        try:
+            import jax
+        except ImportError:  # the backend says so itself, when it is run
+            return False
+        return jax.default_backend() != "cpu"
+    return backend in ("cuda", "dask")
+
+
+def _chunks(batch: Members, largest: int, seconds: float | None):
+    """``(y0, params, members done after it)`` of each chunk: of ``largest`` members, or
+    with ``seconds`` sized so that each takes about that much CPU time (the time is
+    measured between one chunk's yield and the next, while the caller integrates it)."""
     count = batch.count
-    for start in range(0, count, size):
+    size = largest if seconds is None else min(largest, FIRST_CHUNK)
+    start = 0
+    while start < count:
         stop = min(count, start + size)
         p = batch.params[:, start:stop] if batch.params.ndim == 2 else batch.params
-        yield batch.y0[:, start:stop], p
-        if progress is not None:
-            progress(stop / count)
+        before = cpu_seconds()
+        yield batch.y0[:, start:stop], p, stop
+        if seconds is not None:
+            used = max(cpu_seconds() - before, 1e-6)
+            size = max(1, min(largest, CHUNK_GROWTH * size, int(size * seconds / used)))
+        start = stop
 
 
-def _numpy_chunks(compiled, integrator, batch, t_end, names, size, *, save_every, progress):
+def _numpy_chunks(compiled, integrator, count, chunks, t_end, names, *, save_every, progress):
     parts = []
-    total = math.ceil(batch.count / size)
-    for index, (y0, p) in enumerate(_chunks(batch, size, None)):
+    done = 0
+    for y0, p, stop in chunks:
         report = None
         if progress is not None:
 
-            def report(fraction, index=index):
-                progress((index + fraction) / total)
+            def report(fraction, done=done, stop=stop):
+                progress((done + fraction * (stop - done)) / count)
 
         parts.append(
             integrate_chunk(
                 compiled, integrator, y0, p, t_end, names, save_every=save_every, progress=report
             )
         )
+        done = stop
     return parts
 
 

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
@@ -10,11 +11,14 @@ from ..derive import derive
 from ..errors import ModelError
 from ..integrate.pace import ENSEMBLE_ADVICE, RUN_SECONDS, RunPace, watching
 from .bifurcation import BifurcationDiagram, bifurcation_diagram
-from .core import METHODS, run_ensemble
+from .core import METHODS, run_ensemble, runs_elsewhere
 from .result import EnsembleTrajectory
 
 if TYPE_CHECKING:
     from ..model import System
+
+#: The share of a time budget one chunk of members should take (chunks sized by time).
+CHUNK_SHARE = 0.015
 
 
 def ensemble_of_system(
@@ -35,7 +39,10 @@ def ensemble_of_system(
     dt = t_end / 1000.  ``timeout``: seconds the runs may take (None: no limit), judged
     from their progress (:mod:`lagrangian.integrate.pace`: after a second, an ensemble
     whose pace projects more than twice that is refused; a backend that compiles the
-    whole loop reports progress per chunk).
+    whole loop reports progress per chunk).  The seconds are CPU time of this process
+    (every thread), or wall time for a backend that computes elsewhere (a GPU, dask);
+    the CPU backends size their chunks to take ``CHUNK_SHARE`` of the budget each, so
+    the budget is kept within a few percent.
     """
     from ..simulation import DEFAULT_T_END
 
@@ -46,7 +53,7 @@ def ensemble_of_system(
         t_end = float(settings.get("t_end", DEFAULT_T_END))
     if dt is None and settings.get("dt") is not None:
         dt = float(settings["dt"])
-    compiled, progress = _compiled_runs(system, definitions, timeout, progress)
+    compiled, progress = _compiled_runs(system, definitions, timeout, progress, options)
     return run_ensemble(compiled, t_end=t_end, method=method, dt=dt, progress=progress, **options)
 
 
@@ -65,23 +72,27 @@ def bifurcation_of_system(
     if len(vary) != 1:
         raise ModelError(f"vary one parameter, not {len(vary)}")
     ((parameter, values),) = vary.items()
-    compiled, progress = _compiled_runs(system, definitions, timeout, progress)
+    compiled, progress = _compiled_runs(system, definitions, timeout, progress, options)
     return bifurcation_diagram(
         compiled, parameter=parameter, values=values, progress=progress, **options
     )
 
 
-def _compiled_runs(system, definitions, timeout, progress):
-    """(the compiled equations, the progress callback with the runs' pace watched)."""
+def _compiled_runs(system, definitions, timeout, progress, options: dict):
+    """(the compiled equations, the progress callback with the runs' pace watched); with a
+    budget, ``options`` (the runs') get the chunks' share of it (``chunk_seconds``)."""
     from ..numeric import compile_equations
 
     pace = None
     if timeout is not None:
+        elsewhere = runs_elsewhere(str(options.get("backend", "numpy")))
         pace = RunPace(
             (0.0, 1.0),
             timeout,
             describe=lambda done: f"{100 * done:.3g} % of the runs",
             advice=ENSEMBLE_ADVICE,
+            clock=time.monotonic if elsewhere else None,
         )
+        options.setdefault("chunk_seconds", CHUNK_SHARE * pace.seconds)
     compiled = compile_equations(derive(system), definitions=definitions)
     return compiled, watching(pace, progress)
