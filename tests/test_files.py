@@ -162,9 +162,14 @@ def test_check_input_file(tmp_path, make, message):
 
 
 _BLOCKED_WRITER = """
-import sys, time
+import signal, sys, time
 from pathlib import Path
 from lagrangian.files import write_atomically
+
+# the default dispositions, as a terminal gives them: under nohup (or a service manager)
+# SIGHUP arrives ignored, and an ignored signal is left ignored (the test below)
+for signum in (signal.SIGTERM, signal.SIGHUP):
+    signal.signal(signum, signal.SIG_DFL)
 
 def slow(temporary):
     with open(temporary, "w") as stream:
@@ -198,6 +203,23 @@ def test_a_signal_during_a_write_removes_the_temporary_and_ends_the_process(tmp_
     assert process.stdout.read() == ""  # it did not go on after the write
     assert target.read_text() == "old"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv", "writer.py"]
+
+
+def test_an_ignored_hangup_stays_ignored_during_a_write(tmp_path):
+    """Under nohup SIGHUP is ignored: the write installs no handler for it."""
+    seen = {}
+
+    def write(temporary):
+        seen["during"] = signal.getsignal(signal.SIGHUP)
+        temporary.write_text("x")
+
+    previous = signal.signal(signal.SIGHUP, signal.SIG_IGN)
+    try:
+        write_atomically(tmp_path / "a.txt", write)
+        assert seen["during"] is signal.SIG_IGN
+        assert signal.getsignal(signal.SIGHUP) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGHUP, previous)
 
 
 def test_handlers_are_restored_after_a_write(tmp_path):
