@@ -181,8 +181,8 @@ def test_a_second_process_loads_the_compiled_loop_from_the_cache(tmp_path):
         "from lagrangian.ensemble import run_ensemble\n"
         "from lagrangian.ensemble.numba_backend import kernel\n"
         "from lagrangian.numeric import compile_equations\n"
-        "c = compile_equations(lg.load('double_pendulum').equations_of_motion())\n"
-        "run_ensemble(c, initial={'theta1': [0.1, 0.2]}, t_end=0.1, dt=0.01, backend='numba')\n"
+        "c = compile_equations(lg.load('harmonic_oscillator').equations_of_motion())\n"
+        "run_ensemble(c, initial={'x': [0.1, 0.2]}, t_end=0.1, dt=0.01, backend='numba')\n"
         "stats = kernel(c).stats\n"
         "print(sum(stats.cache_hits.values()), sum(stats.cache_misses.values()))\n"
     )
