@@ -69,9 +69,11 @@ def same_value(a: sympy.Expr, b: sympy.Expr, rng: random.Random) -> bool:
     for _ in range(2):
         point = {}
         for same in by_name.values():
-            value = rng.uniform(0.3, 1.7)
+            value = sympy.Float(rng.uniform(0.3, 1.7), 30)
             point |= {s: value for s in same}  # a name means one value, whatever its assumptions
-        x, y = complex(a.evalf(subs=point)), complex(b.evalf(subs=point))
+        # numbers in place of the symbols, at 30 digits: SymPy folds them as it rebuilds the
+        # tree, 30 times faster than evalf(subs=...) on chain(4)'s q'' (0.8 s, not 29 s)
+        x, y = complex(a.xreplace(point)), complex(b.xreplace(point))
         if abs(x - y) > 1e-9 * (1 + abs(y)):
             return False
     return True
