@@ -3,11 +3,13 @@
 The symbolic stages bound themselves with :func:`lagrangian.budget.deadline`, which
 arms a signal and so works only in a process's main thread: in a web server's thread
 it would arm nothing.  So the server hands each model text to a worker process, whose
-main thread runs the whole page within :data:`PAGE_SECONDS` (the stages' own budgets
-inside it), and waits for the answer off the event loop.  A worker that does not
-answer :data:`GRACE_SECONDS` after that (stuck in code no signal interrupts) is killed
-and replaced; so is one that died.  The worker is started with ``spawn``, never
-``fork``: the server has threads, and a forked copy of a threaded process may hang.
+main thread runs the whole page within :data:`PAGE_SECONDS` of its CPU time (the
+stages' own budgets inside it), and waits for the answer off the event loop.  A
+worker that has not answered after :data:`WALL_FACTOR` times that in wall time (a
+busy machine stretches CPU seconds), plus :data:`GRACE_SECONDS`, is stuck in code no
+signal interrupts (or stopped): it is killed and replaced; so is one that died.  The
+worker is started with ``spawn``, never ``fork``: the server has threads, and a forked
+copy of a threaded process may hang.
 """
 
 from __future__ import annotations
@@ -24,7 +26,10 @@ from ..errors import LagrangianError
 
 #: Seconds for one page: reading the model, deriving, analysing, writing the page.
 PAGE_SECONDS = 60.0
-#: Seconds past PAGE_SECONDS before a worker that has not answered is killed.
+#: Wall seconds the server waits for a page, in multiples of its CPU budget: beside four
+#: busy processes on two cores a worker gets a third of a core.
+WALL_FACTOR = 4.0
+#: Seconds past that before a worker that has not answered is killed.
 GRACE_SECONDS = 10.0
 #: Seconds a new worker may take to import the toolkit (SymPy, ...) and say it is ready:
 #: not counted in a page's time, and generous, as a busy machine may be slow to start one.
@@ -106,9 +111,10 @@ class PageWorker:
             try:
                 self._ensure_started()
                 self._connection.send(text)
-                if self._connection.poll(self.seconds + self.grace):
+                waited = WALL_FACTOR * self.seconds + self.grace
+                if self._connection.poll(waited):
                     return self._kept(text, self._connection.recv())
-                error = f"page: not made within {self.seconds + self.grace:g} s; stopped"
+                error = f"page: not made within {waited:g} s; stopped"
             except (EOFError, OSError):
                 code = self._process.exitcode
                 error = f"the process making the page ended (exit code {code}); try again"
