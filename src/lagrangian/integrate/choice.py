@@ -69,7 +69,7 @@ def numba_start_seconds(n: int, cached: bool) -> float:
     """Seconds before the compiled loop's first step: generate and compile (1.4 s for the
     double pendulum's M and f, 3.5 s for a 10-link chain's, then the loop), or load the
     machine code from the code cache."""
-    return 0.8 if cached else 3.0 + 0.05 * n * n
+    return 0.8 if cached else 4.0 + 0.05 * n * n
 
 
 def taylor_start_seconds(n: int) -> float:

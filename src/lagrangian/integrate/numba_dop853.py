@@ -44,7 +44,10 @@ EXPONENT = -1.0 / 8.0  # -1 / (error estimator order + 1)
 STAGES = 12
 
 
-@njit(cache=True)
+# Both inlined: a call of a jitted function that takes arrays costs their reference counts,
+# and the stages make 15 a step (inlined: 0.064-0.070 s against 0.087-0.111 s for the double
+# pendulum's 1000 s, compiling in 16 s against 12 s under load).
+@njit(inline="always", cache=True)
 def derivative(t, y, p, mass, force, out, flags):  # pragma: no cover - compiled by numba
     """out = y' = [q', q''] at (t, y); flags[0] = 1 where it is not finite."""
     fill(t, y, p, mass, force)
@@ -56,7 +59,7 @@ def derivative(t, y, p, mass, force, out, flags):  # pragma: no cover - compiled
             flags[0] = 1
 
 
-@njit(cache=True)
+@njit(inline="always", cache=True)
 def take_stages(first, last, t, h, y, p, stages, stage, mass, force, flags):  # pragma: no cover
     """Stages first..last-1 of the step of size h from (t, y), rows of ``stages``."""
     for s in range(first, last):
