@@ -6,7 +6,7 @@ On a machine with CuPy and an NVIDIA GPU, against hand-written baselines:
 
 - a hand-written CUDA C kernel (closed-form double-pendulum accelerations, one
   thread per member, RK4 loop inside), float64 and float32, and our ``cuda``
-  backend (:func:`lagrangian.ensemble.cuda_backend.integrate_cuda`), same
+  backend (:class:`lagrangian.ensemble.cuda_backend.CudaBackend`), same
   precisions; both timed from host arrays in to host arrays out;
 - with jax installed, a hand-written ``jax.vmap`` RK4 and our ``jax`` backend;
 - our variational kernel (midpoint, Newton per step) in float32 and float64.
@@ -224,7 +224,8 @@ def main() -> None:
     if cupy is None:
         print("no NVIDIA GPU with CuPy here: nothing to measure (pip install 'lagrangian[cuda]')")
         return
-    from lagrangian.ensemble.cuda_backend import integrate_cuda
+    from lagrangian.ensemble.chunk import Chunk
+    from lagrangian.ensemble.cuda_backend import CudaBackend
 
     compiled = compile_equations(lg.load("double_pendulum").equations_of_motion())
     rng = np.random.default_rng(0)
@@ -238,9 +239,10 @@ def main() -> None:
 
     def ours(method: str, precision: str, steps: int):
         integrator = method_class(method).configure(t_span=(0.0, steps * dt), dt=dt)
-        return integrate_cuda(
+        chunk = Chunk(
             compiled, integrator, y0, p, steps * dt, ("final_state",), precision=precision
         )
+        return CudaBackend().integrate(chunk)
 
     rk4_rates = {}
     for precision in ("float64", "float32"):

@@ -8,6 +8,7 @@ import pytest
 
 import lagrangian as lg
 from lagrangian.ensemble import core, ensemble_of_system, run_ensemble
+from lagrangian.ensemble.numpy_backend import NumpyBackend
 from lagrangian.integrate import pace
 from lagrangian.integrate.pace import RunTooLong
 from lagrangian.numeric import compile_equations
@@ -27,15 +28,15 @@ class CostClock:
 def costly(monkeypatch):
     """The clock, with every chunk the numpy backend integrates charged to it."""
     clock = CostClock(per_member=1e-3)
-    integrate = core.integrate_chunk
+    integrate = NumpyBackend.integrate
 
-    def charged(compiled, integrator, y0, *args, **kwargs):
-        clock.sizes.append(y0.shape[1])
-        result = integrate(compiled, integrator, y0, *args, **kwargs)
-        clock.now += clock.per_member * y0.shape[1]  # spent while integrating
+    def charged(self, chunk, progress=None):
+        clock.sizes.append(chunk.count)
+        result = integrate(self, chunk, progress)
+        clock.now += clock.per_member * chunk.count  # spent while integrating
         return result
 
-    monkeypatch.setattr(core, "integrate_chunk", charged)
+    monkeypatch.setattr(NumpyBackend, "integrate", charged)
     monkeypatch.setattr(core, "cpu_seconds", clock)
     monkeypatch.setattr(pace, "cpu_seconds", clock)
     return clock

@@ -18,8 +18,9 @@ import pytest
 
 import lagrangian as lg
 from lagrangian.ensemble import run_ensemble
-from lagrangian.ensemble.cuda_backend import integrate_cuda, source_of
-from lagrangian.ensemble.cuda_cpu import compiler, integrate_on_cpu
+from lagrangian.ensemble.chunk import Chunk
+from lagrangian.ensemble.cuda_backend import CudaBackend, source_of
+from lagrangian.ensemble.cuda_cpu import CudaOnCpuBackend, compiler
 from lagrangian.ensemble.cuda_source import kernel_source
 from lagrangian.ensemble.members import members
 from lagrangian.errors import MissingDependencyError, ModelError
@@ -116,10 +117,11 @@ def _cpu_run(compiled, initial, params, *, method, precision, t_end, dt, names, 
     """The CPU build of the cuda kernel on the batch run_ensemble would make."""
     batch = members(compiled, initial, params)
     integrator = method_class(method).configure(t_span=(0.0, t_end), dt=dt)
-    return integrate_on_cpu(
+    chunk = Chunk(
         compiled, integrator, batch.y0, batch.params, t_end, names,
         save_every=save_every, precision=precision,
     )  # fmt: skip
+    return CudaOnCpuBackend().integrate(chunk)
 
 
 @needs_cc
@@ -244,13 +246,13 @@ def test_errors_are_one_line(compiled_systems, monkeypatch):
     y0, params = np.zeros((2, 1)), compiled.parameter_vector()
     monkeypatch.setitem(sys.modules, "cupy", None)  # import cupy raises ImportError
     with pytest.raises(MissingDependencyError) as caught:
-        integrate_cuda(compiled, integrator, y0, params, 1.0, ("final_state",))
+        CudaBackend().integrate(Chunk(compiled, integrator, y0, params, 1.0, ("final_state",)))
     assert str(caught.value) == (
         "backend 'cuda' needs CuPy and an NVIDIA GPU: "
         'pip install ".[cuda]" in a clone of lagrangian'
     )
     with pytest.raises(ModelError, match=r"^unknown precision 'half' \(precisions: float64, "):
-        integrate_on_cpu(compiled, integrator, y0, params, 1.0, ("final_state",), precision="half")
+        Chunk(compiled, integrator, y0, params, 1.0, ("final_state",), precision="half")
     disc = compile_equations(lg.load("rolling_disc").equations_of_motion())
     with pytest.raises(ModelError, match=r"^backend 'cuda' does not handle constraints"):
         source_of(disc, "rk4", "float64")
@@ -279,8 +281,8 @@ def test_gpu_equals_numpy(compiled_systems, system, method, precision):
         compiled, initial=initial, params=params, method=method, t_end=1.0, dt=0.01,
         observables=names,
     )  # fmt: skip
-    got = integrate_cuda(
-        compiled, integrator, batch.y0, batch.params, 1.0, names, precision=precision
+    got = CudaBackend().integrate(
+        Chunk(compiled, integrator, batch.y0, batch.params, 1.0, names, precision=precision)
     )
     tolerance = 1e-11 if precision == "float64" else FLOAT32_TOLERANCE  # fused multiply-adds
     for name, values in expected.final_state.items():

@@ -202,3 +202,14 @@ def test_bad_grid_is_exit_2_with_one_line(capsys, bad):
     err = capsys.readouterr().err
     assert status == ExitStatus.BAD_INPUT
     assert len(err.strip().splitlines()) == 1 and "--grid" in err
+
+
+def test_the_backend_registry_holds_every_choice():
+    from lagrangian.ensemble.choices import BACKENDS
+    from lagrangian.ensemble.core import ENSEMBLE_BACKENDS
+
+    assert tuple(ENSEMBLE_BACKENDS) == BACKENDS
+    assert {name for name, kind in ENSEMBLE_BACKENDS.items() if "float32" in kind.precisions} == {
+        "jax",
+        "cuda",
+    }

@@ -9,8 +9,9 @@ import pytest
 
 import lagrangian as lg
 from lagrangian.codegen import cache as code_cache
-from lagrangian.ensemble.jax_backend import integrate_jax
-from lagrangian.ensemble.numpy_backend import integrate_chunk
+from lagrangian.ensemble.chunk import Chunk
+from lagrangian.ensemble.jax_backend import JaxBackend
+from lagrangian.ensemble.numpy_backend import NumpyBackend
 from lagrangian.errors import MissingDependencyError, ModelError
 from lagrangian.integrate import method_class
 from lagrangian.integrate.variational import Variational
@@ -19,6 +20,14 @@ from lagrangian.numeric import compile_equations
 jax = pytest.importorskip("jax")
 
 ALL = ("final_state", "energy_drift", "flip_time")
+
+
+def integrate_chunk(*chunk, **options):
+    return NumpyBackend().integrate(Chunk(*chunk, **options))
+
+
+def integrate_jax(*chunk, **options):
+    return JaxBackend().integrate(Chunk(*chunk, **options))
 
 
 def _forced_rotating_frame() -> lg.System:

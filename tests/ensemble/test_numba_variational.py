@@ -8,7 +8,8 @@ import pytest
 import lagrangian as lg
 from lagrangian.codegen import cache as code_cache
 from lagrangian.ensemble import run_ensemble
-from lagrangian.ensemble.numba_backend import integrate_numba
+from lagrangian.ensemble.chunk import Chunk
+from lagrangian.ensemble.numba_backend import NumbaBackend
 from lagrangian.errors import ModelError
 from lagrangian.integrate.variational import Variational
 from lagrangian.numeric import compile_equations
@@ -135,10 +136,14 @@ def test_saved_paths_equal_numpy(compiled_systems):
 def test_the_loop_is_built_once_per_system_and_scheme(compiled_systems):
     compiled = compiled_systems["simple_pendulum"]
     y0, params = np.array([[0.5, 1.0], [0.0, 0.1]]), compiled.parameter_vector()
-    integrate_numba(compiled, Variational(dt=0.1), y0, params, 0.5, ("final_state",))
+    NumbaBackend().integrate(
+        Chunk(compiled, Variational(dt=0.1), y0, params, 0.5, ("final_state",))
+    )
     built = _loops(compiled)
     assert "stormer-verlet" in built
-    integrate_numba(compiled, Variational(dt=0.05), y0, params, 0.3, ("final_state",))
+    NumbaBackend().integrate(
+        Chunk(compiled, Variational(dt=0.05), y0, params, 0.3, ("final_state",))
+    )
     assert _loops(compiled) == built  # dt and t_end are arguments
 
 
@@ -155,10 +160,11 @@ def test_newton_failure_is_one_line(compiled_systems):
     compiled = compiled_systems["double_pendulum"]
     y0 = np.array([[0.5, 2.0], [1.0, -1.0], [0.3, 2.0], [0.0, 1.0]])
     with pytest.raises(ModelError) as caught:
-        integrate_numba(
+        chunk = Chunk(
             compiled, Variational(dt=0.05, max_newton=1), y0, compiled.parameter_vector(), 0.2,
             ("final_state",),
         )  # fmt: skip
+        NumbaBackend().integrate(chunk)
     assert str(caught.value) == (
         "the ensemble integration failed: Newton's method of the variational step did not "
         "converge in 1 iterations at t = 0"

@@ -17,7 +17,7 @@ from .choices import BACKENDS, METHODS
 #: Public name -> the module that defines it, imported on first use: the runner brings
 #: xarray and the integrators, which the command line does not need to list its choices.
 _LAZY = {
-    "DEFAULT_CHUNK_SIZE": ".core",
+    "DEFAULT_CHUNK_SIZE": ".chunk",
     "run_ensemble": ".core",
     "OBSERVABLES": ".observables",
     "Observable": ".observables",

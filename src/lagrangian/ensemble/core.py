@@ -7,7 +7,8 @@ time budget) the CPU backends size their chunks by measured time instead: a
 small first chunk, then each sized from the CPU time per member so far to take
 about ``chunk_seconds`` (``chunk_size`` the largest), so a budget checked
 between chunks is kept within a chunk's time whatever one member costs.  Each
-chunk is integrated by a backend:
+:class:`~.chunk.Chunk` is integrated by a backend, a class of :data:`ENSEMBLE_BACKENDS`
+(the protocol is in :mod:`.chunk`):
 
 - ``numpy``: the single-run fixed-step integrator (rk4 or variational)
   stepping the chunk's states (2n, B) (:mod:`.numpy_backend`);
@@ -36,6 +37,7 @@ from __future__ import annotations
 import time
 import warnings
 from collections.abc import Callable, Iterable, Mapping
+from types import MappingProxyType
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -49,18 +51,23 @@ from ..integrate.fixed_step import AbstractFixedStepIntegrator, step_grid
 from ..integrate.memory import check_fits, count_text, step_count
 from ..integrate.step_size import fixed_step_for
 from .choices import BACKENDS, METHODS, PRECISIONS
+from .chunk import AbstractEnsembleBackend, Chunk
+from .cuda_backend import CudaBackend
+from .dask_backend import DaskBackend
+from .jax_backend import JaxBackend
 from .members import Members, members
-from .numpy_backend import integrate_chunk
+from .numba_backend import NumbaBackend
+from .numpy_backend import NumpyBackend
 from .observables import observable_names
 from .result import EnsembleTrajectory
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
 
-#: Members integrated together; memory per chunk is a few dozen (2n)-vectors per member.
-DEFAULT_CHUNK_SIZE = 65_536
-#: A GPU needs far more members at once than a CPU to be busy.
-GPU_CHUNK_SIZE = 1_048_576
+#: Backend name (``--backend``) -> class: how the chunks are integrated (see .chunk).
+ENSEMBLE_BACKENDS: Mapping[str, type[AbstractEnsembleBackend]] = MappingProxyType(
+    {kind.name: kind for kind in (NumpyBackend, NumbaBackend, JaxBackend, CudaBackend, DaskBackend)}
+)
 #: The (2n)-vectors of work per member of a chunk (stages, Newton, observables).
 WORK_VECTORS = 40
 #: Members of the first chunk when chunks are sized by time: a cheap first measurement.
@@ -109,16 +116,18 @@ def run_ensemble(
         raise ModelError(f"unknown backend '{backend}' (backends: {', '.join(BACKENDS)})")
     if precision not in PRECISIONS:
         raise ModelError(f"unknown precision '{precision}' (precisions: {', '.join(PRECISIONS)})")
-    if precision != "float64" and backend not in ("jax", "cuda"):
-        raise ModelError(f"precision {precision} needs backend jax or cuda (not {backend})")
+    kind = ENSEMBLE_BACKENDS[backend]
+    if precision not in kind.precisions:
+        offered = " or ".join(
+            other.name for other in ENSEMBLE_BACKENDS.values() if precision in other.precisions
+        )
+        raise ModelError(f"precision {precision} needs backend {offered} (not {backend})")
     if scheduler is not None and backend != "dask":
         raise ModelError(f"a dask scheduler needs backend dask (not {backend})")
-    if scheduler is not None:
-        from .dask_backend import check_scheduler
-
-        check_scheduler(scheduler)  # before the model is compiled and the members made
+    # the scheduler's address is checked here, before the model is compiled and the members made
+    runner = kind() if scheduler is None else DaskBackend(scheduler)
     if chunk_size is None:
-        chunk_size = GPU_CHUNK_SIZE if backend in ("jax", "cuda") else DEFAULT_CHUNK_SIZE
+        chunk_size = kind.chunk_size
     names = observable_names(observables)
     if "lyapunov" in names and backend not in ("numpy", "dask"):
         raise ModelError(f"observable lyapunov runs on backends numpy and dask, not {backend}")
@@ -147,31 +156,13 @@ def run_ensemble(
     integrator = fixed_step_for(type(integrator), compiled, (t0, t1), dt, batch.y0, batch.params)
     steps = step_count(t0, t1, integrator.dt)
     fits(batch.count)  # again with the step chosen
-    options = {"save_every": save_every, "progress": progress}
     timed = chunk_seconds if backend in TIMED_CHUNK_BACKENDS else None
-    chunks = _chunks(batch, int(chunk_size), timed)
+    chunks = (
+        Chunk(compiled, integrator, y0, p, t1, names, save_every, precision)
+        for y0, p, _ in _chunks(batch, int(chunk_size), timed)
+    )
     start = time.perf_counter()
-    if backend == "numpy":
-        parts = _numpy_chunks(compiled, integrator, batch.count, chunks, t1, names, **options)
-    elif backend in ("numba", "jax", "cuda"):
-        integrate = _compiled_backend(backend)
-        extra = {} if backend == "numba" else {"precision": precision}
-        if backend == "jax" and batch.count > chunk_size:
-            extra["pad_to"] = int(chunk_size)  # one compiled loop for every chunk
-        parts = []
-        for y0, p, done in chunks:
-            parts.append(
-                integrate(compiled, integrator, y0, p, t1, names, save_every=save_every, **extra)
-            )
-            if progress is not None:
-                progress(done / batch.count)
-    else:
-        from .dask_backend import integrate_dask
-
-        parts = integrate_dask(
-            compiled, integrator, [(y0, p) for y0, p, _ in chunks], t1, names,
-            save_every=save_every, scheduler=scheduler, progress=progress,
-        )  # fmt: skip
+    parts = runner.run(chunks, batch.count, progress)
     wall_time = time.perf_counter() - start
     result = _assemble(
         compiled, integrator, batch, parts, names, t1, backend, wall_time, save_every, precision
@@ -221,21 +212,6 @@ def ensemble_bytes(
     return 8.0 * (float(count) * per_member + steps + 1 + work)
 
 
-def _compiled_backend(backend: str):
-    """The chunk integrator of a backend that compiles the whole loop (imported on use)."""
-    if backend == "numba":
-        from .numba_backend import integrate_numba
-
-        return integrate_numba
-    if backend == "jax":
-        from .jax_backend import integrate_jax
-
-        return integrate_jax
-    from .cuda_backend import integrate_cuda
-
-    return integrate_cuda
-
-
 def _projected(compiled: CompiledSystem, batch: Members) -> Members:
     y0 = np.asarray(compiled.project(0.0, batch.y0, batch.params), dtype=float)
     return Members(y0, batch.params, batch.shape, batch.dims, batch.coords)
@@ -269,25 +245,6 @@ def _chunks(batch: Members, largest: int, seconds: float | None):
             used = max(cpu_seconds() - before, 1e-6)
             size = max(1, min(largest, CHUNK_GROWTH * size, int(size * seconds / used)))
         start = stop
-
-
-def _numpy_chunks(compiled, integrator, count, chunks, t_end, names, *, save_every, progress):
-    parts = []
-    done = 0
-    for y0, p, stop in chunks:
-        report = None
-        if progress is not None:
-
-            def report(fraction, done=done, stop=stop):
-                progress((done + fraction * (stop - done)) / count)
-
-        parts.append(
-            integrate_chunk(
-                compiled, integrator, y0, p, t_end, names, save_every=save_every, progress=report
-            )
-        )
-        done = stop
-    return parts
 
 
 def _assemble(

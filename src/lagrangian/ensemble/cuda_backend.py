@@ -4,11 +4,10 @@ One GPU thread integrates one member with the fixed-step loop inside the
 kernel (rk4, or the variational scheme of
 :class:`~lagrangian.integrate.variational.Variational`), in float64 or
 float32.  The host side is shared with the CPU build of the same text
-(:mod:`.cuda_cpu`): :func:`integrate_kernel` lays out the arguments (states
+(:mod:`.cuda_cpu`): :class:`AbstractKernelBackend` lays out the arguments (states
 and parameters member-fastest, so neighbouring threads read neighbouring
 words; the step grid of the single run, so the last step lands on t_end) and
-reads the outputs back into the observables of
-:func:`~lagrangian.ensemble.numpy_backend.integrate_chunk`.
+reads the outputs back into the chunk's observables (:meth:`.chunk.Chunk.result`).
 
 In float32 the Newton iterations of the variational scheme cannot reach a
 tolerance of 1e-14; they use ``FLOAT32_NEWTON_TOL`` and ``FLOAT32_ROUNDING_FLOOR``
@@ -21,20 +20,24 @@ kernel runs (``pip install ".[cuda]"``).
 from __future__ import annotations
 
 import threading
-from collections.abc import Callable
-from typing import TYPE_CHECKING
+from abc import abstractmethod
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
 from ..codegen.cache import built
 from ..errors import MissingDependencyError, ModelError
-from ..integrate.fixed_step import step_grid
-from ..integrate.variational import ROUNDING_FLOOR
+from .chunk import (
+    GPU_CHUNK_SIZE,
+    AbstractEnsembleBackend,
+    Chunk,
+    Outputs,
+    Progress,
+    generated_forms,
+)
 from .cuda_source import KERNEL_PARAMETERS, PRECISIONS, kernel_source
-from .observables import finish, stops_early
 
 if TYPE_CHECKING:
-    from ..integrate.fixed_step import AbstractFixedStepIntegrator
     from ..numeric.compiled import CompiledSystem
 
 #: Newton tolerance (relative to the momenta) and rounding floor of float32 kernels:
@@ -50,120 +53,82 @@ OUTPUTS = ("final", "flips", "failures", "paths")
 _FUNCTIONS: dict[str, object] = {}
 _LOCK = threading.Lock()
 
-#: A launcher runs the kernel of (digest, text) on arguments by name, writing the outputs.
-Launcher = Callable[[str, str, dict[str, object]], None]
 
+class AbstractKernelBackend(AbstractEnsembleBackend):
+    """The generated kernel's host side; :meth:`launch` runs it (on the GPU or the CPU)."""
 
-def integrate_cuda(
-    compiled: CompiledSystem,
-    integrator: AbstractFixedStepIntegrator,
-    y0: np.ndarray,
-    params: np.ndarray,
-    t_end: float,
-    names: tuple[str, ...],
-    *,
-    save_every: int | None = None,
-    precision: str = "float64",
-) -> dict[str, np.ndarray]:
-    """One chunk on the GPU, as :func:`~lagrangian.ensemble.numpy_backend.integrate_chunk`."""
-    _cupy()
-    return integrate_kernel(
-        _launch_on_gpu, compiled, integrator, y0, params, t_end, names,
-        save_every=save_every, precision=precision,
-    )  # fmt: skip
+    precisions: ClassVar[tuple[str, ...]] = PRECISIONS
+    chunk_size: ClassVar[int] = GPU_CHUNK_SIZE
 
+    @abstractmethod
+    def launch(self, digest: str, text: str, arguments: dict[str, object]) -> None:
+        """Run the kernel of (digest, text) on ``arguments`` by name, writing the outputs."""
 
-def integrate_kernel(
-    launch: Launcher,
-    compiled: CompiledSystem,
-    integrator: AbstractFixedStepIntegrator,
-    y0: np.ndarray,
-    params: np.ndarray,
-    t_end: float,
-    names: tuple[str, ...],
-    *,
-    save_every: int | None = None,
-    precision: str = "float64",
-) -> dict[str, np.ndarray]:
-    """One chunk through the generated kernel run by ``launch`` (GPU or the CPU build)."""
-    if precision not in PRECISIONS:
-        raise ModelError(f"unknown precision '{precision}' (precisions: {', '.join(PRECISIONS)})")
-    scheme = _scheme(compiled, integrator)
-    digest, text = source_of(compiled, scheme, precision)
-    dtype = np.float32 if precision == "float32" else np.float64
-    grid = step_grid(0.0, float(t_end), integrator.dt)
-    steps = len(grid) - 1
-    states = np.ascontiguousarray(np.asarray(y0, dtype=float), dtype=dtype)
-    count = states.shape[1]
-    p = np.asarray(params, dtype=float)
-    every = int(save_every or 0)
-    saved = steps // every + 1 if every else 1
-    tolerance = float(getattr(integrator, "newton_tol", 1e-14))
-    floor = ROUNDING_FLOOR
-    if precision == "float32":
-        tolerance, floor = max(tolerance, FLOAT32_NEWTON_TOL), FLOAT32_ROUNDING_FLOOR
-    arguments: dict[str, object] = {
-        "count": np.int64(count),
-        "y0": states,
-        "params": np.ascontiguousarray(p, dtype=dtype),
-        "param_row": np.int64(count if p.ndim == 2 else 1),
-        "param_member": np.int64(1 if p.ndim == 2 else 0),
-        "times": np.ascontiguousarray(grid[:-1], dtype=dtype),
-        "widths": np.ascontiguousarray(np.diff(grid), dtype=dtype),  # as the numpy driver's tb - ta
-        "steps": np.int64(steps),
-        "track": np.int32("flip_time" in names),
-        "stop": np.int32(stops_early(names) and not every),
-        "save_every": np.int64(every),
-        "newton_tol": dtype(tolerance),
-        "rounding_floor": dtype(floor),
-        "max_newton": np.int32(getattr(integrator, "max_newton", 30)),
-        "final": np.empty_like(states),
-        "flips": np.empty(count, dtype=np.int64),
-        "failures": np.empty(count, dtype=np.int64),
-        "paths": np.empty((saved, states.shape[0], count) if every else 1, dtype=dtype),
-    }
-    if count:
-        launch(digest, text, arguments)
-    else:
-        arguments["flips"][:] = arguments["failures"][:] = -1
-    failures = arguments["failures"]
-    if np.any(failures >= 0):
-        at = grid[int(np.min(failures[failures >= 0]))]
-        raise ModelError(
-            f"the ensemble integration failed: Newton's method did not converge at t = {at:.17g}"
-        )
-    flips = arguments["flips"]
-    flip_time = np.where(flips >= 0, grid[np.clip(flips, 0, steps)], np.nan)
-    final = arguments["final"].astype(float)
-    values = finish(
-        compiled, names, t0=grid[0], y0=np.asarray(y0, float), t1=grid[-1], y1=final,
-        params=params, flip_time=flip_time,
-    )  # fmt: skip
-    if every:
-        values["paths"] = np.transpose(arguments["paths"], (1, 2, 0)).astype(float)
-    values["steps"] = np.array(steps)
-    return values
+    def integrate(self, chunk: Chunk, progress: Progress | None = None) -> Outputs:
+        digest, text = source_of(chunk.compiled, chunk.scheme("cuda"), chunk.precision)
+        dtype, grid, count = chunk.dtype, chunk.grid, chunk.count
+        states = np.ascontiguousarray(np.asarray(chunk.y0, dtype=float), dtype=dtype)
+        p = np.asarray(chunk.params, dtype=float)
+        tolerance, floor = chunk.newton.tol, chunk.newton.floor
+        if chunk.precision == "float32":
+            tolerance, floor = max(tolerance, FLOAT32_NEWTON_TOL), FLOAT32_ROUNDING_FLOOR
+        arguments: dict[str, object] = {
+            "count": np.int64(count),
+            "y0": states,
+            "params": np.ascontiguousarray(p, dtype=dtype),
+            "param_row": np.int64(count if p.ndim == 2 else 1),
+            "param_member": np.int64(1 if p.ndim == 2 else 0),
+            "times": np.ascontiguousarray(grid[:-1], dtype=dtype),
+            "widths": np.ascontiguousarray(np.diff(grid), dtype=dtype),  # the driver's tb - ta
+            "steps": np.int64(chunk.steps),
+            "track": np.int32(chunk.track),
+            "stop": np.int32(chunk.stop),
+            "save_every": np.int64(chunk.every),
+            "newton_tol": dtype(tolerance),
+            "rounding_floor": dtype(floor),
+            "max_newton": np.int32(chunk.newton.iterations),
+            "final": np.empty_like(states),
+            "flips": np.empty(count, dtype=np.int64),
+            "failures": np.empty(count, dtype=np.int64),
+            "paths": np.empty((chunk.saved, states.shape[0], count) if chunk.every else 1, dtype),
+        }
+        if count:
+            self.launch(digest, text, arguments)
+        else:
+            arguments["flips"][:] = arguments["failures"][:] = -1
+        chunk.check_newton(arguments["failures"])
+        paths = np.transpose(arguments["paths"], (1, 2, 0)) if chunk.every else None
+        return chunk.result(arguments["final"], chunk.flip_times(arguments["flips"]), paths)
 
 
 def source_of(compiled: CompiledSystem, scheme: str, precision: str) -> tuple[str, str]:
     """(digest, text) of the kernel of ``compiled`` (made once per equations)."""
-    if compiled.has_constraints:
-        raise ModelError("backend 'cuda' does not handle constraints (use backend numpy)")
-    forms = compiled.forms
-    if forms is None:
-        raise ModelError(
-            "backend 'cuda' generates code from derived equations, not given functions"
-        )
+    forms = generated_forms(compiled, "cuda")
     build = lambda: kernel_source(forms, scheme, precision)  # noqa: E731
     return built(forms.fingerprint, "cuda", build, scheme, precision)
 
 
-def _scheme(compiled: CompiledSystem, integrator: AbstractFixedStepIntegrator) -> str:
-    if integrator.name == "rk4":
-        return "rk4"
-    if integrator.name == "variational":
-        return integrator.scheme(compiled)
-    raise ModelError(f"backend 'cuda' integrates with rk4 or variational, not {integrator.name}")
+class CudaBackend(AbstractKernelBackend):
+    """The kernel on an NVIDIA GPU through CuPy."""
+
+    name: ClassVar[str] = "cuda"
+
+    def integrate(self, chunk: Chunk, progress: Progress | None = None) -> Outputs:
+        _cupy()
+        return super().integrate(chunk, progress)
+
+    def launch(self, digest: str, text: str, arguments: dict[str, object]) -> None:
+        cupy = _cupy()
+        function = _function(cupy, digest, text)
+        device = {
+            name: cupy.asarray(value) if isinstance(value, np.ndarray) else value
+            for name, value in arguments.items()
+        }
+        count = int(arguments["count"])
+        blocks = (count + THREADS - 1) // THREADS
+        function((blocks,), (THREADS,), tuple(device[name] for _, name in KERNEL_PARAMETERS))
+        for name in OUTPUTS:
+            arguments[name][...] = cupy.asnumpy(device[name])
 
 
 def _cupy():
@@ -193,17 +158,3 @@ def _function(cupy, digest: str, text: str):
                 raise ModelError(f"backend 'cuda' cannot compile the kernel: {first}") from None
             _FUNCTIONS[digest] = function
         return function
-
-
-def _launch_on_gpu(digest: str, text: str, arguments: dict[str, object]) -> None:
-    cupy = _cupy()
-    function = _function(cupy, digest, text)
-    device = {
-        name: cupy.asarray(value) if isinstance(value, np.ndarray) else value
-        for name, value in arguments.items()
-    }
-    count = int(arguments["count"])
-    blocks = (count + THREADS - 1) // THREADS
-    function((blocks,), (THREADS,), tuple(device[name] for _, name in KERNEL_PARAMETERS))
-    for name in OUTPUTS:
-        arguments[name][...] = cupy.asnumpy(device[name])

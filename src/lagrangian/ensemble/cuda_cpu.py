@@ -6,7 +6,7 @@ C99 once ``__global__``, ``__device__`` and ``__forceinline__`` are macros and
 index to each member in turn and calls the kernel, one member per "thread".
 Compiled with ``-ffp-contract=off`` (no fused multiply-adds, as numpy) and
 ``-Werror=double-promotion`` (float32 text must not compute in double), loaded
-with ctypes.  :func:`integrate_on_cpu` is :func:`~.cuda_backend.integrate_cuda`
+with ctypes.  :class:`CudaOnCpuBackend` is :class:`~.cuda_backend.CudaBackend`
 with this build instead of the GPU, so tests compare the very text the GPU
 runs against the numpy backend.  Needs ``gcc`` (or ``$CC``) on the path.
 """
@@ -20,17 +20,13 @@ import subprocess
 import tempfile
 import threading
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import ClassVar
 
 import numpy as np
 
 from ..errors import ModelError
-from .cuda_backend import integrate_kernel
+from .cuda_backend import AbstractKernelBackend
 from .cuda_source import KERNEL_PARAMETERS
-
-if TYPE_CHECKING:
-    from ..integrate.fixed_step import AbstractFixedStepIntegrator
-    from ..numeric.compiled import CompiledSystem
 
 PRELUDE = """\
 #define _GNU_SOURCE /* sincos, sincosf */
@@ -101,26 +97,13 @@ def cpu_library(source: str) -> CpuKernel:
         return found
 
 
-def integrate_on_cpu(
-    compiled: CompiledSystem,
-    integrator: AbstractFixedStepIntegrator,
-    y0: np.ndarray,
-    params: np.ndarray,
-    t_end: float,
-    names: tuple[str, ...],
-    *,
-    save_every: int | None = None,
-    precision: str = "float64",
-) -> dict[str, np.ndarray]:
-    """:func:`~.cuda_backend.integrate_cuda` with the CPU build of the kernel."""
+class CudaOnCpuBackend(AbstractKernelBackend):
+    """The cuda backend with the CPU build of its kernel (not registered: a check)."""
 
-    def launch(digest: str, text: str, arguments: dict[str, object]) -> None:
+    name: ClassVar[str] = "cuda"
+
+    def launch(self, digest: str, text: str, arguments: dict[str, object]) -> None:
         cpu_library(text)(arguments)
-
-    return integrate_kernel(
-        launch, compiled, integrator, y0, params, t_end, names,
-        save_every=save_every, precision=precision,
-    )  # fmt: skip
 
 
 def _driver() -> str:

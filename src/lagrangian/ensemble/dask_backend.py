@@ -5,7 +5,7 @@ locks that do not pickle, so the model travels instead: its equations of
 motion, the function definitions and the Baumgarte rate (cloudpickled once),
 and each worker process compiles them on first use and keeps the result
 (keyed by a hash of the payload).  Each chunk of members is one task running
-:func:`~lagrangian.ensemble.numpy_backend.integrate_chunk`; the results come
+:class:`~lagrangian.ensemble.numpy_backend.NumpyBackend`; the results come
 back in chunk order.
 
 Without ``scheduler`` a ``LocalCluster`` of two worker processes, one thread
@@ -24,16 +24,15 @@ import hashlib
 import re
 import socket
 import tempfile
-from collections.abc import Callable
-from typing import TYPE_CHECKING
-
-import numpy as np
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar
 
 from ..errors import LagrangianError, MissingDependencyError, ModelError
-from .numpy_backend import integrate_chunk
+from .chunk import AbstractEnsembleBackend, Chunk, Outputs, Progress
+from .numpy_backend import NumpyBackend
 
 if TYPE_CHECKING:
-    from ..integrate.fixed_step import AbstractFixedStepIntegrator
     from ..numeric.compiled import CompiledSystem
 
 #: Compiled systems of this worker process, by payload hash.
@@ -97,43 +96,53 @@ def compiled_from_payload(key: str, payload: bytes) -> CompiledSystem:
 
 def _task(key, payload, integrator, y0, params, t_end, names, save_every):
     compiled = compiled_from_payload(key, payload)
-    return integrate_chunk(compiled, integrator, y0, params, t_end, names, save_every=save_every)
+    chunk = Chunk(compiled, integrator, y0, params, t_end, names, save_every)
+    return NumpyBackend().integrate(chunk)
 
 
-def integrate_dask(
-    compiled: CompiledSystem,
-    integrator: AbstractFixedStepIntegrator,
-    chunks: list[tuple[np.ndarray, np.ndarray]],
-    t_end: float,
-    names: tuple[str, ...],
-    *,
-    save_every: int | None = None,
-    scheduler: str | None = None,
-    progress: Callable[[float], None] | None = None,
-) -> list[dict[str, np.ndarray]]:
-    """The chunks' results (in order), integrated on a dask cluster; see the module."""
-    distributed, _ = _distributed()
-    import dask.config
+@dataclass(frozen=True)
+class DaskBackend(AbstractEnsembleBackend):
+    """The chunks as tasks on a dask cluster: the local one started for the run, or the
+    one at ``scheduler`` (checked when the backend is made, before any work)."""
 
-    payload = model_payload(compiled)
-    key = hashlib.sha256(payload).hexdigest()
-    failures = (OSError, TimeoutError, distributed.KilledWorker)  # CommClosedError is an OSError
-    with (
-        tempfile.TemporaryDirectory(prefix="lagrangian-dask-") as scratch,
-        dask.config.set({"temporary-directory": scratch}),  # the scheduler's scratch too
-    ):
-        client, cluster = _connect(distributed, scheduler, scratch)
-        try:
-            return _run(distributed, client, key, payload, integrator, chunks, t_end, names,
-                        save_every, progress)  # fmt: skip
-        except failures as error:
-            raise ClusterError(
-                f"the dask cluster failed during the run: {_first_line(error)}"
-            ) from None
-        finally:
-            client.close()
-            if cluster is not None:
-                cluster.close()
+    name: ClassVar[str] = "dask"
+    scheduler: str | None = None
+
+    def __post_init__(self) -> None:
+        if self.scheduler is not None:
+            check_scheduler(self.scheduler)
+
+    def integrate(self, chunk: Chunk, progress: Progress | None = None) -> Outputs:
+        return self.run([chunk], chunk.count, progress)[0]
+
+    def run(
+        self, chunks: Iterable[Chunk], count: int, progress: Progress | None = None
+    ) -> list[Outputs]:
+        """The chunks' outputs (in order), integrated on the cluster; see the module."""
+        chunks = list(chunks)
+        if not chunks:
+            return []
+        distributed, _ = _distributed()
+        import dask.config
+
+        payload = model_payload(chunks[0].compiled)
+        key = hashlib.sha256(payload).hexdigest()
+        failures = (OSError, TimeoutError, distributed.KilledWorker)  # CommClosedError: OSError
+        with (
+            tempfile.TemporaryDirectory(prefix="lagrangian-dask-") as scratch,
+            dask.config.set({"temporary-directory": scratch}),  # the scheduler's scratch too
+        ):
+            client, cluster = _connect(distributed, self.scheduler, scratch)
+            try:
+                return _run(distributed, client, key, payload, chunks, progress)
+            except failures as error:
+                raise ClusterError(
+                    f"the dask cluster failed during the run: {_first_line(error)}"
+                ) from None
+            finally:
+                client.close()
+                if cluster is not None:
+                    cluster.close()
 
 
 def _connect(distributed, scheduler: str | None, scratch: str):
@@ -167,12 +176,12 @@ def _first_line(error: BaseException) -> str:
     return text if len(text) <= 160 else text[:157] + "..."
 
 
-def _run(distributed, client, key, payload, integrator, chunks, t_end, names, save_every, progress):
+def _run(distributed, client, key, payload, chunks, progress):
     shared = client.scatter(payload, broadcast=True)
-    futures = [
-        client.submit(_task, key, shared, integrator, y0, p, t_end, names, save_every, pure=False)
-        for y0, p in chunks
-    ]
+    futures = []
+    for chunk in chunks:  # the chunk without its compiled system, which does not pickle
+        fields = (chunk.integrator, chunk.y0, chunk.params, chunk.t_end, chunk.names)
+        futures.append(client.submit(_task, key, shared, *fields, chunk.save_every, pure=False))
     for done, _ in enumerate(distributed.as_completed(futures), start=1):
         if progress is not None:
             progress(done / len(futures))

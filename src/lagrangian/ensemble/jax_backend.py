@@ -38,7 +38,9 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import TYPE_CHECKING, Any, NamedTuple
+from collections.abc import Iterable
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
 import numpy as np
 
@@ -46,14 +48,12 @@ from ..codegen import arrays
 from ..codegen.cache import built
 from ..errors import MissingDependencyError, ModelError
 from ..integrate.explicit_rk import AbstractExplicitRungeKutta
-from ..integrate.fixed_step import step_grid
 from ..integrate.midpoint_batch import ArrayNewton, legendre_velocity, midpoint_velocity
 from ..integrate.variational import ROUNDING_FLOOR, Variational
 from .choices import PRECISIONS
-from .observables import finish
+from .chunk import GPU_CHUNK_SIZE, AbstractEnsembleBackend, Chunk, Outputs, Progress
 
 if TYPE_CHECKING:
-    from ..integrate.fixed_step import AbstractFixedStepIntegrator
     from ..numeric.compiled import CompiledSystem
 
 #: Linear solves up to this size are unrolled Gaussian elimination (see _solve).
@@ -68,53 +68,41 @@ def _jax():
     return jax
 
 
-def integrate_jax(
-    compiled: CompiledSystem,
-    integrator: AbstractFixedStepIntegrator,
-    y0: np.ndarray,
-    params: np.ndarray,
-    t_end: float,
-    names: tuple[str, ...],
-    *,
-    save_every: int | None = None,
-    precision: str = "float64",
-    pad_to: int | None = None,
-) -> dict[str, np.ndarray]:
-    """One chunk, as :func:`~lagrangian.ensemble.numpy_backend.integrate_chunk` returns it.
+@dataclass(frozen=True)
+class JaxBackend(AbstractEnsembleBackend):
+    """The jitted loop on JAX's default device; ``pad_to``: run that many members, the
+    last one repeated, so that a smaller last chunk reuses the loop JAX compiled for the
+    others (one per batch size)."""
 
-    ``pad_to``: run that many members, the last one repeated, so that a smaller
-    last chunk reuses the loop JAX compiled for the others (one per batch size).
-    """
-    if precision not in PRECISIONS:
-        raise ModelError(f"unknown precision '{precision}' (precisions: {', '.join(PRECISIONS)})")
-    jax = _jax()
-    integrator.check(compiled)
-    every = int(save_every or 0)
-    track = "flip_time" in names
-    grid = step_grid(0.0, float(t_end), integrator.dt)
-    y_start = np.asarray(y0, dtype=float)
-    dtype = np.float64 if precision == "float64" else np.float32
-    count = y_start.shape[1]
-    with jax.enable_x64(precision == "float64"):
-        run = _loop(compiled, integrator, precision, every, track)
-        arrays = (*_padded(y_start, np.asarray(params), max(count, pad_to or 0)), grid)
-        results = run(*(array.astype(dtype) for array in arrays))
-        final, flips, failed, paths = (np.asarray(x)[..., :count] for x in jax.device_get(results))
-    if np.any(failed >= 0):
-        raise ModelError(
-            "the ensemble integration failed: Newton's method of the variational step did "
-            f"not converge in {integrator.max_newton} iterations at t = "
-            f"{grid[failed[failed >= 0].min()]:.17g}"
-        )
-    flip_time = np.where(flips >= 0, grid[np.maximum(flips, 0)], np.nan)  # the float64 grid
-    values = finish(
-        compiled, names, t0=grid[0], y0=y_start, t1=grid[-1], y1=np.asarray(final, dtype=float),
-        params=params, flip_time=flip_time,
-    )  # fmt: skip
-    if every:
-        values["paths"] = np.transpose(np.asarray(paths, dtype=float), (1, 2, 0))
-    values["steps"] = np.array(len(grid) - 1)
-    return values
+    name: ClassVar[str] = "jax"
+    precisions: ClassVar[tuple[str, ...]] = PRECISIONS
+    chunk_size: ClassVar[int] = GPU_CHUNK_SIZE
+    pad_to: int | None = None
+
+    def run(
+        self, chunks: Iterable[Chunk], count: int, progress: Progress | None = None
+    ) -> list[Outputs]:
+        # one compiled loop for every chunk: the last, smaller one padded to the others' size
+        chunks = list(chunks)
+        padded = replace(self, pad_to=chunks[0].count) if len(chunks) > 1 else self
+        return AbstractEnsembleBackend.run(padded, chunks, count, progress)
+
+    def integrate(self, chunk: Chunk, progress: Progress | None = None) -> Outputs:
+        jax = _jax()
+        compiled, integrator, count = chunk.compiled, chunk.integrator, chunk.count
+        integrator.check(compiled)
+        y_start = np.asarray(chunk.y0, dtype=float)
+        with jax.enable_x64(chunk.precision == "float64"):
+            run = _loop(compiled, integrator, chunk.precision, chunk.every, chunk.track)
+            size = max(count, self.pad_to or 0)
+            arrays = (*_padded(y_start, np.asarray(chunk.params), size), chunk.grid)
+            results = run(*(array.astype(chunk.dtype) for array in arrays))
+            final, flips, failed, paths = (
+                np.asarray(x)[..., :count] for x in jax.device_get(results)
+            )
+        chunk.check_newton(failed)
+        paths = np.transpose(paths, (1, 2, 0)) if chunk.every else None
+        return chunk.result(final, chunk.flip_times(flips), paths)
 
 
 def _padded(y0: np.ndarray, params: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray]:

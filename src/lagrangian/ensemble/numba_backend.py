@@ -18,17 +18,15 @@ Constrained systems are not handled (use the numpy backend).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
-from ..errors import MissingDependencyError, ModelError
-from ..integrate.fixed_step import step_grid
-from .observables import finish, stops_early
+from ..errors import MissingDependencyError
+from .chunk import AbstractEnsembleBackend, Chunk, Outputs, Progress, generated_forms
 
 if TYPE_CHECKING:
     from ..codegen.forms import SymbolicForms
-    from ..integrate.fixed_step import AbstractFixedStepIntegrator
     from ..numeric.compiled import CompiledSystem
 
 
@@ -41,14 +39,9 @@ def _numba():
 
 
 def _forms(compiled: CompiledSystem) -> SymbolicForms:
-    if compiled.has_constraints:
-        raise ModelError("backend 'numba' does not handle constraints (use backend numpy)")
+    forms = generated_forms(compiled, "numba")
     _numba()
-    if compiled.forms is None:
-        raise ModelError(
-            "backend 'numba' generates code from derived equations, not given functions"
-        )
-    return compiled.forms
+    return forms
 
 
 def kernel(compiled: CompiledSystem, scheme: str = "rk4"):
@@ -61,54 +54,27 @@ def kernel(compiled: CompiledSystem, scheme: str = "rk4"):
     return numba_loop(forms, scheme, tableau=tableaus.RK4, stall=STALL_RATIO).run
 
 
-def _scheme(compiled: CompiledSystem, integrator: AbstractFixedStepIntegrator) -> str:
-    scheme = integrator.printed_scheme(compiled)
-    if scheme is None:
-        raise ModelError(
-            f"backend 'numba' integrates with rk4 or variational, not {integrator.name}"
-        )
-    return scheme
+class NumbaBackend(AbstractEnsembleBackend):
+    """The generated parallel loop (see the module); numba is needed."""
 
+    name: ClassVar[str] = "numba"
 
-def integrate_numba(
-    compiled: CompiledSystem,
-    integrator: AbstractFixedStepIntegrator,
-    y0: np.ndarray,
-    params: np.ndarray,
-    t_end: float,
-    names: tuple[str, ...],
-    *,
-    save_every: int | None = None,
-) -> dict[str, np.ndarray]:
-    """One chunk, as :func:`~lagrangian.ensemble.numpy_backend.integrate_chunk` returns it."""
-    run = kernel(compiled, _scheme(compiled, integrator))
-    grid = step_grid(0.0, float(t_end), integrator.dt)
-    count = y0.shape[1]
-    states = np.ascontiguousarray(np.asarray(y0, dtype=float).T)
-    p = np.asarray(params, dtype=float)
-    per_member = np.ascontiguousarray(p.T if p.ndim == 2 else np.broadcast_to(p, (count, p.size)))
-    every = int(save_every or 0)
-    saved = (len(grid) - 1) // every + 1 if every else 1
-    final = np.empty_like(states)
-    flips = np.empty(count)
-    failures = np.empty(count, dtype=np.int64)
-    paths = np.empty((count, states.shape[1], saved) if every else (1, 1, 1))
-    track = "flip_time" in names
-    stop = stops_early(names) and not every
-    newton = integrator.newton_settings()
-    options = (newton.tol, newton.floor, newton.iterations)
-    run(states, per_member, grid, track, stop, every, *options, final, flips, failures, paths)
-    if np.any(failures >= 0):
-        raise ModelError(
-            "the ensemble integration failed: Newton's method of the variational step did "
-            f"not converge in {newton.iterations} iterations at t = "
-            f"{grid[failures[failures >= 0].min()]:.17g}"
+    def integrate(self, chunk: Chunk, progress: Progress | None = None) -> Outputs:
+        run = kernel(chunk.compiled, chunk.scheme(self.name))
+        grid, count = chunk.grid, chunk.count
+        states = np.ascontiguousarray(np.asarray(chunk.y0, dtype=float).T)
+        p = np.asarray(chunk.params, dtype=float)
+        per_member = np.ascontiguousarray(
+            p.T if p.ndim == 2 else np.broadcast_to(p, (count, p.size))
         )
-    values = finish(
-        compiled, names, t0=grid[0], y0=np.asarray(y0, float), t1=grid[-1], y1=final.T,
-        params=params, flip_time=flips,
-    )  # fmt: skip
-    if every:
-        values["paths"] = np.transpose(paths, (1, 0, 2))
-    values["steps"] = np.array(len(grid) - 1)
-    return values
+        final = np.empty_like(states)
+        flips = np.empty(count)
+        failures = np.empty(count, dtype=np.int64)
+        paths = np.empty((count, states.shape[1], chunk.saved) if chunk.every else (1, 1, 1))
+        newton = chunk.newton
+        run(
+            states, per_member, grid, chunk.track, chunk.stop, chunk.every,
+            newton.tol, newton.floor, newton.iterations, final, flips, failures, paths,
+        )  # fmt: skip
+        chunk.check_newton(failures)
+        return chunk.result(final.T, flips, np.transpose(paths, (1, 0, 2)))
