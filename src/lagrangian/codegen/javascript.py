@@ -27,14 +27,11 @@ from .header import header_lines
 from .literals import FloatLiterals
 from .program import Program, Routine
 from .steps import Assign, Function, If, Index, Loop, StepPrinter, elimination
-from .target import AbstractTarget
+from .target import VECTORS, AbstractTarget
 
 #: Line comments: only a line break ends one (U+2028 and U+2029 are line breaks in
 #: JavaScript, and :func:`~lagrangian.codegen.comments.commented` splits at them).
 JAVASCRIPT_COMMENT = CommentStyle("", "// ", "", ())
-
-#: The outputs that are vectors (f, the constraint bias b); the others are matrices.
-_VECTORS = frozenset({"f", "b"})
 
 
 class JavaScriptStepPrinter(StepPrinter):
@@ -157,16 +154,12 @@ class JavaScriptTarget(
         page adds routines of its own, :meth:`Program.routine`, to the module)."""
         head = "export function" if exported else "function"
         lines = ["", f"{head} {name}(t, y, params = DEFAULT_PARAMS, u = null) {{"]
-        for symbol, argument, index in self.reads(program, routine):
-            value = f"{argument}[{index}]"
-            if argument == "u":  # no inputs given: every input 0
-                value = f"u == null ? 0.0 : {value}"
-            lines.append(f"  const {symbol} = {value};")
-        for symbol, expr in routine.temporaries:
-            lines.append(f"  const {symbol} = {self.expression(expr)};")
+        lines += self.opening(
+            program, routine, "  const {symbol} = {value};", no_input="u == null ? 0.0 : {value}"
+        )
         results = []
         for label, matrix in routine.outputs:
-            text = self.list_literal(matrix, vector=label in _VECTORS)
+            text = self.list_literal(matrix, vector=label in VECTORS)
             lines.append(f"  const {label} = {text};")
             results.append(label)
         returned = results[0] if exported else "[" + ", ".join(results) + "]"

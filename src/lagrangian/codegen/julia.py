@@ -18,9 +18,8 @@ from .comments import JULIA_COMMENT, commented
 from .header import header_lines
 from .literals import FloatLiterals
 from .program import Program, Routine
-from .target import AbstractTarget
+from .target import VECTORS, AbstractTarget
 
-_VECTORS = frozenset({"f", "b"})
 _ARGUMENTS = "t, y, params=DEFAULT_PARAMS, u=DEFAULT_INPUTS"
 
 
@@ -79,13 +78,10 @@ class JuliaTarget(AbstractTarget, name="julia", language="Julia", suffix=".jl", 
     def _function(self, name: str, program: Program, routine: Routine) -> list[str]:
         lines = ["", f"function {name}({_ARGUMENTS})"]
         lines.append("    T = promote_type(eltype(y), eltype(params), eltype(u), typeof(t))")
-        for symbol, argument, index in self.reads(program, routine):
-            lines.append(f"    {symbol} = {argument}[{index}]")
-        for symbol, expr in routine.temporaries:
-            lines.append(f"    {symbol} = {self.expression(expr)}")
+        lines += self.opening(program, routine, "    {symbol} = {value}")
         labels = []
         for label, matrix in routine.outputs:
-            vector = label in _VECTORS
+            vector = label in VECTORS
             size = f"{matrix.rows}" if vector else f"{matrix.rows}, {matrix.cols}"
             lines.append(f"    {label} = zeros(T, {size})")
             for index, text in self.entries(matrix, vector=vector):

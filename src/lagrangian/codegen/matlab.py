@@ -24,9 +24,7 @@ from .comments import MATLAB_COMMENT, commented
 from .header import header_lines
 from .literals import FloatLiterals
 from .program import Program, Routine
-from .target import AbstractTarget
-
-_VECTORS = frozenset({"f", "b"})
+from .target import VECTORS, AbstractTarget
 
 #: Keywords of MATLAB (``iskeyword``) and of GNU Octave: no function can be named by one.
 KEYWORDS = frozenset(
@@ -64,6 +62,8 @@ class _Printer(FloatLiterals, OctaveCodePrinter):
 
 class MatlabTarget(AbstractTarget, name="matlab", language="MATLAB", suffix=".m", base=1):
     """The MATLAB function file (see the module docstring)."""
+
+    element = "{argument}({index})"
 
     def __init__(self) -> None:
         self._printer = _Printer({"strict": True})
@@ -146,12 +146,9 @@ class MatlabTarget(AbstractTarget, name="matlab", language="MATLAB", suffix=".m"
 
     def _function(self, results: str, name: str, program: Program, routine: Routine) -> list[str]:
         lines = ["", f"function {results} = {name}(t, y, params, u)", *self._defaults(program)]
-        for symbol, argument, index in self.reads(program, routine):
-            lines.append(f"{symbol} = {argument}({index});")
-        for symbol, expr in routine.temporaries:
-            lines.append(f"{symbol} = {self.expression(expr)};")
+        lines += self.opening(program, routine, "{symbol} = {value};")
         for label, matrix in routine.outputs:
-            vector = label in _VECTORS
+            vector = label in VECTORS
             lines.append(f"{label} = zeros({matrix.rows}, {1 if vector else matrix.cols});")
             for index, text in self.entries(matrix, vector=vector):
                 lines.append(f"{label}({index}) = {text};")

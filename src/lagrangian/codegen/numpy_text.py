@@ -22,14 +22,11 @@ from .comments import PYTHON_COMMENT, commented
 from .header import header_lines
 from .literals import FloatLiterals
 from .program import Program, Routine
-from .target import AbstractTarget
+from .target import VECTORS, AbstractTarget
 
 #: Modules a generated file imports, directly or through NumPy and SciPy (the standard
 #: library's): a module file named like one is imported in its place from its folder.
 SHADOWED = frozenset({"numpy", "scipy", *sys.stdlib_module_names})
-
-#: The outputs that are vectors (f, the constraint bias b); the others are matrices.
-_VECTORS = frozenset({"f", "b"})
 
 
 class _Printer(FloatLiterals, NumPyPrinter):
@@ -114,17 +111,13 @@ class NumPyTextTarget(
 
     def _function(self, name: str, program: Program, routine: Routine) -> list[str]:
         lines = ["", f"def {name}(t, y, params=DEFAULT_PARAMS, u=None):"]
-        for symbol, argument, index in self.reads(program, routine):
-            value = f"{argument}[{index}]"
-            if argument == "u":  # no inputs given: every input 0
-                value = f"0.0 if u is None else {value}"
-            lines.append(f"    {symbol} = {value}")
-        for symbol, expr in routine.temporaries:
-            lines.append(f"    {symbol} = {self.expression(expr)}")
+        lines += self.opening(
+            program, routine, "    {symbol} = {value}", no_input="0.0 if u is None else {value}"
+        )
         results = []
         for label, matrix in routine.outputs:
-            text = self.list_literal(matrix, vector=label in _VECTORS)
-            shape = f"({matrix.rows},)" if label in _VECTORS else str(matrix.shape)
+            text = self.list_literal(matrix, vector=label in VECTORS)
+            shape = f"({matrix.rows},)" if label in VECTORS else str(matrix.shape)
             lines.append(f"    {label} = numpy.array({text}, dtype=float).reshape({shape})")
             results.append(label)
         lines.append(f"    return {', '.join(results)}")

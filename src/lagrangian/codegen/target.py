@@ -27,6 +27,10 @@ import sympy
 
 from .program import Program, Routine
 
+#: The outputs of a routine that are vectors (f, the constraint bias b); the others are
+#: matrices.
+VECTORS = frozenset({"f", "b"})
+
 
 class AbstractTarget(abc.ABC):
     """Renders a :class:`~lagrangian.codegen.program.Program` as the text of one file."""
@@ -36,6 +40,8 @@ class AbstractTarget(abc.ABC):
     suffix: ClassVar[str]
     base: ClassVar[int]
     standalone: ClassVar[bool] = True
+    #: How an argument's entry reads (MATLAB indexes with parentheses).
+    element: ClassVar[str] = "{argument}[{index}]"
 
     def __init_subclass__(cls, **constants: object) -> None:
         """The class constants given in the class statement:
@@ -76,6 +82,24 @@ class AbstractTarget(abc.ABC):
             for index, quantity in enumerate(quantities)
             if quantity.symbol in used
         ]
+
+    def opening(
+        self, program: Program, routine: Routine, statement: str, *, no_input: str = "{value}"
+    ) -> list[str]:
+        """The statements that open a routine's body: each argument entry it reads, then its
+        common subexpressions, each ``statement.format(symbol=..., value=...)`` (as
+        ``"    {symbol} = {value}"``).  An entry of the inputs reads
+        ``no_input.format(value=...)``: what the language makes of it when no inputs were
+        given (0)."""
+        lines = []
+        for symbol, argument, index in self.reads(program, routine):
+            value = self.element.format(argument=argument, index=index)
+            if argument == "u":
+                value = no_input.format(value=value)
+            lines.append(statement.format(symbol=symbol, value=value))
+        for symbol, expr in routine.temporaries:
+            lines.append(statement.format(symbol=symbol, value=self.expression(expr)))
+        return lines
 
     def expression(self, expr: sympy.Expr) -> str:
         """One expression in the language (text targets print with SymPy's printer for it)."""
