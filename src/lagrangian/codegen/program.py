@@ -34,6 +34,7 @@ import sympy
 
 from ..derive import EquationsOfMotion
 from ..distributions import without_distributions
+from ..errors import ModelError
 from .definitions import Definition, function_definitions
 from .forms import DEFAULT_BAUMGARTE, SymbolicForms, checked_baumgarte, symbolic_forms
 from .literals import machine_numbers
@@ -208,6 +209,37 @@ def _routine(name: str, blocks: list[tuple[str, sympy.ImmutableMatrix]]) -> Rout
         outputs.append((label, sympy.ImmutableMatrix(matrix.rows, matrix.cols, entries)))
         start += size
     return Routine(name, tuple(temporaries), tuple(outputs))
+
+
+def indexed_renaming(forms: SymbolicForms, backend: str, scalars=(), *, constants: bool = False):
+    """Expression -> the same over ``_t``, ``_y<i>`` and ``_p<j>``: the flat names of the
+    generated loops (numba, CUDA) that read t, the state y and the parameters p.
+
+    Exact numbers become doubles (:func:`~.literals.machine_numbers`); with ``constants``
+    pi and E become 20-digit floats too (C has no exact ones).  The ``scalars`` (a step h)
+    are kept; any other symbol left is an error naming ``backend``.
+    """
+    n = forms.n
+    replace = {forms.time: sympy.Symbol("_t")}
+    replace.update({q: sympy.Symbol(f"_y{i}") for i, q in enumerate(forms.coordinates)})
+    replace.update({v: sympy.Symbol(f"_y{n + i}") for i, v in enumerate(forms.velocities)})
+    replace.update({s: sympy.Symbol(f"_p{j}") for j, s in enumerate(forms.parameters)})
+    known = {*replace.values(), *scalars}
+
+    def rename(expression: sympy.Expr) -> sympy.Expr:
+        result = machine_numbers(without_distributions(expression).xreplace(replace))
+        if constants:
+            numbers = result.atoms(sympy.NumberSymbol)
+            result = result.xreplace({c: sympy.Float(c.evalf(20), 20) for c in numbers})
+        unknown = result.free_symbols - known
+        if unknown:
+            names = ", ".join(sorted(str(s) for s in unknown))
+            raise ModelError(
+                f"backend '{backend}': the equations depend on unknown symbols {names}"
+            )
+        return result
+
+    return rename
 
 
 def _uses(routine: Routine, symbol: sympy.Symbol) -> bool:

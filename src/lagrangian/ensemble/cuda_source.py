@@ -35,11 +35,10 @@ import sympy
 
 from ..codegen.c import PRECISIONS, CPrinter, fuse_sine_cosine, gaussian_elimination
 from ..codegen.forms import SymbolicForms
-from ..codegen.literals import machine_numbers
 from ..codegen.program import fingerprint as _fingerprint
+from ..codegen.program import indexed_renaming
 from ..codegen.schemes import SCHEMES, STEP, scheme_expressions
 from ..codegen.steps import CStepPrinter, scheme_program
-from ..distributions import without_distributions
 from ..errors import ModelError
 from ..integrate import tableaus
 from ..integrate.variational import STALL_RATIO
@@ -165,7 +164,7 @@ def kernel_source(forms: SymbolicForms, method: str, precision: str) -> tuple[st
 def _text(forms: SymbolicForms, method: str, precision: str, arrays) -> str:
     printer = CPrinter(precision)
 
-    rename = _renaming(forms)
+    rename = indexed_renaming(forms, "cuda", (STEP,), constants=True)
     header = _HEADER.format(
         version=GENERATOR_VERSION, scheme=method, precision=precision,
         ctype="float" if precision == "float32" else "double", n=forms.n,
@@ -184,28 +183,6 @@ def _text(forms: SymbolicForms, method: str, precision: str, arrays) -> str:
     parameters = ",\n    ".join(f"{ctype} {name}" for ctype, name in KERNEL_PARAMETERS)
     kernel = _KERNEL.format(parameters="\n    " + parameters)
     return "\n".join([header, *functions, solve, scheme, kernel])
-
-
-def _renaming(forms: SymbolicForms):
-    """Expression -> the same over _t, _y<i>, _p<j> (and numbers for pi, E)."""
-    n = forms.n
-    replace = {forms.time: sympy.Symbol("_t")}
-    replace.update({q: sympy.Symbol(f"_y{i}") for i, q in enumerate(forms.coordinates)})
-    replace.update({v: sympy.Symbol(f"_y{n + i}") for i, v in enumerate(forms.velocities)})
-    replace.update({s: sympy.Symbol(f"_p{j}") for j, s in enumerate(forms.parameters)})
-    known = {*replace.values(), STEP}
-
-    def rename(expression: sympy.Expr) -> sympy.Expr:
-        result = machine_numbers(without_distributions(expression).xreplace(replace))
-        constants = {c: sympy.Float(c.evalf(20), 20) for c in result.atoms(sympy.NumberSymbol)}
-        result = result.xreplace(constants)
-        unknown = result.free_symbols - known
-        if unknown:
-            names = ", ".join(sorted(str(s) for s in unknown))
-            raise ModelError(f"backend 'cuda': the equations depend on unknown symbols {names}")
-        return result
-
-    return rename
 
 
 def _device_function(name: str, outputs, printer: CPrinter) -> str:
