@@ -7,13 +7,7 @@ import sympy
 from ..derive import EquationsOfMotion
 from ..model import System
 from .large import latex_printer, printed
-from .notation import (
-    TOO_LONG,
-    DotLatexPrinter,
-    declared_functions,
-    latex_name,
-    too_long_to_print,
-)
+from .notation import DotLatexPrinter, declared_functions, equality, latex_name, step_terms
 
 
 def latex_expression(expr: sympy.Expr, system: System | None = None) -> str:
@@ -22,9 +16,7 @@ def latex_expression(expr: sympy.Expr, system: System | None = None) -> str:
 
 def _solved(name: str, value: sympy.Expr, system: System) -> str:
     """An ``align*`` row ``name &= value``; a closed form too long to read is named only."""
-    if too_long_to_print(value):
-        return rf"{name} &: \text{{{TOO_LONG}}}"
-    return rf"{name} &= {latex_printer(system)(value)}"
+    return equality(name, value, latex_printer(system), equals=" &= ", named=r" &: \text{{{}}}")
 
 
 def latex_equations(eom: EquationsOfMotion) -> str:
@@ -44,6 +36,18 @@ def latex_equations(eom: EquationsOfMotion) -> str:
     return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
 
 
+#: The row of each term of a coordinate's equation (see notation.step_terms).
+_STEP_ROWS = {
+    "momentum": r"\frac{{\partial L}}{{\partial {q_dot}}} &= {value}",
+    "momentum_rate": r"\frac{{d}}{{dt}}\frac{{\partial L}}{{\partial {q_dot}}} &= {value}",
+    "force_gradient": r"\frac{{\partial L}}{{\partial {q}}} &= {value}",
+    "generalized_force": r"Q_{{{q}}} &= {value}",
+    "dissipation_force": r"\frac{{\partial \mathcal{{F}}}}{{\partial {q_dot}}} &= {value}",
+    "constraint_force": r"\sum_j \lambda_j a_{{j {q}}} &= {value}",
+    "equation": r"0 &= {value}{divided}",
+}
+
+
 def latex_steps(eom: EquationsOfMotion) -> str:
     """The derivation step by step as LaTeX (one ``align*`` block)."""
     system = eom.system
@@ -56,24 +60,16 @@ def latex_steps(eom: EquationsOfMotion) -> str:
         rows.append(rf"\mathcal{{F}} &= {show(system.dissipation)}")
     for step in eom.steps:
         c = step.coordinate
-        q, q_dot = latex_name(c.name), latex_name(c.q_dot.name)
-        d_dq_dot = rf"\frac{{\partial L}}{{\partial {q_dot}}}"
-        rows.append(rf"{d_dq_dot} &= {show(step.momentum)}")
-        rows.append(rf"\frac{{d}}{{dt}}{d_dq_dot} &= {show(step.momentum_rate)}")
-        rows.append(rf"\frac{{\partial L}}{{\partial {q}}} &= {show(step.force_gradient)}")
-        if step.generalized_force != 0:
-            rows.append(rf"Q_{{{q}}} &= {show(step.generalized_force)}")
-        if step.dissipation_force != 0:
-            d_f = rf"\frac{{\partial \mathcal{{F}}}}{{\partial {q_dot}}}"
-            rows.append(rf"{d_f} &= {show(step.dissipation_force)}")
-        if step.constraint_force != 0:
-            rows.append(rf"\sum_j \lambda_j a_{{j {q}}} &= {show(step.constraint_force)}")
+        names = {"q": latex_name(c.name), "q_dot": latex_name(c.q_dot.name)}
         divided = (
             rf" &&\text{{(divided by }} {show(step.divided_by)}\text{{)}}"
             if step.divided_by != 1
             else ""
         )
-        rows.append(rf"0 &= {show(step.equation)}{divided}")
+        rows += [
+            _STEP_ROWS[what].format(**names, value=show(value), divided=divided)
+            for what, value in step_terms(step)
+        ]
         if eom.accelerations is not None:
             rows.append(_solved(latex_name(c.q_ddot.name), eom.accelerations[c.name], system))
     return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"

@@ -10,7 +10,7 @@ A declared function applied to its declared arguments, A(x, y, z), prints as A.
 from __future__ import annotations
 
 import unicodedata
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 
 import sympy
 from sympy.core.function import AppliedUndef
@@ -185,6 +185,16 @@ def too_long_to_print(expr: sympy.Expr) -> bool:
     return longer_than(expr, PRINT_MAX_NODES)
 
 
+def equality(
+    lhs: str, rhs: sympy.Expr, show: Callable[[sympy.Expr], str], *, equals=" = ", named=": {}"
+) -> str:
+    """``lhs = rhs``, the right side printed by ``show``; a closed form too long to read is
+    named, not printed (``named`` formats the note)."""
+    if too_long_to_print(rhs):
+        return lhs + named.format(TOO_LONG)
+    return lhs + equals + show(rhs)
+
+
 def longer_than(expr: sympy.Expr, limit: int) -> bool:
     """Whether the tree of ``expr`` has more than ``limit`` nodes, repeats counted.
 
@@ -205,3 +215,19 @@ def longer_than(expr: sympy.Expr, limit: int) -> bool:
         return found
 
     return size(expr) > limit
+
+
+def step_terms(step) -> list[tuple[str, sympy.Expr]]:
+    """The terms of one coordinate's Lagrange equation in the order a derivation by hand
+    shows them, each (what, expression): ``momentum``, ``momentum_rate``,
+    ``force_gradient``, then those that are not zero of ``generalized_force``,
+    ``dissipation_force`` and ``constraint_force``, and the ``equation``."""
+    terms = [
+        ("momentum", step.momentum),
+        ("momentum_rate", step.momentum_rate),
+        ("force_gradient", step.force_gradient),
+    ]
+    optional = ("generalized_force", "dissipation_force", "constraint_force")
+    terms += [(what, getattr(step, what)) for what in optional if getattr(step, what) != 0]
+    terms.append(("equation", step.equation))
+    return terms

@@ -7,25 +7,12 @@ import sympy
 from ..derive import EquationsOfMotion
 from ..model import System
 from .large import printed, unicode_printer
-from .notation import (
-    TOO_LONG,
-    UnicodePrinter,
-    declared_functions,
-    too_long_to_print,
-    unicode_name,
-)
+from .notation import UnicodePrinter, declared_functions, equality, step_terms, unicode_name
 
 
 def unicode_expression(expr: sympy.Expr, system: System | None = None) -> str:
     """One line of textbook notation, e.g. ``r̈ = ω² r`` for Eq(r_ddot, omega**2*r)."""
     return UnicodePrinter(declared_functions(system)).doprint(expr)
-
-
-def _equality(lhs: str, rhs: sympy.Expr, system: System) -> str:
-    """``lhs = rhs``; a closed form too long to read is named, not printed."""
-    if too_long_to_print(rhs):
-        return f"{lhs}: {TOO_LONG}"
-    return f"{lhs} = {unicode_printer(system)(rhs)}"
 
 
 def format_equations(eom: EquationsOfMotion) -> str:
@@ -44,14 +31,26 @@ def format_equations(eom: EquationsOfMotion) -> str:
         lines.append("Accelerations:")
         for c in eom.coordinates:
             lines.append(
-                "  " + _equality(unicode_name(c.q_ddot.name), eom.accelerations[c.name], system)
+                "  " + equality(unicode_name(c.q_ddot.name), eom.accelerations[c.name], show)
             )
     if eom.multipliers is not None:
         lines.append("")
         lines.append("Lagrange multipliers (constraint forces):")
         for name, value in eom.multipliers.items():
-            lines.append("  " + _equality(unicode_name(name), value, system))
+            lines.append("  " + equality(unicode_name(name), value, show))
     return "\n".join(lines)
+
+
+#: The line of each term of a coordinate's equation (see notation.step_terms).
+_STEP_LINES = {
+    "momentum": "  ∂L/∂{q_dot} = {value}",
+    "momentum_rate": "  d/dt(∂L/∂{q_dot}) = {value}",
+    "force_gradient": "  ∂L/∂{q} = {value}",
+    "generalized_force": "  Q_{q} = {value}",
+    "dissipation_force": "  ∂F/∂{q_dot} = {value}",
+    "constraint_force": "  Σ λ a_{q} = {value}   (constraint force)",
+    "equation": "  equation: {value} = 0{divided}",
+}
 
 
 def format_steps(eom: EquationsOfMotion) -> str:
@@ -73,20 +72,14 @@ def format_steps(eom: EquationsOfMotion) -> str:
         q, q_dot = unicode_name(c.name), unicode_name(c.q_dot.name)
         lines.append("")
         lines.append(f"Coordinate {q}:")
-        lines.append(f"  ∂L/∂{q_dot} = {show(step.momentum)}")
-        lines.append(f"  d/dt(∂L/∂{q_dot}) = {show(step.momentum_rate)}")
-        lines.append(f"  ∂L/∂{q} = {show(step.force_gradient)}")
-        if step.generalized_force != 0:
-            lines.append(f"  Q_{q} = {show(step.generalized_force)}")
-        if step.dissipation_force != 0:
-            lines.append(f"  ∂F/∂{q_dot} = {show(step.dissipation_force)}")
-        if step.constraint_force != 0:
-            lines.append(f"  Σ λ a_{q} = {show(step.constraint_force)}   (constraint force)")
         divided = f"   (divided by {show(step.divided_by)})" if step.divided_by != 1 else ""
-        lines.append(f"  equation: {show(step.equation)} = 0{divided}")
+        lines += [
+            _STEP_LINES[what].format(q=q, q_dot=q_dot, value=show(value), divided=divided)
+            for what, value in step_terms(step)
+        ]
         if eom.accelerations is not None:
             lines.append(
-                "  " + _equality(unicode_name(c.q_ddot.name), eom.accelerations[c.name], system)
+                "  " + equality(unicode_name(c.q_ddot.name), eom.accelerations[c.name], show)
             )
     return "\n".join(lines)
 
