@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import sympy
 
 from ..budget import ops_exceed
-from .modes import NormalModes, Stability, _generic
+from .modes import NormalModes, Stability, assumed_sign
 
 #: Largest root (operation count) turned into a condition.
 CONDITION_MAX_OPS = 200
@@ -91,14 +91,9 @@ def _pair(root: sympy.Expr, others: list[sympy.Expr]) -> list[sympy.Basic] | Non
 
 
 def _sign(expr: sympy.Expr) -> str | None:
-    for candidate in (expr, _generic(expr)):
-        if candidate.is_zero:
-            return "0"
-        if candidate.is_positive:
-            return "+"
-        if candidate.is_negative:
-            return "-"
-    return None
+    """'+', '0' or '-' where the assumptions decide it (a complex value decides nothing)."""
+    sign = assumed_sign(expr)
+    return None if sign == "complex" else sign
 
 
 def _positive(root: sympy.Expr) -> list[sympy.Basic] | None:

@@ -29,14 +29,14 @@ from ..budget import checked_seconds, remaining
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from .conditions import stability_verdict
-from .equilibria import Equilibrium, equilibria
+from .equilibria import Equilibrium, PointWithModes, equilibria
 from .linear import LinearizedSystem, NormalModes
 from .search import number_at
 from .solving import in_child, solve_factored
 
 
 @dataclass(frozen=True)
-class ConstrainedEquilibrium:
+class ConstrainedEquilibrium(PointWithModes):
     """A rest point on the constraint surface, its multipliers and small oscillations."""
 
     point: Mapping[str, sympy.Expr]
@@ -45,14 +45,6 @@ class ConstrainedEquilibrium:
     numeric: bool = False  # always symbolic (as for Equilibrium, where it may be numeric)
     at_defaults: bool = False  # the stability verdict holds at the default values only
     stability_condition: sympy.Basic | None = None  # for stability, when found (.conditions)
-
-    @property
-    def stable(self) -> bool:
-        return self.modes.stable
-
-    @property
-    def omega_squared(self) -> tuple[sympy.Expr, ...]:
-        return self.modes.omega_squared
 
 
 def rest_points(eom: EquationsOfMotion) -> tuple[Equilibrium | ConstrainedEquilibrium, ...]:

@@ -64,8 +64,23 @@ from .singular import Reduced, at_rest_under_every_name, regular_modes
 SYMBOLIC_SHARE = 0.5
 
 
+class PointWithModes:
+    """What an equilibrium (constrained or not) tells from the normal modes about it."""
+
+    modes: NormalModes
+
+    @property
+    def stable(self) -> bool:
+        """Linearly stable (``STABLE`` or ``ASYMPTOTICALLY_STABLE``)."""
+        return self.modes.stable
+
+    @property
+    def omega_squared(self) -> tuple[sympy.Expr, ...]:
+        return self.modes.omega_squared
+
+
 @dataclass(frozen=True)
-class Equilibrium:
+class Equilibrium(PointWithModes):
     """A point at rest (coordinate name -> value) with the normal modes about it.
 
     ``free``: for a continuum of equilibria, the coordinates that parametrize it
@@ -103,15 +118,6 @@ class Equilibrium:
     def everywhere(self) -> bool:
         """Every configuration is an equilibrium (an empty point, no free coordinates)."""
         return not self.point and not self.free and not self.degenerate
-
-    @property
-    def stable(self) -> bool:
-        """Linearly stable (``STABLE`` or ``ASYMPTOTICALLY_STABLE``)."""
-        return self.modes.stable
-
-    @property
-    def omega_squared(self) -> tuple[sympy.Expr, ...]:
-        return self.modes.omega_squared
 
     def __repr__(self) -> str:  # the REPL shows the point and its verdict, as analyze does
         point = ", ".join(f"{k} = {v}" for k, v in self.point.items()) or "every configuration"

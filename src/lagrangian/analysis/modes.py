@@ -122,6 +122,21 @@ def _by_name(expr: sympy.Expr, values: Mapping[str, float]) -> dict:
     return {s: sympy.Float(values[s.name], 30) for s in expr.free_symbols if s.name in values}
 
 
+def assumed_sign(expr: sympy.Expr) -> str | None:
+    """'+', '0', '-' or 'complex' where SymPy's assumptions decide it, for ``expr`` or else
+    its :func:`_generic` form; None when they do not."""
+    for candidate in (expr, _generic(expr)):
+        if candidate.is_zero:
+            return "0"
+        if candidate.is_positive:
+            return "+"
+        if candidate.is_negative:
+            return "-"
+        if candidate.is_extended_real is False:
+            return "complex"
+    return None
+
+
 def _generic(expr: sympy.Expr) -> sympy.Expr:
     """Real symbols of unknown sign made non-zero: sign decisions for generic values."""
     return expr.xreplace(
@@ -323,15 +338,9 @@ class ModeAnalysis:
         """'+', '0', '-', 'complex', or None when undecidable."""
         if not expr.free_symbols:
             return _numeric_sign(complex(sympy.N(expr)), self.tol)
-        for candidate in (expr, _generic(expr)):
-            if candidate.is_zero:
-                return "0"
-            if candidate.is_positive:
-                return "+"
-            if candidate.is_negative:
-                return "-"
-            if candidate.is_extended_real is False:
-                return "complex"
+        sign = assumed_sign(expr)
+        if sign is not None:
+            return sign
         number = self._at_defaults(expr)
         return None if number is None else _numeric_sign(number, self.tol)
 
