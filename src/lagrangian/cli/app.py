@@ -2,17 +2,14 @@
 
 from __future__ import annotations
 
-import contextlib
 import json
-import sys
-import time
 
 import click
 
-from ..budget import STAGE_SECONDS, checked_seconds
-from ..integrate.pace import RUN_SECONDS
+from ..budget import STAGE_SECONDS
 from ..integrate.registry import METHODS
 from ..numeric.compile import RUN_BACKENDS
+from . import options
 
 MODEL_HELP = "MODEL is a model file (TOML) or the name of a built-in example."
 
@@ -120,15 +117,9 @@ def derive(model, lagrangian_text, coordinates, as_json: bool, as_latex: bool, s
 @model_or_lagrangian
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON document.")
 @click.option("--latex", "as_latex", is_flag=True, help="Print LaTeX.")
-@click.option(
-    "--timeout",
-    type=float,
-    callback=lambda ctx, param, value: _seconds(value),
-    metavar="SECONDS",
-    default=STAGE_SECONDS,
-    show_default=True,
-    help="CPU seconds for each stage (> 0, at most a week); a stage out of time is reported "
-    "undecided.",
+@options.seconds(
+    STAGE_SECONDS,
+    "CPU seconds for each stage (> 0, at most a week); a stage out of time is reported undecided.",
 )
 @click.option(
     "--state-space",
@@ -189,7 +180,7 @@ def analyze(
     if (at or outputs) and not with_state_space:
         raise click.UsageError("--at and --output go with --state-space")
     system = _load(model, lagrangian_text, coordinates)
-    given = _assignments(assignments)
+    given = options.assignments(assignments)
     held = {name: given.pop(name) for name in system.input_names if name in given}
     if given:
         from ..model.values import with_values
@@ -205,14 +196,16 @@ def analyze(
         try:  # a linearization always ends: the budget only stops the unreasonable
             with deadline(generous(timeout), "state space"):
                 linear = state_space(
-                    eom, _pairs(at, "--at") or None, outputs=_pairs(outputs, "--output") or None
+                    eom,
+                    options.pairs(at, "--at") or None,
+                    outputs=options.pairs(outputs, "--output") or None,
                 )
         except OutOfTime as error:
             raise LagrangianError(f"{error} (more time: --timeout)") from None
     analysis = run_analysis(
         system.without_inputs(held).equations_of_motion(),
         timeout=timeout,
-        momenta=_numbers(_pairs(momenta, "--momentum", "NAME=NUMBER"), "--momentum"),
+        momenta=options.numbers(options.pairs(momenta, "--momentum", "NAME=NUMBER"), "--momentum"),
     )
     if as_json:
         document = analysis_document(analysis)
@@ -236,143 +229,28 @@ def analyze(
             click.echo(format_state_space(linear))
 
 
-def _pairs(values: tuple[str, ...], hint: str, metavar: str = "NAME=EXPR") -> dict[str, str]:
-    """The NAME=TEXT items of a repeatable option (--set, --define, --at, --output,
-    --momentum, --grid), in order; the one parser of them all.
-
-    A malformed item, or a name given twice (which would keep the last silently), is a
-    usage error naming it.  The text is read later: by ``float`` or by the safe parser.
-    """
-    result: dict[str, str] = {}
-    for item in values:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not name or not text.strip():
-            raise click.BadParameter(f"expected {metavar}, got {item!r}", param_hint=hint)
-        if name in result:
-            raise click.BadParameter(f"'{name}' is given twice", param_hint=hint)
-        result[name] = text
-    return result
-
-
-def _numbers(pairs: dict[str, str], hint: str) -> dict[str, float]:
-    """NAME=VALUE pairs with plain numbers (read by float, never evaluated)."""
-    numbers = {}
-    for name, text in pairs.items():
-        try:
-            numbers[name] = float(text)
-        except ValueError:
-            raise click.BadParameter(
-                f"expected NAME=NUMBER, got {f'{name}={text}'!r}", param_hint=hint
-            ) from None
-    return numbers
-
-
-@contextlib.contextmanager
-def _progress_bar(*, enabled: bool):
-    """A progress bar on stderr for runs longer than a second, only on a terminal.
-
-    Yields the callback for :func:`~lagrangian.simulation.simulate_system`
-    (``None`` when piped, with ``--json``, or off a terminal).
-    """
-    stream = sys.stderr
-    if not enabled or not stream.isatty():
-        yield None
-        return
-    start = time.monotonic()
-    state = {"bar": None, "shown": 0}
-
-    def progress(fraction: float) -> None:
-        if state["bar"] is None:
-            if time.monotonic() - start < 1.0:
-                return
-            state["bar"] = click.progressbar(length=1000, label="simulating", file=stream)
-            state["bar"].__enter__()
-        step = int(1000 * fraction) - state["shown"]
-        if step > 0:
-            state["bar"].update(step)
-            state["shown"] += step
-
-    try:
-        yield progress
-    finally:
-        if state["bar"] is not None:
-            state["bar"].__exit__(None, None, None)
-
-
-def _assignments(values: tuple[str, ...]) -> dict[str, float]:
-    """NAME=VALUE pairs of --set as numbers (a bad one is a usage error naming it)."""
-    return _numbers(_pairs(values, "--set", "NAME=NUMBER"), "--set")
-
-
-#: --define NAME=EXPR, read by :func:`_definitions` (simulate, ensemble).
-define_option = click.option(
-    "--define",
-    "definitions",
-    multiple=True,
-    metavar="NAME=EXPR",
-    help="Define an unspecified function of the model, e.g. V='x^2 + y^2' (repeatable).",
-)
-
-
-def _seconds(value: float) -> float:
-    """A --timeout checked by the library's own rule (:func:`lagrangian.budget.checked_seconds`):
-    NaN, infinity (which would switch the budget off), 0 or over a week is a usage error."""
-    from ..errors import ModelError
-
-    try:
-        return checked_seconds(value, "timeout")
-    except ModelError as error:
-        raise click.BadParameter(error.message) from None
-
-
-#: --timeout of every command that runs an integration (simulate, ensemble, plot, animate).
-timeout_option = click.option(
-    "--timeout",
-    type=float,
-    callback=lambda ctx, param, value: _seconds(value),
-    metavar="SECONDS",
-    default=RUN_SECONDS,
-    show_default=True,
-    help="CPU seconds the runs may take (wall seconds on a GPU or dask; > 0, at most a week); "
-    "a run whose pace shows it would take longer is stopped at once.",
-)
-
-
-def _definitions(values: tuple[str, ...]) -> dict[str, str]:
-    """NAME=EXPR pairs of --define (the expression is parsed later by the safe parser)."""
-    return _pairs(values, "--define")
-
-
 @app.command(epilog=MODEL_HELP)
 @model_or_lagrangian
 @click.option("--t-end", type=float, help="End time (default: the model's [simulate] t_end).")
-@click.option(
+@options.choice(
     "--method",
-    type=click.Choice(list(METHODS)),
-    help="Integrator (default: the model's, else chosen for the run's length: dop853, "
+    METHODS,
+    "Integrator (default: the model's, else chosen for the run's length: dop853, "
     "its loop compiled for long runs, or taylor where heyoka is installed).",
 )
 @click.option("--dt", type=float, help="Step of the fixed-step methods (rk4, variational).")
 @click.option("--rtol", type=float, help="Relative tolerance of the adaptive methods.")
 @click.option("--atol", type=float, help="Absolute tolerance of the adaptive methods.")
-@click.option(
-    "--set",
-    "assignments",
-    multiple=True,
-    metavar="NAME=VALUE",
-    help="A parameter value or an initial coordinate / velocity (repeatable).",
-)
-@define_option
-@click.option(
+@options.set_values()
+@options.define
+@options.choice(
     "--backend",
-    type=click.Choice(sorted(RUN_BACKENDS)),
-    default=None,
-    help="Compiled code (default: chosen with the method): llvm compiles in milliseconds; "
+    sorted(RUN_BACKENDS),
+    "Compiled code (default: chosen with the method): llvm compiles in milliseconds; "
     "numba generates machine code, cached on disk (pip install numba), and runs dop853's "
     "whole loop.",
 )
-@click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.csv or FILE.nc.")
+@options.out("Write FILE.csv or FILE.nc.")
 @click.option(
     "--samples",
     type=int,
@@ -382,7 +260,7 @@ def _definitions(values: tuple[str, ...]) -> dict[str, str]:
     "--dt-out", type=float, help="Rows of --out: every DT from 0, and t_end (default: every step)."
 )
 @click.option("--json", "as_json", is_flag=True, help="Print the JSON summary.")
-@timeout_option
+@options.timeout
 def simulate(
     model,
     lagrangian_text,
@@ -412,7 +290,7 @@ def simulate(
         from ..files import check_output_path
 
         check_output_path(out)  # before the run: a typo in --out fails at once
-    with _progress_bar(enabled=not as_json) as progress:
+    with options.progress_bar(enabled=not as_json) as progress:
         trajectory = simulate_system(
             system,
             t_end=t_end,
@@ -420,9 +298,9 @@ def simulate(
             dt=dt,
             rtol=rtol,
             atol=atol,
-            assignments=_assignments(assignments),
+            assignments=options.assignments(assignments),
             progress=progress,
-            definitions=_definitions(definitions),
+            definitions=options.definitions(definitions),
             backend=backend,
             timeout=timeout,
             n_out=samples,

@@ -10,30 +10,13 @@ import numpy as np
 
 from ..ensemble.choices import BACKENDS, METHODS
 from ..numeric.compile import RUN_BACKENDS
-from .app import (
-    MODEL_HELP,
-    _assignments,
-    _definitions,
-    _pairs,
-    _progress_bar,
-    app,
-    define_option,
-    timeout_option,
-)
+from . import options
+from .app import MODEL_HELP, app
 
-#: --set NAME=VALUE of the chaos commands.
-set_option = click.option(
-    "--set",
-    "assignments",
-    multiple=True,
-    metavar="NAME=VALUE",
-    help="A parameter value or an initial coordinate / velocity (repeatable).",
-)
-backend_option = click.option(
+backend_option = options.choice(
     "--backend",
-    type=click.Choice(sorted(RUN_BACKENDS)),
-    default=None,
-    help="Compiled code (default llvm where SymEngine has it, else numpy).",
+    sorted(RUN_BACKENDS),
+    "Compiled code (default llvm where SymEngine has it, else numpy).",
 )
 
 
@@ -97,12 +80,12 @@ def _png(path: str | None, hint: str) -> None:
 )
 @click.option("--rtol", type=float, help="Relative tolerance (default 1e-9).")
 @click.option("--atol", type=float, help="Absolute tolerance (default 1e-11).")
-@set_option
-@define_option
+@options.set_values()
+@options.define
 @backend_option
 @plot_option("the convergence of the estimates")
 @json_option
-@timeout_option
+@options.timeout
 def lyapunov(
     model, t_end, transient, count, largest, interval, rtol, atol, assignments, definitions,
     backend, picture, as_json, timeout,
@@ -117,11 +100,11 @@ def lyapunov(
         raise click.BadParameter("--largest is --count 1", param_hint="--count")
     _png(picture, "--plot")
     system = load(model)
-    with _progress_bar(enabled=not as_json) as progress:
+    with options.progress_bar(enabled=not as_json) as progress:
         spectrum = lyapunov_of_system(
             system, t_end=t_end, count=1 if largest else count, transient=transient,
-            interval=interval, rtol=rtol, atol=atol, assignments=_assignments(assignments),
-            progress=progress, definitions=_definitions(definitions), backend=backend,
+            interval=interval, rtol=rtol, atol=atol, assignments=options.assignments(assignments),
+            progress=progress, definitions=options.definitions(definitions), backend=backend,
             timeout=timeout,
         )  # fmt: skip
     if picture is not None:
@@ -142,7 +125,7 @@ def lyapunov(
 def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
     """NAME=LO:HI of --spread (a bad one: usage error naming it)."""
     spread = {}
-    for name, text in _pairs(values, "--spread", "NAME=LO:HI").items():
+    for name, text in options.pairs(values, "--spread", "NAME=LO:HI").items():
         try:
             low, high = (float(part) for part in text.split(":"))
         except ValueError:
@@ -185,13 +168,13 @@ def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
 @click.option("--t-end", type=float, help="Time each orbit runs (default: the model's t_end).")
 @click.option("--rtol", type=float, help="Relative tolerance (default 1e-10).")
 @click.option("--atol", type=float, help="Absolute tolerance (default 1e-12).")
-@set_option
-@define_option
+@options.set_values()
+@options.define
 @backend_option
-@click.option("--out", type=click.Path(dir_okay=False), help="Write the points to F.csv or F.nc.")
+@options.out("Write the points to F.csv or F.nc.")
 @plot_option("the section")
 @json_option
-@timeout_option
+@options.timeout
 def poincare(
     model, axes, section, direction, strobe, transient, energy, orbits, spreads, t_end, rtol,
     atol, assignments, definitions, backend, out, picture, as_json, timeout,
@@ -207,12 +190,12 @@ def poincare(
         raise click.BadParameter("give --section or --strobe (one of them)", param_hint="--section")
     _check_outputs(out, (".csv", ".nc"), picture)
     system = load(model)
-    with _progress_bar(enabled=not as_json) as progress:
+    with options.progress_bar(enabled=not as_json) as progress:
         points = poincare_of_system(
             system, axes=names, section=section, direction=direction, strobe=strobe,
             transient=transient, energy=energy, orbits=orbits, spread=_spread(spreads),
-            t_end=t_end, rtol=rtol, atol=atol, assignments=_assignments(assignments),
-            progress=progress, definitions=_definitions(definitions), backend=backend,
+            t_end=t_end, rtol=rtol, atol=atol, assignments=options.assignments(assignments),
+            progress=progress, definitions=options.definitions(definitions), backend=backend,
             timeout=timeout,
         )  # fmt: skip
     if out is not None:
@@ -260,26 +243,19 @@ def poincare(
 @click.option("--transient", type=float, default=0.0, show_default=True, help="Time dropped first.")
 @click.option("--samples", type=int, help="Points kept per value (default 100).")
 @click.option("--steps-per-period", type=int, help="Fixed steps per period (default 200).")
-@click.option(
-    "--method",
-    type=click.Choice(list(METHODS)),
-    default="rk4",
-    show_default=True,
-    help="Fixed-step method of the runs.",
-)
-@click.option(
+@options.choice("--method", METHODS, "Fixed-step method of the runs.", default="rk4")
+@options.choice(
     "--backend",
-    type=click.Choice(list(BACKENDS)),
+    BACKENDS,
+    "How the values are integrated together (the ensemble's backends).",
     default="numpy",
-    show_default=True,
-    help="How the values are integrated together (the ensemble's backends).",
 )
-@set_option
-@define_option
-@click.option("--out", type=click.Path(dir_okay=False), help="Write the points to F.csv.")
+@options.set_values()
+@options.define
+@options.out("Write the points to F.csv.")
 @plot_option("the diagram")
 @json_option
-@timeout_option
+@options.timeout
 def bifurcation(
     model, vary, strobe, variable, transient, samples, steps_per_period, method, backend,
     assignments, definitions, out, picture, as_json, timeout,
@@ -293,14 +269,14 @@ def bifurcation(
     _check_outputs(out, (".csv",), picture)
     ((parameter, values),) = _grids((vary,)).items()
     system = load(model)
-    initial, params = split_assignments(system, _assignments(assignments))
-    options = {"samples": samples, "steps_per_period": steps_per_period}
-    with _progress_bar(enabled=not as_json) as progress:
+    initial, params = split_assignments(system, options.assignments(assignments))
+    sampling = {"samples": samples, "steps_per_period": steps_per_period}
+    with options.progress_bar(enabled=not as_json) as progress:
         diagram = bifurcation_of_system(
             system, vary={parameter: values}, variable=variable, period=strobe,
             transient=transient, initial=initial, params=params, method=method,
-            backend=backend, definitions=_definitions(definitions), timeout=timeout,
-            progress=progress, **{k: v for k, v in options.items() if v is not None},
+            backend=backend, definitions=options.definitions(definitions), timeout=timeout,
+            progress=progress, **{k: v for k, v in sampling.items() if v is not None},
         )  # fmt: skip
     if out is not None:
         diagram.to_csv(out)

@@ -8,16 +8,8 @@ import click
 import numpy as np
 
 from ..ensemble.choices import BACKENDS, METHODS, PRECISIONS
-from .app import (
-    MODEL_HELP,
-    _assignments,
-    _definitions,
-    _pairs,
-    _progress_bar,
-    app,
-    define_option,
-    timeout_option,
-)
+from . import options
+from .app import MODEL_HELP, app
 
 if TYPE_CHECKING:
     from ..ensemble.members import GridAxis
@@ -29,7 +21,7 @@ def _grids(values: tuple[str, ...]) -> dict[str, GridAxis]:
     from ..ensemble.members import GridAxis
 
     specs: dict[str, tuple[float, float, int]] = {}
-    for name, text in _pairs(values, "--grid", "NAME=LO:HI:N").items():
+    for name, text in options.pairs(values, "--grid", "NAME=LO:HI:N").items():
         parts = text.split(":")
         try:
             if len(parts) != 3:
@@ -61,19 +53,14 @@ def _grids(values: tuple[str, ...]) -> dict[str, GridAxis]:
     help="N values from LO to HI of an initial coordinate / velocity or a parameter "
     "(repeatable: one grid axis each).",
 )
-@click.option(
+@options.choice(
     "--backend",
-    type=click.Choice(list(BACKENDS)),
+    BACKENDS,
+    "How the members are integrated (jax and cuda: on a GPU).",
     default="numpy",
-    show_default=True,
-    help="How the members are integrated (jax and cuda: on a GPU).",
 )
-@click.option(
-    "--precision",
-    type=click.Choice(list(PRECISIONS)),
-    default="float64",
-    show_default=True,
-    help="Floating point of backends jax and cuda.",
+@options.choice(
+    "--precision", PRECISIONS, "Floating point of backends jax and cuda.", default="float64"
 )
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="A dask scheduler (backend dask).")
 @click.option(
@@ -85,20 +72,14 @@ def _grids(values: tuple[str, ...]) -> dict[str, GridAxis]:
 )
 @click.option("--t-end", type=float, help="End time (default: the model's t_end).")
 @click.option("--dt", type=float, help="Step (default: the model's dt, else t_end / 1000).")
-@click.option("--method", type=click.Choice(list(METHODS)), help="Integrator.")
-@click.option(
-    "--set",
-    "assignments",
-    multiple=True,
-    metavar="NAME=VALUE",
-    help="A fixed parameter value or initial coordinate / velocity (repeatable).",
-)
-@define_option
+@options.choice("--method", METHODS, "Integrator.")
+@options.set_values("A fixed parameter value or initial coordinate / velocity (repeatable).")
+@options.define
 @click.option(
     "--chunk-size", type=int, help="Members per chunk (default 65536; 2^20 for jax and cuda)."
 )
-@click.option("--out", type=click.Path(dir_okay=False), help="Write FILE.nc or a map FILE.png.")
-@timeout_option
+@options.out("Write FILE.nc or a map FILE.png.")
+@options.timeout
 def ensemble(
     model, grids, backend, precision, scheduler, observables, t_end, dt, method, assignments,
     definitions, chunk_size, out, timeout,
@@ -121,7 +102,7 @@ def ensemble(
 
         check_output_path(out)  # before the runs: a typo in --out fails at once
     grid = _grids(grids)
-    fixed = _assignments(assignments)
+    fixed = options.assignments(assignments)
     both = sorted(set(grid) & set(fixed))
     if both:  # one would silently win over the other
         raise click.BadParameter(f"'{both[0]}' is given by --grid too", param_hint="--set")
@@ -137,11 +118,11 @@ def ensemble(
             initial[name] = values
         else:
             raise ModelError(f"'{name}' is neither a parameter nor a coordinate or velocity")
-    with _progress_bar(enabled=True) as progress:
+    with options.progress_bar(enabled=True) as progress:
         result = ensemble_of_system(
             system, t_end=t_end, dt=dt, method=method, initial=initial, params=params,
             backend=backend, precision=precision, scheduler=scheduler, observables=names,
-            chunk_size=chunk_size, progress=progress, definitions=_definitions(definitions),
+            chunk_size=chunk_size, progress=progress, definitions=options.definitions(definitions),
             timeout=timeout,
         )  # fmt: skip
     if out is not None and out.endswith(".nc"):

@@ -5,24 +5,15 @@ from __future__ import annotations
 import click
 
 from ..export import LANGUAGES
-from .app import MODEL_HELP, _definitions, app, define_option
+from . import options
+from .app import MODEL_HELP, app
 
 
 @app.command(epilog=MODEL_HELP)
 @click.argument("model")
-@click.option(
-    "--to",
-    "language",
-    type=click.Choice(list(LANGUAGES)),
-    required=True,
-    help="The language of the file.",
-)
-@click.option(
-    "--out",
-    type=click.Path(dir_okay=False),
-    help="Write FILE (a MATLAB function is named after it); default: print.",
-)
-@define_option
+@options.choice("--to", LANGUAGES, "The language of the file.", dest="language", required=True)
+@options.out("Write FILE (a MATLAB function is named after it); default: print.")
+@options.define
 @click.option(
     "--baumgarte",
     type=float,  # its range is checked by the library, which names it
@@ -41,12 +32,12 @@ def export(model, language, out, definitions, baumgarte) -> None:
 
         check_output_path(out)  # a bad path fails before the work
     system = load(model)
-    options = {
-        "definitions": _definitions(definitions),
+    settings = {
+        "definitions": options.definitions(definitions),
         "baumgarte": baumgarte,
     }
     if out is None:
-        click.echo(export_code(system, language, **options), nl=False)
+        click.echo(export_code(system, language, **settings), nl=False)
         return
-    write_code(system, language, out, **options)
+    write_code(system, language, out, **settings)
     click.echo(f"wrote {out}")

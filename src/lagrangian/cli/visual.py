@@ -14,15 +14,8 @@ import click
 
 from ..files import check_output_path, output_error
 from ..integrate.registry import METHODS
-from .app import (
-    MODEL_HELP,
-    _assignments,
-    _definitions,
-    _progress_bar,
-    app,
-    define_option,
-    timeout_option,
-)
+from . import options
+from .app import MODEL_HELP, app
 
 PLOT_KINDS = ("timeseries", "phase", "energy", "poincare", "modes")
 TRAJECTORY_SUFFIXES = (".csv", ".nc")
@@ -46,37 +39,25 @@ def _stem(source: str) -> str:
 
 def _run_options(function):
     """--t-end, --method, --set, --define and --timeout, as ``simulate`` has them."""
-    options = [
+    decorators = [
         click.option("--t-end", type=float, help="End time (default: the model's t_end)."),
-        click.option("--method", type=click.Choice(METHODS), help="Integrator."),
-        click.option(
-            "--set",
-            "assignments",
-            multiple=True,
-            metavar="NAME=VALUE",
-            help="A parameter value or an initial coordinate / velocity (repeatable).",
-        ),
-        click.option(
-            "--define",
-            "definitions",
-            multiple=True,
-            metavar="NAME=EXPR",
-            help="Define an unspecified function of the model (repeatable).",
-        ),
-        timeout_option,
+        options.choice("--method", METHODS, "Integrator."),
+        options.set_values(),
+        options.define,
+        options.timeout,
     ]
-    for option in reversed(options):
+    for option in reversed(decorators):
         function = option(function)
     return function
 
 
-def _simulate(system, **options):
+def _simulate(system, **settings):
     """simulate_system with a progress bar on a terminal; a failed run is an error."""
     from ..errors import LagrangianError
     from ..simulation import simulate_system
 
-    with _progress_bar(enabled=True) as progress:
-        run = simulate_system(system, progress=progress, **options)
+    with options.progress_bar(enabled=True) as progress:
+        run = simulate_system(system, progress=progress, **settings)
     if run.status == "failed":
         message = run.dataset.attrs.get("message", "")
         raise LagrangianError(f"the integration failed: {message}; nothing was written")
@@ -85,18 +66,13 @@ def _simulate(system, **options):
 
 @app.command(epilog=MODEL_HELP + " TRAJECTORY is a .csv or .nc file written by simulate --out.")
 @click.argument("source", metavar="MODEL|TRAJECTORY")
-@click.option(
+@options.choice(
     "--kind",
-    type=click.Choice(PLOT_KINDS),
+    PLOT_KINDS,
+    "What to draw (modes: normal modes about a stable equilibrium; MODEL only).",
     default="timeseries",
-    show_default=True,
-    help="What to draw (modes: normal modes about a stable equilibrium; MODEL only).",
 )
-@click.option(
-    "--out",
-    type=click.Path(dir_okay=False),
-    help="Write F.png, F.pdf or F.svg (default: <name>-<kind>.png).",
-)
+@options.out("Write F.png, F.pdf or F.svg (default: <name>-<kind>.png).")
 @_run_options
 def plot(source, kind, out, t_end, method, assignments, definitions, timeout) -> None:
     """Plot a run of MODEL (simulated with its defaults) or a saved TRAJECTORY.
@@ -123,24 +99,24 @@ def plot(source, kind, out, t_end, method, assignments, definitions, timeout) ->
 
         figure = PLOTS[kind](Trajectory.load(source))
     else:
-        options = {
+        settings = {
             "t_end": t_end,
             "method": method,
-            "assignments": _assignments(assignments),
-            "definitions": _definitions(definitions),
+            "assignments": options.assignments(assignments),
+            "definitions": options.definitions(definitions),
             "timeout": timeout,
         }
-        figure = _model_figure(source, kind, options)
+        figure = _model_figure(source, kind, settings)
     save_figure(figure, out)
     click.echo(f"wrote {out}")
 
 
-def _model_figure(model: str, kind: str, options: dict):
+def _model_figure(model: str, kind: str, settings: dict):
     from ..facade import load
     from ..output.plots import PLOTS
 
     system = load(model)
-    values = options["assignments"]
+    values = settings["assignments"]
     if kind == "modes":
         from ..output.mode_shapes import plot_normal_modes
 
@@ -151,13 +127,13 @@ def _model_figure(model: str, kind: str, options: dict):
 
         if len(system.coordinates) < 2:
             raise click.UsageError("a Poincaré section needs a model with two or more coordinates")
-        return plot_poincare(_simulate(system, events=[section_event(system)], **options), system)
-    run = _simulate(system, **options)
+        return plot_poincare(_simulate(system, events=[section_event(system)], **settings), system)
+    run = _simulate(system, **settings)
     if kind == "phase":
         from ..output.phase import conservative_one_dof, phase_family, plot_phase_portrait
 
-        if conservative_one_dof(system) and not values and options["method"] is None:
-            family = phase_family(system, t_end=options["t_end"])
+        if conservative_one_dof(system) and not values and settings["method"] is None:
+            family = phase_family(system, t_end=settings["t_end"])
             return plot_phase_portrait([*family, run], system)
         return plot_phase_portrait(run, system)
     return PLOTS[kind](run, system)
@@ -165,10 +141,8 @@ def _model_figure(model: str, kind: str, options: dict):
 
 @app.command(epilog=MODEL_HELP)
 @click.argument("model")
-@click.option(
-    "--out",
-    type=click.Path(dir_okay=False),
-    help="Write F.gif, F.html (plays in a browser) or F.mp4 (needs ffmpeg); default <name>.gif.",
+@options.out(
+    "Write F.gif, F.html (plays in a browser) or F.mp4 (needs ffmpeg); default <name>.gif."
 )
 @_run_options
 @click.option("--fps", type=float, default=25, show_default=True, help="Frames per second.")
@@ -194,8 +168,8 @@ def animate(model, out, t_end, method, assignments, definitions, timeout, fps, m
         system,
         t_end=t_end,
         method=method,
-        assignments=_assignments(assignments),
-        definitions=_definitions(definitions),
+        assignments=options.assignments(assignments),
+        definitions=options.definitions(definitions),
         timeout=timeout,
     )
     result = write_animation(run, system, out, fps=fps, max_frames=max_frames)
@@ -204,19 +178,11 @@ def animate(model, out, t_end, method, assignments, definitions, timeout, fps, m
 
 @app.command(epilog=MODEL_HELP)
 @click.argument("model")
-@click.option(
-    "--out",
-    type=click.Path(dir_okay=False),
-    help="Write F.html (default: <name>.html).",
+@options.out("Write F.html (default: <name>.html).")
+@options.set_values(
+    "A parameter value or an initial coordinate / velocity to start from (repeatable)."
 )
-@click.option(
-    "--set",
-    "assignments",
-    multiple=True,
-    metavar="NAME=VALUE",
-    help="A parameter value or an initial coordinate / velocity to start from (repeatable).",
-)
-@define_option
+@options.define
 def page(model, out, assignments, definitions) -> None:
     """Write the page of MODEL: one HTML file, for any browser, offline.
 
@@ -234,7 +200,7 @@ def page(model, out, assignments, definitions) -> None:
         raise click.BadParameter("the output file must end in .html", param_hint="--out")
     check_output_path(out)  # before the work: a typo in --out fails at once
     system = load(model)
-    values = _assignments(assignments)
+    values = options.assignments(assignments)
     states = {n for c in system.coordinates for n in (c.name, c.q_dot.name)}
     for name in values:
         if name not in states and name not in system.parameter_names:
@@ -243,7 +209,7 @@ def page(model, out, assignments, definitions) -> None:
         system,
         parameters={k: v for k, v in values.items() if k in system.parameter_names},
         initial={k: v for k, v in values.items() if k in states},
-        definitions=_definitions(definitions),
+        definitions=options.definitions(definitions),
     )
     write_atomically(out, lambda temporary: temporary.write_text(text, encoding="utf-8"))
     click.echo(f"wrote {out}: open it in a browser (it needs no server and no network)")

@@ -1,0 +1,151 @@
+"""What the commands share: options, the parsers of their values, the progress bar.
+
+Used as ``options.choice(...)``, ``options.define``, ``options.assignments(values)``: an
+option that two commands take is written once here, and its choices come from a registry
+(:func:`choice`) so that the lists cannot drift.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import sys
+import time
+
+import click
+
+from ..budget import checked_seconds
+from ..integrate.pace import RUN_SECONDS
+
+#: --define NAME=EXPR, read by :func:`definitions` (simulate, ensemble).
+define = click.option(
+    "--define",
+    "definitions",
+    multiple=True,
+    metavar="NAME=EXPR",
+    help="Define an unspecified function of the model, e.g. V='x^2 + y^2' (repeatable).",
+)
+
+
+def checked_timeout(value: float) -> float:
+    """A --timeout checked by the library's own rule (:func:`lagrangian.budget.checked_seconds`):
+    NaN, infinity (which would switch the budget off), 0 or over a week is a usage error."""
+    from ..errors import ModelError
+
+    try:
+        return checked_seconds(value, "timeout")
+    except ModelError as error:
+        raise click.BadParameter(error.message) from None
+
+
+def seconds(default: float, help: str):
+    """--timeout SECONDS with its check (a usage error) and its default shown."""
+    return click.option(
+        "--timeout",
+        type=float,
+        callback=lambda ctx, param, value: checked_timeout(value),
+        metavar="SECONDS",
+        default=default,
+        show_default=True,
+        help=help,
+    )
+
+
+#: --timeout of every command that runs an integration (simulate, ensemble, plot, animate).
+timeout = seconds(
+    RUN_SECONDS,
+    "CPU seconds the runs may take (wall seconds on a GPU or dask; > 0, at most a week); "
+    "a run whose pace shows it would take longer is stopped at once.",
+)
+
+
+def choice(flag: str, choices, help: str, *, dest: str | None = None, **options):
+    """``flag`` taking one of ``choices``: the names of a registry, read from it so that the
+    list cannot drift; a default, when given, is shown in --help."""
+    return click.option(
+        flag, *((dest,) if dest else ()), type=click.Choice(list(choices)), help=help,
+        show_default=options.get("default") is not None, **options,
+    )  # fmt: skip
+
+
+def out(help: str):
+    """--out FILE (a file, not a folder; the command checks its suffix)."""
+    return click.option("--out", type=click.Path(dir_okay=False), help=help)
+
+
+def set_values(help: str = "A parameter value or an initial coordinate / velocity (repeatable)."):
+    """--set NAME=VALUE, repeatable (parsed by :func:`assignments`)."""
+    return click.option("--set", "assignments", multiple=True, metavar="NAME=VALUE", help=help)
+
+
+def pairs(values: tuple[str, ...], hint: str, metavar: str = "NAME=EXPR") -> dict[str, str]:
+    """The NAME=TEXT items of a repeatable option (--set, --define, --at, --output,
+    --momentum, --grid), in order; the one parser of them all.
+
+    A malformed item, or a name given twice (which would keep the last silently), is a
+    usage error naming it.  The text is read later: by ``float`` or by the safe parser.
+    """
+    result: dict[str, str] = {}
+    for item in values:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name or not text.strip():
+            raise click.BadParameter(f"expected {metavar}, got {item!r}", param_hint=hint)
+        if name in result:
+            raise click.BadParameter(f"'{name}' is given twice", param_hint=hint)
+        result[name] = text
+    return result
+
+
+def numbers(pairs: dict[str, str], hint: str) -> dict[str, float]:
+    """NAME=VALUE pairs with plain numbers (read by float, never evaluated)."""
+    numbers = {}
+    for name, text in pairs.items():
+        try:
+            numbers[name] = float(text)
+        except ValueError:
+            raise click.BadParameter(
+                f"expected NAME=NUMBER, got {f'{name}={text}'!r}", param_hint=hint
+            ) from None
+    return numbers
+
+
+@contextlib.contextmanager
+def progress_bar(*, enabled: bool):
+    """A progress bar on stderr for runs longer than a second, only on a terminal.
+
+    Yields the callback for :func:`~lagrangian.simulation.simulate_system`
+    (``None`` when piped, with ``--json``, or off a terminal).
+    """
+    stream = sys.stderr
+    if not enabled or not stream.isatty():
+        yield None
+        return
+    start = time.monotonic()
+    state = {"bar": None, "shown": 0}
+
+    def progress(fraction: float) -> None:
+        if state["bar"] is None:
+            if time.monotonic() - start < 1.0:
+                return
+            state["bar"] = click.progressbar(length=1000, label="simulating", file=stream)
+            state["bar"].__enter__()
+        step = int(1000 * fraction) - state["shown"]
+        if step > 0:
+            state["bar"].update(step)
+            state["shown"] += step
+
+    try:
+        yield progress
+    finally:
+        if state["bar"] is not None:
+            state["bar"].__exit__(None, None, None)
+
+
+def assignments(values: tuple[str, ...]) -> dict[str, float]:
+    """NAME=VALUE pairs of --set as numbers (a bad one is a usage error naming it)."""
+    return numbers(pairs(values, "--set", "NAME=NUMBER"), "--set")
+
+
+def definitions(values: tuple[str, ...]) -> dict[str, str]:
+    """NAME=EXPR pairs of --define (the expression is parsed later by the safe parser)."""
+    return pairs(values, "--define")
