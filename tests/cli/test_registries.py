@@ -131,3 +131,24 @@ def test_every_backend_gives_a_lyapunov_spectrum(capsys, backend):
         _run(capsys, "lyapunov", MODEL, "--t-end", "2", "--backend", backend, "--json")
     )
     assert summary["sum"] == pytest.approx(0.0, abs=1e-7)  # a conservative flow keeps volume
+
+
+def test_a_new_target_is_one_class_and_one_registry_line(capsys, monkeypatch):
+    """A target written here (one AbstractTarget subclass) and added to the registry
+    (one line, here into a copy) is offered by ``export --to`` and runs through it."""
+    import lagrangian.export
+    from lagrangian.codegen import AbstractTarget
+
+    class ListingTarget(
+        AbstractTarget, name="listing", language="a listing", suffix=".txt", base=0
+    ):
+        def render(self, program, name):
+            forcing = program.forcing.outputs[0][1]
+            return "".join(f"f[{i}] = {entry}\n" for i, entry in enumerate(forcing))
+
+    assert main(["export", MODEL, "--to", "listing"]) == ExitStatus.BAD_INPUT
+    assert "'listing' is not one of" in capsys.readouterr().err
+    registry = {**lagrangian.export.LANGUAGES, ListingTarget.name: ListingTarget}
+    monkeypatch.setattr(lagrangian.export, "LANGUAGES", registry)
+    assert "listing" in _choices("export", "to")
+    assert _run(capsys, "export", MODEL, "--to", "listing") == "f[0] = -p_g*p_l*p_m*sin(q_theta)\n"

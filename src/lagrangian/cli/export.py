@@ -4,14 +4,20 @@ from __future__ import annotations
 
 import click
 
-from ..export import LANGUAGES
+from .. import export as code_export
 from . import options
 from .app import MODEL_HELP, app
 
 
 @app.command(epilog=MODEL_HELP)
 @click.argument("model")
-@options.choice("--to", LANGUAGES, "The language of the file.", dest="language", required=True)
+@options.choice(
+    "--to",
+    lambda: code_export.LANGUAGES,  # read when the command runs: a target added is offered
+    "The language of the file.",
+    dest="language",
+    required=True,
+)
 @options.out("Write FILE (a MATLAB function is named after it); default: print.")
 @options.define
 @click.option(

@@ -10,6 +10,7 @@ from __future__ import annotations
 import contextlib
 import sys
 import time
+from collections.abc import Callable, Iterable
 
 import click
 
@@ -58,11 +59,27 @@ timeout = seconds(
 )
 
 
+class RegistryChoice(click.Choice):
+    """One of the names of a registry, read each time they are needed (parsing, --help),
+    not when the command is defined: a registry extended after the import (a test's
+    target, a plugin's method) is offered at once."""
+
+    def __init__(self, names: Callable[[], Iterable[str]]) -> None:
+        self._names = names  # click.Choice.__init__ would freeze them into a tuple
+        self.case_sensitive = True
+
+    @property
+    def choices(self) -> tuple[str, ...]:
+        return tuple(self._names())
+
+
 def choice(flag: str, choices, help: str, *, dest: str | None = None, **options):
-    """``flag`` taking one of ``choices``: the names of a registry, read from it so that the
-    list cannot drift; a default, when given, is shown in --help."""
+    """``flag`` taking one of ``choices``: the names of a registry (a mapping or a sequence,
+    or a function returning it, read when the command runs), so that the list cannot
+    drift; a default, when given, is shown in --help."""
+    names = choices if callable(choices) else lambda: choices
     return click.option(
-        flag, *((dest,) if dest else ()), type=click.Choice(list(choices)), help=help,
+        flag, *((dest,) if dest else ()), type=RegistryChoice(names), help=help,
         show_default=options.get("default") is not None, **options,
     )  # fmt: skip
 
