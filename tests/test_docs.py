@@ -1,4 +1,4 @@
-"""Every code block of README.md and docs/tutorial.md runs as written.
+"""Every code block of README.md, docs/tutorial.md and docs/architecture.md runs as written.
 
 ```python blocks run as scripts (a fresh interpreter each, in a temporary
 folder); ```sh / ```console blocks run their ``lagrangian ...`` lines through the
@@ -24,7 +24,7 @@ import pytest
 from lagrangian.cli import ExitStatus, main
 
 ROOT = Path(__file__).resolve().parents[1]
-DOCUMENTS = (ROOT / "README.md", ROOT / "docs" / "tutorial.md")
+DOCUMENTS = (ROOT / "README.md", ROOT / "docs" / "tutorial.md", ROOT / "docs" / "architecture.md")
 
 #: Lines not run, with why (matched as substrings of the command line).
 SKIPPED = {
