@@ -32,7 +32,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from variational import DT, per_step
 
 import lagrangian as lg
-from lagrangian.ensemble.numba_backend import integrate_numba
+from lagrangian.ensemble.chunk import Chunk
+from lagrangian.ensemble.numba_backend import NumbaBackend
 from lagrangian.integrate import simulate
 from lagrangian.integrate.registry import method_class
 from lagrangian.numeric import compile_equations
@@ -54,11 +55,12 @@ def ensemble_member_step(compiled, method: str, steps: int, repeat: int) -> floa
     threads = numba.get_num_threads()
     numba.set_num_threads(1)
     try:
-        integrate_numba(compiled, integrator, y0, params, 20 * DT, names)  # compile and warm
+        backend = NumbaBackend()
+        backend.integrate(Chunk(compiled, integrator, y0, params, 20 * DT, names))  # compile, warm
         times = []
         for _ in range(repeat):
             start = time.perf_counter()
-            integrate_numba(compiled, integrator, y0, params, steps * DT, names)
+            backend.integrate(Chunk(compiled, integrator, y0, params, steps * DT, names))
             times.append(time.perf_counter() - start)
     finally:
         numba.set_num_threads(threads)
