@@ -156,7 +156,7 @@ def format_analysis(analysis: Analysis, *, spelling: Mapping[str, str] = PYTHON_
 
 
 def _more_time(undecided) -> str:
-    """Which budget ran out, and a --timeout that gives each stage four times as much."""
+    """Which budget ran out, and a timeout that gives each stage four times as much."""
     spent = [u.seconds for u in undecided if u.seconds is not None]
     if not spent:
         return f"out of time; a larger {setting('timeout')} gives more"
