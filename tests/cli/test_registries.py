@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import subprocess
+import sys
 
 import click
 import pytest
@@ -114,7 +116,17 @@ def test_every_ensemble_backend_and_method(capsys, tmp_path, backend, method):
         pytest.skip(f"backend {backend}: {reason}")
     out = tmp_path / "runs.nc"
     argv = ("ensemble", MODEL, "--grid", "theta=0.1:0.2:2", *SHORT, "--dt", "0.01")
-    _run(capsys, *argv, "--backend", backend, "--method", method, "--out", str(out))
+    argv += ("--backend", backend, "--method", method, "--out", str(out))
+    if backend == "dask":
+        # as the user runs it, in a process of its own: in a pytest worker that has run many
+        # other tests, this case once ended in an AssertionError from the cluster's start that
+        # no single test reproduces (not understood yet; see the stop's note)
+        done = subprocess.run(
+            [sys.executable, "-m", "lagrangian", *argv], capture_output=True, text=True
+        )
+        assert done.returncode == 0, done.stderr
+    else:
+        _run(capsys, *argv)
     assert out.stat().st_size > 0
 
 
