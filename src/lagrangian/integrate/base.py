@@ -34,6 +34,8 @@ from typing import TYPE_CHECKING, ClassVar, Literal
 import numpy as np
 
 from ..errors import ModelError, setting
+from .events import named
+from .guard import start_problem
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -132,7 +134,6 @@ class AbstractIntegrator(abc.ABC):
         """The settings as used on ``compiled`` (a method may add what it chose for it)."""
         return self.settings()
 
-    @abc.abstractmethod
     def solve(
         self,
         compiled: CompiledSystem,
@@ -148,8 +149,41 @@ class AbstractIntegrator(abc.ABC):
 
         ``watch``, when given, is called with the time reached at least once per
         step, from Python, and may end the run by raising (a time budget, a
-        progress bar).
+        progress bar).  The checks every method makes come first, here; the method's
+        own work is :meth:`integrate`.
         """
+        self.check(compiled)
+        t0, t1 = check_time_span(t_span)
+        y = np.array(y0, dtype=float)
+        events = named(events)
+        if y.ndim != 1 and not self.batched:
+            raise ModelError(f"method '{self.name}' integrates one trajectory, not a batch")
+        if y.ndim != 1 and events:
+            raise ModelError("events are watched on a single trajectory, not on a batch")
+        params = np.asarray(params, dtype=float)
+        t_eval = None if t_eval is None else np.asarray(t_eval, dtype=float)
+        problem = start_problem(compiled, t0, y, params)
+        return self.integrate(compiled, Run(t0, t1, y, params, t_eval, events, watch, problem))
+
+    @abc.abstractmethod
+    def integrate(self, compiled: CompiledSystem, run: Run) -> IntegrationResult:
+        """The method's own work on a checked ``run`` (a run whose start is already a
+        problem, ``run.problem``, ends there as failed, as the method reports it)."""
+
+
+@dataclass(frozen=True)
+class Run:
+    """One call of :meth:`AbstractIntegrator.solve`, checked: floats and arrays, the
+    events named, and why the start state cannot be integrated (None when it can)."""
+
+    t0: float
+    t1: float
+    y0: np.ndarray
+    params: np.ndarray
+    t_eval: np.ndarray | None
+    events: tuple[Event, ...]
+    watch: Callable[[float], None] | None
+    problem: str | None
 
 
 def positive_setting(name: str, value: float) -> float:

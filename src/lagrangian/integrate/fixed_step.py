@@ -27,17 +27,18 @@ from __future__ import annotations
 
 import abc
 import itertools
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
-from ..errors import ModelError, setting
+from ..errors import setting
 from ..trajectory import EventRecord
 from .base import (
     AbstractIntegrator,
     IntegrationResult,
+    Run,
     Status,
     Work,
     check_time_span,
@@ -45,8 +46,8 @@ from .base import (
     reject_settings,
 )
 from .compiled_loop import CompiledLoop, Newton, Unavailable, compiled_loop
-from .events import Event, EventWatcher, hermite, named
-from .guard import energy_jump, start_problem, state_problem
+from .events import EventWatcher, hermite
+from .guard import energy_jump, state_problem
 from .memory import step_count
 
 if TYPE_CHECKING:
@@ -123,23 +124,8 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
         """The settings of the printed scheme's Newton iterations (none by default)."""
         return Newton(tol=0.0, floor=0.0, stall=0.0, iterations=0)
 
-    def solve(
-        self,
-        compiled: CompiledSystem,
-        t_span: tuple[float, float],
-        y0: np.ndarray,
-        params: np.ndarray,
-        *,
-        t_eval: np.ndarray | None = None,
-        events: Sequence[Event] = (),
-        watch: Callable[[float], None] | None = None,
-    ) -> IntegrationResult:
-        self.check(compiled)
-        t0, t1 = check_time_span(t_span)
-        y = np.array(y0, dtype=float)
-        events = named(events)
-        if events and y.ndim != 1:
-            raise ModelError("events are watched on a single trajectory, not on a batch")
+    def integrate(self, compiled: CompiledSystem, run: Run) -> IntegrationResult:
+        t0, t1, y, params, events = run.t0, run.t1, run.y0, run.params, run.events
         work = Work()
         project = compiled.project if compiled.has_constraints else None
 
@@ -148,11 +134,10 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
             return compiled.rhs(t, state, params)
 
         watcher = EventWatcher(events, params, t0, y) if events else None
-        march = _March(compiled, params, watch, watcher, derivative, project)
+        march = _March(compiled, params, run.watch, watcher, derivative, project)
         grid = step_grid(t0, t1, self.dt)
-        problem = start_problem(compiled, t0, y, params)
-        if problem is not None:
-            t_out, y_out, status, message = grid[:1], y[..., None], Status.FAILED, problem
+        if run.problem is not None:
+            t_out, y_out, status, message = grid[:1], y[..., None], Status.FAILED, run.problem
         else:
             loop = None
             if y.ndim == 1 and np.ndim(params) == 1:
@@ -173,8 +158,8 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
             k, message = jump
             status, t_out, y_out = Status.FAILED, t_out[: k + 1], y_out[..., : k + 1]
             records = tuple(_until(record, t_out[-1]) for record in records)
-        if t_eval is not None:
-            t_out, y_out = _dense(t_out, y_out, np.asarray(t_eval, float), status, derivative)
+        if run.t_eval is not None:
+            t_out, y_out = _dense(t_out, y_out, run.t_eval, status, derivative)
             if project is not None:
                 columns = [project(t, y_out[..., k], params) for k, t in enumerate(t_out)]
                 y_out = np.stack(columns, axis=-1) if columns else y_out

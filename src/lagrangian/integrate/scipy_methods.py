@@ -25,17 +25,17 @@ radau stops where its Jacobian, taken at accepted states, is not finite (see
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
-from ..errors import ModelError, setting
+from ..errors import setting
 from ..trajectory import EventRecord
 from .base import (
     AbstractIntegrator,
     IntegrationResult,
+    Run,
     Status,
     check_time_span,
     positive_setting,
@@ -43,8 +43,8 @@ from .base import (
     tolerance_setting,
 )
 from .compiled_dop853 import compiled_loop, solve_compiled
-from .events import Event, named, scipy_event
-from .guard import UNDEFINED, describe_state, start_problem, state_problem
+from .events import scipy_event
+from .guard import UNDEFINED, describe_state, state_problem
 
 if TYPE_CHECKING:
     from types import ModuleType
@@ -97,35 +97,22 @@ class AbstractScipyIntegrator(AbstractIntegrator):
     def settings(self) -> dict[str, object]:
         return {"method": self.name, "rtol": self.rtol, "atol": self.atol}
 
-    def solve(
-        self,
-        compiled: CompiledSystem,
-        t_span: tuple[float, float],
-        y0: np.ndarray,
-        params: np.ndarray,
-        *,
-        t_eval: np.ndarray | None = None,
-        events: Sequence[Event] = (),
-        watch: Callable[[float], None] | None = None,
-    ) -> IntegrationResult:
+    def integrate(self, compiled: CompiledSystem, run: Run) -> IntegrationResult:
         from scipy.integrate import solve_ivp
 
-        self.check(compiled)
-        t0, t1 = check_time_span(t_span)
-        y0 = np.array(y0, dtype=float)
-        if y0.ndim != 1:
-            raise ModelError(f"method '{self.name}' integrates one trajectory, not a batch")
-        events = named(events)
-        problem = start_problem(compiled, t0, y0, params)
-        if problem is not None:  # SciPy's first step size would be NaN: it would never stop
-            return self._stopped(compiled, [t0], [y0], problem, events)
+        t0, t1, y0, params, events, watch = (
+            run.t0, run.t1, run.y0, run.params, run.events, run.watch
+        )  # fmt: skip
+        if run.problem is not None:  # SciPy's first step size would be NaN: it would never stop
+            return self._stopped(compiled, [t0], [y0], run.problem, events)
         if watch is not None:  # the budget's clock starts before a compile, which counts
             watch(t0)
         loop = self.compiled_loop(compiled)
         if loop is not None:
             return solve_compiled(
                 loop, compiled, (t0, t1), y0, params, rtol=self.rtol, atol=self.atol,
-                t_eval=t_eval, events=events, watch=watch, settings=self.settings_for(compiled),
+                t_eval=run.t_eval, events=events, watch=watch,
+                settings=self.settings_for(compiled),
             )  # fmt: skip
         # A trial stage may leave the domain of the equations (rejected, the step shrinks);
         # the last such evaluation explains a run that then fails for want of a step size.
@@ -159,7 +146,7 @@ class AbstractScipyIntegrator(AbstractIntegrator):
                 method=self.scipy_method,
                 rtol=self.rtol,
                 atol=self.atol,
-                dense_output=t_eval is not None,
+                dense_output=run.t_eval is not None,
                 **options,
             )
         except _Undefined as stop:
@@ -188,8 +175,8 @@ class AbstractScipyIntegrator(AbstractIntegrator):
             )
             solution.t, solution.y = solution.t[:k], solution.y[:, :k]
         t_out, y_out = solution.t, solution.y
-        if t_eval is not None:
-            t_out, y_out = _at(np.asarray(t_eval, float), solution, status)
+        if run.t_eval is not None:
+            t_out, y_out = _at(run.t_eval, solution, status)
         records = tuple(
             EventRecord(event.name, np.asarray(times, float), np.asarray(states, float).T)
             if len(times)

@@ -34,7 +34,7 @@ derivative that is not finite, naming the last finite state.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
@@ -46,13 +46,13 @@ from ..errors import ModelError, setting
 from .base import (
     AbstractIntegrator,
     IntegrationResult,
+    Run,
     Status,
     check_time_span,
     reject_settings,
     tolerance_setting,
 )
-from .events import Event
-from .guard import UNDEFINED, describe_state, start_problem
+from .guard import UNDEFINED, describe_state
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -101,30 +101,14 @@ class Taylor(AbstractIntegrator):
         if compiled.forms is None:
             raise ModelError("method 'taylor' generates code from derived equations, not functions")
 
-    def solve(
-        self,
-        compiled: CompiledSystem,
-        t_span: tuple[float, float],
-        y0: np.ndarray,
-        params: np.ndarray,
-        *,
-        t_eval: np.ndarray | None = None,
-        events: Sequence[Event] = (),
-        watch: Callable[[float], None] | None = None,
-    ) -> IntegrationResult:
+    def integrate(self, compiled: CompiledSystem, run: Run) -> IntegrationResult:
         import heyoka as hy
 
-        self.check(compiled)
-        if events:
+        if run.events:
             raise ModelError("method 'taylor' does not watch events: use dop853 or radau")
-        t0, t1 = check_time_span(t_span)
-        y0 = np.array(y0, dtype=float)
-        if y0.ndim != 1:
-            raise ModelError("method 'taylor' integrates one trajectory, not a batch")
-        params = np.asarray(params, dtype=float)
-        problem = start_problem(compiled, t0, y0, params)
-        if problem is not None:  # as dop853 reports it
-            return self._result(compiled, np.array([t0]), y0[:, None], Status.FAILED, problem, 0)
+        t0, t1, y0, params, watch = run.t0, run.t1, run.y0, run.params, run.watch
+        if run.problem is not None:  # as dop853 reports it
+            return self._result(compiled, [t0], y0[:, None], Status.FAILED, run.problem, 0)
         _check_definite(compiled, t0, y0, params)
         if watch is not None:  # the budget's clock starts before the build, which counts
             watch(t0)
@@ -135,8 +119,8 @@ class Taylor(AbstractIntegrator):
         integrator.state[:] = y0
         integrator.pars[:] = params
         last = _LastState(t0, y0, watch)
-        if t_eval is not None:
-            grid = np.asarray(t_eval, dtype=float)
+        if run.t_eval is not None:
+            grid = run.t_eval
             outcome, _, _, steps, _, states = integrator.propagate_grid(grid, callback=last)
             times, values = grid, np.asarray(states).T
             if outcome != hy.taylor_outcome.time_limit:
