@@ -8,6 +8,8 @@ then the model's ``[simulate]`` table, then the integrator's documented default.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -93,7 +95,7 @@ def simulate_system(
         atol = atol if atol is not None else settings.get("atol")
     else:
         dt = dt if dt is not None else settings.get("dt")
-    t_final = float(t_end if t_end is not None else settings.get("t_end", DEFAULT_T_END))
+    t_final = _model_t_end(system, t_end)
     run = choose_run(
         derive(system), t_end=t_final, method=method, backend=backend, rtol=rtol, atol=atol,
         initial=initial, params=params, events=options.get("events", ()), definitions=definitions,
@@ -107,28 +109,50 @@ def simulate_system(
     )  # fmt: skip
 
 
-def _compiled_run(
-    system: System,
-    t_final: float,
-    backend: str | None,
-    definitions: Mapping[str, str] | None,
-    progress: Callable[[float], None] | None,
-    timeout: float | None,
-    describe: Callable[[float], str] | None = None,
-):
-    """(the compiled equations, the watch of a run from 0 to ``t_final``: its pace and
-    progress; ``describe`` says how far a run got, see :class:`RunPace`)."""
-    compiled = compile_equations(
-        derive(system), backend=backend or default_backend(), definitions=definitions
-    )
-    return compiled, _watch(t_final, progress, timeout, describe)
-
-
 def _watch(t_final: float, progress, timeout, describe=None):
     """The watch of a run from 0 to ``t_final``: its pace and progress."""
     pace = None if timeout is None else RunPace((0.0, t_final), timeout, describe=describe)
     share = None if progress is None else (lambda t: progress(min(1.0, t / t_final)))
     return watching(pace, share)
+
+
+def _model_t_end(system: System, t_end: float | None) -> float:
+    """``t_end``, or the model's [simulate] t_end, or :data:`DEFAULT_T_END`."""
+    return float(
+        t_end if t_end is not None else system.simulate_settings.get("t_end", DEFAULT_T_END)
+    )
+
+
+@dataclass(frozen=True)
+class RunSettings:
+    """The settings that :func:`lyapunov_of_system` and :func:`poincare_of_system` take
+    besides their own (as keywords), with the meaning they have for
+    :func:`simulate_system`: tolerances (None: the run's documented default), the
+    ``initial`` state and ``params``, NAME=VALUE ``assignments`` of either, a
+    ``progress`` callback, ``definitions`` of unspecified functions, the compiled code's
+    ``backend`` and the ``timeout`` in seconds (None: no limit)."""
+
+    rtol: float | None = None
+    atol: float | None = None
+    initial: Mapping[str, float] | None = None
+    params: Mapping[str, float] | None = None
+    assignments: Mapping[str, float] | None = None
+    progress: Callable[[float], None] | None = None
+    definitions: Mapping[str, str] | None = None
+    backend: str | None = None
+    timeout: float | None = RUN_SECONDS
+
+    def values(self, system: System) -> tuple[dict[str, float], dict[str, float]]:
+        """(initial, params) with the assignments put in, checked (:func:`split_assignments`)."""
+        return split_assignments(system, self.assignments, self.initial, self.params)
+
+    def compiled(self, system: System, t_final: float, describe=None):
+        """(the compiled equations, the watch of a run from 0 to ``t_final``: its pace and
+        progress; ``describe`` says how far a run got, see :class:`RunPace`)."""
+        compiled = compile_equations(
+            derive(system), backend=self.backend or default_backend(), definitions=self.definitions
+        )
+        return compiled, _watch(t_final, self.progress, self.timeout, describe)
 
 
 def lyapunov_of_system(
@@ -138,30 +162,21 @@ def lyapunov_of_system(
     count: int | None = None,
     transient: float = 0.0,
     interval: float | None = None,
-    rtol: float | None = None,
-    atol: float | None = None,
-    initial: Mapping[str, float] | None = None,
-    params: Mapping[str, float] | None = None,
-    assignments: Mapping[str, float] | None = None,
-    progress: Callable[[float], None] | None = None,
-    definitions: Mapping[str, str] | None = None,
-    backend: str | None = None,
-    timeout: float | None = RUN_SECONDS,  # the settings as for simulate_system
+    **settings: Any,
 ) -> LyapunovSpectrum:
     """The ``count`` largest Lyapunov exponents of ``system`` (all 2n by default) along the
     motion from its initial state, averaged over ``t_end`` (default: the model's t_end)
-    after ``transient``; see :mod:`lagrangian.integrate.lyapunov`.  ``assignments``,
-    ``progress``, ``definitions``, ``backend`` and ``timeout`` as for
-    :func:`simulate_system`."""
-    initial, params = split_assignments(system, assignments, initial, params)
-    if t_end is None:
-        t_end = system.simulate_settings.get("t_end", DEFAULT_T_END)
-    total = float(transient) + float(t_end)
-    compiled, watch = _compiled_run(system, total, backend, definitions, progress, timeout)
+    after ``transient``; see :mod:`lagrangian.integrate.lyapunov`.  ``settings``: the
+    keywords of :class:`RunSettings` (rtol, atol, initial, params, assignments, progress,
+    definitions, backend, timeout)."""
+    run = RunSettings(**settings)
+    initial, params = run.values(system)
+    t_end = _model_t_end(system, t_end)
+    compiled, watch = run.compiled(system, float(transient) + t_end)
     interval = DEFAULT_INTERVAL if interval is None else interval
     return lyapunov_spectrum(
         compiled, t_end=t_end, count=count, initial=initial, params=params,
-        transient=transient, interval=interval, rtol=rtol, atol=atol, watch=watch,
+        transient=transient, interval=interval, rtol=run.rtol, atol=run.atol, watch=watch,
     )  # fmt: skip
 
 
@@ -181,15 +196,7 @@ def poincare_of_system(
     orbits: int | None = None,
     spread: Mapping[str, tuple[float, float]] | None = None,
     t_end: float | None = None,
-    rtol: float | None = None,
-    atol: float | None = None,
-    initial: Mapping[str, float] | None = None,
-    params: Mapping[str, float] | None = None,
-    assignments: Mapping[str, float] | None = None,
-    progress: Callable[[float], None] | None = None,
-    definitions: Mapping[str, str] | None = None,
-    backend: str | None = None,
-    timeout: float | None = RUN_SECONDS,  # the settings as for simulate_system
+    **settings: Any,
 ) -> PoincareSection:
     """The Poincaré section of ``system`` (see :mod:`lagrangian.integrate.poincare`):
     crossings of ``section`` ("x = 0") in ``direction``, or with ``strobe`` the state
@@ -198,16 +205,15 @@ def poincare_of_system(
     default 10, see :func:`~lagrangian.integrate.poincare.shell_starts`), or from the
     initial state with one value ``spread`` {name: (low, high)} over ``orbits`` starts,
     or, with neither, from the initial state alone.  Each runs to ``t_end`` (default: the
-    model's t_end)."""
-    initial, params = split_assignments(system, assignments, initial, params)
+    model's t_end).  ``settings``: the keywords of :class:`RunSettings`."""
+    run = RunSettings(**settings)
+    initial, params = run.values(system)
     if energy is not None and spread:
         raise ModelError("give an energy or a spread of start values, not both")
-    if t_end is None:
-        t_end = system.simulate_settings.get("t_end", DEFAULT_T_END)
-    compiled, watch = _compiled_run(
-        system, 1.0, backend, definitions, progress, timeout,
-        describe=lambda done: f"{100 * done:.3g} % of the orbits",
-    )  # fmt: skip
+    t_end = _model_t_end(system, t_end)
+    compiled, watch = run.compiled(
+        system, 1.0, describe=lambda done: f"{100 * done:.3g} % of the orbits"
+    )
     parsed = None if section is None else parse_section(compiled, section, direction)
     count = DEFAULT_ORBITS if orbits is None else int(orbits)
     if not 1 <= count <= MAX_ORBITS:
@@ -222,7 +228,7 @@ def poincare_of_system(
         starts = _spread_starts(compiled, initial, spread or {}, count)
     return poincare_section(
         compiled, starts, axes=axes, t_end=t_end, section=parsed, strobe=strobe,
-        transient=transient, params=params, rtol=rtol, atol=atol, watch=watch,
+        transient=transient, params=params, rtol=run.rtol, atol=run.atol, watch=watch,
     )  # fmt: skip
 
 

@@ -239,8 +239,9 @@ def analyze(
     "its loop compiled for long runs, or taylor where heyoka is installed).",
 )
 @click.option("--dt", type=float, help="Step of the fixed-step methods (rk4, variational).")
-@click.option("--rtol", type=float, help="Relative tolerance of the adaptive methods.")
-@click.option("--atol", type=float, help="Absolute tolerance of the adaptive methods.")
+@options.tolerances(
+    "Relative tolerance of the adaptive methods.", "Absolute tolerance of the adaptive methods."
+)
 @options.set_values()
 @options.define
 @options.choice(
@@ -259,7 +260,7 @@ def analyze(
 @click.option(
     "--dt-out", type=float, help="Rows of --out: every DT from 0, and t_end (default: every step)."
 )
-@click.option("--json", "as_json", is_flag=True, help="Print the JSON summary.")
+@options.as_json("Print the JSON summary.")
 @options.timeout
 def simulate(
     model,
@@ -314,8 +315,7 @@ def simulate(
     summary = trajectory.summary()
     if out is not None:
         summary["out"] = out
-    if as_json:
-        click.echo(json.dumps(summary, indent=2))
+    if options.echo_json(summary, as_json):
         return
     click.echo(
         f"{system.name}: {summary['method']}, {summary['steps']} steps, "

@@ -3,8 +3,6 @@
 
 from __future__ import annotations
 
-import json
-
 import click
 import numpy as np
 
@@ -25,9 +23,6 @@ def plot_option(what: str):
     return click.option(
         "--plot", "picture", type=click.Path(dir_okay=False), help=f"Draw {what} to FILE.png."
     )
-
-
-json_option = click.option("--json", "as_json", is_flag=True, help="Print the result as JSON.")
 
 
 def _check_outputs(out: str | None, suffixes: tuple[str, ...], picture: str | None) -> None:
@@ -78,13 +73,12 @@ def _png(path: str | None, hint: str) -> None:
     type=float,
     help="Time between re-orthonormalisations of the displacements (default 1).",
 )
-@click.option("--rtol", type=float, help="Relative tolerance (default 1e-9).")
-@click.option("--atol", type=float, help="Absolute tolerance (default 1e-11).")
+@options.tolerances("Relative tolerance (default 1e-9).", "Absolute tolerance (default 1e-11).")
 @options.set_values()
 @options.define
 @backend_option
 @plot_option("the convergence of the estimates")
-@json_option
+@options.as_json()
 @options.timeout
 def lyapunov(
     model, t_end, transient, count, largest, interval, rtol, atol, assignments, definitions,
@@ -112,11 +106,10 @@ def lyapunov(
         from ..output.plots import save_figure
 
         save_figure(plot_lyapunov(spectrum), picture, dpi=120)
-    if as_json:
-        summary = lyapunov_summary(spectrum)
-        if picture is not None:
-            summary["plot"] = picture
-        click.echo(json.dumps(summary, indent=2))
+    summary = lyapunov_summary(spectrum)
+    if options.echo_json(
+        {**summary, **({"plot": picture} if picture is not None else {})}, as_json
+    ):
         return
     click.echo(lyapunov_text(spectrum))
     _wrote(picture)
@@ -138,11 +131,8 @@ def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
 
 @app.command(epilog=MODEL_HELP)
 @click.argument("model")
-@click.option(
-    "--axes",
-    required=True,
-    metavar="A,B",
-    help="The two variables drawn: coordinates, velocities q_dot or momenta p_q.",
+@options.required(
+    "--axes", "A,B", "The two variables drawn: coordinates, velocities q_dot or momenta p_q."
 )
 @click.option("--section", metavar="EXPR=EXPR", help="The surface of section, e.g. 'x = 0'.")
 @click.option(
@@ -158,22 +148,20 @@ def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
 )
 @click.option("--energy", type=float, help="Start the orbits on this energy shell.")
 @click.option("--orbits", type=int, help="How many orbits (default 10 with --energy/--spread).")
-@click.option(
+@options.repeated(
     "--spread",
     "spreads",
-    multiple=True,
-    metavar="NAME=LO:HI",
-    help="Start the orbits with NAME going from LO to HI (others: the initial state).",
+    "NAME=LO:HI",
+    "Start the orbits with NAME going from LO to HI (others: the initial state).",
 )
 @click.option("--t-end", type=float, help="Time each orbit runs (default: the model's t_end).")
-@click.option("--rtol", type=float, help="Relative tolerance (default 1e-10).")
-@click.option("--atol", type=float, help="Absolute tolerance (default 1e-12).")
+@options.tolerances("Relative tolerance (default 1e-10).", "Absolute tolerance (default 1e-12).")
 @options.set_values()
 @options.define
 @backend_option
 @options.out("Write the points to F.csv or F.nc.")
 @plot_option("the section")
-@json_option
+@options.as_json()
 @options.timeout
 def poincare(
     model, axes, section, direction, strobe, transient, energy, orbits, spreads, t_end, rtol,
@@ -217,8 +205,7 @@ def poincare(
         **({"out": out} if out is not None else {}),
         **({"plot": picture} if picture is not None else {}),
     }
-    if as_json:
-        click.echo(json.dumps(summary, indent=2))
+    if options.echo_json(summary, as_json):
         return
     where = f"strobe {strobe:g}" if strobe is not None else f"section {section}"
     click.echo(
@@ -230,16 +217,9 @@ def poincare(
 
 @app.command(epilog=MODEL_HELP)
 @click.argument("model")
-@click.option(
-    "--vary",
-    required=True,
-    metavar="NAME=LO:HI:N",
-    help="N values of the parameter NAME from LO to HI.",
-)
+@options.required("--vary", "NAME=LO:HI:N", "N values of the parameter NAME from LO to HI.")
 @click.option("--strobe", type=float, required=True, metavar="PERIOD", help="Strobe period.")
-@click.option(
-    "--axis", "variable", required=True, metavar="NAME", help="The coordinate or velocity drawn."
-)
+@options.required("--axis", "NAME", "The coordinate or velocity drawn.", dest="variable")
 @click.option("--transient", type=float, default=0.0, show_default=True, help="Time dropped first.")
 @click.option("--samples", type=int, help="Points kept per value (default 100).")
 @click.option("--steps-per-period", type=int, help="Fixed steps per period (default 200).")
@@ -254,7 +234,7 @@ def poincare(
 @options.define
 @options.out("Write the points to F.csv.")
 @plot_option("the diagram")
-@json_option
+@options.as_json()
 @options.timeout
 def bifurcation(
     model, vary, strobe, variable, transient, samples, steps_per_period, method, backend,
@@ -297,8 +277,7 @@ def bifurcation(
         **({"out": out} if out is not None else {}),
         **({"plot": picture} if picture is not None else {}),
     }
-    if as_json:
-        click.echo(json.dumps(summary, indent=2))
+    if options.echo_json(summary, as_json):
         return
     click.echo(
         f"{diagram.name}: {variable} every {strobe:g} for {len(diagram.values)} values of "

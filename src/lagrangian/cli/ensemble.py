@@ -44,14 +44,13 @@ def _grids(values: tuple[str, ...]) -> dict[str, GridAxis]:
 
 @app.command(epilog=MODEL_HELP)
 @click.argument("model")
-@click.option(
+@options.repeated(
     "--grid",
     "grids",
-    multiple=True,
-    required=True,
-    metavar="NAME=LO:HI:N",
-    help="N values from LO to HI of an initial coordinate / velocity or a parameter "
+    "NAME=LO:HI:N",
+    "N values from LO to HI of an initial coordinate / velocity or a parameter "
     "(repeatable: one grid axis each).",
+    required=True,
 )
 @options.choice(
     "--backend",
@@ -63,12 +62,11 @@ def _grids(values: tuple[str, ...]) -> dict[str, GridAxis]:
     "--precision", PRECISIONS, "Floating point of backends jax and cuda.", default="float64"
 )
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="A dask scheduler (backend dask).")
-@click.option(
+@options.repeated(
     "--observable",
     "observables",
-    multiple=True,
-    metavar="NAME",
-    help="final_state, flip_time, energy_drift or lyapunov (repeatable; default final_state).",
+    "NAME",
+    "final_state, flip_time, energy_drift or lyapunov (repeatable; default final_state).",
 )
 @click.option("--t-end", type=float, help="End time (default: the model's t_end).")
 @click.option("--dt", type=float, help="Step (default: the model's dt, else t_end / 1000).")

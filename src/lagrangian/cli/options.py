@@ -8,6 +8,7 @@ option that two commands take is written once here, and its choices come from a 
 from __future__ import annotations
 
 import contextlib
+import json
 import sys
 import time
 from collections.abc import Callable, Iterable
@@ -87,6 +88,47 @@ def choice(flag: str, choices, help: str, *, dest: str | None = None, **options)
 def out(help: str):
     """--out FILE (a file, not a folder; the command checks its suffix)."""
     return click.option("--out", type=click.Path(dir_okay=False), help=help)
+
+
+def required(flag: str, metavar: str, help: str, *, dest: str | None = None):
+    """``flag`` that must be given, its value shown as ``metavar`` in --help."""
+    return click.option(
+        flag, *((dest,) if dest else ()), required=True, metavar=metavar, help=help
+    )  # fmt: skip
+
+
+def repeated(flag: str, dest: str, metavar: str, help: str, *, required: bool = False):
+    """``flag`` given any number of times, its values collected in ``dest`` (a tuple)."""
+    return click.option(
+        flag, dest, multiple=True, required=required, metavar=metavar, help=help
+    )  # fmt: skip
+
+
+def number(flag: str, help: str):
+    """``flag`` taking a float (--t-end, --dt, ...); left out: None, the library's default."""
+    return click.option(flag, type=float, help=help)
+
+
+def tolerances(rtol: str, atol: str):
+    """--rtol and --atol of an adaptive integration, with their help texts."""
+
+    def add(command):
+        return number("--rtol", rtol)(number("--atol", atol)(command))
+
+    return add
+
+
+def as_json(help: str = "Print the result as JSON."):
+    """--json, the flag ``as_json`` (see :func:`echo_json`)."""
+    return click.option("--json", "as_json", is_flag=True, help=help)
+
+
+def echo_json(document: dict, as_json: bool) -> bool:
+    """Print ``document`` as JSON when --json was given; whether it was (the command then
+    prints nothing else)."""
+    if as_json:
+        click.echo(json.dumps(document, indent=2))
+    return as_json
 
 
 def set_values(help: str = "A parameter value or an initial coordinate / velocity (repeatable)."):
