@@ -219,6 +219,12 @@ def reject_settings(method: str, kind: str, **given: float | None) -> None:
         raise ModelError(f"{names} does not apply to method '{method}' ({kind})")
 
 
+def adaptive_settings(method: str, t_span: tuple[float, float], dt: float | None) -> None:
+    """ModelError when an adaptive ``method`` is given a step size, or ``t_span`` is wrong."""
+    reject_settings(method, f"an adaptive method: give {setting('rtol')}/{setting('atol')}", dt=dt)
+    check_time_span(t_span)
+
+
 def check_time_span(t_span: tuple[float, float]) -> tuple[float, float]:
     t0, t1 = (float(t) for t in t_span)
     if not (np.isfinite(t0) and np.isfinite(t1)) or t1 <= t0:

@@ -137,8 +137,8 @@ def choose_run(
             compiled, chosen, rtol, atol, f"{chosen}{how} on {compiled.backend}: {why}"
         )
     quick = compiled_on(default_backend())
-    rtol = Dop853.DEFAULT_RTOL if rtol is None else rtol
-    atol = Dop853.DEFAULT_ATOL if atol is None else atol
+    rtol = Dop853.rtol if rtol is None else rtol
+    atol = Dop853.atol if atol is None else atol
 
     def scipy_loop(why: str) -> RunChoice:
         return RunChoice(

@@ -39,7 +39,6 @@ Applies to unconstrained systems with derived equations where numba is installed
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -47,8 +46,8 @@ import numpy as np
 
 from ..codegen.cache import built, built_already
 from ..trajectory import EventRecord
-from .base import IntegrationResult, Status
-from .events import Event, scipy_event
+from .base import IntegrationResult, Run, Status
+from .events import scipy_event
 from .guard import UNDEFINED, describe_state, state_problem
 
 if TYPE_CHECKING:
@@ -120,23 +119,15 @@ _BEGIN, _END = "# -- generated: begin", "# -- generated: end"
 
 
 def solve_compiled(
-    loop: ModuleType,
-    compiled: CompiledSystem,
-    t_span: tuple[float, float],
-    y0: np.ndarray,
-    params: np.ndarray,
-    *,
-    rtol: float,
-    atol: float,
-    t_eval: np.ndarray | None,
-    events: Sequence[Event],
-    watch: Callable[[float], None] | None,
+    loop: ModuleType, compiled: CompiledSystem, run: Run, *, rtol: float, atol: float,
     settings: dict[str, object],
-) -> IntegrationResult:
-    """DOP853 from ``y0`` (finite, with a finite y') over ``t_span`` by the compiled loop;
+) -> IntegrationResult:  # fmt: skip
+    """DOP853 on a checked ``run`` (a finite start with a finite y') by the compiled loop;
     the result reads as :class:`~lagrangian.integrate.scipy_methods.Dop853`'s."""
-    t0, t1 = t_span
-    y = np.array(y0, dtype=float)
+    t0, t1, params, t_eval, events, watch = (
+        run.t0, run.t1, run.params, run.t_eval, run.events, run.watch
+    )  # fmt: skip
+    y = np.array(run.y0, dtype=float)
     p = np.ascontiguousarray(params, dtype=float)
     size = y.shape[0]
     f = np.asarray(compiled.rhs(t0, y, p), dtype=float).copy()

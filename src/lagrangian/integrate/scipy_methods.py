@@ -30,16 +30,14 @@ from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
-from ..errors import setting
 from ..trajectory import EventRecord
 from .base import (
     AbstractIntegrator,
     IntegrationResult,
     Run,
     Status,
-    check_time_span,
+    adaptive_settings,
     positive_setting,
-    reject_settings,
     tolerance_setting,
 )
 from .compiled_dop853 import compiled_loop, solve_compiled
@@ -65,8 +63,6 @@ class AbstractScipyIntegrator(AbstractIntegrator):
     atol: float
     scipy_method: ClassVar[str]
     uses_jacobian: ClassVar[bool] = False
-    DEFAULT_RTOL: ClassVar[float]
-    DEFAULT_ATOL: ClassVar[float]
     adaptive: ClassVar[bool] = True
     batched: ClassVar[bool] = False
     symplectic: ClassVar[bool] = False
@@ -85,13 +81,10 @@ class AbstractScipyIntegrator(AbstractIntegrator):
 
     @classmethod
     def configure(cls, *, t_span, dt=None, rtol=None, atol=None):
-        reject_settings(
-            cls.name, f"an adaptive method: give {setting('rtol')}/{setting('atol')}", dt=dt
-        )
-        check_time_span(t_span)
+        adaptive_settings(cls.name, t_span, dt)
+        given = {"rtol": rtol, "atol": atol}
         return cls(
-            rtol=cls.DEFAULT_RTOL if rtol is None else positive_setting("rtol", rtol),
-            atol=cls.DEFAULT_ATOL if atol is None else positive_setting("atol", atol),
+            **{name: positive_setting(name, v) for name, v in given.items() if v is not None}
         )
 
     def settings(self) -> dict[str, object]:
@@ -109,11 +102,10 @@ class AbstractScipyIntegrator(AbstractIntegrator):
             watch(t0)
         loop = self.compiled_loop(compiled)
         if loop is not None:
+            settings = self.settings_for(compiled)
             return solve_compiled(
-                loop, compiled, (t0, t1), y0, params, rtol=self.rtol, atol=self.atol,
-                t_eval=run.t_eval, events=events, watch=watch,
-                settings=self.settings_for(compiled),
-            )  # fmt: skip
+                loop, compiled, run, rtol=self.rtol, atol=self.atol, settings=settings
+            )
         # A trial stage may leave the domain of the equations (rejected, the step shrinks);
         # the last such evaluation explains a run that then fails for want of a step size.
         undefined: list[float] = []
@@ -249,8 +241,6 @@ class Dop853(AbstractScipyIntegrator):
     name: ClassVar[str] = "dop853"
     order: ClassVar[int] = 8
     scipy_method: ClassVar[str] = "DOP853"
-    DEFAULT_RTOL: ClassVar[float] = 1e-10
-    DEFAULT_ATOL: ClassVar[float] = 1e-12
 
     def compiled_loop(self, compiled: CompiledSystem) -> ModuleType | None:
         """On the numba backend, the whole loop compiled (:mod:`.compiled_dop853`)."""
@@ -267,5 +257,3 @@ class Radau(AbstractScipyIntegrator):
     order: ClassVar[int] = 5
     scipy_method: ClassVar[str] = "Radau"
     uses_jacobian: ClassVar[bool] = True
-    DEFAULT_RTOL: ClassVar[float] = 1e-8
-    DEFAULT_ATOL: ClassVar[float] = 1e-10

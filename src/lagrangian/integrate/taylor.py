@@ -42,14 +42,13 @@ import numpy as np
 
 from ..codegen.cache import built
 from ..codegen.heyoka import HeyokaTarget
-from ..errors import ModelError, setting
+from ..errors import ModelError
 from .base import (
     AbstractIntegrator,
     IntegrationResult,
     Run,
     Status,
-    check_time_span,
-    reject_settings,
+    adaptive_settings,
     tolerance_setting,
 )
 from .guard import UNDEFINED, describe_state
@@ -79,10 +78,7 @@ class Taylor(AbstractIntegrator):
     @classmethod
     def configure(cls, *, t_span, dt=None, rtol=None, atol=None):
         """``tol`` is the smaller of rtol and atol where given (heyoka has one tolerance)."""
-        reject_settings(
-            cls.name, f"an adaptive method: give {setting('rtol')}/{setting('atol')}", dt=dt
-        )
-        check_time_span(t_span)
+        adaptive_settings(cls.name, t_span, dt)
         given = [
             _tolerance(name, value)
             for name, value in (("rtol", rtol), ("atol", atol))
