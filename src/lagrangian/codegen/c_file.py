@@ -20,7 +20,7 @@ import sympy
 
 from .c import CPrinter, gaussian_elimination
 from .comments import C_COMMENT, commented
-from .header import header_lines
+from .header import default_values, header_lines
 from .program import Program, Routine
 from .target import AbstractTarget
 
@@ -56,9 +56,7 @@ class CTarget(AbstractTarget, name="c", language="C", suffix=".c", base=0):
             f"#define LAGRANGIAN_N_CONSTRAINTS {m}",
             "",
         ]
-        defaults = [
-            "NAN" if p.default is None else repr(float(p.default)) for p in program.parameters
-        ]
+        defaults = default_values(program, "NAN")
         parts.append(
             f"const double default_params[{max(len(defaults), 1)}] = "
             f"{{{', '.join(defaults) or '0.0'}}};"

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from importlib.metadata import PackageNotFoundError, version
 
 from .comments import one_line
@@ -65,3 +66,35 @@ def header_lines(
             "  (residuals of the constraints decay like exp(-alpha t)).",
         ]
     return lines
+
+
+def default_values(program: Program, missing: str) -> list[str]:
+    """The parameters' default values as literals, ``missing`` (the language's NaN) for a
+    parameter without one, which the caller must then give."""
+    return [missing if p.default is None else repr(float(p.default)) for p in program.parameters]
+
+
+def call_lines(signature: str, matrix: str, vector: str, solve: str) -> dict[str, str]:
+    """How to call the three functions, for :func:`header_lines`, where all three take the
+    same ``signature``: the shapes of M and f in the language's words, and how rhs solves."""
+    return {
+        "mass_matrix": f"mass_matrix{signature} -> M, {matrix}",
+        "forcing": f"forcing{signature} -> f, {vector}",
+        "rhs": f"rhs{signature} -> y' = [q', q''] ({solve})",
+    }
+
+
+def name_constants(
+    program: Program, statement: str, names: Callable[[list[str]], str]
+) -> list[str]:
+    """The constants COORDINATES, PARAMETERS and INPUTS of a file: each
+    ``statement.format(name=..., value=names([the names]))``."""
+    groups = {
+        "COORDINATES": program.coordinates,
+        "PARAMETERS": program.parameters,
+        "INPUTS": program.inputs,
+    }
+    return [
+        statement.format(name=key, value=names([q.name for q in group]))
+        for key, group in groups.items()
+    ]

@@ -23,11 +23,11 @@ import sympy
 from sympy.printing.jscode import JavascriptCodePrinter
 
 from .comments import CommentStyle, commented
-from .header import header_lines
+from .header import call_lines, default_values, header_lines, name_constants
 from .literals import FloatLiterals
 from .program import Program, Routine
 from .steps import Assign, Function, If, Index, Loop, StepPrinter, elimination
-from .target import VECTORS, AbstractTarget
+from .target import AbstractTarget
 
 #: Line comments: only a line break ends one (U+2028 and U+2029 are line breaks in
 #: JavaScript, and :func:`~lagrangian.codegen.comments.commented` splits at them).
@@ -105,27 +105,20 @@ class JavaScriptTarget(
 
     def render(self, program: Program, name: str) -> str:
         signature = "(t, y, params = DEFAULT_PARAMS, u = null)"
-        calls = {
-            "mass_matrix": f"mass_matrix{signature} -> M, n rows of n numbers",
-            "forcing": f"forcing{signature} -> f, n numbers",
-            "rhs": f"rhs{signature} -> y' = [q', q''] (Gaussian elimination)",
-        }
+        calls = call_lines(signature, "n rows of n numbers", "n numbers", "Gaussian elimination")
         head = header_lines(program, "JavaScript (ES module)", base=0, calls=calls)
         lines = [*commented(head, JAVASCRIPT_COMMENT), ""]
-        defaults = ", ".join(
-            "NaN" if p.default is None else repr(float(p.default)) for p in program.parameters
-        )
+        defaults = ", ".join(default_values(program, "NaN"))
         lines += [
-            f"export const COORDINATES = {_names(program.coordinates)};",
-            f"export const PARAMETERS = {_names(program.parameters)};",
-            f"export const INPUTS = {_names(program.inputs)};",
+            *name_constants(program, "export const {name} = {value};", _names),
             f"export const DEFAULT_PARAMS = [{defaults}];",
             "",
             _solve(program.n + program.constraints),
         ]
+        # dynamics (M, f and the constraint rows at once) serves rhs; the others are exported
         lines += self.function("dynamics", program, program.dynamics, exported=False)
-        lines += self.function("mass_matrix", program, program.mass_matrix)
-        lines += self.function("forcing", program, program.forcing)
+        for routine in (program.mass_matrix, program.forcing):
+            lines += self.function(routine.name, program, routine)
         n, m = program.n, program.constraints
         names = ", ".join(label for label, _ in program.dynamics.outputs)
         lines += [
@@ -157,16 +150,13 @@ class JavaScriptTarget(
         lines += self.opening(
             program, routine, "  const {symbol} = {value};", no_input="u == null ? 0.0 : {value}"
         )
-        results = []
-        for label, matrix in routine.outputs:
-            text = self.list_literal(matrix, vector=label in VECTORS)
-            lines.append(f"  const {label} = {text};")
-            results.append(label)
+        outputs, results = self.literal_outputs(routine, "  const {label} = {value};")
+        lines += outputs
         returned = results[0] if exported else "[" + ", ".join(results) + "]"
         lines += [f"  return {returned};", "}"]
         return lines
 
 
-def _names(quantities) -> str:
+def _names(names: list[str]) -> str:
     """A JavaScript array of the model's names (JSON strings are JavaScript strings)."""
-    return json.dumps([q.name for q in quantities], ensure_ascii=True)
+    return json.dumps(names, ensure_ascii=True)

@@ -15,7 +15,7 @@ import sympy
 from sympy.printing.julia import JuliaCodePrinter
 
 from .comments import JULIA_COMMENT, commented
-from .header import header_lines
+from .header import default_values, header_lines, name_constants
 from .literals import FloatLiterals
 from .program import Program, Routine
 from .target import VECTORS, AbstractTarget
@@ -48,14 +48,10 @@ class JuliaTarget(AbstractTarget, name="julia", language="Julia", suffix=".jl", 
         }
         head = header_lines(program, "Julia", base=1, calls=calls)
         lines = commented(head, JULIA_COMMENT)
-        defaults = ", ".join(
-            "NaN" if p.default is None else repr(float(p.default)) for p in program.parameters
-        )
+        defaults = ", ".join(default_values(program, "NaN"))
         lines += [
             "",
-            f"const COORDINATES = [{', '.join(_quoted(q.name) for q in program.coordinates)}]",
-            f"const PARAMETERS = String[{', '.join(_quoted(p.name) for p in program.parameters)}]",
-            f"const INPUTS = String[{', '.join(_quoted(u.name) for u in program.inputs)}]",
+            *name_constants(program, "const {name} = {value}", _strings),
             f"const DEFAULT_PARAMS = Float64[{defaults}]",
             f"const DEFAULT_INPUTS = zeros({len(program.inputs)})",
         ]
@@ -91,5 +87,5 @@ class JuliaTarget(AbstractTarget, name="julia", language="Julia", suffix=".jl", 
         return lines
 
 
-def _quoted(name: str) -> str:
-    return f'"{name}"'
+def _strings(names: list[str]) -> str:
+    return "String[" + ", ".join(f'"{name}"' for name in names) + "]"

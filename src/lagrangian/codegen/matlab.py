@@ -21,7 +21,7 @@ from sympy.printing.octave import OctaveCodePrinter, known_fcns_src1, known_fcns
 
 from ..errors import ModelError, setting
 from .comments import MATLAB_COMMENT, commented
-from .header import header_lines
+from .header import default_values, header_lines
 from .literals import FloatLiterals
 from .program import Program, Routine
 from .target import VECTORS, AbstractTarget
@@ -92,9 +92,7 @@ class MatlabTarget(AbstractTarget, name="matlab", language="MATLAB", suffix=".m"
             "  [t, y] = ode45(@(t, y) model.rhs(t, y, model.default_params), [0 10], y0);",
             "params and u may be omitted or [] (default values; every input 0).",
         ]
-        defaults = "; ".join(
-            "NaN" if p.default is None else repr(float(p.default)) for p in program.parameters
-        )
+        defaults = "; ".join(default_values(program, "NaN"))
         lines = [f"function model = {name}()"]
         lines += commented(head, MATLAB_COMMENT)
         lines += [

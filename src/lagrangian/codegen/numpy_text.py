@@ -19,10 +19,10 @@ from sympy.printing.numpy import NumPyPrinter
 
 from ..errors import ModelError, setting
 from .comments import PYTHON_COMMENT, commented
-from .header import header_lines
+from .header import call_lines, default_values, header_lines, name_constants
 from .literals import FloatLiterals
 from .program import Program, Routine
-from .target import VECTORS, AbstractTarget
+from .target import AbstractTarget
 
 #: Modules a generated file imports, directly or through NumPy and SciPy (the standard
 #: library's): a module file named like one is imported in its place from its folder.
@@ -63,24 +63,15 @@ class NumPyTextTarget(
 
     def render(self, program: Program, name: str) -> str:
         signature = "(t, y, params=DEFAULT_PARAMS, u=None)"
-        calls = {
-            "mass_matrix": f"mass_matrix{signature} -> M, shape (n, n)",
-            "forcing": f"forcing{signature} -> f, shape (n,)",
-            "rhs": f"rhs{signature} -> y' = [q', q''] (numpy.linalg.solve)",
-        }
+        calls = call_lines(signature, "shape (n, n)", "shape (n,)", "numpy.linalg.solve")
         head = header_lines(program, "Python (NumPy)", base=0, calls=calls)
         # the first line fixes the encoding: a comment there or on line 2 could declare one
         # (PEP 263), and a model named "coding: utf-7" would then decode "+AAo-" as a newline
         lines = ["# -*- coding: utf-8 -*-", *commented(head, PYTHON_COMMENT), ""]
         lines += ["import numpy", ""]
-        defaults = ", ".join(
-            "float('nan')" if p.default is None else repr(float(p.default))
-            for p in program.parameters
-        )
+        defaults = ", ".join(default_values(program, "float('nan')"))
         lines += [
-            f"COORDINATES = {tuple(q.name for q in program.coordinates)!r}",
-            f"PARAMETERS = {tuple(p.name for p in program.parameters)!r}",
-            f"INPUTS = {tuple(u.name for u in program.inputs)!r}",
+            *name_constants(program, "{name} = {value}", lambda names: repr(tuple(names))),
             f"DEFAULT_PARAMS = numpy.array([{defaults}], dtype=float)",
             "",
         ]
@@ -114,11 +105,8 @@ class NumPyTextTarget(
         lines += self.opening(
             program, routine, "    {symbol} = {value}", no_input="0.0 if u is None else {value}"
         )
-        results = []
-        for label, matrix in routine.outputs:
-            text = self.list_literal(matrix, vector=label in VECTORS)
-            shape = f"({matrix.rows},)" if label in VECTORS else str(matrix.shape)
-            lines.append(f"    {label} = numpy.array({text}, dtype=float).reshape({shape})")
-            results.append(label)
+        statement = "    {label} = numpy.array({value}, dtype=float).reshape({shape})"
+        outputs, results = self.literal_outputs(routine, statement)
+        lines += outputs
         lines.append(f"    return {', '.join(results)}")
         return lines

@@ -113,6 +113,18 @@ class AbstractTarget(abc.ABC):
         rows = (self.list_literal(matrix.row(i), vector=True) for i in range(matrix.rows))
         return "[" + ", ".join(rows) + "]"
 
+    def literal_outputs(self, routine: Routine, statement: str) -> tuple[list[str], list[str]]:
+        """The statements that give each output of a routine its value as a list literal
+        (:meth:`list_literal`), each ``statement.format(label=..., value=..., shape=...)``
+        (``shape``: ``(n,)`` or ``(n, n)``), and the outputs' labels in order."""
+        lines = []
+        for label, matrix in routine.outputs:
+            vector = label in VECTORS
+            shape = f"({matrix.rows},)" if vector else str(matrix.shape)
+            value = self.list_literal(matrix, vector=vector)
+            lines.append(statement.format(label=label, value=value, shape=shape))
+        return lines, [label for label, _ in routine.outputs]
+
     def entries(self, matrix: sympy.MatrixBase, *, vector: bool) -> list[tuple[str, str]]:
         """(index, expression) of each entry, indices counted from :attr:`base`: ``"i"``
         in a vector, ``"i, j"`` in a matrix (for languages that fill arrays entry by entry)."""
