@@ -1,5 +1,8 @@
-"""An ensemble keeps its time budget: chunks sized by measured CPU time, on a clock the
-test moves (each member costs a fixed amount of it), never the wall clock."""
+"""An ensemble keeps its time budget: chunks sized by measured time, on a clock the test
+moves (each member costs a fixed amount of it), never the wall clock.  Every backend:
+numpy (CPU time), jax (CPU time on the CPU), cuda (its kernel built for the CPU, timed on
+the wall clock as on a GPU) and dask (its tasks run in this process by a stand-in for
+``distributed``, each timed on its worker's wall clock)."""
 
 from __future__ import annotations
 
@@ -7,7 +10,10 @@ import numpy as np
 import pytest
 
 import lagrangian as lg
-from lagrangian.ensemble import core, ensemble_of_system, run_ensemble
+from lagrangian.ensemble import core, dask_backend, ensemble_of_system, run_ensemble
+from lagrangian.ensemble.chunk import Chunks
+from lagrangian.ensemble.cuda_cpu import CudaOnCpuBackend, compiler
+from lagrangian.ensemble.jax_backend import JaxBackend
 from lagrangian.ensemble.numpy_backend import NumpyBackend
 from lagrangian.integrate import pace
 from lagrangian.integrate.pace import RunTooLong
@@ -75,3 +81,140 @@ def test_an_ensemble_over_its_budget_stops_within_a_few_percent_of_it(costly):
         ensemble_of_system(system, initial=grid, t_end=0.1, dt=0.05, timeout=10.0)
     assert 10.0 < costly.now <= 10.0 * 1.03
     assert max(costly.sizes[1:]) <= 150
+
+
+class _InProcessDistributed:
+    """A ``distributed`` whose tasks run here when submitted, on one worker of
+    ``threads`` threads; ``as_completed`` hands them back in order, taking more."""
+
+    class KilledWorker(Exception):
+        pass
+
+    def __init__(self, threads: int):
+        self.threads, self.in_flight = threads, []
+
+    def LocalCluster(self, **options):
+        return self
+
+    def Client(self, *args, **options):
+        return self
+
+    def close(self):
+        pass
+
+    def scatter(self, payload, broadcast):
+        return payload
+
+    def nthreads(self):
+        return {"worker": self.threads}
+
+    def submit(self, function, *args, pure):
+        self.in_flight.append(object())
+        return _Done(function(*args))
+
+    def as_completed(self, futures):
+        return _Completing(futures)
+
+
+class _Done:
+    def __init__(self, value):
+        self.value = value
+
+    def result(self):
+        return self.value
+
+
+class _Completing:
+    def __init__(self, futures):
+        self.queue = list(futures)
+
+    def __iter__(self):
+        while self.queue:
+            yield self.queue.pop(0)
+
+    def add(self, future):
+        self.queue.append(future)
+
+
+def _charging(monkeypatch, clock, backend):
+    """Every chunk ``backend`` integrates is charged to ``clock``, which stands for the
+    CPU time here and the wall clock of runs elsewhere (a GPU, the dask workers)."""
+    integrate = backend.integrate
+
+    def charged(self, chunk, progress=None):
+        clock.sizes.append(chunk.count)
+        result = integrate(self, chunk, progress)
+        clock.now += clock.per_member * chunk.count
+        return result
+
+    monkeypatch.setattr(backend, "integrate", charged)
+    for module, name in ((core, "cpu_seconds"), (core, "wall_seconds"), (pace, "cpu_seconds")):
+        monkeypatch.setattr(module, name, clock)
+    monkeypatch.setattr(dask_backend, "task_seconds", clock)
+
+
+def _jax_backend():
+    pytest.importorskip("jax")
+    return "jax", JaxBackend
+
+
+def _cuda_on_cpu(monkeypatch):
+    if compiler() is None:
+        pytest.skip("no C compiler (gcc) for the CPU build of the cuda kernel")
+    backends = dict(core.ENSEMBLE_BACKENDS) | {"cuda": CudaOnCpuBackend}
+    monkeypatch.setattr(core, "ENSEMBLE_BACKENDS", backends)
+    return "cuda", CudaOnCpuBackend
+
+
+def _dask_in_process(monkeypatch):
+    cloudpickle = pytest.importorskip("cloudpickle")
+    pytest.importorskip("distributed")
+    fake = _InProcessDistributed(threads=2)
+    monkeypatch.setattr(dask_backend, "_distributed", lambda: (fake, cloudpickle))
+    return "dask", NumpyBackend  # the task integrates its chunk with the numpy backend
+
+
+OTHER_BACKENDS = {
+    "jax": lambda monkeypatch: _jax_backend(),
+    "cuda": _cuda_on_cpu,
+    "dask": _dask_in_process,
+}
+
+
+@pytest.mark.parametrize("which", list(OTHER_BACKENDS))
+def test_every_backend_sizes_its_chunks_by_time_and_keeps_the_budget(monkeypatch, which):
+    # as the numpy backend above: 15 s of work for a budget of 10 s, checked between
+    # chunks of about 1.5 % of it (jax: powers of two, 128 members = 1.3 %)
+    backend, integrating = OTHER_BACKENDS[which](monkeypatch)
+    clock = CostClock(per_member=1e-3)
+    _charging(monkeypatch, clock, integrating)
+    system = lg.load("harmonic_oscillator")
+    grid = {"x": np.linspace(-1.0, 1.0, 15_000)}
+    with pytest.raises(RunTooLong, match="did not finish within 10 s"):
+        ensemble_of_system(
+            system, initial=grid, t_end=0.1, dt=0.05, timeout=10.0, backend=backend,
+            method="rk4",
+        )  # fmt: skip
+    assert 10.0 < clock.now <= 10.0 * 1.03
+    untimed = 2 if which == "dask" else 1  # made before a first chunk's time is known
+    assert set(clock.sizes[:untimed]) == {256} and max(clock.sizes[untimed:]) <= 150
+    if which == "jax":
+        assert set(clock.sizes) == {256, 128}  # two batch shapes: two compiles
+
+
+def test_chunks_of_a_shape_compiling_backend_are_powers_of_two():
+    made = Chunks(lambda start, stop: stop - start, 5_000, 4_096, seconds=0.5, clock=None,
+                  powers_of_two=True)  # fmt: skip
+
+    class Sized:
+        def __init__(self, count):
+            self.count = count
+
+    for size in made:
+        made.took(Sized(size), 1e-3 * size)  # 1 ms a member: 500 a chunk asked
+    assert made.sizes[:3] == [256, 256, 256] and made.sizes[-1] <= 256
+    made = Chunks(lambda start, stop: stop - start, 5_000, 4_096, seconds=2.5, clock=None,
+                  powers_of_two=True)  # fmt: skip
+    for size in made:
+        made.took(Sized(size), 1e-3 * size)
+    assert made.sizes[:3] == [256, 2048, 2048]  # 2,500 asked: 2,048

@@ -77,7 +77,7 @@ class _FakeDistributed:
         return _FakeClient(self)
 
     def as_completed(self, futures):
-        return iter(futures)
+        return iter(futures)  # nothing is added: the first task's result already fails
 
 
 class _Closing:
@@ -95,10 +95,18 @@ class _FakeClient(_Closing):
     def scatter(self, payload, broadcast):
         return payload
 
-    def submit(self, *args, **options):
-        return object()
+    def nthreads(self):
+        return {"worker": 2}
 
-    def gather(self, futures):
+    def submit(self, *args, **options):
+        return _Killed(self.fake)
+
+
+class _Killed:
+    def __init__(self, fake):
+        self.fake = fake
+
+    def result(self):
         raise self.fake.KilledWorker("Attempted to run task _task on 4 different workers")
 
 

@@ -8,17 +8,26 @@ and precision) and reads from it the same step grid, flags and Newton settings, 
 returns its outputs through :meth:`Chunk.result`, so that all backends give the same
 arrays.
 
+The chunks come from :class:`Chunks`, made one at a time: of a fixed size, or (a run
+with a time budget) each sized from the time the chunks before it took, so that a budget
+checked between chunks is kept within a chunk's time whatever one member costs.  The
+backend tells :meth:`Chunks.took` how long each chunk took on its clock: this process's
+CPU time where the work is done here, the wall clock where it is done elsewhere (a GPU,
+dask's workers).
+
 A backend is a leaf class of :class:`AbstractEnsembleBackend`: the class constants
 ``name`` (its key in :data:`~lagrangian.ensemble.core.ENSEMBLE_BACKENDS` and the value of
-``--backend``), ``precisions`` and ``chunk_size``, and :meth:`~AbstractEnsembleBackend.integrate`
-of one chunk.  :meth:`~AbstractEnsembleBackend.run` integrates the chunks one after the
-other; a backend that spreads them (dask) overrides it.
+``--backend``), ``precisions``, ``chunk_size`` and ``compiles_per_shape``, and
+:meth:`~AbstractEnsembleBackend.integrate` of one chunk.
+:meth:`~AbstractEnsembleBackend.run` integrates the chunks one after the other, timing
+each; a backend that spreads them (dask) overrides it.
 """
 
 from __future__ import annotations
 
+import time
 from abc import ABC, abstractmethod
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from functools import cached_property
 from typing import TYPE_CHECKING, ClassVar
@@ -40,6 +49,12 @@ if TYPE_CHECKING:
 DEFAULT_CHUNK_SIZE = 65_536
 #: A GPU needs far more members at once than a CPU to be busy.
 GPU_CHUNK_SIZE = 1_048_576
+
+#: Members of the first chunk when chunks are sized by time: a cheap first measurement.
+FIRST_CHUNK = 256
+#: The most a chunk sized by time grows over the one before (the first may include a
+#: compile, the pace of a few members is noisy).
+CHUNK_GROWTH = 8
 
 #: A chunk's outputs: observables (each (B,)), ``failed``, ``steps`` and optionally ``paths``.
 Outputs = dict[str, np.ndarray]
@@ -169,6 +184,64 @@ def generated_forms(compiled: CompiledSystem, backend: str) -> SymbolicForms:
     return compiled.forms
 
 
+class Chunks:
+    """The chunks of a run, made one at a time as a backend asks for them.
+
+    ``make(start, stop)`` is the chunk of members ``start:stop`` of ``count``.  Without
+    ``seconds`` every chunk has ``largest`` members (the last the rest).  With ``seconds``
+    they are sized by time: ``FIRST_CHUNK`` members until a chunk's time is known
+    (:meth:`took`), then each sized from the latest seconds per member to take about
+    ``seconds``, at most ``CHUNK_GROWTH`` times the one before and ``largest``;
+    ``powers_of_two``: sizes rounded down to powers of two (a backend that compiles per
+    batch shape then compiles a few times, not once per chunk).  ``clock``: the seconds
+    that the backend measures a chunk's time with (see the module docstring).
+    """
+
+    def __init__(
+        self,
+        make: Callable[[int, int], Chunk],
+        count: int,
+        largest: int,
+        *,
+        seconds: float | None = None,
+        clock: Callable[[], float] | None = None,
+        powers_of_two: bool = False,
+    ):
+        self.make, self.count, self.largest = make, int(count), int(largest)
+        self.seconds, self.powers_of_two = seconds, powers_of_two
+        self.clock = clock or time.monotonic
+        self.per_member: float | None = None  # seconds, from the latest chunk timed
+        self.sizes: list[int] = []
+
+    @classmethod
+    def given(cls, chunks: list[Chunk]) -> Chunks:
+        """Chunks already made (one fixed size, no timing)."""
+        return cls(lambda start, stop: chunks[start], len(chunks), 1)
+
+    def __iter__(self) -> Iterator[Chunk]:
+        start = 0
+        while start < self.count:
+            stop = min(self.count, start + self._next_size())
+            self.sizes.append(stop - start)
+            yield self.make(start, stop)
+            start = stop
+
+    def took(self, chunk: Chunk, seconds: float) -> None:
+        """``chunk`` took ``seconds`` on :attr:`clock`."""
+        if chunk.count:
+            self.per_member = max(seconds, 1e-9) / chunk.count
+
+    def _next_size(self) -> int:
+        if self.seconds is None:
+            return self.largest
+        size = min(self.largest, FIRST_CHUNK)
+        if self.per_member is not None:
+            before = self.sizes[-1] if self.sizes else size
+            size = min(self.largest, CHUNK_GROWTH * before, int(self.seconds / self.per_member))
+        size = max(1, size)
+        return 1 << (size.bit_length() - 1) if self.powers_of_two else size
+
+
 class AbstractEnsembleBackend(ABC):
     """How the chunks of an ensemble are integrated (see the module docstring)."""
 
@@ -178,20 +251,23 @@ class AbstractEnsembleBackend(ABC):
     precisions: ClassVar[tuple[str, ...]] = ("float64",)
     #: Members per chunk unless the run says otherwise.
     chunk_size: ClassVar[int] = DEFAULT_CHUNK_SIZE
+    #: Whether a chunk of a new size costs a compile (chunks sized by time are then
+    #: powers of two).
+    compiles_per_shape: ClassVar[bool] = False
 
     @abstractmethod
     def integrate(self, chunk: Chunk, progress: Progress | None = None) -> Outputs:
         """The outputs of one chunk (:meth:`Chunk.result`); ``progress``, if the backend
         can tell, is called with the fraction of the chunk's steps done."""
 
-    def run(
-        self, chunks: Iterable[Chunk], count: int, progress: Progress | None = None
-    ) -> list[Outputs]:
-        """The outputs of ``chunks`` (of ``count`` members in all) in order, one chunk after
-        the other, each asked for when the one before is done (a run may size its chunks
-        by the time they take); ``progress`` is called with the fraction of members done."""
-        total = max(1, count)
+    def run(self, chunks: Chunks, progress: Progress | None = None) -> list[Outputs]:
+        """The outputs of ``chunks`` in order, one chunk after the other, each asked for
+        when the one before is done and timed (:meth:`Chunks.took`); ``progress`` is
+        called with the fraction of members done."""
+        total = max(1, chunks.count)
         parts, done = [], 0
+        if progress is not None:
+            progress(0.0)  # the start: a budget counts from here, whatever the first chunk
         for chunk in chunks:
             report = None
             if progress is not None:
@@ -199,7 +275,9 @@ class AbstractEnsembleBackend(ABC):
                 def report(fraction: float, done: int = done, size: int = chunk.count) -> None:
                     progress((done + fraction * size) / total)
 
+            started = chunks.clock()
             parts.append(self.integrate(chunk, report))
+            chunks.took(chunk, chunks.clock() - started)
             done += chunk.count
             if progress is not None:
                 progress(done / total)

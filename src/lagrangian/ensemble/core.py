@@ -3,12 +3,14 @@
 The members (initial values and parameters, broadcast together; see
 :mod:`.members`) are split into chunks of ``chunk_size`` so memory stays
 bounded whatever the ensemble's size.  With ``chunk_seconds`` (a run with a
-time budget) the CPU backends size their chunks by measured time instead: a
-small first chunk, then each sized from the CPU time per member so far to take
-about ``chunk_seconds`` (``chunk_size`` the largest), so a budget checked
-between chunks is kept within a chunk's time whatever one member costs.  Each
-:class:`~.chunk.Chunk` is integrated by a backend, a class of :data:`ENSEMBLE_BACKENDS`
-(the protocol is in :mod:`.chunk`):
+time budget) every backend sizes its chunks by measured time instead
+(:class:`~.chunk.Chunks`): a small first chunk, then each sized from the time per
+member so far to take about ``chunk_seconds`` (``chunk_size`` the largest), so a
+budget checked between chunks is kept within a chunk's time whatever one member
+costs.  The time is :func:`budget_clock`'s: this process's CPU time, or the wall
+clock for a backend that computes elsewhere.  Each :class:`~.chunk.Chunk` is
+integrated by a backend, a class of :data:`ENSEMBLE_BACKENDS` (the protocol is in
+:mod:`.chunk`):
 
 - ``numpy``: the single-run fixed-step integrator (rk4 or variational)
   stepping the chunk's states (2n, B) (:mod:`.numpy_backend`);
@@ -51,7 +53,7 @@ from ..integrate.fixed_step import AbstractFixedStepIntegrator, step_grid
 from ..integrate.memory import check_fits, count_text, step_count
 from ..integrate.step_size import fixed_step_for
 from .choices import BACKENDS, METHODS, PRECISIONS
-from .chunk import AbstractEnsembleBackend, Chunk
+from .chunk import AbstractEnsembleBackend, Chunk, Chunks
 from .cuda_backend import CudaBackend
 from .dask_backend import DaskBackend
 from .jax_backend import JaxBackend
@@ -70,15 +72,8 @@ ENSEMBLE_BACKENDS: Mapping[str, type[AbstractEnsembleBackend]] = MappingProxyTyp
 )
 #: The (2n)-vectors of work per member of a chunk (stages, Newton, observables).
 WORK_VECTORS = 40
-#: Members of the first chunk when chunks are sized by time: a cheap first measurement.
-FIRST_CHUNK = 256
-#: The most a chunk sized by time grows over the one before (the first may include a
-#: compile, the pace of a few members is noisy).
-CHUNK_GROWTH = 8
-#: Backends whose chunks are sized by time: those computing on this process's CPU with
-#: any chunk size at no extra cost (jax compiles once per shape; cuda and dask compute
-#: elsewhere, timed on the wall clock: :func:`runs_elsewhere`).
-TIMED_CHUNK_BACKENDS = ("numpy", "numba")
+#: The wall clock of a run computed elsewhere (a name, so that tests can move it).
+wall_seconds = time.monotonic
 
 
 def run_ensemble(
@@ -106,8 +101,8 @@ def run_ensemble(
     the address of a dask scheduler (backend ``dask``; default a local cluster
     of two worker processes).  ``chunk_size``: members per chunk (default
     65,536; 2^20 on the GPU backends).  ``progress`` is called with the fraction done.
-    ``chunk_seconds``: CPU seconds a chunk should take (numpy and numba: chunks sized by
-    measured time, at most ``chunk_size``; a budget gives about 1.5 % of itself).
+    ``chunk_seconds``: seconds a chunk should take on :func:`budget_clock` (chunks sized
+    by measured time, at most ``chunk_size``; a budget gives about 1.5 % of itself).
     """
     t0, t1 = check_time_span((0.0, t_end))
     if method not in METHODS:
@@ -156,13 +151,18 @@ def run_ensemble(
     integrator = fixed_step_for(type(integrator), compiled, (t0, t1), dt, batch.y0, batch.params)
     steps = step_count(t0, t1, integrator.dt)
     fits(batch.count)  # again with the step chosen
-    timed = chunk_seconds if backend in TIMED_CHUNK_BACKENDS else None
-    chunks = (
-        Chunk(compiled, integrator, y0, p, t1, names, save_every, precision)
-        for y0, p, _ in _chunks(batch, int(chunk_size), timed)
-    )
+
+    def chunk(start: int, stop: int) -> Chunk:
+        p = batch.params[:, start:stop] if batch.params.ndim == 2 else batch.params
+        y0 = batch.y0[:, start:stop]
+        return Chunk(compiled, integrator, y0, p, t1, names, save_every, precision)
+
+    chunks = Chunks(
+        chunk, batch.count, int(chunk_size), seconds=chunk_seconds,
+        clock=budget_clock(backend), powers_of_two=kind.compiles_per_shape,
+    )  # fmt: skip
     start = time.perf_counter()
-    parts = runner.run(chunks, batch.count, progress)
+    parts = runner.run(chunks, progress)
     wall_time = time.perf_counter() - start
     result = _assemble(
         compiled, integrator, batch, parts, names, t1, backend, wall_time, save_every, precision
@@ -229,22 +229,10 @@ def runs_elsewhere(backend: str) -> bool:
     return backend in ("cuda", "dask")
 
 
-def _chunks(batch: Members, largest: int, seconds: float | None):
-    """``(y0, params, members done after it)`` of each chunk: of ``largest`` members, or
-    with ``seconds`` sized so that each takes about that much CPU time (the time is
-    measured between one chunk's yield and the next, while the caller integrates it)."""
-    count = batch.count
-    size = largest if seconds is None else min(largest, FIRST_CHUNK)
-    start = 0
-    while start < count:
-        stop = min(count, start + size)
-        p = batch.params[:, start:stop] if batch.params.ndim == 2 else batch.params
-        before = cpu_seconds()
-        yield batch.y0[:, start:stop], p, stop
-        if seconds is not None:
-            used = max(cpu_seconds() - before, 1e-6)
-            size = max(1, min(largest, CHUNK_GROWTH * size, int(size * seconds / used)))
-        start = stop
+def budget_clock(backend: str) -> Callable[[], float]:
+    """The seconds a run on ``backend`` is timed in: this process's CPU time (every thread
+    and the children it waited for), or the wall clock where the work is done elsewhere."""
+    return wall_seconds if runs_elsewhere(backend) else cpu_seconds
 
 
 def _assemble(

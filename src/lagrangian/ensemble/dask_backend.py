@@ -6,7 +6,9 @@ motion, the function definitions and the Baumgarte rate (cloudpickled once),
 and each worker process compiles them on first use and keeps the result
 (keyed by a hash of the payload).  Each chunk of members is one task running
 :class:`~lagrangian.ensemble.numpy_backend.NumpyBackend`; the results come
-back in chunk order.
+back in chunk order.  A chunk is made when a worker thread is free for it (one
+in flight per thread), so chunks sized by time (:class:`~.chunk.Chunks`) are sized
+from the time the tasks before took on their worker.
 
 Without ``scheduler`` a ``LocalCluster`` of two worker processes, one thread
 each, is started for the run (its scratch files in a temporary folder) and closed
@@ -21,15 +23,17 @@ killed, a scheduler that goes away) ends the run with one
 from __future__ import annotations
 
 import hashlib
+import itertools
 import re
 import socket
 import tempfile
-from collections.abc import Iterable
+import time
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
 from ..errors import LagrangianError, MissingDependencyError, ModelError
-from .chunk import AbstractEnsembleBackend, Chunk, Outputs, Progress
+from .chunk import AbstractEnsembleBackend, Chunk, Chunks, Outputs, Progress
 from .numpy_backend import NumpyBackend
 
 if TYPE_CHECKING:
@@ -94,10 +98,16 @@ def compiled_from_payload(key: str, payload: bytes) -> CompiledSystem:
     return found
 
 
+#: The clock a task times itself with on its worker (a name, so that tests can move it).
+task_seconds = time.monotonic
+
+
 def _task(key, payload, integrator, y0, params, t_end, names, save_every):
+    """(the chunk's outputs, the seconds it took on the worker)."""
+    started = task_seconds()
     compiled = compiled_from_payload(key, payload)
     chunk = Chunk(compiled, integrator, y0, params, t_end, names, save_every)
-    return NumpyBackend().integrate(chunk)
+    return NumpyBackend().integrate(chunk), task_seconds() - started
 
 
 @dataclass(frozen=True)
@@ -113,19 +123,18 @@ class DaskBackend(AbstractEnsembleBackend):
             check_scheduler(self.scheduler)
 
     def integrate(self, chunk: Chunk, progress: Progress | None = None) -> Outputs:
-        return self.run([chunk], chunk.count, progress)[0]
+        return self.run(Chunks.given([chunk]), progress)[0]
 
-    def run(
-        self, chunks: Iterable[Chunk], count: int, progress: Progress | None = None
-    ) -> list[Outputs]:
+    def run(self, chunks: Chunks, progress: Progress | None = None) -> list[Outputs]:
         """The chunks' outputs (in order), integrated on the cluster; see the module."""
-        chunks = list(chunks)
-        if not chunks:
+        pending = iter(chunks)
+        first = next(pending, None)
+        if first is None:
             return []
         distributed, _ = _distributed()
         import dask.config
 
-        payload = model_payload(chunks[0].compiled)
+        payload = model_payload(first.compiled)
         key = hashlib.sha256(payload).hexdigest()
         failures = (OSError, TimeoutError, distributed.KilledWorker)  # CommClosedError: OSError
         with (
@@ -134,7 +143,8 @@ class DaskBackend(AbstractEnsembleBackend):
         ):
             client, cluster = _connect(distributed, self.scheduler, scratch)
             try:
-                return _run(distributed, client, key, payload, chunks, progress)
+                work = _Work(client, key, client.scatter(payload, broadcast=True), chunks)
+                return work.run(distributed, itertools.chain([first], pending), progress)
             except failures as error:
                 raise ClusterError(
                     f"the dask cluster failed during the run: {_first_line(error)}"
@@ -176,13 +186,43 @@ def _first_line(error: BaseException) -> str:
     return text if len(text) <= 160 else text[:157] + "..."
 
 
-def _run(distributed, client, key, payload, chunks, progress):
-    shared = client.scatter(payload, broadcast=True)
-    futures = []
-    for chunk in chunks:  # the chunk without its compiled system, which does not pickle
+class _Work:
+    """The tasks of one run: ``shared`` is the model's payload, scattered to the workers."""
+
+    def __init__(self, client, key: str, shared, chunks: Chunks):
+        self.client, self.key, self.shared, self.chunks = client, key, shared, chunks
+        self.futures: list = []
+        self.made: dict = {}  # future -> its chunk
+
+    def submit(self, pending: Iterator[Chunk]):
+        """The next chunk's task (None when there is none); the chunk is sent without its
+        compiled system, which does not pickle."""
+        chunk = next(pending, None)
+        if chunk is None:
+            return None
         fields = (chunk.integrator, chunk.y0, chunk.params, chunk.t_end, chunk.names)
-        futures.append(client.submit(_task, key, shared, *fields, chunk.save_every, pure=False))
-    for done, _ in enumerate(distributed.as_completed(futures), start=1):
+        future = self.client.submit(
+            _task, self.key, self.shared, *fields, chunk.save_every, pure=False
+        )
+        self.futures.append(future)
+        self.made[future] = chunk
+        return future
+
+    def run(self, distributed, pending: Iterator[Chunk], progress) -> list[Outputs]:
+        total, done, outputs = max(1, self.chunks.count), 0, {}
         if progress is not None:
-            progress(done / len(futures))
-    return client.gather(futures)
+            progress(0.0)  # the start: a budget counts from here
+        threads = max(1, sum(self.client.nthreads().values()))
+        started = [self.submit(pending) for _ in range(threads)]
+        running = distributed.as_completed([future for future in started if future is not None])
+        for future in running:
+            chunk = self.made[future]
+            outputs[future], seconds = future.result()
+            self.chunks.took(chunk, seconds)
+            done += chunk.count
+            if progress is not None:
+                progress(done / total)
+            following = self.submit(pending)
+            if following is not None:
+                running.add(following)
+        return [outputs[future] for future in self.futures]

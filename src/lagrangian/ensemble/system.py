@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
@@ -11,7 +10,7 @@ from ..derive import derive
 from ..errors import ModelError
 from ..integrate.pace import ENSEMBLE_ADVICE, RUN_SECONDS, RunPace, watching
 from .bifurcation import BifurcationDiagram, bifurcation_diagram
-from .core import METHODS, run_ensemble, runs_elsewhere
+from .core import METHODS, budget_clock, run_ensemble
 from .result import EnsembleTrajectory
 
 if TYPE_CHECKING:
@@ -41,8 +40,8 @@ def ensemble_of_system(
     whose pace projects more than twice that is refused; a backend that compiles the
     whole loop reports progress per chunk).  The seconds are CPU time of this process
     (every thread), or wall time for a backend that computes elsewhere (a GPU, dask);
-    the CPU backends size their chunks to take ``CHUNK_SHARE`` of the budget each, so
-    the budget is kept within a few percent.
+    every backend sizes its chunks to take ``CHUNK_SHARE`` of the budget each on that
+    clock, so the budget is kept within a few percent.
     """
     from ..simulation import DEFAULT_T_END
 
@@ -85,13 +84,12 @@ def _compiled_runs(system, definitions, timeout, progress, options: dict):
 
     pace = None
     if timeout is not None:
-        elsewhere = runs_elsewhere(str(options.get("backend", "numpy")))
         pace = RunPace(
             (0.0, 1.0),
             timeout,
             describe=lambda done: f"{100 * done:.3g} % of the runs",
             advice=ENSEMBLE_ADVICE,
-            clock=time.monotonic if elsewhere else None,
+            clock=budget_clock(str(options.get("backend", "numpy"))),
         )
         options.setdefault("chunk_seconds", CHUNK_SHARE * pace.seconds)
     compiled = compile_equations(derive(system), definitions=definitions)
