@@ -196,6 +196,12 @@ class Trajectory:
         trajectory read from CSV)."""
         return str(self.dataset.attrs.get("energy_not_conserved", ""))
 
+    @property
+    def energy_conserved_here(self) -> str:
+        """Why the energy is not conserved in general, where it is in this run all the same
+        (the causes vanish at its parameter values: an input 0, an amplitude 0); "" else."""
+        return str(self.dataset.attrs.get("energy_conserved_here", ""))
+
     def drifts(self) -> dict[str, float]:
         """The drift of every conserved quantity: the energy where it is conserved.
 
@@ -216,6 +222,10 @@ class Trajectory:
         if self.energy_not_conserved:
             document["not_conserved"] = {
                 "energy": {"change": self.drift("energy"), "reason": self.energy_not_conserved}
+            }
+        if self.energy_conserved_here:  # in general not: say why it is in this run
+            document["conserved_in_this_run"] = {
+                "energy": {"reason_in_general": self.energy_conserved_here}
             }
         document["method"] = attrs.get("method")
         for key in ("backend", "choice"):  # which code ran and why (integrate.choice)

@@ -215,3 +215,61 @@ def test_time_dependent_lagrangian_energy_not_conserved(capsys):
     summary = json.loads(out)
     assert summary["invariants"] == {}
     assert summary["not_conserved"]["energy"]["reason"] == "L depends on t"
+
+
+SHAKEN = """
+name = "Pendulum on a shaken pivot, with a torque"
+coordinates = ["th"]
+[parameters]
+m = 1.0
+l = 1.0
+g = 9.81
+w = 3.0
+a = 0.0
+u = 0.0
+[[particles]]
+name = "bob"
+mass = "m"
+position = ["l*sin(th)", "a*cos(w*t) - l*cos(th)"]
+[gravity]
+g = "g"
+direction = [0, -1]
+[forces]
+th = "u"
+[initial]
+th = 0.5
+"""
+
+
+@pytest.mark.parametrize(
+    ("values", "reason"),
+    [
+        ((), None),
+        (("--set", "a=0.2"), "L depends on t"),
+        (("--set", "u=0.1"), "Q_th does work"),
+        (("--set", "a=0.2", "--set", "u=0.1"), "L depends on t; Q_th does work"),
+    ],
+)
+def test_the_energy_is_conserved_in_a_run_where_its_causes_vanish(capsys, tmp_path, values, reason):
+    # a pivot shaken with amplitude a and a torque u: in general L depends on t and Q_th does
+    # work; with a = 0 and u = 0 neither acts in the run, whose energy is then conserved
+    model = tmp_path / "shaken.toml"
+    model.write_text(SHAKEN, encoding="utf-8")
+    argv = ("simulate", str(model), "--t-end", "2", *values)
+    status, out, _ = run(capsys, *argv, "--json")
+    assert status == ExitStatus.SUCCESS
+    summary = json.loads(out)
+    if reason is None:
+        assert summary["invariants"]["energy"] < 1e-8
+        general = "L depends on t; Q_th does work"
+        assert summary["conserved_in_this_run"] == {"energy": {"reason_in_general": general}}
+        assert "not_conserved" not in summary
+        _, text, _ = run(capsys, *argv)
+        assert (
+            f"energy is conserved in this run: not in general ({general}), but that vanishes "
+            "at these parameter values"
+        ) in text
+    else:
+        assert summary["not_conserved"]["energy"]["reason"] == reason
+        assert summary["not_conserved"]["energy"]["change"] > 1e-3
+        assert "energy" not in summary["invariants"] and "conserved_in_this_run" not in summary

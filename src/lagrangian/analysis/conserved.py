@@ -57,14 +57,33 @@ class ConservedQuantity:
 
 @dataclass(frozen=True)
 class NotConserved:
-    """A quantity one might expect to be conserved, with why it is not."""
+    """A quantity one might expect to be conserved, with why it is not.
+
+    ``rates``: each cause (its words in ``reason``) with the rate of change it gives the
+    quantity, a function of (q, q', t) and the parameters, or None where the cause acts
+    whatever the values (moving constraints).  A rate that vanishes at the parameter
+    values of a run (an input F = 0, an amplitude 0) is no cause in that run
+    (:meth:`reasons_at`).
+    """
 
     name: str
     expression: sympy.Expr
     reason: str
+    rates: tuple[tuple[str, sympy.Expr | None], ...] = ()
 
     def __repr__(self) -> str:
         return f"<not conserved {self.name} = {self.expression}   because {self.reason}>"
+
+    def reasons_at(self, values: Mapping[sympy.Symbol, sympy.Expr]) -> tuple[str, ...]:
+        """The causes that still act with the parameters set to ``values`` (their rate is
+        not identically zero in q, q' and t then); the whole reason when none is known."""
+        if not self.rates:
+            return (self.reason,)
+        return tuple(
+            cause
+            for cause, rate in self.rates
+            if rate is None or not is_zero(rate.xreplace(values))
+        )
 
 
 @dataclass(frozen=True)
@@ -116,15 +135,15 @@ def conserved_quantities(
         if not is_zero(step.force_gradient):
             continue
         if step.generalized_force != 0:
-            reason = f"the generalized force Q_{c.name} acts on it"
+            rate = (f"the generalized force Q_{c.name} acts on it", step.generalized_force)
         elif step.dissipation_force != 0:
-            reason = f"dissipation acts on {c.name}"
+            rate = (f"dissipation acts on {c.name}", step.dissipation_force)
         elif step.constraint_force != 0:
-            reason = f"a constraint force acts on {c.name}"
+            rate = (f"a constraint force acts on {c.name}", None)
         else:
-            reason = ""
-        if reason:
-            not_conserved.append(NotConserved(c.momentum_name, step.momentum, reason))
+            rate = None
+        if rate is not None:
+            not_conserved.append(NotConserved(c.momentum_name, step.momentum, rate[0], (rate,)))
             continue
         cyclic.append(c.name)
         conserved.append(
@@ -136,13 +155,14 @@ def conserved_quantities(
         )
 
     energy = energy_function(system)
-    reasons = _energy_leaks(system) + _constraint_work(eom)
+    rates = _energy_leaks(system) + _constraint_work(eom)
     kinetic_plus_potential = _mechanical_energy(system)
     equals_t_plus_v = kinetic_plus_potential is not None and is_zero(
         energy - kinetic_plus_potential
     )
-    if reasons:
-        not_conserved.append(NotConserved("energy", energy, "; ".join(reasons)))
+    if rates:
+        reason = "; ".join(cause for cause, _ in rates)
+        not_conserved.append(NotConserved("energy", energy, reason, tuple(rates)))
     else:
         if equals_t_plus_v:
             description = "h = T + V, the total energy"
@@ -194,34 +214,35 @@ def energy_function(system: System) -> sympy.Expr:
     )
 
 
-def _energy_leaks(system: System) -> list[str]:
-    """Why h is not conserved (empty when it is): the terms of dh/dt."""
-    reasons = []
-    if not is_zero(sympy.diff(system.lagrangian, system.time)):
-        reasons.append("L depends on t")
+def _energy_leaks(system: System) -> list[tuple[str, sympy.Expr]]:
+    """Why h is not conserved (empty when it is): the terms of dh/dt, each with its cause."""
+    leaks = []
+    explicit = sympy.diff(system.lagrangian, system.time)
+    if not is_zero(explicit):
+        leaks.append(("L depends on t", -explicit))
     power = sum(
         (c.q_dot * system.forces.get(c.name, 0) for c in system.coordinates), sympy.Integer(0)
     )
     if not is_zero(power):
         doing_work = [name for name, q in system.forces.items() if q != 0]
         verb = "does" if len(doing_work) == 1 else "do"
-        reasons.append(", ".join(f"Q_{name}" for name in doing_work) + f" {verb} work")
+        leaks.append((", ".join(f"Q_{name}" for name in doing_work) + f" {verb} work", power))
     dissipated = sum(
         (c.q_dot * sympy.diff(system.dissipation, c.q_dot) for c in system.coordinates),
         sympy.Integer(0),
     )
     if not is_zero(dissipated):
-        reasons.append("dissipation")
-    return reasons
+        leaks.append(("dissipation", -dissipated))
+    return leaks
 
 
-def _constraint_work(eom: EquationsOfMotion) -> list[str]:
+def _constraint_work(eom: EquationsOfMotion) -> list[tuple[str, None]]:
     """Constraint forces A^T lambda do work -lambda . a0 when A q' + a0 = 0 has a0 != 0."""
     system = eom.system
     at_rest = {c.q_dot: sympy.Integer(0) for c in system.coordinates}  # a bare q' -> 0 stays SymPy
     for constraint in system.constraints:
         if not is_zero(constraint_velocity_form(constraint, system).xreplace(at_rest)):
-            return ["the constraints move, so their forces do work"]
+            return [("the constraints move, so their forces do work", None)]
     return []
 
 

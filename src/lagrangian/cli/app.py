@@ -334,5 +334,10 @@ def simulate(
         click.echo(
             f"{name} is not conserved ({entry['reason']}): it changed by {entry['change']:.3e}"
         )
+    for name, entry in summary.get("conserved_in_this_run", {}).items():
+        click.echo(
+            f"{name} is conserved in this run: not in general ({entry['reason_in_general']}), "
+            "but that vanishes at these parameter values"
+        )
     if out is not None:
         click.echo(f"wrote {out}")

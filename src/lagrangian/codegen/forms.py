@@ -10,6 +10,7 @@ inverted symbolically.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -158,6 +159,25 @@ class SymbolicForms:
         """Name -> why, of the quantities that are not conserved (the energy when L depends
         on t, forces or inputs do work, or dissipation acts)."""
         return {quantity.name: quantity.reason for quantity in self.conservation.not_conserved}
+
+    def not_conserved_at(self, values: Mapping[str, float]) -> Mapping[str, str]:
+        """:attr:`not_conserved` with the parameters at ``values`` (name -> number): the
+        causes whose rate vanishes there are left out (the energy of a cart-pole whose input
+        F is 0), and so is a quantity that none is left for: it is conserved in such a run."""
+        numbers = {p: sympy.Float(values[p.name]) for p in self.parameters if p.name in values}
+        found = {}
+        for quantity in self.conservation.not_conserved:
+            defined = dataclasses.replace(
+                quantity,
+                rates=tuple(
+                    (cause, None if rate is None else substitute(rate, self.definitions))
+                    for cause, rate in quantity.rates
+                ),
+            )
+            reasons = defined.reasons_at(numbers)
+            if reasons:
+                found[quantity.name] = "; ".join(reasons)
+        return found
 
     @property
     def constant_mass_matrix(self) -> bool:

@@ -200,9 +200,7 @@ def trajectory_of(
         "jacobian_evaluations": result.jacobian_evaluations,
         "wall_time": wall_time,
         "parameters": dict(parameters or {}),
-        # why the energy changes along the run, where it is not conserved (forces, inputs,
-        # dissipation, L depending on t): its change is physics, not the method's drift
-        "energy_not_conserved": compiled.not_conserved.get("energy"),
+        **_energy_causes(compiled, params),
     }
     return Trajectory.build(
         t=t,
@@ -215,6 +213,24 @@ def trajectory_of(
         attrs=attrs,
         system=compiled.equations.system,
     )
+
+
+def _energy_causes(compiled: CompiledSystem, params: np.ndarray) -> dict[str, str]:
+    """Why the energy changes along the run, where it is not conserved (forces, inputs,
+    dissipation, L depending on t): its change is physics, not the method's drift.  Causes
+    that vanish at the run's parameter values (an input F = 0, an amplitude 0) do not act
+    in it: the energy is conserved in the run, which ``energy_conserved_here`` says, with
+    the causes of the general case."""
+    general = compiled.not_conserved.get("energy")
+    if not general:
+        return {}
+    here = general
+    if compiled.not_conserved_at is not None and np.ndim(params) == 1:
+        values = dict(zip(compiled.parameter_names, map(float, params), strict=True))
+        here = compiled.not_conserved_at(values).get("energy", "")
+    if here:
+        return {"energy_not_conserved": here}
+    return {"energy_conserved_here": general}
 
 
 def along(function: Callable, t: np.ndarray, y: np.ndarray, params: np.ndarray) -> np.ndarray:

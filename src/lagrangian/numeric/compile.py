@@ -133,6 +133,7 @@ def compile_equations(
             }
         ),
         not_conserved=LazyMapping(lambda: forms.not_conserved),
+        not_conserved_at=forms.not_conserved_at,
         constant_mass_matrix=forms.constant_mass_matrix,
         separable=forms.separable,
         autonomous_lagrangian=not forms.lagrangian.has(forms.time),
