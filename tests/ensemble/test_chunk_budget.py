@@ -202,19 +202,34 @@ def test_every_backend_sizes_its_chunks_by_time_and_keeps_the_budget(monkeypatch
         assert set(clock.sizes) == {256, 128}  # two batch shapes: two compiles
 
 
+class _Sized:
+    def __init__(self, count: int):
+        self.count = count
+
+
+def _sizes(seconds: float, latency: float, per_member: float, *, count=500_000, **options):
+    """The chunk sizes of a run whose chunks take ``latency + per_member * members``."""
+    made = Chunks(lambda start, stop: stop - start, count, 65_536, seconds=seconds, **options)
+    for size in made:
+        made.took(_Sized(size), latency + per_member * size)
+    return made.sizes
+
+
 def test_chunks_of_a_shape_compiling_backend_are_powers_of_two():
-    made = Chunks(lambda start, stop: stop - start, 5_000, 4_096, seconds=0.5, clock=None,
-                  powers_of_two=True)  # fmt: skip
+    # 1 ms a member, 0.5 s a chunk: 500 asked, 256 given; 2.5 s: 2,500 asked, 2,048
+    assert _sizes(0.5, 0.0, 1e-3, count=5_000, powers_of_two=True)[:3] == [256, 256, 256]
+    assert _sizes(2.5, 0.0, 1e-3, count=5_000, powers_of_two=True)[:3] == [256, 2048, 2048]
 
-    class Sized:
-        def __init__(self, count):
-            self.count = count
 
-    for size in made:
-        made.took(Sized(size), 1e-3 * size)  # 1 ms a member: 500 a chunk asked
-    assert made.sizes[:3] == [256, 256, 256] and made.sizes[-1] <= 256
-    made = Chunks(lambda start, stop: stop - start, 5_000, 4_096, seconds=2.5, clock=None,
-                  powers_of_two=True)  # fmt: skip
-    for size in made:
-        made.took(Sized(size), 1e-3 * size)
-    assert made.sizes[:3] == [256, 2048, 2048]  # 2,500 asked: 2,048
+def test_chunks_grow_past_a_latency_as_on_a_gpu():
+    # 0.1 s whatever the size (a GPU thread runs the whole loop) plus 10 us a member:
+    # the first chunk looks like 0.4 ms a member, the second tells the latency apart, and
+    # the chunks then spend the 0.4 s left of 0.5 on 40,000 members
+    sizes = _sizes(0.5, 0.1, 1e-5)
+    assert sizes[:3] == [256, 1248, 9984]
+    assert all(39_990 <= size <= 40_000 for size in sizes[3:-1])
+    # a latency over half the time asked: as long again on the members (at least half
+    # of the time goes to the work): 0.3 s, 30,000 members; 1 s, 100,000 (the largest)
+    assert all(29_990 <= size <= 30_000 for size in _sizes(0.5, 0.3, 1e-5)[4:-1])
+    # 1 s: the first chunk (256 in 1 s) asks fewer, 127, which take as long: then growth
+    assert _sizes(0.5, 1.0, 1e-5)[:6] == [256, 127, 1016, 8128, 65024, 65_536]

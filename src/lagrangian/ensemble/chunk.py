@@ -190,11 +190,19 @@ class Chunks:
     ``make(start, stop)`` is the chunk of members ``start:stop`` of ``count``.  Without
     ``seconds`` every chunk has ``largest`` members (the last the rest).  With ``seconds``
     they are sized by time: ``FIRST_CHUNK`` members until a chunk's time is known
-    (:meth:`took`), then each sized from the latest seconds per member to take about
-    ``seconds``, at most ``CHUNK_GROWTH`` times the one before and ``largest``;
-    ``powers_of_two``: sizes rounded down to powers of two (a backend that compiles per
-    batch shape then compiles a few times, not once per chunk).  ``clock``: the seconds
-    that the backend measures a chunk's time with (see the module docstring).
+    (:meth:`took`), then each sized to take about ``seconds``, at most ``CHUNK_GROWTH``
+    times the one before and ``largest``; ``powers_of_two``: sizes rounded down to powers
+    of two (a backend that compiles per batch shape then compiles a few times, not once
+    per chunk).  ``clock``: the seconds that the backend measures a chunk's time with
+    (see the module docstring).
+
+    A chunk's time is modelled as a latency plus a cost per member, both read from the
+    two latest chunks of different sizes: on a CPU the latency is nil and the cost that
+    of one member, but a GPU takes about as long for 256 members as for 100,000 (each
+    thread runs the whole loop), and sizing by the time per member of a small chunk
+    would keep every chunk small.  While the cost is unknown or nil the chunks grow;
+    where the latency exceeds half of ``seconds``, a chunk spends as long on its members
+    as on the latency (half its time goes to the work, at least).
     """
 
     def __init__(
@@ -210,7 +218,8 @@ class Chunks:
         self.make, self.count, self.largest = make, int(count), int(largest)
         self.seconds, self.powers_of_two = seconds, powers_of_two
         self.clock = clock or time.monotonic
-        self.per_member: float | None = None  # seconds, from the latest chunk timed
+        self.latency, self.cost = 0.0, None  # seconds a chunk, seconds a member
+        self.timed: tuple[int, float] | None = None  # the latest chunk timed: (members, s)
         self.sizes: list[int] = []
 
     @classmethod
@@ -227,17 +236,28 @@ class Chunks:
             start = stop
 
     def took(self, chunk: Chunk, seconds: float) -> None:
-        """``chunk`` took ``seconds`` on :attr:`clock`."""
-        if chunk.count:
-            self.per_member = max(seconds, 1e-9) / chunk.count
+        """``chunk`` took ``seconds`` on :attr:`clock` (see the class docstring)."""
+        members, seconds = chunk.count, max(seconds, 1e-9)
+        if not members:
+            return
+        if self.timed is not None and self.timed[0] != members:
+            before, spent = self.timed
+            self.cost = max((seconds - spent) / (members - before), 0.0)
+            self.latency = min(max(seconds - self.cost * members, 0.0), seconds)
+        else:  # the first chunk timed, or one of the same size: the latency as known
+            self.cost = max(seconds - self.latency, 0.0) / members
+        self.timed = (members, seconds)
 
     def _next_size(self) -> int:
         if self.seconds is None:
             return self.largest
         size = min(self.largest, FIRST_CHUNK)
-        if self.per_member is not None:
-            before = self.sizes[-1] if self.sizes else size
-            size = min(self.largest, CHUNK_GROWTH * before, int(self.seconds / self.per_member))
+        if self.timed is not None:
+            grown = CHUNK_GROWTH * (self.sizes[-1] if self.sizes else size)
+            size = min(self.largest, grown)
+            if self.cost:
+                spent = max(self.seconds - self.latency, self.latency)  # on the members
+                size = min(size, int(spent / self.cost))
         size = max(1, size)
         return 1 << (size.bit_length() - 1) if self.powers_of_two else size
 
