@@ -123,9 +123,28 @@ def test_bifurcation_writes_points_and_picture(capsys, tmp_path):
     assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_bifurcation_from_a_section(capsys, tmp_path):
+    table = tmp_path / "points.csv"
+    status, out, _ = run(
+        capsys, "bifurcation", "driven_damped_pendulum", "--vary", "A=1.0:1.1:3",
+        "--section", "theta_dot = 0", "--direction", "-", "--axis", "theta", "--samples", "2",
+        "--transient", "10", "--t-end", "20", "--dt", "0.05", "--out", str(table), "--json",
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    summary = json.loads(out)
+    assert summary["section"] == "theta_dot = 0" and summary["direction"] == "-"
+    assert summary["t_end"] == 20.0 and summary["dt"] == 0.05 and summary["values"] == 3
+    rows = [row.split(",") for row in table.read_text().splitlines()]
+    assert rows[0] == ["A", "t", "theta"] and len(rows) <= 1 + 3 * 2  # 2 at most per value
+    assert len({a for a, _, _ in rows[1:]}) == 3
+    assert all(10.0 < float(t) <= 30.0 for _, t, _ in rows[1:])
+
+
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
+        (["--vary", "A=1:2:3", "--section", "theta = 0"], "give --section or --strobe"),
+        (["--vary", "A=1:2:3", "--t-end", "5"], "--t-end and --dt go with --section"),
         (["--vary", "A=1:2"], "expected NAME=LO:HI:N"),
         (["--vary", "A=1:2:3", "--out", "x.nc"], "must end in .csv"),
         (["--vary", "omega=1:2:3", "--axis", "x"], "'x' is not a coordinate or velocity"),

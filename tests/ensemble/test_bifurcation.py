@@ -51,6 +51,55 @@ def test_driven_pendulum_doubles_its_period_as_published():
     assert periods == [1, 2, 4]
 
 
+def _driven_oscillator(b: float, omega: float):
+    return lg.System.from_lagrangian(
+        "x_dot**2/2 - x**2/2", coordinates=["x"], forces={"x": "A*cos(omega*t) - b*x_dot"},
+        parameters={"A": 1.0, "omega": omega, "b": b},
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize(("direction", "sign"), [("+", 1.0), ("-", -1.0)])
+def test_section_of_a_linear_oscillator_holds_its_steady_velocity_where_x_is_zero(direction, sign):
+    # x'' + b x' + x = A cos(omega t): after the transient x = R cos(omega t - phi), so x
+    # crosses 0 upwards where omega t - phi = -pi/2 (mod 2 pi), with x' = R omega, and
+    # downwards where it is +pi/2, with x' = -R omega; one point per drive, every period
+    b, omega = 0.6, 1.3
+    drives = np.linspace(0.2, 1.0, 5)
+    period = 2 * math.pi / omega
+    diagram = _driven_oscillator(b, omega).bifurcation(
+        vary={"A": drives}, variable="x_dot", section="x = 0", direction=direction,
+        transient=60.0, t_end=3.5 * period, samples=5, dt=period / 200,
+    )  # fmt: skip
+    amplitude = drives / math.hypot(1 - omega**2, b * omega)
+    assert diagram.points.shape == diagram.times.shape == (5, 5)
+    found = np.isfinite(diagram.points)
+    assert found[:, :3].all() and not found[:, 4].any()  # 3 or 4 crossings in 3.5 periods
+    assert np.all(diagram.times[found] > 60.0)
+    expected = np.broadcast_to(sign * amplitude[:, None] * omega, diagram.points.shape)
+    np.testing.assert_allclose(diagram.points[found], expected[found], rtol=1e-7)
+    phase = math.atan2(b * omega, 1 - omega**2)
+    angle = omega * diagram.times[found] - phase
+    np.testing.assert_allclose(np.sin(angle), -sign, atol=1e-12)
+    np.testing.assert_allclose(np.cos(angle), 0.0, atol=1e-7)
+    np.testing.assert_allclose(np.diff(diagram.times[0, :3]), period, rtol=1e-7)
+    assert diagram.settings["section"] == "x = 0" and diagram.settings["direction"] == direction
+    assert diagram.table().shape == (int(found.sum()), 3)  # the missing crossings left out
+
+
+def test_section_diagram_is_the_same_on_the_numba_backend():
+    pytest.importorskip("numba")
+    b, omega = 0.3, 0.9
+    settings = {
+        "vary": {"A": np.linspace(0.5, 1.5, 4)}, "variable": "x_dot", "section": "x = 0.1",
+        "direction": "both", "transient": 20.0, "t_end": 20.0, "samples": 6, "dt": 0.02,
+    }  # fmt: skip
+    ours = _driven_oscillator(b, omega).bifurcation(backend="numpy", **settings)
+    theirs = _driven_oscillator(b, omega).bifurcation(backend="numba", **settings)
+    assert theirs.settings["backend"] == "numba"
+    np.testing.assert_allclose(theirs.times, ours.times, rtol=1e-12)
+    np.testing.assert_allclose(theirs.points, ours.points, rtol=1e-9, atol=1e-12)
+
+
 @pytest.mark.parametrize(
     ("options", "message"),
     [
@@ -59,6 +108,9 @@ def test_driven_pendulum_doubles_its_period_as_published():
         ({"vary": {"A": [1.0], "b": [1.0]}}, "vary one parameter, not 2"),
         ({"period": -1.0}, "period must be a finite number > 0"),
         ({"samples": 0}, "samples must be a whole number >= 1"),
+        ({"section": "theta = 0"}, "give a strobe period or a section (one of them)"),
+        ({"period": None, "section": "theta = "}, "section"),
+        ({"period": None, "section": "theta = 0", "direction": "up"}, "the direction must be"),
     ],
 )
 def test_bad_settings_are_one_line_errors(options, message):

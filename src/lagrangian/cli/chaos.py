@@ -25,6 +25,26 @@ def plot_option(what: str):
     )
 
 
+def section_options(command):
+    """--section EXPR=EXPR and --direction (poincare, bifurcation)."""
+    command = click.option(
+        "--direction",
+        type=click.Choice(["+", "-", "both"]),
+        default="+",
+        show_default=True,
+        help="Crossings where left - right increases (+), decreases (-), or both.",
+    )(command)
+    return click.option(
+        "--section", metavar="EXPR=EXPR", help="The surface of section, e.g. 'x = 0'."
+    )(command)
+
+
+def _one_section(section: str | None, strobe: float | None) -> None:
+    """A usage error unless exactly one of --section and --strobe is given."""
+    if (section is None) == (strobe is None):
+        raise click.BadParameter("give --section or --strobe (one of them)", param_hint="--section")
+
+
 def _check_outputs(out: str | None, suffixes: tuple[str, ...], picture: str | None) -> None:
     """Usage errors, before any run, for an --out without one of ``suffixes`` or a --plot
     that is not a .png, and for either where it cannot be written."""
@@ -134,14 +154,7 @@ def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
 @options.required(
     "--axes", "A,B", "The two variables drawn: coordinates, velocities q_dot or momenta p_q."
 )
-@click.option("--section", metavar="EXPR=EXPR", help="The surface of section, e.g. 'x = 0'.")
-@click.option(
-    "--direction",
-    type=click.Choice(["+", "-", "both"]),
-    default="+",
-    show_default=True,
-    help="Crossings where left - right increases (+), decreases (-), or both.",
-)
+@section_options
 @click.option("--strobe", type=float, metavar="PERIOD", help="A stroboscopic section instead.")
 @click.option(
     "--transient", type=float, default=0.0, show_default=True, help="Time before the strobe."
@@ -174,8 +187,7 @@ def poincare(
     names = tuple(name.strip() for name in axes.split(","))
     if len(names) != 2 or not all(names):
         raise click.BadParameter("give two names, e.g. y,p_y", param_hint="--axes")
-    if (section is None) == (strobe is None):
-        raise click.BadParameter("give --section or --strobe (one of them)", param_hint="--section")
+    _one_section(section, strobe)
     _check_outputs(out, (".csv", ".nc"), picture)
     system = load(model)
     with options.progress_bar(enabled=not as_json) as progress:
@@ -218,11 +230,14 @@ def poincare(
 @app.command(epilog=MODEL_HELP)
 @click.argument("model")
 @options.required("--vary", "NAME=LO:HI:N", "N values of the parameter NAME from LO to HI.")
-@click.option("--strobe", type=float, required=True, metavar="PERIOD", help="Strobe period.")
+@click.option("--strobe", type=float, metavar="PERIOD", help="Strobe period.")
+@section_options
 @options.required("--axis", "NAME", "The coordinate or velocity drawn.", dest="variable")
 @click.option("--transient", type=float, default=0.0, show_default=True, help="Time dropped first.")
 @click.option("--samples", type=int, help="Points kept per value (default 100).")
 @click.option("--steps-per-period", type=int, help="Fixed steps per period (default 200).")
+@options.number("--t-end", "With --section: time after the transient (default: the model's).")
+@options.number("--dt", "With --section: the step (default: chosen for the motion).")
 @options.choice("--method", METHODS, "Fixed-step method of the runs.", default="rk4")
 @options.choice(
     "--backend",
@@ -237,26 +252,33 @@ def poincare(
 @options.as_json()
 @options.timeout
 def bifurcation(
-    model, vary, strobe, variable, transient, samples, steps_per_period, method, backend,
-    assignments, definitions, out, picture, as_json, timeout,
+    model, vary, strobe, section, direction, variable, transient, samples, steps_per_period,
+    t_end, dt, method, backend, assignments, definitions, out, picture, as_json, timeout,
 ) -> None:  # fmt: skip
-    """Bifurcation diagram of MODEL: the strobed --axis against the --vary parameter."""
+    """Bifurcation diagram of MODEL: the --axis every --strobe PERIOD, or where the motion
+    crosses --section, against the --vary parameter."""
     from ..ensemble import bifurcation_of_system
     from ..facade import load
     from ..simulation import split_assignments
     from .ensemble import _grids
 
+    _one_section(section, strobe)
+    if strobe is not None and (t_end is not None or dt is not None):
+        raise click.BadParameter("--t-end and --dt go with --section", param_hint="--t-end")
+    if section is not None and steps_per_period is not None:
+        raise click.BadParameter("--steps-per-period goes with --strobe", param_hint="--strobe")
     _check_outputs(out, (".csv",), picture)
     ((parameter, values),) = _grids((vary,)).items()
     system = load(model)
     initial, params = split_assignments(system, options.assignments(assignments))
-    sampling = {"samples": samples, "steps_per_period": steps_per_period}
+    sampling = {"samples": samples, "steps_per_period": steps_per_period, "t_end": t_end, "dt": dt}
+    where = {"period": strobe} if section is None else {"section": section, "direction": direction}
     with options.progress_bar(enabled=not as_json) as progress:
         diagram = bifurcation_of_system(
-            system, vary={parameter: values}, variable=variable, period=strobe,
-            transient=transient, initial=initial, params=params, method=method,
-            backend=backend, definitions=options.definitions(definitions), timeout=timeout,
-            progress=progress, **{k: v for k, v in sampling.items() if v is not None},
+            system, vary={parameter: values}, variable=variable, **where, transient=transient,
+            initial=initial, params=params, method=method, backend=backend,
+            definitions=options.definitions(definitions), timeout=timeout, progress=progress,
+            **{k: v for k, v in sampling.items() if v is not None},
         )  # fmt: skip
     if out is not None:
         diagram.to_csv(out)
@@ -266,7 +288,7 @@ def bifurcation(
 
         save_figure(plot_bifurcation(diagram), picture, dpi=150)
     settings = diagram.settings
-    distinct = [len(np.unique(np.round(row, 6))) for row in diagram.points]
+    distinct = [len(np.unique(np.round(row[np.isfinite(row)], 6))) for row in diagram.points]
     summary = {
         "model": diagram.name,
         "parameter": parameter,
@@ -279,8 +301,9 @@ def bifurcation(
     }
     if options.echo_json(summary, as_json):
         return
+    when = f"every {strobe:g}" if section is None else f"where {section} ({direction})"
     click.echo(
-        f"{diagram.name}: {variable} every {strobe:g} for {len(diagram.values)} values of "
+        f"{diagram.name}: {variable} {when} for {len(diagram.values)} values of "
         f"{parameter}, {settings['samples']} each after t = {settings['transient']:g}; "
         f"{settings['method']} dt={settings['dt']:g}, backend {settings['backend']}, "
         f"{settings['wall_time']:.3f} s"

@@ -1,13 +1,19 @@
-"""Bifurcation diagrams: a stroboscopic section against a parameter, from one ensemble.
+"""Bifurcation diagrams: a stroboscopic or a Poincaré section against a parameter, from
+one ensemble.
 
 Each value of the varied parameter is one member of an ensemble (any backend of
 :func:`~lagrangian.ensemble.run_ensemble`: numpy, numba, jax, cuda, dask), integrated
-by its fixed-step method with ``steps_per_period`` steps per strobe period (dt =
-period / steps_per_period) from the same initial state.  The states are kept every
-period (the ensemble's ``save_every``); the first ``transient`` time (rounded up to
-whole periods) is dropped, and the next ``samples`` states of ``variable`` are the
-diagram's points for that value: one point for a periodic response at the strobe
-period, two after a period doubling, a smear where the motion is chaotic.
+by its fixed-step method from the same initial state.  With a strobe ``period`` the
+step is period / ``steps_per_period``, the states are kept every period (the
+ensemble's ``save_every``), the first ``transient`` time (rounded up to whole periods)
+is dropped, and the next ``samples`` states of ``variable`` are the diagram's points
+for that value: one point for a periodic response at the strobe period, two after a
+period doubling, a smear where the motion is chaotic.  With a ``section`` ("x = 0",
+:mod:`lagrangian.integrate.section`) instead, every step is kept, the runs go on for
+``t_end`` after the transient, and the points are ``variable`` at the first
+``samples`` crossings after the transient, located between steps on the cubic
+interpolant of the motion (:mod:`lagrangian.integrate.sampled_crossings`); a value
+whose motion crosses fewer times has NaN for the rest.
 """
 
 from __future__ import annotations
@@ -36,8 +42,9 @@ DEFAULT_SAMPLES = 100
 
 @dataclass(frozen=True)
 class BifurcationDiagram:
-    """``points`` (M, samples) of ``variable`` at the strobe times ``times`` (samples,),
-    for each of the M ``values`` of ``parameter``."""
+    """``points`` (M, samples) of ``variable`` at the times ``times`` for each of the M
+    ``values`` of ``parameter``: the strobe times (samples,), shared, or the crossing
+    times of a section (M, samples), NaN (as the point) past a value's last crossing."""
 
     parameter: str
     values: np.ndarray
@@ -53,15 +60,17 @@ class BifurcationDiagram:
         return write_csv(path, self.table(), (self.parameter, "t", self.variable))
 
     def table(self) -> np.ndarray:
-        """(M * samples, 3): parameter value, time, value of the variable, row by row."""
-        count, samples = self.points.shape
-        return np.column_stack(
+        """(K, 3): parameter value, time, value of the variable, one row per point, value
+        by value (a section's missing crossings left out)."""
+        samples = self.points.shape[1]
+        rows = np.column_stack(
             [
                 np.repeat(self.values, samples),
-                np.tile(self.times, count),
+                np.broadcast_to(self.times, self.points.shape).ravel(),
                 self.points.ravel(),
             ]
         )
+        return rows if "period" in self.settings else rows[np.isfinite(rows[:, 1])]
 
 
 def bifurcation_diagram(
@@ -70,10 +79,14 @@ def bifurcation_diagram(
     parameter: str,
     values: object,
     variable: str,
-    period: float,
+    period: float | None = None,
+    section: str | None = None,
+    direction: str = "+",
     transient: float = 0.0,
     samples: int = DEFAULT_SAMPLES,
     steps_per_period: int = DEFAULT_STEPS_PER_PERIOD,
+    t_end: float | None = None,
+    dt: float | None = None,
     initial: Mapping[str, float] | None = None,
     params: Mapping[str, float] | None = None,
     method: str = "rk4",
@@ -81,10 +94,12 @@ def bifurcation_diagram(
     progress: Callable[[float], None] | None = None,
     **options: object,
 ) -> BifurcationDiagram:
-    """The stroboscopic states of ``variable`` (a coordinate or velocity) after the
-    transient, for each of ``values`` of ``parameter``; see the module docstring.
-    ``options`` go to :func:`~lagrangian.ensemble.run_ensemble` (chunk_size, precision,
-    scheduler)."""
+    """The states of ``variable`` (a coordinate or velocity) after the transient, every
+    ``period`` or where the motion crosses ``section`` in ``direction`` ("+", "-",
+    "both"; ``t_end`` after the transient, step ``dt``: by default chosen for the
+    motion, :func:`~lagrangian.integrate.step_size.fixed_step_for`), for each of
+    ``values`` of ``parameter``; see the module docstring.  ``options`` go to
+    :func:`~lagrangian.ensemble.run_ensemble` (chunk_size, precision, scheduler)."""
     from .core import run_ensemble  # xarray: loaded when a diagram is made, not to name one
 
     names = [*compiled.coordinate_names, *(f"{q}_dot" for q in compiled.coordinate_names)]
@@ -93,35 +108,87 @@ def bifurcation_diagram(
     if parameter not in compiled.parameter_names:
         known = ", ".join(compiled.parameter_names) or "none"
         raise ModelError(f"unknown parameter '{parameter}' (parameters: {known})")
-    period = positive_setting("period", period)
+    if (period is None) == (section is None):
+        raise ModelError("give a strobe period or a section (one of them)")
     transient = float(transient)
     if not (math.isfinite(transient) and transient >= 0):
         raise ModelError(f"the transient must be a time >= 0, not {transient:g}")
     for name, number in (("samples", samples), ("steps_per_period", steps_per_period)):
         if int(number) != number or number < 1:
             raise ModelError(f"{name} must be a whole number >= 1, not {number!r}")
+    run = {
+        "initial": initial, "params": {**(params or {}), parameter: values}, "method": method,
+        "backend": backend, "progress": progress, **options,
+    }  # fmt: skip
+    if section is not None:
+        return _section_diagram(
+            compiled, parameter, values, variable, section, direction, transient,
+            int(samples), t_end, dt, run,
+        )  # fmt: skip
+    period = positive_setting("period", period)
     dropped = math.ceil(transient / period - 1e-9)
-    t_end = (dropped + int(samples)) * period
     result = run_ensemble(
-        compiled, initial=initial, params={**(params or {}), parameter: values}, t_end=t_end,
-        method=method, dt=period / int(steps_per_period), backend=backend,
-        save_every=int(steps_per_period), progress=progress, **options,
+        compiled, t_end=(dropped + int(samples)) * period, dt=period / int(steps_per_period),
+        save_every=int(steps_per_period), **run,
     )  # fmt: skip
     dataset = result.dataset
     path = dataset[f"path_{variable}"].values.reshape(-1, dataset.sizes["t"])
     kept = slice(dropped + 1, dropped + 1 + int(samples))  # column 0 is t = 0
-    attrs = dataset.attrs
-    varied = np.broadcast_to(np.asarray(values, dtype=float), (path.shape[0],)).copy()
+    settings = {"period": period, "transient": dropped * period, "samples": int(samples)}
+    return _diagram(
+        compiled, result, parameter, values, variable, path[:, kept], dataset["t"].values[kept],
+        settings,
+    )  # fmt: skip
+
+
+def _section_diagram(
+    compiled, parameter, values, variable, text, direction, transient, samples, t_end, dt, run
+) -> BifurcationDiagram:
+    """The diagram of ``variable`` where the motions cross the section ``text``."""
+    from ..integrate.sampled_crossings import sampled_crossings
+    from ..integrate.section import parse_section
+    from .core import run_ensemble
+    from .members import members
+
+    if t_end is None:
+        raise ModelError("a diagram from a section needs t_end, the time after the transient")
+    t_end = positive_setting("t_end", t_end)
+    section = parse_section(compiled, text, direction)
+    result = run_ensemble(compiled, t_end=transient + t_end, dt=dt, save_every=1, **run)
+    dataset = result.dataset
+    states = [*compiled.coordinate_names, *(f"{q}_dot" for q in compiled.coordinate_names)]
+    paths = np.stack(
+        [dataset[f"path_{name}"].values.reshape(-1, dataset.sizes["t"]) for name in states]
+    )
+    batch = members(compiled, run["initial"], run["params"])
+    crossings = sampled_crossings(
+        compiled, section, dataset["t"].values, paths, batch.params, after=transient,
+        limit=samples,
+    )  # fmt: skip
+    settings = {
+        "section": text, "direction": direction, "transient": transient, "t_end": t_end,
+        "samples": samples,
+    }  # fmt: skip
+    points = crossings.states[states.index(variable)]
+    return _diagram(
+        compiled, result, parameter, values, variable, points, crossings.times, settings
+    )
+
+
+def _diagram(
+    compiled, result, parameter, values, variable, points, times, settings
+) -> BifurcationDiagram:
+    """The diagram of the ensemble ``result``, its run's settings added to ``settings``."""
+    attrs = result.dataset.attrs
+    varied = np.broadcast_to(np.asarray(values, dtype=float), (points.shape[0],)).copy()
     return BifurcationDiagram(
         parameter=parameter,
         values=varied,
         variable=variable,
-        points=path[:, kept],
-        times=dataset["t"].values[kept],
+        points=points,
+        times=times,
         settings={
-            "period": period,
-            "transient": dropped * period,
-            "samples": int(samples),
+            **settings,
             "method": attrs["method"],
             "dt": attrs["dt"],
             "backend": attrs["backend"],

@@ -67,9 +67,14 @@ def bifurcation_of_system(
 ) -> BifurcationDiagram:
     """The bifurcation diagram of ``system`` over ``vary`` ({parameter: values}, one
     parameter); options as :func:`~lagrangian.ensemble.bifurcation.bifurcation_diagram`
-    (variable, period, transient, samples, ...); ``timeout`` as for an ensemble."""
+    (variable, period or section, transient, samples, ...); ``timeout`` as for an ensemble;
+    a section's runs go on for the model's t_end after the transient unless told."""
+    from ..simulation import DEFAULT_T_END
+
     if len(vary) != 1:
         raise ModelError(f"vary one parameter, not {len(vary)}")
+    if options.get("section") is not None and options.get("t_end") is None:
+        options["t_end"] = float(system.simulate_settings.get("t_end", DEFAULT_T_END))
     ((parameter, values),) = vary.items()
     compiled, progress = _compiled_runs(system, definitions, timeout, progress, options)
     return bifurcation_diagram(

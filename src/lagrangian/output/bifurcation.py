@@ -1,5 +1,5 @@
-"""A bifurcation diagram drawn: the stroboscopic values of one variable against the
-parameter (:class:`~lagrangian.ensemble.bifurcation.BifurcationDiagram`)."""
+"""A bifurcation diagram drawn: the stroboscopic or section values of one variable against
+the parameter (:class:`~lagrangian.ensemble.bifurcation.BifurcationDiagram`)."""
 
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ def plot_bifurcation(diagram: BifurcationDiagram, *, size: float = 1.5) -> Figur
     figure, axes = new_figure(width=7.5, height=5.0)
     axis = axes[0, 0]
     samples = diagram.points.shape[1]
-    values = diagram.points.ravel()
+    values = diagram.points.ravel()  # a section's missing crossings (NaN) are not drawn
     angle = diagram.variable in angle_coordinates(diagram.system)
     if angle:
         values = wrap(values)
@@ -34,9 +34,16 @@ def plot_bifurcation(diagram: BifurcationDiagram, *, size: float = 1.5) -> Figur
     axis.set_ylabel(math(diagram.variable))
     axis.grid(True, alpha=0.3)
     settings = diagram.settings
+    strobed = "period" in settings
+    where = (
+        f"every {settings['period']:.6g}"
+        if strobed
+        else f"where {settings['section']} ({settings['direction']})"
+    )
+    per_value = samples if strobed else f"at most {samples}"
     axis.set_title(
-        f"{diagram.name}: {math(diagram.variable)} every {settings['period']:.6g} "
-        f"after t = {settings['transient']:.6g} ({samples} per value)",
+        f"{diagram.name}: {math(diagram.variable)} {where} "
+        f"after t = {settings['transient']:.6g} ({per_value} per value)",
         fontsize=10,
     )
     return figure
