@@ -1,8 +1,8 @@
 """An ensemble keeps its time budget: chunks sized by measured time, on a clock the test
-moves (each member costs a fixed amount of it), never the wall clock.  Every backend:
-numpy (CPU time), jax (CPU time on the CPU), cuda (its kernel built for the CPU, timed on
-the wall clock as on a GPU) and dask (its tasks run in this process by a stand-in for
-``distributed``, each timed on its worker's wall clock)."""
+moves (each member costs a fixed amount of it), never the wall clock: numpy (CPU time),
+cuda (its kernel built for the CPU, timed on the wall clock as on a GPU) and dask (its
+tasks run in this process by a stand-in for ``distributed``, each timed on its worker's
+wall clock).  jax compiles per chunk size: its chunks keep one size."""
 
 from __future__ import annotations
 
@@ -153,11 +153,6 @@ def _charging(monkeypatch, clock, backend):
     monkeypatch.setattr(dask_backend, "task_seconds", clock)
 
 
-def _jax_backend():
-    pytest.importorskip("jax")
-    return "jax", JaxBackend
-
-
 def _cuda_on_cpu(monkeypatch):
     if compiler() is None:
         pytest.skip("no C compiler (gcc) for the CPU build of the cuda kernel")
@@ -175,7 +170,6 @@ def _dask_in_process(monkeypatch):
 
 
 OTHER_BACKENDS = {
-    "jax": lambda monkeypatch: _jax_backend(),
     "cuda": _cuda_on_cpu,
     "dask": _dask_in_process,
 }
@@ -184,7 +178,7 @@ OTHER_BACKENDS = {
 @pytest.mark.parametrize("which", list(OTHER_BACKENDS))
 def test_every_backend_sizes_its_chunks_by_time_and_keeps_the_budget(monkeypatch, which):
     # as the numpy backend above: 15 s of work for a budget of 10 s, checked between
-    # chunks of about 1.5 % of it (jax: powers of two, 128 members = 1.3 %)
+    # chunks of about 1.5 % of it
     backend, integrating = OTHER_BACKENDS[which](monkeypatch)
     clock = CostClock(per_member=1e-3)
     _charging(monkeypatch, clock, integrating)
@@ -198,8 +192,6 @@ def test_every_backend_sizes_its_chunks_by_time_and_keeps_the_budget(monkeypatch
     assert 10.0 < clock.now <= 10.0 * 1.03
     untimed = 2 if which == "dask" else 1  # made before a first chunk's time is known
     assert set(clock.sizes[:untimed]) == {256} and max(clock.sizes[untimed:]) <= 150
-    if which == "jax":
-        assert set(clock.sizes) == {256, 128}  # two batch shapes: two compiles
 
 
 class _Sized:
@@ -215,10 +207,15 @@ def _sizes(seconds: float, latency: float, per_member: float, *, count=500_000, 
     return made.sizes
 
 
-def test_chunks_of_a_shape_compiling_backend_are_powers_of_two():
-    # 1 ms a member, 0.5 s a chunk: 500 asked, 256 given; 2.5 s: 2,500 asked, 2,048
-    assert _sizes(0.5, 0.0, 1e-3, count=5_000, powers_of_two=True)[:3] == [256, 256, 256]
-    assert _sizes(2.5, 0.0, 1e-3, count=5_000, powers_of_two=True)[:3] == [256, 2048, 2048]
+def test_jax_chunks_keep_one_size(monkeypatch, oscillator):
+    # each new batch size would cost a compile (seconds): chunks of chunk_size, budget or not
+    pytest.importorskip("jax")
+    clock = CostClock(per_member=1e-3)
+    _charging(monkeypatch, clock, JaxBackend)
+    grid = {"x": np.linspace(-1.0, 1.0, 2_000)}
+    kw = dict(initial=grid, t_end=0.1, dt=0.05, backend="jax", chunk_size=700)
+    run_ensemble(oscillator, chunk_seconds=0.5, **kw)
+    assert clock.sizes == [700, 700, 600]
 
 
 def test_chunks_grow_past_a_latency_as_on_a_gpu():

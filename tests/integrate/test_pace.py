@@ -97,3 +97,26 @@ def test_a_run_computed_elsewhere_is_timed_on_a_given_clock(clock):
     clock.now += 3.0  # 6 s on the given clock
     with pytest.raises(RunTooLong, match="did not finish within 5 s"):
         watch(1.0)
+
+
+def test_a_pace_is_judged_once_it_has_settled(clock):
+    # an ensemble on a GPU: every chunk takes 0.5 s whatever its size until it fills the
+    # device, the chunks growing 8x: 256, 2048, ... members of a million; the pace from
+    # the start projects 54 s after the first second (over twice the 10 s allowed), but
+    # it is still improving 8x a chunk; once settled it projects 4.7 s, and the run ends
+    # in 5.5 s
+    watch = RunPace((0.0, 1.0), seconds=10.0, describe=lambda done: f"{done:.3g}")
+    watch(0.0)
+    done, size = 0, 256
+    while done < 1_000_000:
+        clock.now += 0.5
+        done = min(1_000_000, done + size)
+        watch(done / 1_000_000)
+        size = min(8 * size, 131_072)
+    # a steady hopeless pace is still refused a second after it settled
+    watch = RunPace((0.0, 1.0), seconds=10.0, describe=lambda done: f"{done:.3g}")
+    watch(0.0)
+    with pytest.raises(RunTooLong, match="at its pace so far"):
+        for _ in range(5):
+            clock.now += 0.5
+            watch(watch.reached + 0.001)

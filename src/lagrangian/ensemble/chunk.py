@@ -17,7 +17,8 @@ dask's workers).
 
 A backend is a leaf class of :class:`AbstractEnsembleBackend`: the class constants
 ``name`` (its key in :data:`~lagrangian.ensemble.core.ENSEMBLE_BACKENDS` and the value of
-``--backend``), ``precisions``, ``chunk_size`` and ``compiles_per_shape``, and
+``--backend``), ``precisions``, ``chunk_size`` and ``compiles_per_shape`` (its chunks are
+then of one size, not sized by time), and
 :meth:`~AbstractEnsembleBackend.integrate` of one chunk.
 :meth:`~AbstractEnsembleBackend.run` integrates the chunks one after the other, timing
 each; a backend that spreads them (dask) overrides it.
@@ -191,10 +192,8 @@ class Chunks:
     ``seconds`` every chunk has ``largest`` members (the last the rest).  With ``seconds``
     they are sized by time: ``FIRST_CHUNK`` members until a chunk's time is known
     (:meth:`took`), then each sized to take about ``seconds``, at most ``CHUNK_GROWTH``
-    times the one before and ``largest``; ``powers_of_two``: sizes rounded down to powers
-    of two (a backend that compiles per batch shape then compiles a few times, not once
-    per chunk).  ``clock``: the seconds that the backend measures a chunk's time with
-    (see the module docstring).
+    times the one before and ``largest``.  ``clock``: the seconds that the backend
+    measures a chunk's time with (see the module docstring).
 
     A chunk's time is modelled as a latency plus a cost per member, both read from the
     two latest chunks of different sizes: on a CPU the latency is nil and the cost that
@@ -207,27 +206,32 @@ class Chunks:
 
     def __init__(
         self,
-        make: Callable[[int, int], Chunk],
+        make: Callable[[int, int], Chunk] | None,
         count: int,
         largest: int,
         *,
         seconds: float | None = None,
         clock: Callable[[], float] | None = None,
-        powers_of_two: bool = False,
     ):
         self.make, self.count, self.largest = make, int(count), int(largest)
-        self.seconds, self.powers_of_two = seconds, powers_of_two
+        self.seconds = seconds
         self.clock = clock or time.monotonic
+        self.given_chunks: list[Chunk] | None = None
         self.latency, self.cost = 0.0, None  # seconds a chunk, seconds a member
         self.timed: tuple[int, float] | None = None  # the latest chunk timed: (members, s)
         self.sizes: list[int] = []
 
     @classmethod
     def given(cls, chunks: list[Chunk]) -> Chunks:
-        """Chunks already made (one fixed size, no timing)."""
-        return cls(lambda start, stop: chunks[start], len(chunks), 1)
+        """Chunks already made (no timing)."""
+        made = cls(None, sum(chunk.count for chunk in chunks), max(1, len(chunks)))
+        made.given_chunks = list(chunks)
+        return made
 
     def __iter__(self) -> Iterator[Chunk]:
+        if self.given_chunks is not None:
+            yield from self.given_chunks
+            return
         start = 0
         while start < self.count:
             stop = min(self.count, start + self._next_size())
@@ -258,8 +262,7 @@ class Chunks:
             if self.cost:
                 spent = max(self.seconds - self.latency, self.latency)  # on the members
                 size = min(size, int(spent / self.cost))
-        size = max(1, size)
-        return 1 << (size.bit_length() - 1) if self.powers_of_two else size
+        return max(1, size)
 
 
 class AbstractEnsembleBackend(ABC):
@@ -271,8 +274,8 @@ class AbstractEnsembleBackend(ABC):
     precisions: ClassVar[tuple[str, ...]] = ("float64",)
     #: Members per chunk unless the run says otherwise.
     chunk_size: ClassVar[int] = DEFAULT_CHUNK_SIZE
-    #: Whether a chunk of a new size costs a compile (chunks sized by time are then
-    #: powers of two).
+    #: Whether a chunk of a new size costs a compile: its chunks are then all of one
+    #: size, not sized by time.
     compiles_per_shape: ClassVar[bool] = False
 
     @abstractmethod

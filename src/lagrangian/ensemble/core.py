@@ -3,12 +3,13 @@
 The members (initial values and parameters, broadcast together; see
 :mod:`.members`) are split into chunks of ``chunk_size`` so memory stays
 bounded whatever the ensemble's size.  With ``chunk_seconds`` (a run with a
-time budget) every backend sizes its chunks by measured time instead
-(:class:`~.chunk.Chunks`): a small first chunk, then each sized from the time per
-member so far to take about ``chunk_seconds`` (``chunk_size`` the largest), so a
-budget checked between chunks is kept within a chunk's time whatever one member
-costs.  The time is :func:`budget_clock`'s: this process's CPU time, or the wall
-clock for a backend that computes elsewhere.  Each :class:`~.chunk.Chunk` is
+time budget) the backends size their chunks by measured time instead
+(:class:`~.chunk.Chunks`; not jax, which compiles per chunk size): a small first
+chunk, then each sized from the time per member so far to take about
+``chunk_seconds`` (``chunk_size`` the largest), so a budget checked between chunks
+is kept within a chunk's time whatever one member costs.  The time is
+:func:`budget_clock`'s: this process's CPU time, or the wall clock for a backend
+that computes elsewhere.  Each :class:`~.chunk.Chunk` is
 integrated by a backend, a class of :data:`ENSEMBLE_BACKENDS` (the protocol is in
 :mod:`.chunk`):
 
@@ -102,7 +103,7 @@ def run_ensemble(
     of two worker processes).  ``chunk_size``: members per chunk (default
     65,536; 2^20 on the GPU backends).  ``progress`` is called with the fraction done.
     ``chunk_seconds``: seconds a chunk should take on :func:`budget_clock` (chunks sized
-    by measured time, at most ``chunk_size``; a budget gives about 1.5 % of itself).
+    by measured time, at most ``chunk_size``; not jax; a budget gives 1.5 % of itself).
     """
     t0, t1 = check_time_span((0.0, t_end))
     if method not in METHODS:
@@ -157,10 +158,8 @@ def run_ensemble(
         y0 = batch.y0[:, start:stop]
         return Chunk(compiled, integrator, y0, p, t1, names, save_every, precision)
 
-    chunks = Chunks(
-        chunk, batch.count, int(chunk_size), seconds=chunk_seconds,
-        clock=budget_clock(backend), powers_of_two=kind.compiles_per_shape,
-    )  # fmt: skip
+    timed = None if kind.compiles_per_shape else chunk_seconds
+    chunks = Chunks(chunk, batch.count, int(chunk_size), seconds=timed, clock=budget_clock(backend))
     start = time.perf_counter()
     parts = runner.run(chunks, progress)
     wall_time = time.perf_counter() - start

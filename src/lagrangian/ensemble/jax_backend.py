@@ -30,7 +30,7 @@ take their float type from it when traced: ``jnp.result_type(float)``).
 In float32 the Newton tolerances are raised to float32 rounding (see
 :func:`_tolerances`).  One jitted loop is kept per compiled system and
 integrator settings (and precision, saving, flip tracking); JAX retraces it
-only for a new chunk shape (chunks are padded to powers of two).
+only for a new chunk shape (the last chunk is padded to the others' size).
 JAX is imported here only (``pip install ".[jax]"``).
 """
 
@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
 import numpy as np
@@ -49,7 +50,7 @@ from ..integrate.explicit_rk import AbstractExplicitRungeKutta
 from ..integrate.midpoint_batch import ArrayNewton, legendre_velocity, midpoint_velocity
 from ..integrate.variational import ROUNDING_FLOOR, Variational
 from .choices import PRECISIONS
-from .chunk import GPU_CHUNK_SIZE, AbstractEnsembleBackend, Chunk, Outputs, Progress
+from .chunk import GPU_CHUNK_SIZE, AbstractEnsembleBackend, Chunk, Chunks, Outputs, Progress
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -66,15 +67,24 @@ def _jax():
     return jax
 
 
+@dataclass(frozen=True)
 class JaxBackend(AbstractEnsembleBackend):
-    """The jitted loop on JAX's default device.  JAX compiles the loop once per batch
-    size: a chunk runs padded to a power of two members (the last one repeated), and
-    chunks sized by time are powers of two, so a run compiles a few times at most."""
+    """The jitted loop on JAX's default device; ``pad_to``: run that many members, the
+    last one repeated, so that a smaller last chunk reuses the loop JAX compiled for the
+    others (one per batch size).  Its chunks are not sized by time: each new size would
+    cost a compile, seconds that make the early pace of a run look hopeless."""
 
     name: ClassVar[str] = "jax"
     precisions: ClassVar[tuple[str, ...]] = PRECISIONS
     chunk_size: ClassVar[int] = GPU_CHUNK_SIZE
     compiles_per_shape: ClassVar[bool] = True
+    pad_to: int | None = None
+
+    def run(self, chunks: Chunks, progress: Progress | None = None) -> list[Outputs]:
+        # one compiled loop for every chunk: the last, smaller one padded to the others' size
+        made = list(chunks)
+        padded = replace(self, pad_to=made[0].count) if len(made) > 1 else self
+        return AbstractEnsembleBackend.run(padded, Chunks.given(made), progress)
 
     def integrate(self, chunk: Chunk, progress: Progress | None = None) -> Outputs:
         jax = _jax()
@@ -83,7 +93,7 @@ class JaxBackend(AbstractEnsembleBackend):
         y_start = np.asarray(chunk.y0, dtype=float)
         with jax.enable_x64(chunk.precision == "float64"):
             run = _loop(compiled, integrator, chunk.precision, chunk.every, chunk.track)
-            size = 1 << max(count - 1, 0).bit_length()  # the next power of two
+            size = max(count, self.pad_to or 0)
             arrays = (*_padded(y_start, np.asarray(chunk.params), size), chunk.grid)
             results = run(*(array.astype(chunk.dtype) for array in arrays))
             final, flips, failed, paths = (

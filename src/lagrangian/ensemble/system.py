@@ -40,8 +40,9 @@ def ensemble_of_system(
     whose pace projects more than twice that is refused; a backend that compiles the
     whole loop reports progress per chunk).  The seconds are CPU time of this process
     (every thread), or wall time for a backend that computes elsewhere (a GPU, dask);
-    every backend sizes its chunks to take ``CHUNK_SHARE`` of the budget each on that
-    clock, so the budget is kept within a few percent.
+    the backends size their chunks to take ``CHUNK_SHARE`` of the budget each on that
+    clock, so the budget is kept within a few percent (not jax, whose chunks are all of
+    one size: a new size costs a compile; its budget is checked between chunks).
     """
     from ..simulation import DEFAULT_T_END
 

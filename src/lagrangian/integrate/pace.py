@@ -16,8 +16,11 @@ time reached at every step and ends the run with a :class:`RunTooLong` error
 - after ``PROBE_SECONDS`` the pace so far projects a total over ``PROJECTION``
   times the budget: a run that cannot finish is refused in about a second,
   not after the whole budget (an ensemble tells the fraction of its work
-  done instead of the time).  The margin allows for a pace that improves
-  (a stiff start, a step size still growing).
+  done instead of the time).  The pace is the better of the one since the
+  start and the latest (since the call before), and it is judged once it has
+  settled: not while the latest pace is over ``SETTLING`` times the one
+  before (an ensemble's chunks growing past a fixed cost each, a step size
+  still growing); the margin allows for a pace that improves further.
 """
 
 from __future__ import annotations
@@ -41,6 +44,8 @@ ENSEMBLE_ADVICE = (
 PROBE_SECONDS = 1.0
 #: A projected total over this many budgets ends the run at once.
 PROJECTION = 2.0
+#: A latest pace over this many times the one before is still improving: not judged yet.
+SETTLING = 2.0
 
 
 class RunTooLong(LagrangianError):
@@ -72,6 +77,8 @@ class RunPace:
         self.clock = clock or cpu_seconds
         self.started: float | None = None
         self.moving: tuple[float, float] | None = None  # (clock, t) when t first moved
+        self.last: tuple[float, float] | None = None  # (clock, t) of the call before
+        self.latest = 0.0  # the pace since the call before that (model time / s)
         self.reached = self.t0
 
     def __call__(self, t: float) -> None:
@@ -87,12 +94,13 @@ class RunPace:
                 f"the run did not finish within {self.seconds:g} s: it reached "
                 f"{self.describe(self.reached)}; {self.advice}"
             )
-        if self.moving is None or now - self.moving[0] < PROBE_SECONDS:
+        settling = self._settling(now)
+        if self.moving is None or now - self.moving[0] < PROBE_SECONDS or settling:
             return
         clock, t_moving = self.moving
         if self.reached <= t_moving:
             return
-        rate = (self.reached - t_moving) / (now - clock)  # model time per second
+        rate = max((self.reached - t_moving) / (now - clock), self.latest)
         projected = elapsed + (self.t1 - self.reached) / rate
         if projected > PROJECTION * self.seconds:
             raise RunTooLong(
@@ -100,6 +108,17 @@ class RunPace:
                 f"({self.describe(self.reached)} in {elapsed:.1f} s), "
                 f"more than the {self.seconds:g} s allowed; {self.advice}"
             )
+
+    def _settling(self, now: float) -> bool:
+        """Whether the pace since the call before is over ``SETTLING`` times the one before
+        it (the pace still improves); keeps the latest pace."""
+        last, self.last = self.last, (now, self.reached)
+        if last is None or now <= last[0]:
+            return False
+        latest = (self.reached - last[1]) / (now - last[0])
+        settling = latest > SETTLING * self.latest
+        self.latest = latest
+        return settling
 
 
 def _duration(seconds: float) -> str:
