@@ -12,8 +12,11 @@ from __future__ import annotations
 
 import contextlib
 import json
+import re
 import signal
 import time
+
+import pytest
 
 from helpers import timer_handler
 from lagrangian.cli import ExitStatus, main
@@ -46,3 +49,28 @@ def test_analyze_says_the_same_when_the_process_waits_four_fifths_of_the_time(ca
     with busy_machine():
         busy = _analyze(capsys, "harmonic_oscillator", "--timeout", "2")
     assert busy == quiet
+
+
+#: Durations in the text output (a run's wall time), which may differ.
+DURATION = re.compile(r"\b[0-9][0-9.]*(e[+-]?[0-9]+)? s\b")
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ("derive", "rotating_wire_bead"),
+        ("simulate", "cart_pole", "--set", "F=0.5", "--t-end", "2"),
+        ("analyze", "simple_pendulum", "--timeout", "2"),
+    ],
+    ids=" ".join,
+)
+def test_a_command_prints_the_same_text_when_the_process_waits(capsys, argv):
+    # the commands of the README and the tutorial, as benchmarks/load.py runs them beside
+    # busy processes, here with the process waiting four fifths of the time instead
+    outputs = []
+    for waiting in (contextlib.nullcontext(), busy_machine()):
+        capsys.readouterr()
+        with waiting:
+            assert main(list(argv)) == ExitStatus.SUCCESS
+        outputs.append(DURATION.sub("* s", capsys.readouterr().out))
+    assert outputs[1] == outputs[0]
