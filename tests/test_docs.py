@@ -1,8 +1,10 @@
 """Every code block of README.md, docs/tutorial.md and docs/architecture.md runs as written.
 
 ```python blocks run as scripts (a fresh interpreter each, in a temporary
-folder); ```sh / ```console blocks run their ``lagrangian ...`` lines through the
-CLI in-process, in order, in a temporary folder per block.  What is not run
+folder); each ``lagrangian ...`` line of a ```sh / ```console block is a test of
+its own (named by file and line, so a failure names the line and the workers
+share a long block), run through the CLI in-process in a temporary folder, after
+the lines before it in its block that write a file it reads.  What is not run
 is said here, each with its reason (SKIPPED, SYNOPSIS), and so is every change
 made to a command before it runs (SMALLER): nothing else is left out or
 altered.  Where a comment in the docs states what a command prints, the
@@ -12,6 +14,7 @@ statement is checked against the output (PRINTS).
 from __future__ import annotations
 
 import importlib.util
+import itertools
 import os
 import re
 import shlex
@@ -46,6 +49,15 @@ SMALLER = (
     ("-3.14:3.14:300 ", "-3.14:3.14:20 "),
     # the README's Python ensemble of 10,000 members: 100 members
     ("np.linspace(-3, 3, 10_000)", "np.linspace(-3, 3, 100)"),
+    # the Python examples' runs of 10 s that are animated (250 frames each): 2 s, 50 frames
+    (
+        'simulate(t_end=10, method="variational", dt=1e-3,',
+        'simulate(t_end=2, method="variational", dt=1e-3,',
+    ),
+    (
+        'simulate(t_end=10, method="variational", dt=0.005)',
+        'simulate(t_end=2, method="variational", dt=0.005)',
+    ),
     # the chaos commands (minutes at full size): a few orbits, values and periods each
     ("--t-end 500 --plot lyapunov.png", "--t-end 5 --plot lyapunov.png"),
     ("--transient 100 --largest", "--transient 5 --t-end 5 --largest"),
@@ -99,15 +111,22 @@ def _blocks(path: Path):
 
 def _commands(body: str) -> list[str]:
     """The command lines of a shell block, continuation lines joined."""
-    lines, current = [], ""
-    for raw in body.splitlines():
+    return [command for _, command in _numbered_commands(body)]
+
+
+def _numbered_commands(body: str) -> list[tuple[int, str]]:
+    """(offset of its first line in the block, command line) for each command of a block."""
+    lines, current, first = [], "", 0
+    for offset, raw in enumerate(body.splitlines()):
         line = raw.rstrip()
+        if not current:
+            first = offset
         if line.endswith("\\"):
             current += line[:-1] + " "
             continue
         current = (current + line).strip()
         if current and not current.startswith("#"):
-            lines.append(current)
+            lines.append((first, current))
         current = ""
     return lines
 
@@ -118,9 +137,46 @@ def _smaller(text: str) -> str:
     return text
 
 
+def _runs(command: str) -> bool:
+    return not (any(key in command for key in SKIPPED) or SYNOPSIS.search(command))
+
+
+def _written(command: str) -> set[str]:
+    """The files a command line writes (its --out)."""
+    argv = shlex.split(command, comments=True)
+    return {after for before, after in itertools.pairwise(argv) if before == "--out"}
+
+
+def _shell_lines(blocks) -> list:
+    """One test per command line that runs: (the lines it needs first, the line itself).
+
+    A line that reads a file an earlier line of its block writes (``plot run.nc``
+    after ``simulate ... --out run.nc``) runs that line first, as the reader would."""
+    params = []
+    for kind, body, where in blocks:
+        if kind not in ("sh", "console"):
+            continue
+        name, start = where.rsplit(":", 1)
+        earlier: dict[str, tuple[str, ...]] = {}  # each line that ran -> the lines it needs
+        for offset, command in _numbered_commands(body):
+            if _runs(command):
+                read = set(shlex.split(command, comments=True)) - _written(command)
+                needed = tuple(
+                    dict.fromkeys(
+                        line
+                        for writer, before in earlier.items()
+                        if _written(writer) & read
+                        for line in (*before, writer)
+                    )
+                )
+                params.append(pytest.param(needed, command, id=f"{name}:{int(start) + 1 + offset}"))
+                earlier[command] = needed
+    return params
+
+
 BLOCKS = [b for path in DOCUMENTS for b in _blocks(path)]
 PYTHON = [pytest.param(body, id=where) for kind, body, where in BLOCKS if kind == "python"]
-SHELL = [pytest.param(body, id=where) for kind, body, where in BLOCKS if kind in ("sh", "console")]
+SHELL_LINES = _shell_lines(BLOCKS)
 
 
 def _normalized(text: str) -> str:
@@ -147,29 +203,33 @@ def test_python_block_runs(body, tmp_path):
     assert result.returncode == 0, result.stderr[-3000:]
 
 
-@pytest.mark.parametrize("body", SHELL)
-def test_shell_block_runs(body, tmp_path, monkeypatch, capsys):
+@pytest.mark.parametrize(("needed", "line"), SHELL_LINES)
+def test_shell_line_runs(needed, line, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     _readme_model(tmp_path)
-    for line in _commands(body):
-        if any(key in line for key in SKIPPED) or SYNOPSIS.search(line):
-            continue
-        argv = shlex.split(_smaller(line), comments=True)
-        if argv[:2] == ["python", "docs/make_images.py"]:
-            _make_images(argv[2:], tmp_path)
-            continue
-        assert argv[0] == "lagrangian", f"a command the test does not know how to run: {line}"
-        if "run.csv" in argv:  # the synopsis' "a trajectory saved by simulate --out"
-            assert main(["simulate", "simple_pendulum", "--out", "run.csv"]) == 0
-        if argv[1:2] == ["demo"]:
-            argv += ["--out-dir", str(tmp_path / "demo")]
-        capsys.readouterr()
-        status = main(argv[1:])
-        out, err = capsys.readouterr()
-        assert status == ExitStatus.SUCCESS, f"{line}\n{err}"
-        command = " ".join(shlex.split(line, comments=True))
-        for fragment in PRINTS.get(command, ()):
-            assert _normalized(fragment) in _normalized(out), f"{line}: no {fragment!r} in\n{out}"
+    for earlier in needed:
+        _run_line(earlier, tmp_path, capsys)
+    _run_line(line, tmp_path, capsys)
+
+
+def _run_line(line: str, folder: Path, capsys) -> None:
+    """One command line of the docs, through the CLI in-process; what it prints checked."""
+    argv = shlex.split(_smaller(line), comments=True)
+    if argv[:2] == ["python", "docs/make_images.py"]:
+        _make_images(argv[2:], folder)
+        return
+    assert argv[0] == "lagrangian", f"a command the test does not know how to run: {line}"
+    if "run.csv" in argv and "--out" not in argv:  # "a trajectory saved by simulate --out"
+        assert main(["simulate", "simple_pendulum", "--out", "run.csv"]) == 0
+    if argv[1:2] == ["demo"]:
+        argv += ["--out-dir", str(folder / "demo")]
+    capsys.readouterr()
+    status = main(argv[1:])
+    out, err = capsys.readouterr()
+    assert status == ExitStatus.SUCCESS, f"{line}\n{err}"
+    command = " ".join(shlex.split(line, comments=True))
+    for fragment in PRINTS.get(command, ()):
+        assert _normalized(fragment) in _normalized(out), f"{line}: no {fragment!r} in\n{out}"
 
 
 def _make_images(arguments: list[str], folder: Path) -> None:
@@ -190,3 +250,10 @@ def test_every_statement_checked_is_still_in_the_docs():
         for c in _commands(body)
     }
     assert set(PRINTS) <= commands, set(PRINTS) - commands
+
+
+def test_every_change_made_before_a_run_still_applies():
+    """A SMALLER entry whose text left the docs would silently stop making a run smaller."""
+    texts = [body for _, body, _ in BLOCKS]
+    stale = [big for big, _ in SMALLER if not any(big in text for text in texts)]
+    assert not stale, stale
