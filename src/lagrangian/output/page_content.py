@@ -311,14 +311,12 @@ def _scene(system: System, values: Mapping[str, float]) -> dict:
 
 def _style() -> dict:
     """The colours and proportions ``animate`` draws with (:mod:`lagrangian.output.mechanism`)."""
-    from matplotlib.colors import to_hex
-
     return {
-        "rod": to_hex(ROD_COLOR),
-        "spring": to_hex(SPRING_COLOR),
-        "body": to_hex(BODY_COLOR),
-        "pivot": to_hex(PIVOT_COLOR),
-        "solid": to_hex(SOLID_COLOR),
+        "rod": ROD_COLOR,
+        "spring": SPRING_COLOR,
+        "body": BODY_COLOR,
+        "pivot": PIVOT_COLOR,
+        "solid": SOLID_COLOR,
         "margin": MARGIN,
         "trail_alpha": TRAIL_ALPHA,
     }
