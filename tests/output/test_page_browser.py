@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
 import pytest
 
 import lagrangian as lg
@@ -16,6 +17,7 @@ from lagrangian import Gravity, Particle, RigidBody2D, Spring
 from lagrangian.cli import ExitStatus, main
 from lagrangian.examples import example_names
 from lagrangian.output.page import page_html
+from lagrangian.output.solids import solid_shape
 from output.browser import chromium, open_page
 from output.test_page import HOSTILE_DESCRIPTION, HOSTILE_MODEL, HOSTILE_NAME
 
@@ -193,6 +195,28 @@ def test_heavy_top_draws_its_disc_in_two_views(browser, written):
     )
     assert _drawn_pixels(page, style["solid"]) > DRAWN_PIXELS
     assert page.evaluate("() => lagrangian.state().q.theta") != 0
+    assert opened.errors == []
+    page.close()
+
+
+def test_a_3d_body_is_drawn_at_the_parameters_of_the_moment(browser, written):
+    """The outline follows the mass and moments: the top's disc grows with I3, and becomes
+    the box of lagrangian.output.solids when the moments no longer make it flat."""
+    opened = open_page(browser, written("heavy_top"))
+    page = opened.page
+    page.evaluate("() => lagrangian.pause()")
+    values = {"M": 1.0, "I1": 0.01, "I3": 0.02}
+    for name, value in (("I3", 0.05), ("I1", 0.03), ("M", 2.5)):
+        values[name] = value
+        page.evaluate("([name, value]) => lagrangian.set(name, value)", [name, value])
+        page.evaluate("() => lagrangian.run(0.2)")
+        (body,) = page.evaluate("() => lagrangian.solids()")
+        drawn = np.linalg.norm(np.array(body["outline"]) - np.array(body["center"]), axis=1)
+        inertia = np.diag([values["I1"], values["I1"], values["I3"]])
+        shape = solid_shape(values["M"], inertia)
+        assert len(drawn) == len(shape.points), name
+        assert np.sort(drawn) == pytest.approx(np.sort(np.linalg.norm(shape.points, axis=1)))
+    assert shape.kind == "box"
     assert opened.errors == []
     page.close()
 

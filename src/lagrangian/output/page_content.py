@@ -7,12 +7,13 @@ the page runs, all generated through the JavaScript target of
 :mod:`lagrangian.codegen` from one :class:`~lagrangian.codegen.Program`:
 
     rhs(t, y, params)          y' = [q', q''] (the target's module, M q'' = f solved)
-    scene(t, y, params)        [P, C, A, S, G, R, m, W]: the particles (P x D), the
+    scene(t, y, params)        [P, C, A, S, G, R, m, W, J]: the particles (P x D), the
                                centres (B x 2) and angles (B x 1) of the planar bodies,
                                both ends of every spring (2S x D), the centres (S3 x 3)
                                and rotations (S3 x 9, row by row) of the 3-D bodies, the
                                particles' masses (P x 1), the planar bodies' mass and
-                               moment of inertia (B x 2)
+                               moment of inertia (B x 2), the 3-D bodies' mass and
+                               inertia tensor (S3 x 10: m, then I row by row)
     observables(t, y, params)  [E, I]: the energy function h = q' dL/dq' - L and the
                                conserved quantities the analysis found
     variational(t, y, params)  [p, F]: the momenta dL/dq' and L_q + Q, for the
@@ -20,7 +21,9 @@ the page runs, all generated through the JavaScript target of
 
 The positions are those :mod:`lagrangian.output.geometry` draws for ``animate``; which
 points a rod joins (and which 3-D bodies hang from the origin) the page decides as
-``animate`` does, along its own first seconds of the motion.  Nothing here is HTML:
+``animate`` does, along its own first seconds of the motion.  Sizes follow the
+parameters: the page draws each 3-D body's outline from its mass and inertia at the
+values of the moment, by the rules of :mod:`lagrangian.output.solids`.  Nothing here is HTML:
 :mod:`lagrangian.output.page` places the document and the code in the page.
 """
 
@@ -57,6 +60,7 @@ from .mechanism import (
     TRAIL_ALPHA,
 )
 from .notation import latex_name, too_long_to_print
+from .solids import EQUAL, FLAT, RIM_POINTS
 
 #: Seconds each stage of the analysis may take for a page (the rest is said undecided).
 ANALYSIS_SECONDS = 5.0
@@ -288,10 +292,6 @@ def _scene(system: System, values: Mapping[str, float]) -> dict:
     decides which points a rod joins as :func:`~lagrangian.output.geometry.rods` does (a
     distance constant along the motion, within ``rod_tolerance``), along its own run."""
     view = geometry(system, values)
-    shapes = [
-        {"points": shape.points.tolist(), "paths": [list(p) for p in shape.paths]}
-        for shape in view.solid_shapes
-    ]
     return {
         "dimension": view.dimension,
         "views": [list(v) for v in view.views],
@@ -303,7 +303,10 @@ def _scene(system: System, values: Mapping[str, float]) -> dict:
         ],
         "rod_tolerance": ROD_TOLERANCE,
         "springs": len(view.system.springs),
-        "solids": shapes,
+        # a 3-D body's outline, from its mass and inertia in the page (they follow the
+        # parameters): the box or disc of lagrangian.output.solids.solid_shape
+        "solids": len(view.solids),
+        "solid_rules": {"flat": FLAT, "equal": EQUAL, "rim_points": RIM_POINTS},
         "palette": list(PARTICLE_COLORS),
         "style": _style(),
     }
@@ -345,11 +348,12 @@ def _script(code: Program, system: System, conserved) -> str:
             ("A", defined(_rows([[b.angle] for b in planar], 1))),
             ("S", defined(_rows([end for s in drawn.springs for end in s.ends], dimension))),
             ("G", defined(_rows([b.position for b in solids], 3))),
-            ("R", defined(_rows([[x for row in b.rotation for x in row] for b in solids], 9))),
+            ("R", defined(_rows([_flat(b.rotation) for b in solids], 9))),
             # masses and moments, so that sizes follow the parameters: a particle's dot,
             # a planar body's bar of the uniform rod's length sqrt(12 I / m)
             ("m", defined(_rows([[p.mass] for p in drawn.particles], 1))),
             ("W", defined(_rows([[b.mass, b.inertia] for b in planar], 2))),
+            ("J", defined(_rows([[b.mass, *_flat(b.inertia)] for b in solids], 10))),
         ],
     )
     observables = code.routine(
@@ -375,6 +379,10 @@ def _script(code: Program, system: System, conserved) -> str:
     ):
         lines += target.function(name, code, routine, exported=False)
     return "\n".join(lines) + "\n"
+
+
+def _flat(matrix) -> list:
+    return [x for row in matrix for x in row]
 
 
 def _rows(rows: list, width: int) -> sympy.Matrix:

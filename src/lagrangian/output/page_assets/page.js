@@ -138,16 +138,90 @@ function lagrangianPage(model, code) {
   }
 
   // sizes at the parameters now (as animate: dots of area ~ m^(2/3), bars of the uniform
-  // rod's length sqrt(12 I / m))
+  // rod's length sqrt(12 I / m), 3-D bodies as the box or disc of their mass and moments)
   let sizes = [];
   let lengths = [];
+  let shapes = [];
 
   function measure() {
-    const [, , , , , , m, W] = code.scene(0, initialState(), params, inputs);
+    const [, , , , , , m, W, J] = code.scene(0, initialState(), params, inputs);
     const masses = flat(m).map((x) => (Number.isFinite(x) && x > 0 ? x : 0));
     const heaviest = Math.max(0, ...masses);
     sizes = masses.map((x) => (heaviest > 0 ? (x / heaviest) ** (1 / 3) : 0.8));
     lengths = W.map(([mass, inertia]) => (mass > 0 && inertia > 0 ? Math.sqrt((12 * inertia) / mass) : 0));
+    shapes = J.map(([mass, ...inertia]) => solidShape(mass, inertia));
+  }
+
+  // lagrangian.output.solids.solid_shape: the uniform box of the body's mass and principal
+  // moments along its principal axes, half-sides a_k^2 = 3 (I_i + I_j - I_k) / (2 m); a flat
+  // body with two equal moments is a disc of radius sqrt(2 I3 / m) with one spoke.  Points
+  // in the body frame, joined by the paths (lists of point indices).
+  function solidShape(mass, inertia) {
+    const rules = scene.solid_rules;
+    const point = { points: [[0, 0, 0]], paths: [] };
+    const tensor = [0, 1, 2].map((i) => [0, 1, 2].map((j) => (inertia[3 * i + j] + inertia[3 * j + i]) / 2));
+    const { values: moments, vectors: axes } = symmetricEigen(tensor);
+    if (!(mass > 0) || !moments.every(Number.isFinite)) return point;
+    const total = moments[0] + moments[1] + moments[2];
+    const half = moments.map((I) => Math.sqrt(Math.max(0, (3 * (total - 2 * I)) / (2 * mass))));
+    const largest = Math.max(...half);
+    if (!(largest > 0)) return point;
+    const thin = half.indexOf(Math.min(...half));
+    const others = [0, 1, 2].filter((k) => k !== thin);
+    const [a, b] = others.map((k) => moments[k]);
+    if (half[thin] < rules.flat * largest && Math.abs(a - b) <= rules.equal * Math.max(a, b)) {
+      const radius = Math.sqrt((2 * moments[thin]) / mass);
+      const [u, v] = others.map((k) => axes[k]);
+      const rim = [...Array(rules.rim_points).keys()].map((i) => {
+        const angle = (2 * Math.PI * i) / rules.rim_points;
+        return [0, 1, 2].map((j) => radius * (Math.cos(angle) * u[j] + Math.sin(angle) * v[j]));
+      });
+      const circle = [...rim.keys(), 0];
+      return { points: [...rim, [0, 0, 0]], paths: [circle, [rim.length, 0]] };
+    }
+    // corner 4 i + 2 j + k has the signs (i, j, k) of the half-sides (0: minus, 1: plus);
+    // each edge once, from the corner with the minus sign
+    const corners = [...Array(8).keys()].map((c) => [4, 2, 1].map((bit) => (c & bit ? 1 : -1)));
+    const points = corners.map((signs) => [0, 1, 2].map((j) => signs.reduce((sum, s, k) => sum + s * half[k] * axes[k][j], 0)));
+    const paths = [];
+    corners.forEach((signs, c) => [4, 2, 1].forEach((bit, k) => signs[k] < 0 && paths.push([c, c + bit])));
+    return { points, paths };
+  }
+
+  // The eigenvalues (increasing) and unit eigenvectors of a symmetric 3 x 3 matrix, by
+  // Jacobi's rotations (cyclic, to rounding).
+  function symmetricEigen(matrix) {
+    const A = matrix.map((row) => row.slice());
+    const V = [[1, 0, 0], [0, 1, 0], [0, 0, 1]];
+    for (let sweep = 0; sweep < 50; sweep++) {
+      const off = Math.hypot(A[0][1], A[0][2], A[1][2]);
+      const scale = Math.hypot(...A.flat());
+      if (!(off > 1e-15 * scale)) break;
+      for (const [p, q] of [[0, 1], [0, 2], [1, 2]]) {
+        if (A[p][q] === 0) continue;
+        const theta = (A[q][q] - A[p][p]) / (2 * A[p][q]);
+        const t = Math.sign(theta || 1) / (Math.abs(theta) + Math.sqrt(theta * theta + 1));
+        const c = 1 / Math.sqrt(t * t + 1);
+        const s = t * c;
+        for (let k = 0; k < 3; k++) {
+          const [akp, akq] = [A[k][p], A[k][q]];
+          A[k][p] = c * akp - s * akq;
+          A[k][q] = s * akp + c * akq;
+        }
+        for (let k = 0; k < 3; k++) {
+          const [apk, aqk] = [A[p][k], A[q][k]];
+          A[p][k] = c * apk - s * aqk;
+          A[q][k] = s * apk + c * aqk;
+        }
+        for (let k = 0; k < 3; k++) {
+          const [vkp, vkq] = [V[k][p], V[k][q]];
+          V[k][p] = c * vkp - s * vkq;
+          V[k][q] = s * vkp + c * vkq;
+        }
+      }
+    }
+    const order = [0, 1, 2].sort((i, j) => A[i][i] - A[j][j]);
+    return { values: order.map((i) => A[i][i]), vectors: order.map((i) => [0, 1, 2].map((k) => V[k][i])) };
   }
 
   function bodyEnds(p, k) {
@@ -163,7 +237,7 @@ function lagrangianPage(model, code) {
   function solidOutline(p, k) {
     const R = p.R[k];
     const c = p.G[k];
-    return scene.solids[k].points.map((b) => [0, 1, 2].map((i) => c[i] + R[3 * i] * b[0] + R[3 * i + 1] * b[1] + R[3 * i + 2] * b[2]));
+    return shapes[k].points.map((b) => [0, 1, 2].map((i) => c[i] + R[3 * i] * b[0] + R[3 * i + 1] * b[1] + R[3 * i + 2] * b[2]));
   }
 
   function allPoints(p) {
@@ -238,7 +312,7 @@ function lagrangianPage(model, code) {
         if (other !== undefined) links.push([other, i]);
       });
     }
-    stems = samples.length > 1 ? scene.solids.map((_, k) => k).filter((k) => rigid((p) => p.G[k], () => origin)) : [];
+    stems = samples.length > 1 ? shapes.map((_, k) => k).filter((k) => rigid((p) => p.G[k], () => origin)) : [];
     anchored = [...Array(scene.springs)].map((_, s) =>
       [0, 1].map((e) => samples.every((p) => p.S[2 * s + e].every((x, i) => x === samples[0].S[2 * s + e][i]))),
     );
@@ -407,7 +481,7 @@ function lagrangianPage(model, code) {
       });
       p.G.forEach((c, k) => {
         const outline = solidOutline(p, k).map(at);
-        for (const path of scene.solids[k].paths) line(path.map((i) => outline[i]), style.solid, 1.6 * r);
+        for (const path of shapes[k].paths) line(path.map((i) => outline[i]), style.solid, 1.6 * r);
         const [x, y] = at(c);
         dot(x, y, 3 * r, "#ffffff", "#000000");
       });
@@ -799,6 +873,10 @@ function lagrangianPage(model, code) {
     play: () => setRunning(true),
     pause: () => setRunning(false),
     stats: () => ({ fps, frame_ms: frameWork, steps: sim.steps, steps_per_second: sim.t > 0 ? sim.steps / sim.t : 0, method: sim.method }),
+    solids() {
+      const p = parts(sim.t, sim.y);
+      return p.G.map((center, k) => ({ center, outline: solidOutline(p, k) }));
+    },
     screenPosition(particle) {
       const k = scene.particles.findIndex((p) => p.name === particle);
       if (k < 0 || !panels.length) return null;
