@@ -47,15 +47,24 @@ class RootSearch:
         self.defaults = dict(system.parameter_values)
         self.complete = all(p.default is not None for p in system.parameters)
         self.angles = []
+        self._searched: dict[tuple, list[np.ndarray]] = {}  # the roots at each set of values
         for c in unknowns:
             shift = {c.q: c.q + 2 * sympy.pi}
             self.angles.append(all(is_zero(g.xreplace(shift) - g) for g in equations))
 
     # -- symbolic ----------------------------------------------------------------
     def symbolic(self, timeout: float) -> list[dict[str, sympy.Expr]] | None:
-        """Real solutions by SymPy, or None when it fails or runs out of time."""
+        """Real solutions by SymPy, or None when it fails or runs out of time.
+
+        While SymPy solves (in a child process), this process searches numerically at
+        the values :meth:`confirms` and :meth:`numeric` read, so that the two run side by
+        side; either of them then finds the roots searched already.
+        """
         solutions = in_child(
-            solve_factored, (self.equations, [c.q for c in self.unknowns]), timeout
+            solve_factored,
+            (self.equations, [c.q for c in self.unknowns]),
+            timeout,
+            meanwhile=lambda: self._roots(self._check_values()),
         )
         if solutions is None:
             return None
@@ -107,7 +116,7 @@ class RootSearch:
     # -- numeric ---------------------------------------------------------------
     def confirms(self, points: Sequence[Mapping[str, sympy.Expr]]) -> bool:
         """True when each numerical root (at the defaults, else at random values) is a point."""
-        values = self.defaults if self.complete else self._random_values()
+        values = self._check_values()
         expected = []
         for point in points:
             if len(point) < len(self.unknowns):
@@ -141,6 +150,10 @@ class RootSearch:
             for root in self._roots(self.defaults)
         ]
 
+    def _check_values(self) -> dict[str, float]:
+        """The defaults, or random values for the parameters without one."""
+        return self.defaults if self.complete else self._random_values()
+
     def _random_values(self) -> dict[str, float]:
         rng = random.Random(11)
         values = dict(self.defaults)
@@ -151,9 +164,16 @@ class RootSearch:
         return values
 
     def _roots(self, values: Mapping[str, float]) -> list[np.ndarray]:
+        """Distinct roots of G from starts on a grid and at random in [-pi, pi]^n (searched
+        once for the same values)."""
+        key = tuple(sorted(values.items()))
+        if key not in self._searched:
+            self._searched[key] = self._search(values)
+        return self._searched[key]
+
+    def _search(self, values: Mapping[str, float]) -> list[np.ndarray]:
         import scipy.optimize  # lazily: `lagrangian derive` never needs SciPy
 
-        """Distinct roots of G from starts on a grid and at random in [-pi, pi]^n."""
         q = [c.q for c in self.unknowns]
         table = {
             s: sympy.Float(values[s.name])

@@ -9,7 +9,9 @@ costs the parent no CPU, so the child's time is charged to the parent's deadline
 once it has been waited for (:func:`lagrangian.budget.recount`).  The parent also
 stops waiting after ``WALL_FACTOR`` times the budget in wall time: a backstop for
 a child that makes no progress at all (stopped, or starved of CPU), never reached
-at the loads the budgets are sized for.
+at the loads the budgets are sized for.  While the child solves, the parent may do other
+work that does not need the answer (the numerical search for equilibria): the two then run
+side by side on two cores.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ import multiprocessing
 import os
 import pickle
 import signal
+import time
 import warnings
 
 import sympy
@@ -57,10 +60,17 @@ def solve_factored(equations: list[sympy.Expr], unknowns: list[sympy.Symbol]) ->
     return solutions
 
 
-def in_child(function, arguments: tuple, timeout: float):
+def in_child(function, arguments: tuple, timeout: float, *, meanwhile=None):
     """``function(*arguments)`` in a forked process; None on error or after ``timeout``
-    CPU seconds of the child."""
+    CPU seconds of the child.
+
+    ``meanwhile()``, when given, runs in this process while the child works (the two
+    share the machine's cores: the numerical search for equilibria beside SymPy's solve);
+    an error it raises ends the child.
+    """
     if "fork" not in multiprocessing.get_all_start_methods():
+        if meanwhile is not None:
+            meanwhile()
         return None
     context = multiprocessing.get_context("fork")
     receiver, sender = context.Pipe(duplex=False)
@@ -76,19 +86,28 @@ def in_child(function, arguments: tuple, timeout: float):
         )
         process.start()
     sender.close()
+    patience = time.monotonic() + WALL_FACTOR * timeout + WALL_EXTRA
     try:
-        if receiver.poll(WALL_FACTOR * timeout + WALL_EXTRA):
-            ok, result = receiver.recv()
-            return result if ok else None
-        return None
-    except (EOFError, OSError, pickle.UnpicklingError, AttributeError, TypeError):
-        return None  # the child died or sent something unreadable: use the numerical route
+        if meanwhile is not None:
+            meanwhile()
+        return _received(receiver, max(0.0, patience - time.monotonic()))
     finally:
         receiver.close()
         if process.is_alive():
             process.kill()
         process.join()
         recount()  # the child's CPU time is on the clock now: charge it to the deadlines
+
+
+def _received(receiver, wait: float):
+    """What the child sent within ``wait`` seconds (wall), or None."""
+    try:
+        if receiver.poll(wait):
+            ok, result = receiver.recv()
+            return result if ok else None
+        return None
+    except (EOFError, OSError, pickle.UnpicklingError, AttributeError, TypeError):
+        return None  # the child died or sent something unreadable: use the numerical route
 
 
 def _child(sender, function, arguments, seconds: float) -> None:
