@@ -1,11 +1,14 @@
 """The page (``lagrangian page``): write time, size, and the live animation in Chromium.
 
-    python benchmarks/page.py [--repeat 3] [--links 10] [--seconds 10]
+    python benchmarks/page.py [--repeat 3] [--links 10] [--seconds 10] [--skip write|browser]
 
 1. Write time of the double pendulum's page: ``lagrangian page double_pendulum`` as a
-   child process (interpreter start-up and imports included), median of ``--repeat``;
-   then, in this process, the parts of one ``page_html`` (derive, analyse, the generated
-   code, the rest) timed by wrapping them.
+   child process (interpreter start-up and imports included), median of ``--repeat`` of
+   the wall time and of the CPU time (user + sys, the child's children included: SymPy's
+   solve of the equilibria runs in one); the same for two systems not among the examples
+   (a 3-link chain, a spring pendulum), so that a gain is not one model's; then, in this
+   process, the parts of one ``page_html`` (derive, analyse, the generated code, the rest)
+   timed by wrapping them.
 2. Page size (bytes) of the double pendulum and of the ``--links`` chain.
 3. The ``--links`` chain (benchmarks/cli.py's n-link pendulum, theta1 = 0.5) animating in
    headless Chromium (Debian's, driven by Playwright) for ``--seconds`` of wall time at
@@ -22,6 +25,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import shutil
 import statistics
 import subprocess
@@ -35,19 +39,69 @@ import lagrangian as lg
 from cli import chain_model
 from lagrangian.output import page, page_content
 
+#: A spring pendulum: a bob on a spring hung from the origin (not an example model).
+SPRING_PENDULUM = """
+name = "Spring pendulum"
+coordinates = ["r", "theta"]
 
-def write_seconds(repeat: int, folder: Path) -> list[float]:
-    seconds = []
+[parameters]
+m = 1.0
+k = 20.0
+r0 = 1.0
+g = 9.81
+
+[[particles]]
+name = "bob"
+mass = "m"
+position = ["r*sin(theta)", "-r*cos(theta)"]
+
+[[springs]]
+ends = [[0, 0], "bob"]
+stiffness = "k"
+rest_length = "r0"
+
+[gravity]
+g = "g"
+direction = [0, -1]
+
+[initial]
+r = 1.2
+theta = 0.8
+"""
+
+
+def write_seconds(model: str, repeat: int, folder: Path) -> tuple[list[float], list[float]]:
+    """Wall and CPU seconds (user + sys of the process and its children) of ``repeat``
+    runs of ``lagrangian page MODEL``."""
+    wall, cpu = [], []
     for k in range(repeat):
-        out = folder / f"double_pendulum_{k}.html"
+        out = folder / f"{Path(model).stem}_{k}.html"
+        before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
         subprocess.run(
-            [sys.executable, "-m", "lagrangian", "page", "double_pendulum", "--out", str(out)],
+            [sys.executable, "-m", "lagrangian", "page", model, "--out", str(out)],
             check=True,
             capture_output=True,
         )
-        seconds.append(time.perf_counter() - start)
-    return seconds
+        wall.append(time.perf_counter() - start)
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu.append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
+    return wall, cpu
+
+
+def print_write_times(repeat: int, folder: Path) -> None:
+    (folder / "chain3.toml").write_text(chain_model(3), encoding="utf-8")
+    (folder / "spring_pendulum.toml").write_text(SPRING_PENDULUM, encoding="utf-8")
+    models = ["double_pendulum", str(folder / "chain3.toml"), str(folder / "spring_pendulum.toml")]
+    for model in models:
+        wall, cpu = write_seconds(model, repeat, folder)
+        size = (folder / f"{Path(model).stem}_0.html").stat().st_size
+        print(
+            f"lagrangian page {Path(model).stem} (a process): median {statistics.median(wall):.2f}"
+            f" s wall of {', '.join(f'{s:.2f}' for s in wall)}; CPU (user + sys) median"
+            f" {statistics.median(cpu):.2f} s of {', '.join(f'{s:.2f}' for s in cpu)};"
+            f" {size:,} bytes; load average {os.getloadavg()[0]:.1f}"
+        )
 
 
 def parts_of_one_write(system) -> dict[str, float]:
@@ -150,18 +204,19 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--links", type=int, default=10)
     parser.add_argument("--seconds", type=float, default=10.0)
+    parser.add_argument(
+        "--skip", choices=("write", "browser"), help="leave out the write times or the browser"
+    )
     options = parser.parse_args()
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     with tempfile.TemporaryDirectory() as name:
         folder = Path(name)
-        seconds = write_seconds(options.repeat, folder)
-        size = (folder / "double_pendulum_0.html").stat().st_size
-        print(
-            f"lagrangian page double_pendulum (a process): median {statistics.median(seconds):.2f}"
-            f" s of {', '.join(f'{s:.2f}' for s in seconds)}; {size:,} bytes"
-        )
-        parts = parts_of_one_write(lg.load("double_pendulum"))
-        print("  in this process: " + ", ".join(f"{k} {v:.2f} s" for k, v in parts.items()))
+        if options.skip != "write":
+            print_write_times(options.repeat, folder)
+            parts = parts_of_one_write(lg.load("double_pendulum"))
+            print("  in this process: " + ", ".join(f"{k} {v:.2f} s" for k, v in parts.items()))
+        if options.skip == "browser":
+            return
         chain = lg.loads(chain_model(options.links))
         start = time.perf_counter()
         text = page.page_html(chain)
