@@ -59,15 +59,19 @@ def contradicted_along_motion(
 def _zero_rate_at_samples(expr, eom: EquationsOfMotion, samples: int, seed: int):
     """Whether dC/dt is zero, for each of up to ``samples`` random states that evaluate;
     stops at the first state where it is not."""
-    rate = total_derivative(expr, eom)
     rng = random.Random(seed)
     system = eom.system
+    # one random stand-in for each declared function, put in once: putting one in M, f
+    # and dC/dt (replace, then doit) costs far more than evaluating them at a point
+    concrete = _concrete_functions(system, rng)
+    rate = _substitute(total_derivative(expr, eom), concrete)
+    mass_matrix = _substitute(eom.mass_matrix, concrete)
+    forcing_vector = _substitute(eom.forcing, concrete)
     checked = 0
     for _ in range(samples * 4):
         point = _random_point(system, rng)
-        concrete = _concrete_functions(system, rng)
-        mass = _number_matrix(eom.mass_matrix, point, concrete)
-        forcing = _number_matrix(eom.forcing, point, concrete)
+        mass = evaluate(mass_matrix, point)
+        forcing = evaluate(forcing_vector, point)
         if mass is None or forcing is None:
             continue  # an undefined or overflowing sample point: draw another
         try:
@@ -77,10 +81,10 @@ def _zero_rate_at_samples(expr, eom: EquationsOfMotion, samples: int, seed: int)
         for c, a in zip(system.coordinates, accelerations, strict=True):
             point[c.q_ddot] = float(a)
         scale = max(1.0, float(np.abs(forcing).max()), float(np.abs(mass).max()))
-        value = _number(rate, point, concrete)
+        value = evaluate(rate, point)
         if value is None:
             continue
-        zero = abs(value) <= ZERO_TOLERANCE * scale * 10
+        zero = abs(float(value)) <= ZERO_TOLERANCE * scale * 10
         yield zero
         checked += 1
         if not zero or checked == samples:
@@ -118,12 +122,3 @@ def _substitute(expr, concrete: dict):
             expr = expr.replace(function, stand_in)
         expr = expr.doit()
     return expr
-
-
-def _number(expr: sympy.Expr, point: dict, concrete: dict) -> float | None:
-    value = evaluate(_substitute(expr, concrete), point)
-    return None if value is None else float(value)
-
-
-def _number_matrix(matrix: sympy.Matrix, point: dict, concrete: dict) -> np.ndarray | None:
-    return evaluate(_substitute(matrix, concrete), point)
