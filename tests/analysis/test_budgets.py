@@ -22,6 +22,7 @@ from derive.test_chain_pendulum import chain_pendulum
 from helpers import assert_close, evaluate, random_point, timer_handler
 from lagrangian.analysis import analyze
 from lagrangian.analysis.hamiltonian import hamiltonian
+from lagrangian.analysis.report import STAGES
 from lagrangian.analysis.solving import in_child
 from lagrangian.budget import (
     OutOfTime,
@@ -234,12 +235,16 @@ def test_with_time_enough_nothing_is_undecided():
 
 
 def test_asymmetric_top_finishes_with_its_cyclic_angle_and_energy():
-    # analyze ran for over 5 minutes (the reduced system's solve for q'')
-    analysis = asymmetric_top().analyze()
+    # analyze ran for over 5 minutes (the reduced system's solve for q'').  The steady
+    # motions are not asked for: they are not decided within the default 20 s (the whole
+    # budget, spent for nothing here), and the next test checks that stage is cut and said.
+    stages = tuple(stage for stage in STAGES if stage != "steady motions")
+    analysis = analyze(asymmetric_top().equations_of_motion(), stages=stages)
     assert analysis.conservation.cyclic_coordinates == ("phi",)
     assert {"p_phi", "energy"} <= set(analysis.conservation.names)
+    assert analysis.reduction is not None or not analysis.decided("Routh reduction")
     for stage in [u.stage for u in analysis.undecided]:
-        assert stage in ("Routh reduction", "steady motions", "modes")
+        assert stage in ("Routh reduction", "modes")
 
 
 def test_the_asymmetric_top_with_a_small_budget_says_what_it_did_not_decide():
