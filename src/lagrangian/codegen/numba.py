@@ -148,12 +148,18 @@ class _Printer(FloatLiterals, PythonCodePrinter):
 
 
 def _body(
-    forms: SymbolicForms, targets: list[str], expressions: list[sympy.Expr], scalars=()
+    forms: SymbolicForms,
+    targets: list[str],
+    expressions: list[sympy.Expr],
+    scalars=(),
+    vector: tuple[str, tuple[sympy.Symbol, ...]] | None = None,
 ) -> str:
     """Indented statements: unpack the arguments, the common subexpressions, the targets."""
     printer = _Printer({"fully_qualified_modules": True, "strict": True})
     replacements, reduced = sympy.cse(expressions, symbols=sympy.numbered_symbols("_c"))
     lines = ["_t = t"] + [f"{s.name} = {s.name[1:]}" for s in scalars]
+    if vector is not None:
+        lines += [f"{s.name} = {vector[0]}[{i}]" for i, s in enumerate(vector[1])]
     lines += [f"_y{i} = y[{i}]" for i in range(2 * forms.n)]
     lines += [f"_p{j} = p[{j}]" for j in range(len(forms.parameters))]
     try:
@@ -219,16 +225,20 @@ def load_functions(
     *,
     scalars: Mapping[str, tuple[sympy.Symbol, ...]] | None = None,
     matrices: Collection[str] = (),
+    vectors: Mapping[str, tuple[str, tuple[sympy.Symbol, ...]]] | None = None,
 ) -> ModuleType:
     """A generated module of ``numba.njit(cache=True)`` fillers, cached as :func:`load_module`.
 
     ``functions``: [(name, [(output array, entries)])] over the symbols of
-    ``forms``; each becomes ``name(t, y, p, *scalars, *arrays)`` filling the
+    ``forms``; each becomes ``name(t, y, p, *scalars, *vector, *arrays)`` filling the
     arrays (``arrays`` named in ``matrices`` as n x n, entries row by row).
     ``scalars[name]``: extra scalar arguments of that function, symbols named
-    ``_x`` passed as ``x``.  ``label`` names the family in the hash and the text.
+    ``_x`` passed as ``x``; ``vectors[name] = (a, symbols)``: one more array argument
+    ``a`` whose entries are the symbols (named ``_x``) in order.  ``label`` names the
+    family in the hash and the text.
     """
     scalars = dict(scalars or {})
+    vectors = dict(vectors or {})
     digest = hashlib.sha256()
     for text in (GENERATOR_VERSION, sympy.__version__, "functions", label, str(forms.n)):
         digest.update(text.encode() + b"\0")
@@ -236,27 +246,33 @@ def load_functions(
     fingerprint(sympy.Tuple(*arguments), digest)
     for name, outputs in functions:
         extra = scalars.get(name, ())
-        digest.update(" ".join([name, *(s.name for s in extra)]).encode() + b"\0")
+        words = [name, *(s.name for s in extra)]
+        if name in vectors:
+            words += [vectors[name][0], *(s.name for s in vectors[name][1])]
+        digest.update(" ".join(words).encode() + b"\0")
         for array, entries in outputs:
             digest.update(f"{array} {array in matrices} {len(entries)}".encode() + b"\0")
             for entry in entries:
                 fingerprint(entry, digest)
-    return load_text(digest.hexdigest(), _FunctionsText(forms, label, functions, scalars, matrices))
+    text = _FunctionsText(forms, label, functions, scalars, matrices, vectors)
+    return load_text(digest.hexdigest(), text)
 
 
 class _FunctionsText:
     """The text of :func:`load_functions`, made only when no cached file has it."""
 
-    def __init__(self, forms, label, functions, scalars, matrices):
-        self._arguments = (forms, label, functions, scalars, matrices)
+    def __init__(self, forms, label, functions, scalars, matrices, vectors):
+        self._arguments = (forms, label, functions, scalars, matrices, vectors)
 
     def __str__(self) -> str:
-        forms, label, functions, scalars, matrices = self._arguments
+        forms, label, functions, scalars, matrices, vectors = self._arguments
         n = forms.n
         parts = [_FUNCTIONS_HEADER.format(version=GENERATOR_VERSION, label=label)]
         for name, outputs in functions:
             extra = scalars.get(name, ())
-            rename = indexed_renaming(forms, "numba", extra)
+            vector = vectors.get(name)
+            known = (*extra, *(vector[1] if vector else ()))
+            rename = indexed_renaming(forms, "numba", known)
             targets, expressions = [], []
             for array, entries in outputs:
                 if array in matrices:
@@ -264,9 +280,9 @@ class _FunctionsText:
                 else:
                     targets += [f"{array}[{i}] = " for i in range(len(entries))]
                 expressions += [rename(entry) for entry in entries]
-            signature = ", ".join(["t", "y", "p", *(s.name[1:] for s in extra)])
-            signature += "".join(f", {array}" for array, _ in outputs)
-            body = _body(forms, targets, expressions, extra)
+            names = ["t", "y", "p", *(s.name[1:] for s in extra), *([vector[0]] if vector else [])]
+            signature = ", ".join(names) + "".join(f", {array}" for array, _ in outputs)
+            body = _body(forms, targets, expressions, extra, vector)
             parts.append(f"\n\n@njit(cache=True)\ndef {name}({signature}):\n{body}\n")
         return "".join(parts)
 

@@ -39,6 +39,7 @@ Applies to unconstrained systems with derived equations where numba is installed
 from __future__ import annotations
 
 import hashlib
+from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -68,9 +69,25 @@ MIN_FACTOR = 0.2  # SciPy's smallest shrink of a rejected step
 def compiled_loop(compiled: CompiledSystem) -> ModuleType | None:
     """The jitted DOP853 loop of ``compiled`` (built once, machine code cached on disk), or
     None where it does not apply: constraints, functions given by hand, numba missing."""
-    if compiled.has_constraints or compiled.program is None or not numba_installed():
+    if not loop_applies(compiled):
         return None
     return built(compiled.forms.fingerprint, "dop853", lambda: _build(compiled))
+
+
+def tangent_loop(compiled: CompiledSystem) -> ModuleType | None:
+    """The loop of the variational equations of ``compiled`` (the state followed by K
+    displacements, any K, see :mod:`.numba_dop853`), or None as :func:`compiled_loop`."""
+    if not loop_applies(compiled):
+        return None
+    return built(
+        compiled.forms.fingerprint, "dop853-tangent", lambda: _build(compiled, tangent=True)
+    )
+
+
+def loop_applies(compiled: CompiledSystem) -> bool:
+    """Whether the compiled loops serve ``compiled``: derived equations without constraints,
+    and numba installed."""
+    return not compiled.has_constraints and compiled.program is not None and numba_installed()
 
 
 def numba_installed() -> bool:
@@ -93,24 +110,54 @@ def compiled_ready(compiled: CompiledSystem) -> bool:
     return compiled_on_disk(_loop_text(compiled)[0], "advance")
 
 
-def _build(compiled: CompiledSystem) -> ModuleType:
+def _build(compiled: CompiledSystem, *, tangent: bool = False) -> ModuleType:
     from ..codegen.cache import load_text
     from ..codegen.numba import NumbaTarget
 
     NumbaTarget().load(compiled.program)  # the fillers' module, imported by the loop's
-    return load_text(*_loop_text(compiled))
+    jacobian = _jacobian_filler(compiled).__name__ if tangent else None
+    return load_text(*_loop_text(compiled, jacobian))
 
 
-def _loop_text(compiled: CompiledSystem) -> tuple[str, str]:
-    """(sha256, text) of the loop's module: the template with N and the fillers' import."""
+def _jacobian_filler(compiled: CompiledSystem) -> ModuleType:
+    """The generated ``jacobian(t, y, p, a, G)``: G = d(f - M a)/d(q, q') (n x 2n, row by
+    row) with the accelerations a as an argument (see :mod:`lagrangian.numeric.dynamics`)."""
+    import sympy
+
+    from ..codegen.numba import load_functions
+
+    forms = compiled.forms
+    accelerations = tuple(sympy.Symbol(f"_a{i}") for i in range(forms.n))
+    residual = sympy.Matrix(forms.forcing) - forms.mass_matrix * sympy.Matrix(accelerations)
+    entries = list(residual.jacobian([*forms.coordinates, *forms.velocities]))
+    return load_functions(
+        forms, "tangent", [("jacobian", [("G", entries)])],
+        vectors={"jacobian": ("a", accelerations)},
+    )  # fmt: skip
+
+
+def _loop_text(compiled: CompiledSystem, jacobian: str | None = None) -> tuple[str, str]:
+    """(sha256, text) of the loop's module: the template with N and the fillers' imports
+    (with ``jacobian``, the module of G: the loop of the variational equations)."""
     from ..codegen.cache import module_name, usable_directory
     from ..codegen.numba import generated_source
 
     fillers = module_name(usable_directory() / f"{generated_source(compiled.forms)[0]}.py")
-    template = Path(__file__).with_name("numba_dop853.py").read_text(encoding="utf-8")
+    generated = [
+        f"N = {compiled.n}",
+        f"TANGENT = {jacobian is not None}",
+        f"from {fillers} import eliminate, fill",
+        f"from {jacobian} import jacobian" if jacobian else "jacobian = None",
+    ]
+    return filled_template("numba_dop853.py", generated)
+
+
+def filled_template(name: str, generated: Sequence[str]) -> tuple[str, str]:
+    """(sha256, text) of the template module ``name`` (beside this one) with the lines
+    ``generated`` in place of the block between its ``generated`` markers."""
+    template = Path(__file__).with_name(name).read_text(encoding="utf-8")
     head, rest = template.split(_BEGIN, 1)
     tail = rest.split(_END, 1)[1].split("\n", 1)[1]
-    generated = [f"N = {compiled.n}", f"from {fillers} import eliminate, fill"]
     text = "\n".join([head.rstrip("\n"), "", *generated, "", tail])
     return hashlib.sha256(text.encode()).hexdigest(), text
 
@@ -131,7 +178,8 @@ def solve_compiled(
     p = np.ascontiguousarray(params, dtype=float)
     size = y.shape[0]
     f = np.asarray(compiled.rhs(t0, y, p), dtype=float).copy()
-    clock = np.array([t0, first_step(compiled, t0, y, f, p, t1, rtol, atol)])
+    h = first_step(lambda t, y: compiled.rhs(t, y, p), t0, y, f, t1, rtol, atol)
+    clock = np.array([t0, h])
     counts = np.array([2, 0, 0, 0], dtype=np.int64)  # f at t0 and in first_step, as SciPy
     flags = np.zeros(1, dtype=np.int64)
     dense = t_eval is not None or bool(events)
@@ -206,15 +254,16 @@ def solve_compiled(
     )  # fmt: skip
 
 
-def first_step(compiled, t0, y0, f0, p, t_end, rtol, atol) -> float:
+def first_step(rhs, t0, y0, f0, t_end, rtol, atol) -> float:
     """SciPy's ``select_initial_step`` for DOP853 (error estimator order 7; Hairer,
-    Norsett & Wanner, *Solving ODEs I*, II.4): one evaluation of y' ahead of t0."""
+    Norsett & Wanner, *Solving ODEs I*, II.4): one evaluation of y' = ``rhs(t, y)`` ahead
+    of t0."""
     interval = abs(t_end - t0)
     scale = atol + np.abs(y0) * rtol
     d0, d1 = _rms(y0 / scale), _rms(f0 / scale)
     h0 = 1e-6 if d0 < 1e-5 or d1 < 1e-5 else 0.01 * d0 / d1
     h0 = min(h0, interval)
-    f1 = np.asarray(compiled.rhs(t0 + h0, y0 + h0 * f0, p), dtype=float)
+    f1 = np.asarray(rhs(t0 + h0, y0 + h0 * f0), dtype=float)
     d2 = _rms((f1 - f0) / scale) / h0
     flat = d1 <= 1e-15 and d2 <= 1e-15
     h1 = max(1e-6, h0 * 1e-3) if flat else (0.01 / max(d1, d2)) ** (1 / 8)

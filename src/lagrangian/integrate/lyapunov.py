@@ -5,7 +5,8 @@ equations w' = J(t, y) w, J = dF/dy the Jacobian of the flow.  Here J is
 ``compiled.rhs_jacobian``: the compiled symbolic derivative of the solved
 accelerations (:mod:`lagrangian.numeric.dynamics`), not finite differences.  k
 displacements W (2n x k) are integrated with the state by DOP853 (the extended
-system [y, W], 2n (k + 1) equations); every ``interval`` they are
+system [y, W], 2n (k + 1) equations; in its compiled loop, J generated beside the
+equations, where numba is installed: :mod:`.numba_dop853`); every ``interval`` they are
 re-orthonormalised, W = Q R, and the logarithms of |R_ii| are summed.  The
 running sums divided by the elapsed time converge to the k largest exponents
 lambda_1 >= ... >= lambda_k (Benettin, Galgani, Giorgilli & Strelcyn, Meccanica
@@ -31,6 +32,7 @@ import numpy as np
 
 from ..errors import ModelError, setting
 from .base import check_time_span, positive_setting
+from .compiled_dop853 import MIN_FACTOR, TOO_SMALL_STEP, first_step, tangent_loop
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -40,6 +42,8 @@ DEFAULT_ATOL = 1e-11
 DEFAULT_INTERVAL = 1.0
 #: The seed of the first displacements: fixed, so that a run is repeatable.
 SEED = 20
+#: Steps the compiled loop takes per call (an interval usually takes fewer).
+STEPS_PER_CALL = 256
 
 
 @dataclass(frozen=True)
@@ -168,43 +172,100 @@ def _orthonormalised(displacements: np.ndarray, t: float) -> tuple[np.ndarray, n
 
 
 class _Flow:
-    """The state alone, or with k displacements (the variational equations), by DOP853."""
+    """The state alone, or with k displacements (the variational equations), by DOP853:
+    in its compiled loop of the variational equations where numba is installed
+    (:func:`~.compiled_dop853.tangent_loop`, J generated from the symbolic Jacobian),
+    else by SciPy's ``solve_ivp`` over ``rhs`` and ``rhs_jacobian``; the same steps."""
 
     def __init__(self, compiled: CompiledSystem, params: np.ndarray, count: int, rtol, atol):
         self._compiled = compiled
-        self._params = params
+        self._params = np.ascontiguousarray(params, dtype=float)
         self._size = 2 * compiled.n
         self._count = count
         self._rtol, self._atol = rtol, atol
         self._first_step: float | None = None
+        self._loop = tangent_loop(compiled)
 
-    def _solve(self, function, t0: float, t1: float, z0: np.ndarray) -> np.ndarray:
+    def _solve(self, t0: float, t1: float, z0: np.ndarray) -> np.ndarray:
+        """z(t1) from z(t0) = z0, z the state with or without the displacements."""
+        solve = self._by_scipy if self._loop is None else self._by_loop
+        z, times = solve(t0, t1, z0)
+        if not np.all(np.isfinite(z)):
+            raise ModelError(
+                f"the integration failed at t = {times[-1]:g}: the state is not finite"
+            )
+        steps = np.diff(times)
+        # the next interval starts with the last full step (the final one may be cut short)
+        self._first_step = float(steps[-2] if len(steps) > 1 else steps[-1])
+        return z
+
+    def _by_scipy(self, t0: float, t1: float, z0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(z(t1), the times of the steps) by SciPy's DOP853."""
         from scipy.integrate import solve_ivp
+
+        compiled, params, size = self._compiled, self._params, self._size
+
+        def function(t: float, z: np.ndarray) -> np.ndarray:
+            y = z[:size]
+            slope = compiled.rhs(t, y, params)
+            if z.shape[0] == size:
+                return slope
+            w = z[size:].reshape(size, -1)
+            tangent = compiled.rhs_jacobian(t, y, params) @ w
+            return np.concatenate((slope, tangent.ravel()))
 
         options = {} if self._first_step is None else {"first_step": self._first_step}
         solution = solve_ivp(
             function, (t0, t1), z0, method="DOP853", rtol=self._rtol, atol=self._atol, **options
         )
-        z = solution.y[:, -1]
-        if solution.status != 0 or not np.all(np.isfinite(z)):
+        if solution.status != 0:
             raise ModelError(
                 f"the integration failed at t = {solution.t[-1]:g}: {solution.message}"
             )
-        steps = np.diff(solution.t)
-        # the next interval starts with the last full step (the final one may be cut short)
-        self._first_step = float(steps[-2] if len(steps) > 1 else steps[-1])
-        return z
+        return solution.y[:, -1], solution.t
+
+    def _by_loop(self, t0: float, t1: float, z0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(z(t1), the times of the last steps) by the compiled loop: SciPy's steps."""
+        loop, params, rtol, atol = self._loop, self._params, self._rtol, self._atol
+        z = np.array(z0, dtype=float)
+        flags = np.zeros(1, dtype=np.int64)
+
+        def slope(t: float, y: np.ndarray) -> np.ndarray:
+            out = np.empty_like(y)
+            loop.slope(t, y, params, out, flags)
+            return out
+
+        f = slope(t0, z)
+        if self._first_step is None:
+            step = first_step(slope, t0, z, f, t1, rtol, atol)
+        else:
+            step = min(self._first_step, t1 - t0)
+        clock = np.array([t0, step])
+        counts = np.zeros(4, dtype=np.int64)
+        size = z.shape[0]
+        ends, ys = np.empty(STEPS_PER_CALL), np.empty((STEPS_PER_CALL, size))
+        no_grid, no_rows, no_slopes = np.zeros(0), np.empty((0, size)), np.empty((0, 7, size))
+        times, status = [t0], 0
+        while status == 0:
+            try:
+                status = loop.advance(
+                    clock, z, f, params, t1, rtol, atol, False, no_grid, no_rows, ends, ys,
+                    no_rows, no_slopes, counts, flags,
+                )  # fmt: skip
+            except ZeroDivisionError:  # NumPy's inf: rejected, as SciPy rejects a NaN error
+                flags[0], counts[3] = 1, 1
+                clock[1] *= MIN_FACTOR
+            times.extend(ends[: counts[1]][-2:])
+            counts[1] = 0
+        if status == 2:
+            raise ModelError(f"the integration failed at t = {clock[0]:g}: {TOO_SMALL_STEP}")
+        return z, np.array(times[-3:])
 
     def state(self, t0: float, t1: float, y0: np.ndarray, watch) -> np.ndarray:
         """y(t1) from y(t0) = y0."""
         if t1 <= t0:
             return y0
-        compiled, params = self._compiled, self._params
-
-        def function(t: float, y: np.ndarray) -> np.ndarray:
-            return compiled.rhs(t, y, params)
-
-        y = self._solve(function, t0, t1, y0)
+        y = self._solve(t0, t1, y0)
         if watch is not None:
             watch(t1)
         return y
@@ -213,17 +274,8 @@ class _Flow:
         self, t0: float, t1: float, y0: np.ndarray, w0: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
         """(y(t1), W(t1)) of y' = F(t, y), W' = J(t, y) W."""
-        compiled, params = self._compiled, self._params
         size, count = self._size, self._count
-
-        def function(t: float, z: np.ndarray) -> np.ndarray:
-            y = z[:size]
-            w = z[size:].reshape(size, count)
-            slope = compiled.rhs(t, y, params)
-            tangent = compiled.rhs_jacobian(t, y, params) @ w
-            return np.concatenate((slope, tangent.ravel()))
-
-        z = self._solve(function, t0, t1, np.concatenate((y0, w0.ravel())))
+        z = self._solve(t0, t1, np.concatenate((y0, w0.ravel())))
         return z[:size], z[size:].reshape(size, count)
 
 

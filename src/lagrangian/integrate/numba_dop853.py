@@ -3,8 +3,9 @@
 numba keeps machine code on disk only for functions at the top of a real module
 file, so :mod:`lagrangian.integrate.compiled_dop853` writes, per system, a copy of
 this text into the code cache with the globals between the ``generated`` markers
-filled in (N and the import of the system's generated ``fill`` of M and f, from
-:mod:`lagrangian.codegen.numba`), where ``@njit(cache=True)`` keeps the compiled loop.
+filled in (N, TANGENT and the imports of the system's generated ``fill`` of M and f
+and its ``jacobian``, from :mod:`lagrangian.codegen.numba`), where ``@njit(cache=True)``
+keeps the compiled loop.
 
     advance(clock, y, f, p, t_end, rtol, atol, dense, t_eval, out, ts, ys, olds, slopes,
             counts, flags) -> status
@@ -22,7 +23,16 @@ covers into ``out``.  ``counts[0]`` adds the right-hand side's evaluations,
 ``counts[3]`` is 1 while the current step has been rejected; ``flags[0]`` is set to 1
 where an evaluation was not finite.  Status: 0 ``ts`` full, 1 t_end reached, 2 the
 step size fell below 10 ulp of t (SciPy's "Required step size is less than spacing
-between numbers."), 3 an accepted state is not finite.  This module itself is never run.
+between numbers."), 3 an accepted state is not finite.
+
+The pieces of a step (``step``, ``interpolation``, ``interpolate``, ``accept``) are
+inlined functions of their own, so that other loops (the sections of
+:mod:`lagrangian.integrate.numba_sections`) take the same steps.  The vector integrated
+has any length: with ``TANGENT`` it is the state followed by K displacements W (2N x K,
+row by row) of the variational equations W' = J W (:mod:`lagrangian.integrate.lyapunov`),
+whose Jacobian comes from the generated ``jacobian`` G = d(f - M a)/d(q, q') at a = q''
+(J's lower rows are M^-1 G, solved column by column: no solved accelerations are
+differentiated).  This module itself is never run.
 """
 
 import math
@@ -34,7 +44,8 @@ from lagrangian.integrate.dop853_tableau import E3, E5, A, B, C, D
 
 # -- generated: begin (each generated module has its own values here) ----------------
 N = 1
-fill = eliminate = None  # the system's M and f, and the printed linear solve
+TANGENT = False  # whether the vector integrated carries displacements after the state
+fill = eliminate = jacobian = None  # the system's M and f, the printed solve, G (tangent)
 # -- generated: end ------------------------------------------------------------------
 
 SAFETY = 0.9  # SciPy's step-size controller (scipy/integrate/_ivp/rk.py)
@@ -44,140 +55,223 @@ EXPONENT = -1.0 / 8.0  # -1 / (error estimator order + 1)
 STAGES = 12
 
 
-# Both inlined: a call of a jitted function that takes arrays costs their reference counts,
+@njit(cache=True)
+def workspace():  # pragma: no cover - compiled by numba
+    """(M, f, a copy of M, G row by row, a column): the arrays ``derivative`` works in."""
+    if TANGENT:
+        return np.empty((N, N)), np.empty(N), np.empty((N, N)), np.empty(2 * N * N), np.empty(N)
+    return np.empty((N, N)), np.empty(N), np.empty((0, 0)), np.empty(0), np.empty(0)
+
+
+# All inlined: a call of a jitted function that takes arrays costs their reference counts,
 # and the stages make 15 a step (inlined: 0.064-0.070 s against 0.087-0.111 s for the double
 # pendulum's 1000 s, compiling in 16 s against 12 s under load).
 @njit(inline="always", cache=True)
-def derivative(t, y, p, mass, force, out, flags):  # pragma: no cover - compiled by numba
-    """out = y' = [q', q''] at (t, y); flags[0] = 1 where it is not finite."""
+def derivative(t, y, p, work, out, flags):  # pragma: no cover - compiled by numba
+    """out = y' = [q', q''] at (t, y), then J W with TANGENT; flags[0] = 1 where it is not
+    finite."""
+    mass, force, copy = work[0], work[1], work[2]
     fill(t, y, p, mass, force)
     for i in range(N):
         out[i] = y[N + i]
+    if TANGENT:
+        for i in range(N):
+            for j in range(N):
+                copy[i, j] = mass[i, j]
     eliminate(mass, force, out, N)
-    for i in range(2 * N):
+    if TANGENT and y.shape[0] > 2 * N:
+        tangent(t, y, p, work, out)
+    for i in range(y.shape[0]):
         if not math.isfinite(out[i]):
             flags[0] = 1
 
 
+@njit(cache=True)
+def slope(t, y, p, out, flags):  # pragma: no cover - compiled by numba
+    """out = the derivative of y at t, for Python (the size of a first step)."""
+    derivative(t, y, p, workspace(), out, flags)
+
+
 @njit(inline="always", cache=True)
-def take_stages(first, last, t, h, y, p, stages, stage, mass, force, flags):  # pragma: no cover
+def tangent(t, y, p, work, out):  # pragma: no cover - compiled by numba
+    """out[2N:] = J W for the displacements W = y[2N:] (2N x K, row by row), with
+    J = [[0, I], [M^-1 G]] and G = d(f - M a)/d(q, q') at a = q'' = out[N:2N]."""
+    mass, copy, gradient, column = work[0], work[2], work[3], work[4]
+    size = 2 * N
+    count = (y.shape[0] - size) // size
+    jacobian(t, y, p, out[N:size], gradient)
+    for j in range(count):
+        for i in range(N):
+            out[size + i * count + j] = y[size + (N + i) * count + j]
+            total = 0.0
+            for k in range(size):
+                total += gradient[i * size + k] * y[size + k * count + j]
+            column[i] = total
+            for k in range(N):
+                mass[i, k] = copy[i, k]
+        eliminate(mass, column, column, 0)
+        for i in range(N):
+            out[size + (N + i) * count + j] = column[i]
+
+
+@njit(inline="always", cache=True)
+def take_stages(first, last, t, h, y, p, stages, stage, work, flags):  # pragma: no cover
     """Stages first..last-1 of the step of size h from (t, y), rows of ``stages``."""
     for s in range(first, last):
-        for i in range(2 * N):
+        for i in range(y.shape[0]):
             total = 0.0
             for j in range(s):
                 total += stages[j, i] * A[s, j]
             stage[i] = y[i] + total * h
-        derivative(t + C[s] * h, stage, p, mass, force, stages[s], flags)
+        derivative(t + C[s] * h, stage, p, work, stages[s], flags)
+
+
+@njit(inline="always", cache=True)
+def step(
+    clock, y, f, p, t_end, rtol, atol, stages, stage, y_new, work, counts, flags
+):  # pragma: no cover - compiled by numba
+    """One step from (t, y, f) = (``clock[0]``, y, f), tried with the size ``clock[1]`` and
+    shrunk until its error is within the tolerance: y_new and the stages of the step
+    taken.  Returns (t_new, the next step size); t_new = t where the size fell below 10 ulp
+    of t.  Rejections update ``clock[1]`` and set ``counts[3]`` (see the module docstring).
+    """
+    size = y.shape[0]
+    t = clock[0]
+    h_abs = clock[1]
+    min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
+    if h_abs < min_step:
+        h_abs = min_step
+    rejected = counts[3] == 1
+    while True:
+        if h_abs < min_step:
+            return t, h_abs
+        t_new = t + h_abs
+        if t_new - t_end > 0:
+            t_new = t_end
+        h = t_new - t
+        h_abs = abs(h)
+        for i in range(size):
+            stages[0, i] = f[i]
+        counts[0] += STAGES
+        take_stages(1, STAGES, t, h, y, p, stages, stage, work, flags)
+        for i in range(size):
+            total = 0.0
+            for j in range(STAGES):
+                total += stages[j, i] * B[j]
+            y_new[i] = y[i] + h * total
+        derivative(t + h, y_new, p, work, stages[STAGES], flags)
+        error5 = 0.0
+        error3 = 0.0
+        for i in range(size):
+            scale = atol + max(abs(y[i]), abs(y_new[i])) * rtol
+            e5 = 0.0
+            e3 = 0.0
+            for j in range(STAGES + 1):
+                e5 += stages[j, i] * E5[j]
+                e3 += stages[j, i] * E3[j]
+            error5 += (e5 / scale) ** 2
+            error3 += (e3 / scale) ** 2
+        if error5 == 0.0 and error3 == 0.0:
+            norm = 0.0
+        else:
+            norm = h_abs * error5 / math.sqrt((error5 + 0.01 * error3) * size)
+        if norm < 1.0:
+            factor = MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm**EXPONENT)
+            if rejected:
+                factor = min(1.0, factor)
+            return t_new, h_abs * factor
+        shrink = SAFETY * norm**EXPONENT
+        h_abs *= shrink if shrink > MIN_FACTOR else MIN_FACTOR  # NaN: MIN_FACTOR
+        rejected = True
+        clock[1] = h_abs
+        counts[3] = 1
+
+
+@njit(inline="always", cache=True)
+def interpolation(
+    t, h, y, y_new, p, stages, stage, work, interpolant, counts, flags
+):  # pragma: no cover - compiled by numba
+    """The rows of the step's 7th-order interpolant (SciPy's ``Dop853DenseOutput``) into
+    ``interpolant``, after the three stages more it needs."""
+    counts[0] += 3
+    take_stages(STAGES + 1, 16, t, h, y, p, stages, stage, work, flags)
+    for i in range(y.shape[0]):
+        delta = y_new[i] - y[i]
+        interpolant[0, i] = delta
+        interpolant[1, i] = h * stages[0, i] - delta
+        interpolant[2, i] = 2 * delta - h * (stages[STAGES, i] + stages[0, i])
+        for r in range(4):
+            total = 0.0
+            for j in range(16):
+                total += D[r, j] * stages[j, i]
+            interpolant[3 + r, i] = h * total
+
+
+@njit(inline="always", cache=True)
+def interpolate(interpolant, x, y, out):  # pragma: no cover - compiled by numba
+    """out = the interpolant at x = (t - t_old) / h of the step from y."""
+    for i in range(y.shape[0]):
+        value = 0.0
+        for r in range(6, -1, -1):
+            value += interpolant[r, i]
+            if (6 - r) % 2 == 0:
+                value *= x
+            else:
+                value *= 1 - x
+        out[i] = value + y[i]
+
+
+@njit(inline="always", cache=True)
+def accept(clock, y, f, y_new, stages, t_new, h_next, counts):  # pragma: no cover
+    """The step to t_new taken: y, f and the clock moved on; whether y is finite."""
+    finite = True
+    for i in range(y.shape[0]):
+        y[i] = y_new[i]
+        f[i] = stages[STAGES, i]
+        if not math.isfinite(y_new[i]):
+            finite = False
+    clock[0] = t_new
+    clock[1] = h_next
+    counts[3] = 0
+    return finite
 
 
 @njit(cache=True)
 def advance(
     clock, y, f, p, t_end, rtol, atol, dense, t_eval, out, ts, ys, olds, slopes, counts, flags
 ):  # pragma: no cover - compiled by numba
-    size = 2 * N
+    size = y.shape[0]
     stages = np.empty((16, size))
     stage = np.empty(size)
     y_new = np.empty(size)
-    mass = np.empty((N, N))
-    force = np.empty(N)
+    work = workspace()
     interpolant = np.empty((7, size))
-    t = clock[0]
-    h_abs = clock[1]
     capacity = ts.shape[0]
     while counts[1] < capacity:
+        t = clock[0]
         if t >= t_end:
             return 1
-        min_step = 10.0 * abs(np.nextafter(t, np.inf) - t)
-        if h_abs < min_step:
-            h_abs = min_step
-        rejected = counts[3] == 1
-        while True:
-            if h_abs < min_step:
-                return 2
-            t_new = t + h_abs
-            if t_new - t_end > 0:
-                t_new = t_end
-            h = t_new - t
-            h_abs = abs(h)
-            for i in range(size):
-                stages[0, i] = f[i]
-            counts[0] += STAGES
-            take_stages(1, STAGES, t, h, y, p, stages, stage, mass, force, flags)
-            for i in range(size):
-                total = 0.0
-                for j in range(STAGES):
-                    total += stages[j, i] * B[j]
-                y_new[i] = y[i] + h * total
-            derivative(t + h, y_new, p, mass, force, stages[STAGES], flags)
-            error5 = 0.0
-            error3 = 0.0
-            for i in range(size):
-                scale = atol + max(abs(y[i]), abs(y_new[i])) * rtol
-                e5 = 0.0
-                e3 = 0.0
-                for j in range(STAGES + 1):
-                    e5 += stages[j, i] * E5[j]
-                    e3 += stages[j, i] * E3[j]
-                error5 += (e5 / scale) ** 2
-                error3 += (e3 / scale) ** 2
-            if error5 == 0.0 and error3 == 0.0:
-                norm = 0.0
-            else:
-                norm = h_abs * error5 / math.sqrt((error5 + 0.01 * error3) * size)
-            if norm < 1.0:
-                factor = MAX_FACTOR if norm == 0.0 else min(MAX_FACTOR, SAFETY * norm**EXPONENT)
-                if rejected:
-                    factor = min(1.0, factor)
-                h_abs *= factor
-                break
-            shrink = SAFETY * norm**EXPONENT
-            h_abs *= shrink if shrink > MIN_FACTOR else MIN_FACTOR  # NaN: MIN_FACTOR
-            rejected = True
-            clock[1] = h_abs
-            counts[3] = 1
+        t_new, h_next = step(
+            clock, y, f, p, t_end, rtol, atol, stages, stage, y_new, work, counts, flags
+        )
+        if t_new == t:
+            return 2
+        h = t_new - t
         k = counts[1]
         if dense:
-            counts[0] += 3
-            take_stages(STAGES + 1, 16, t, h, y, p, stages, stage, mass, force, flags)
+            interpolation(t, h, y, y_new, p, stages, stage, work, interpolant, counts, flags)
             for i in range(size):
-                delta = y_new[i] - y[i]
-                interpolant[0, i] = delta
-                interpolant[1, i] = h * stages[0, i] - delta
-                interpolant[2, i] = 2 * delta - h * (stages[STAGES, i] + stages[0, i])
-                for r in range(4):
-                    total = 0.0
-                    for j in range(16):
-                        total += D[r, j] * stages[j, i]
-                    interpolant[3 + r, i] = h * total
                 olds[k, i] = y[i]
                 for r in range(7):
                     slopes[k, r, i] = interpolant[r, i]
             while counts[2] < t_eval.shape[0] and t_eval[counts[2]] <= t_new:
-                x = (t_eval[counts[2]] - t) / h
-                for i in range(size):
-                    value = 0.0
-                    for r in range(6, -1, -1):
-                        value += interpolant[r, i]
-                        if (6 - r) % 2 == 0:
-                            value *= x
-                        else:
-                            value *= 1 - x
-                    out[counts[2], i] = value + y[i]
+                interpolate(interpolant, (t_eval[counts[2]] - t) / h, y, out[counts[2]])
                 counts[2] += 1
-        finite = True
+        finite = accept(clock, y, f, y_new, stages, t_new, h_next, counts)
         for i in range(size):
-            y[i] = y_new[i]
-            f[i] = stages[STAGES, i]
             ys[k, i] = y_new[i]
-            if not math.isfinite(y_new[i]):
-                finite = False
-        t = t_new
-        ts[k] = t
-        clock[0] = t
-        clock[1] = h_abs
+        ts[k] = t_new
         counts[1] = k + 1
-        counts[3] = 0
         if not finite:
             return 3
     return 0
