@@ -4,7 +4,9 @@ For each start state one motion is integrated by DOP853 (rtol 1e-10, atol 1e-12 
 told) from t = 0 to ``t_end``; its crossings of the section g = 0
 (:mod:`lagrangian.integrate.section`) are the roots of g along the method's 7th-order
 dense output, located by SciPy's event finder to the integration tolerance
-(:func:`lagrangian.integrate.events.scipy_event`).  A stroboscopic section instead
+(:func:`lagrangian.integrate.events.scipy_event`); where numba is installed, the same
+steps and roots are taken in DOP853's compiled loop with g generated beside the
+equations (:mod:`lagrangian.integrate.compiled_sections`).  A stroboscopic section instead
 keeps the state at t = transient + k * period, k = 1, 2, ..., from the same dense
 output: the Poincaré map of a system driven with that period.
 
@@ -29,6 +31,7 @@ import numpy as np
 from ..errors import ModelError, setting
 from ..files import write_atomically, write_csv
 from .base import Status, check_time_span, positive_setting
+from .compiled_sections import crossings, section_loop
 from .events import Event
 from .memory import check_fits, count_text, run_bytes
 from .scipy_methods import Dop853
@@ -152,19 +155,26 @@ def poincare_section(
             raise ModelError(f"no strobe time before t_end = {t1:g} (period {strobe:g})")
     else:
         events = (Event(section.function, section.direction, name="section"),)
+    loop = None if section is None else section_loop(compiled, section)
     times, states, orbits = [], [], []
     count = starts.shape[1]
     for k in range(count):
         told = None if watch is None else (lambda t, k=k: watch((k + t / t1) / count))
-        result = integrator.solve(
-            compiled, (t0, t1), starts[:, k], p, t_eval=t_eval, events=events, watch=told
-        )
-        if result.status is Status.FAILED:
-            raise ModelError(f"the integration of orbit {k + 1} failed: {result.message}")
-        if strobe is not None:
-            found_t, found_y = result.t, result.y
-        else:
-            found_t, found_y = result.events[0].times, result.events[0].states
+        found = None
+        if loop is not None:  # the same points as SciPy's path, to rounding
+            found = crossings(
+                loop, compiled, section, starts[:, k], p, t_end=t1, rtol=integrator.rtol,
+                atol=integrator.atol, watch=told,
+            )  # fmt: skip
+        if found is None:  # SciPy's path, which also says why a motion failed
+            result = integrator.solve(
+                compiled, (t0, t1), starts[:, k], p, t_eval=t_eval, events=events, watch=told
+            )
+            if result.status is Status.FAILED:
+                raise ModelError(f"the integration of orbit {k + 1} failed: {result.message}")
+            record = result.events[0] if strobe is None else None
+            found = (result.t, result.y) if record is None else (record.times, record.states)
+        found_t, found_y = found
         times.append(found_t)
         states.append(found_y)
         orbits.append(np.full(found_t.shape, k))
