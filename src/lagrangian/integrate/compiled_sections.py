@@ -74,7 +74,7 @@ def _build(compiled: CompiledSystem, section: Section) -> ModuleType:
         compiled.forms, "section", [("section", [("out", [section.expression])])]
     )
     generated = [
-        f"from {loop.__name__} import accept, interpolate, interpolation, step, workspace",
+        f"from {loop.__name__} import accept, buffers, interpolate, interpolation, step",
         f"from {kernel.__name__} import section",
     ]
     return load_text(*filled_template("numba_sections.py", generated))

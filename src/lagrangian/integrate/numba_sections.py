@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 # -- generated: begin (each generated module has its own values here) ----------------
-from lagrangian.integrate.numba_dop853 import accept, interpolate, interpolation, step, workspace
+from lagrangian.integrate.numba_dop853 import accept, buffers, interpolate, interpolation, step
 
 section = None  # the system's g(t, y, p, out)
 # -- generated: end ------------------------------------------------------------------
@@ -107,14 +107,8 @@ def root(t, h, y, p, interpolant, level, state, out):  # pragma: no cover - comp
 def cross(
     clock, y, f, p, t_end, rtol, atol, direction, level, budget, found_t, found_y, counts, flags
 ):  # pragma: no cover - compiled by numba
-    size = y.shape[0]
-    stages = np.empty((16, size))
-    stage = np.empty(size)
-    y_new = np.empty(size)
-    work = workspace()
-    interpolant = np.empty((7, size))
-    state = np.empty(size)
-    out = np.empty(1)
+    stages, stage, y_new, work, interpolant = buffers(y.shape[0])
+    state, out = np.empty(y.shape[0]), np.empty(1)
     for _ in range(budget):
         t = clock[0]
         if t >= t_end:
