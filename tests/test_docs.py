@@ -6,7 +6,7 @@ its own (named by file and line, so a failure names the line and the workers
 share a long block), run through the CLI in-process in a temporary folder, after
 the lines before it in its block that write a file it reads.  What is not run
 is said here, each with its reason (SKIPPED, SYNOPSIS), and so is every change
-made to a command before it runs (SMALLER): nothing else is left out or
+made to a command before it runs (SMALLER, ANIMATION_FRAMES): nothing else is left out or
 altered.  Where a comment in the docs states what a command prints, the
 statement is checked against the output (PRINTS).
 """
@@ -72,6 +72,9 @@ SMALLER = (
     ("A=1.35:1.5:300", "A=1.35:1.5:2"),
     ("--transient 300 --samples 60 ", "--transient 10 --samples 2 --steps-per-period 50 "),
 )
+#: ``lagrangian animate`` lines draw at most this many frames (``--max-frames``; the docs'
+#: runs make up to 500, each drawn by matplotlib): the same command, a shorter film.
+ANIMATION_FRAMES = 50
 #: ``python docs/make_images.py [FILTER]`` remakes the pictures (every one: about a
 #: minute; the double pendulum's: half a minute): the test runs it, into a temporary
 #: folder, with this filter instead (the pictures whose name contains it).
@@ -223,6 +226,8 @@ def _run_line(line: str, folder: Path, capsys) -> None:
         assert main(["simulate", "simple_pendulum", "--out", "run.csv"]) == 0
     if argv[1:2] == ["demo"]:
         argv += ["--out-dir", str(folder / "demo")]
+    if argv[1:2] == ["animate"] and "--max-frames" not in argv:
+        argv += ["--max-frames", str(ANIMATION_FRAMES)]
     capsys.readouterr()
     status = main(argv[1:])
     out, err = capsys.readouterr()
