@@ -1,8 +1,9 @@
 """The compiled fixed-step loops of the numba target: one generated module per system and scheme.
 
 :func:`numba_loop` writes the template :mod:`.numba_loop` out for one system and one
-scheme (``rk4``, ``midpoint`` or ``stormer-verlet``): the template's globals get the
-system's values (``N`` and the import of its generated fillers,
+scheme (``rk4``, ``midpoint``, ``stormer-verlet``, or ``rk4-tangent``: rk4 carrying one
+displacement for the ``lyapunov`` observable): the template's globals get the
+system's values (``N``, ``W`` and the import of its generated fillers,
 :mod:`lagrangian.codegen.numba`), the scheme's step printed from :mod:`.steps` goes
 between the ``scheme`` markers, and the text is written to the code cache under a hash
 of itself (:func:`~lagrangian.codegen.cache.load_text`), where numba keeps the machine
@@ -18,7 +19,7 @@ from types import ModuleType
 
 from .cache import built, load_text
 from .forms import SymbolicForms
-from .schemes import MATRICES, SCALARS, scheme_expressions
+from .schemes import MATRICES, scheme_expressions, scheme_scalars
 from .steps import NumbaStepPrinter, scheme_program
 
 #: The generated fillers each scheme's loop calls (see numba_loop's globals).
@@ -26,8 +27,13 @@ _FILLERS = {
     "rk4": ("fill as mass_force",),
     "midpoint": ("momenta", "momenta_force", "mass", "jacobian"),
     "stormer-verlet": ("mass", "gradient"),
+    "rk4-tangent": ("mass_force", "tangent"),
 }
-_SELECTED = {"rk4": "rk4", "midpoint": "midpoint", "stormer-verlet": "verlet"}
+_SELECTED = {
+    "rk4": "rk4", "midpoint": "midpoint", "stormer-verlet": "verlet", "rk4-tangent": "tangent"
+}  # fmt: skip
+#: Displacement entries carried with each member's state (``W`` of the template).
+_CARRIED = {"rk4-tangent": 2}
 _BEGIN, _END = "# -- generated: begin", "# -- generated: end"
 _SCHEME_BEGIN, _SCHEME_END = "# -- scheme: begin", "# -- scheme: end"
 _SELECTION = "workspace, init, step = rk4_workspace, rk4_init, rk4_step"
@@ -49,12 +55,17 @@ def scheme_fillers(forms: SymbolicForms, scheme: str) -> ModuleType:
     if scheme == "rk4":
         return load_module(forms)
     expressions = scheme_expressions(forms, scheme)
-    return load_functions(forms, scheme, expressions, scalars=SCALARS, matrices=MATRICES)
+    scalars = scheme_scalars(forms.n)
+    return load_functions(forms, scheme, expressions, scalars=scalars, matrices=MATRICES)
 
 
 def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> ModuleType:
     fillers = scheme_fillers(forms, scheme)
-    generated = [f"N = {forms.n}", f"from {fillers.__name__} import {', '.join(_FILLERS[scheme])}"]
+    generated = [
+        f"N = {forms.n}",
+        f"W = {_CARRIED.get(scheme, 0) * forms.n}",
+        f"from {fillers.__name__} import {', '.join(_FILLERS[scheme])}",
+    ]
     program = scheme_program(scheme, forms.n, tableau=tableau, stall=stall)
     template = Path(__file__).with_name("numba_loop.py").read_text(encoding="utf-8")
     head, rest = template.split(_BEGIN, 1)

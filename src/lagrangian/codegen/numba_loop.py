@@ -9,12 +9,16 @@ functions in place of the placeholder between the ``scheme`` markers.  There
 ``@njit(cache=True)`` keeps the machine code, so a second process starts the
 loop without compiling it.
 
-The globals: ``N`` (coordinates) and the generated fillers of the scheme's
-expressions (:mod:`lagrangian.codegen.schemes`: ``mass_force`` for
+The globals: ``N`` (coordinates), ``W`` (the entries of a displacement carried with the
+state: 2N for the scheme ``rk4-tangent``, else 0) and the generated fillers of the
+scheme's expressions (:mod:`lagrangian.codegen.schemes`: ``mass_force`` for
 rk4; ``momenta``, ``momenta_force``, ``mass``, ``jacobian`` for midpoint;
-``mass`` and ``gradient`` for Stormer-Verlet).  The scheme, for one member's
-state, is printed from :mod:`lagrangian.codegen.steps` (the same program the
-CUDA kernel prints as C):
+``mass`` and ``gradient`` for Stormer-Verlet; ``mass_force`` and ``tangent`` for
+rk4-tangent).  With a displacement w, ``run`` renormalises it after every step and
+gives each member's largest Lyapunov exponent, the mean of log |w| per unit time (the
+numpy backend's ``lyapunov`` observable, :mod:`lagrangian.ensemble.numpy_backend`).
+The scheme, for one member's state, is printed from :mod:`lagrangian.codegen.steps`
+(the same program the CUDA kernel prints as C):
 
     workspace()                       the arrays the scheme keeps and works in
     init(t, y, p, work, counts)       the scheme's state at the first step
@@ -38,7 +42,8 @@ from numba import njit, prange
 
 # -- generated: begin (each generated module has its own values here) ----------------
 N = 1
-mass_force = momenta = momenta_force = mass = jacobian = gradient = None
+W = 0
+mass_force = momenta = momenta_force = mass = jacobian = gradient = tangent = None
 # -- generated: end ------------------------------------------------------------------
 
 M = 2 * N
@@ -68,12 +73,17 @@ def rk4_step(t, h, y, p, work, tol, floor, iterations, counts):  # pragma: no co
 @njit(parallel=True, cache=True)
 def run(
     y0, params, grid, track, stop, save_every, tol, floor, iterations,
-    final, flips, failures, paths,
+    final, flips, failures, paths, exponents,
 ):  # pragma: no cover - compiled by numba  # fmt: skip
     count, m = y0.shape
     steps = grid.shape[0] - 1
     for b in prange(count):
-        y = y0[b].copy()
+        y = np.empty(m + W)
+        for i in range(m):
+            y[i] = y0[b, i]
+        for i in range(W):
+            y[m + i] = 1.0 / math.sqrt(W)
+        stretch = 0.0
         p = params[b]
         work = workspace()
         counts = np.zeros(3, dtype=np.int64)
@@ -93,6 +103,14 @@ def run(
                 if step(ta, grid[s + 1] - ta, y, p, work, tol, floor, iterations, counts) != 0:
                     failure = s
                     break
+                if W > 0:
+                    norm = 0.0
+                    for i in range(W):
+                        norm += y[m + i] * y[m + i]
+                    norm = math.sqrt(norm)
+                    stretch += math.log(norm)
+                    for i in range(W):
+                        y[m + i] /= norm
                 if save_every > 0 and (s + 1) % save_every == 0:
                     for i in range(m):
                         paths[b, i, (s + 1) // save_every] = y[i]
@@ -104,6 +122,7 @@ def run(
                         break
         flips[b] = flip
         failures[b] = failure
+        exponents[b] = stretch / (grid[steps] - grid[0]) if W > 0 else math.nan
         for i in range(m):
             final[b, i] = y[i]
 

@@ -8,6 +8,12 @@ print the same entries, built here once from the symbolic forms
 functions of (t, y = [q, q'], p), each filling named output arrays:
 
 - ``rk4``: ``mass_force`` (M, f of M q'' = f);
+- ``rk4-tangent`` (rk4 of the state with one displacement, the ensemble's ``lyapunov``
+  observable): ``mass_force`` and ``tangent``, the n x 2n matrix
+  D = d(f - M a)/d[q, q'] at given accelerations a (the scalars :func:`accelerations`,
+  D row by row), so that the displacement w = [w_q, w_q'] moves by
+  w_q'' = M^-1 D w, the variational equations of :class:`~lagrangian.integrate.lyapunov.
+  TangentFlow` (da/dy = M^-1 d(f - M a)/dy, a held at q'' = M^-1 f);
 - ``stormer-verlet``: ``mass`` (M) and ``gradient`` (L_q);
 - ``midpoint``: ``momenta`` (L_q'), ``momenta_force`` (L_q' and L_q + Q),
   ``mass`` (M) and ``jacobian``, the Newton Jacobian of the midpoint step
@@ -32,7 +38,18 @@ STEP = sympy.Symbol("_h")
 SCALARS = {"jacobian": (STEP,)}
 #: Output arrays that hold an n x n matrix (entries row by row).
 MATRICES = ("M", "J")
-SCHEMES = ("rk4", "midpoint", "stormer-verlet")
+SCHEMES = ("rk4", "midpoint", "stormer-verlet", "rk4-tangent")
+
+
+def accelerations(n: int) -> tuple[sympy.Symbol, ...]:
+    """The accelerations a_i given to ``tangent`` (scalars ``_a<i>``, passed as ``a<i>``)."""
+    return tuple(sympy.Symbol(f"_a{i}") for i in range(n))
+
+
+def scheme_scalars(n: int) -> dict[str, tuple[sympy.Symbol, ...]]:
+    """The scalar arguments beyond (t, y, p) of each function of the schemes."""
+    return {**SCALARS, "tangent": accelerations(n)}
+
 
 #: [(function name, [(output array, entries)])]
 Functions = list[tuple[str, list[tuple[str, list[sympy.Expr]]]]]
@@ -43,8 +60,17 @@ def scheme_expressions(forms: SymbolicForms, method: str) -> Functions:
     n = forms.n
     q, v = sympy.Matrix(forms.coordinates), sympy.Matrix(forms.velocities)
     mass = [forms.mass_matrix[i, j] for i in range(n) for j in range(n)]
-    if method == "rk4":
-        return [("mass_force", [("M", mass), ("f", list(forms.forcing))])]
+    if method in ("rk4", "rk4-tangent"):
+        functions = [("mass_force", [("M", mass), ("f", list(forms.forcing))])]
+        if method == "rk4":
+            return functions
+        given = dict(zip(forms.accelerations, accelerations(n), strict=True))
+        residual = sympy.Matrix(forms.forcing) - forms.mass_matrix * sympy.Matrix(
+            forms.accelerations
+        )
+        derivative = residual.jacobian([*q, *v]).xreplace(given)
+        entries = [derivative[i, j] for i in range(n) for j in range(2 * n)]
+        return [*functions, ("tangent", [("D", entries)])]
     gradient = sympy.Matrix([sympy.diff(forms.lagrangian, coordinate) for coordinate in q])
     if method == "stormer-verlet":
         return [("mass", [("M", mass)]), ("gradient", [("out", list(gradient))])]

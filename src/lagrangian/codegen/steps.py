@@ -282,8 +282,6 @@ i, j = Name("i"), Name("j")
 def rk4(n: int, a, b, c) -> Scheme:
     """RK4 with the tableau (a, b, c) (:data:`lagrangian.integrate.tableaus.RK4`); M q'' = f
     solved at each stage."""
-    m = 2 * n
-    k1, k2, k3, k4, stage = (Name(s) for s in ("k1", "k2", "k3", "k4", "stage"))
     matrix, force = Name("matrix"), Name("force")
 
     def derivative(time: Expr, state: Expr, out: Expr) -> list:
@@ -293,6 +291,48 @@ def rk4(n: int, a, b, c) -> Scheme:
             Solve(matrix, force, out, n),
             Loop("i", n, [Assign(out[i], state[n + i])]),
         ]
+
+    return _runge_kutta("rk4", 2 * n, derivative, (a, b, c), (("matrix", (n, n)), ("force", (n,))))
+
+
+def rk4_tangent(n: int, a, b, c) -> Scheme:
+    """RK4 of the state with one displacement, z = [y, w] (4n): y' = [q', M^-1 f] and
+    w' = [w_q', M^-1 D w] (D from the filler ``tangent``, :mod:`lagrangian.codegen.schemes`),
+    the numpy backend's :class:`~lagrangian.integrate.lyapunov.TangentFlow` stepped by the
+    same tableau."""
+    matrix, force, held, slopes, pushed = (
+        Name(s) for s in ("matrix", "force", "held", "slopes", "pushed")
+    )
+
+    def derivative(time: Expr, state: Expr, out: Expr) -> list:
+        return [
+            Call("mass_force", (time, state, p, matrix, force)),
+            Count(0),
+            Loop("i", n, [Loop("j", n, [Assign(held[i, j], matrix[i, j])])]),
+            Solve(matrix, force, out, n),
+            Loop("i", n, [Assign(out[i], state[n + i])]),
+            Call("tangent", (time, state, p, *(out[n + k] for k in range(n)), slopes)),
+            Count(1),
+            Loop("i", n, [
+                Assign(pushed[i], Number(0.0)),
+                Loop("j", 2 * n, [
+                    Assign(pushed[i], pushed[i] + slopes[i * (2 * n) + j] * state[2 * n + j])
+                ]),
+            ]),
+            Solve(held, pushed, out, 3 * n),
+            Loop("i", n, [Assign(out[2 * n + i], state[3 * n + i])]),
+        ]  # fmt: skip
+
+    arrays = (("matrix", (n, n)), ("held", (n, n)), ("force", (n,)), ("pushed", (n,)),
+              ("slopes", (2 * n * n,)))  # fmt: skip
+    return _runge_kutta("tangent", 4 * n, derivative, (a, b, c), arrays)
+
+
+def _runge_kutta(name: str, m: int, derivative, tableau, arrays) -> Scheme:
+    """The RK4 step of a state of length m whose slope ``derivative(time, state, out)``
+    writes into ``out``; ``arrays``: the scratch arrays ``derivative`` works in."""
+    a, b, c = tableau
+    k1, k2, k3, k4, stage = (Name(s) for s in ("k1", "k2", "k3", "k4", "stage"))
 
     def stage_from(k: Expr, coefficient: float) -> Loop:
         return Loop("i", m, [Assign(stage[i], y[i] + (h * float(coefficient)) * k[i])])
@@ -313,9 +353,8 @@ def rk4(n: int, a, b, c) -> Scheme:
         Loop("i", m, [Assign(y[i], y[i] + h * (weighted(k1, k2, k3, k4)))]),
         Return(0),
     ]
-    scratch = (*((s, (m,)) for s in ("k1", "k2", "k3", "k4", "stage")), ("matrix", (n, n)),
-               ("force", (n,)))  # fmt: skip
-    return Scheme("rk4", (), scratch, [], step)
+    scratch = (*((s, (m,)) for s in ("k1", "k2", "k3", "k4", "stage")), *arrays)
+    return Scheme(name, (), scratch, [], step)
 
 
 def _raise(target: Name, value: Expr, temporary: str) -> list:
@@ -739,4 +778,6 @@ def scheme_program(method: str, n: int, *, tableau=None, stall: float = 0.5) -> 
         return midpoint(n, stall)
     if method == "stormer-verlet":
         return stormer_verlet(n)
+    if method == "rk4-tangent":
+        return rk4_tangent(n, tableau.a, tableau.b, tableau.c)
     raise ValueError(f"no fixed-step scheme {method!r}")

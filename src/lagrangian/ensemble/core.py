@@ -71,6 +71,8 @@ if TYPE_CHECKING:
 ENSEMBLE_BACKENDS: Mapping[str, type[AbstractEnsembleBackend]] = MappingProxyType(
     {kind.name: kind for kind in (NumpyBackend, NumbaBackend, JaxBackend, CudaBackend, DaskBackend)}
 )
+#: The backends that compute the observable ``lyapunov`` (the others refuse it at once).
+LYAPUNOV_BACKENDS = ("numpy", "numba", "dask")
 #: The (2n)-vectors of work per member of a chunk (stages, Newton, observables).
 WORK_VECTORS = 40
 #: The wall clock of a run computed elsewhere (a name, so that tests can move it).
@@ -125,8 +127,9 @@ def run_ensemble(
     if chunk_size is None:
         chunk_size = kind.chunk_size
     names = observable_names(observables)
-    if "lyapunov" in names and backend not in ("numpy", "dask"):
-        raise ModelError(f"observable lyapunov runs on backends numpy and dask, not {backend}")
+    if "lyapunov" in names and backend not in LYAPUNOV_BACKENDS:
+        offered = ", ".join(LYAPUNOV_BACKENDS)
+        raise ModelError(f"observable lyapunov runs on backends {offered}, not {backend}")
     integrator = method_class(method).configure(t_span=(t0, t1), dt=dt)
     assert isinstance(integrator, AbstractFixedStepIntegrator)
     integrator.check(compiled)

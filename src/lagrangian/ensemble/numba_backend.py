@@ -10,7 +10,10 @@ scheme, or Stormer-Verlet when the system is separable, as
 (:mod:`lagrangian.codegen.numba_loop`, a template written out per system and scheme
 so that numba caches the loop's machine code on disk too) follow the numpy backend step
 for step on the same step grid, so results agree with it to rounding.  One member per ``prange``
-iteration; a member asking only for ``flip_time`` stops when it has flipped.
+iteration; a member asking only for ``flip_time`` stops when it has flipped.  For the
+``lyapunov`` observable the loop is the scheme ``rk4-tangent``: rk4 of the state with one
+displacement from the generated variational equations, renormalised after every step,
+as the numpy backend's :class:`~lagrangian.integrate.lyapunov.TangentFlow`.
 
 numba is imported here only (``pip install ".[numba]"``).
 Constrained systems are not handled (use the numpy backend).
@@ -22,7 +25,7 @@ from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
 
-from ..errors import MissingDependencyError
+from ..errors import MissingDependencyError, ModelError
 from .chunk import AbstractEnsembleBackend, Chunk, Outputs, Progress, generated_forms
 
 if TYPE_CHECKING:
@@ -60,7 +63,11 @@ class NumbaBackend(AbstractEnsembleBackend):
     name: ClassVar[str] = "numba"
 
     def integrate(self, chunk: Chunk, progress: Progress | None = None) -> Outputs:
-        run = kernel(chunk.compiled, chunk.scheme(self.name))
+        scheme = chunk.scheme(self.name)
+        lyapunov = "lyapunov" in chunk.names
+        if lyapunov:
+            scheme = tangent_scheme(scheme, chunk.integrator.name)
+        run = kernel(chunk.compiled, scheme)
         grid, count = chunk.grid, chunk.count
         states = np.ascontiguousarray(np.asarray(chunk.y0, dtype=float).T)
         p = np.asarray(chunk.params, dtype=float)
@@ -70,11 +77,23 @@ class NumbaBackend(AbstractEnsembleBackend):
         final = np.empty_like(states)
         flips = np.empty(count)
         failures = np.empty(count, dtype=np.int64)
+        exponents = np.empty(count)
         paths = np.empty((count, states.shape[1], chunk.saved) if chunk.every else (1, 1, 1))
         newton = chunk.newton
         run(
             states, per_member, grid, chunk.track, chunk.stop, chunk.every,
-            newton.tol, newton.floor, newton.iterations, final, flips, failures, paths,
+            newton.tol, newton.floor, newton.iterations, final, flips, failures, paths, exponents,
         )  # fmt: skip
         chunk.check_newton(failures)
-        return chunk.result(final.T, flips, np.transpose(paths, (1, 0, 2)))
+        values = chunk.result(final.T, flips, np.transpose(paths, (1, 0, 2)))
+        if lyapunov:
+            values["lyapunov"] = exponents
+        return values
+
+
+def tangent_scheme(scheme: str, method: str) -> str:
+    """The scheme that carries a displacement with the state: rk4's (``rk4-tangent``);
+    the other methods are refused, as by the numpy backend."""
+    if scheme != "rk4":
+        raise ModelError(f"the lyapunov observable needs an explicit method (rk4), not {method}")
+    return "rk4-tangent"
