@@ -71,6 +71,11 @@ SMALLER = (
     ("--transient 300 --axis", "--transient 10 --samples 2 --steps-per-period 50 --axis"),
     ("A=1.35:1.5:300", "A=1.35:1.5:2"),
     ("--transient 300 --samples 60 ", "--transient 10 --samples 2 --steps-per-period 50 "),
+    ("--transient 300 --t-end 300 --dt 0.05", "--transient 10 --t-end 20 --dt 0.05 --samples 2"),
+    (
+        "y=-0.4:0.4:200 --grid y_dot=-0.4:0.4:200 --t-end 200",
+        "y=-0.4:0.4:3 --grid y_dot=-0.4:0.4:3 --t-end 2",
+    ),
 )
 #: ``lagrangian animate`` lines draw at most this many frames (``--max-frames``; the docs'
 #: runs make up to 500, each drawn by matplotlib): the same command, a shorter film.

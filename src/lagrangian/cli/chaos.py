@@ -302,9 +302,10 @@ def bifurcation(
     if options.echo_json(summary, as_json):
         return
     when = f"every {strobe:g}" if section is None else f"where {section} ({direction})"
+    each = f"{settings['samples']}" if section is None else f"at most {settings['samples']}"
     click.echo(
         f"{diagram.name}: {variable} {when} for {len(diagram.values)} values of "
-        f"{parameter}, {settings['samples']} each after t = {settings['transient']:g}; "
+        f"{parameter}, {each} each after t = {settings['transient']:g}; "
         f"{settings['method']} dt={settings['dt']:g}, backend {settings['backend']}, "
         f"{settings['wall_time']:.3f} s"
     )

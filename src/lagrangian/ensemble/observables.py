@@ -16,7 +16,8 @@ implementation of the physics:
 - ``lyapunov``: the largest Lyapunov exponent, the mean logarithmic stretch per unit
   time of one displacement stepped with the state by the members' explicit method
   (the variational equations, :class:`~lagrangian.integrate.lyapunov.TangentFlow`),
-  renormalised every step; the numpy and dask backends compute it.
+  renormalised every step; the numpy, numba (the variational equations generated,
+  :mod:`lagrangian.codegen.schemes`) and dask backends compute it.
 
 Every run also reports ``failed``: the members whose state at the end (or where
 they stopped) is not finite, NaN or overflowed.
@@ -54,7 +55,7 @@ OBSERVABLES: dict[str, Observable] = {
         Observable("final_state", "the state at t_end (final_<q>, final_<q>_dot)", True),
         Observable("energy_drift", "|E(t_end) - E(0)| / |E(0)|", True),
         Observable("flip_time", "first time some |q| exceeds pi (NaN: never)", False),
-        Observable("lyapunov", "largest Lyapunov exponent over the run (backend numpy)", True),
+        Observable("lyapunov", "largest Lyapunov exponent over the run (numpy, numba, dask)", True),
     )
 }
 
