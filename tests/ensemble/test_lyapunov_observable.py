@@ -69,20 +69,22 @@ def test_the_ueda_attractors_largest_exponent_is_the_published_one():
     assert exponents.mean() == pytest.approx(0.0999, rel=0.05)
 
 
-def test_numba_gives_the_numpy_backends_values():
+@pytest.mark.parametrize("backend", ["numba", "jax"])
+def test_compiled_backends_give_the_numpy_backends_values(backend):
     # the variational equations printed for numba (codegen.schemes' ``tangent``, the
-    # scheme rk4-tangent) against the numpy backend's TangentFlow: the same rk4 steps,
-    # so the same exponents to rounding, for a nonlinear system with a varied parameter
-    pytest.importorskip("numba")
+    # scheme rk4-tangent), or JAX's traced Jacobian in its jitted loop, against the numpy
+    # backend's TangentFlow: the same rk4 steps, so the same exponents to rounding, for
+    # a nonlinear system with a varied parameter
+    pytest.importorskip(backend)
     system = ueda()
     settings = {
         "initial": {"x": np.array([0.5, 1.0, 2.0])}, "params": {"B": np.array([7.5, 5.0, 9.0])},
         "t_end": 30.0, "dt": 0.02, "observables": ("lyapunov", "final_state"),
     }  # fmt: skip
     numpy = system.ensemble(backend="numpy", **settings)
-    numba = system.ensemble(backend="numba", **settings)
-    np.testing.assert_allclose(numba["lyapunov"], numpy["lyapunov"], rtol=1e-9)
-    np.testing.assert_allclose(numba["final_x"], numpy["final_x"], rtol=1e-9)
+    theirs = system.ensemble(backend=backend, **settings)
+    np.testing.assert_allclose(theirs["lyapunov"], numpy["lyapunov"], rtol=1e-9)
+    np.testing.assert_allclose(theirs["final_x"], numpy["final_x"], rtol=1e-9)
 
 
 def test_backends_without_it_and_implicit_methods_are_refused():
@@ -90,7 +92,8 @@ def test_backends_without_it_and_implicit_methods_are_refused():
         oscillator(0.4).ensemble(t_end=1, backend="cuda", observables="lyapunov")
     with pytest.raises(ModelError, match="needs an explicit method"):
         oscillator(0.4).ensemble(t_end=1, method="variational", observables="lyapunov")
-    with pytest.raises(ModelError, match="needs an explicit method"):
-        oscillator(0.4).ensemble(
-            t_end=1, method="variational", backend="numba", observables="lyapunov"
-        )
+    for backend in ("numba", "jax"):
+        with pytest.raises(ModelError, match="needs an explicit method"):
+            oscillator(0.4).ensemble(
+                t_end=1, method="variational", backend=backend, observables="lyapunov"
+            )

@@ -72,7 +72,7 @@ ENSEMBLE_BACKENDS: Mapping[str, type[AbstractEnsembleBackend]] = MappingProxyTyp
     {kind.name: kind for kind in (NumpyBackend, NumbaBackend, JaxBackend, CudaBackend, DaskBackend)}
 )
 #: The backends that compute the observable ``lyapunov`` (the others refuse it at once).
-LYAPUNOV_BACKENDS = ("numpy", "numba", "dask")
+LYAPUNOV_BACKENDS = ("numpy", "numba", "jax", "dask")
 #: The (2n)-vectors of work per member of a chunk (stages, Newton, observables).
 WORK_VECTORS = 40
 #: The wall clock of a run computed elsewhere (a name, so that tests can move it).

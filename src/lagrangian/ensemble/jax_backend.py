@@ -17,6 +17,10 @@ compiles the whole chunk at once:
   by the same per-member test, at most ``max_newton`` times.  A member that
   does not converge is an error after the loop (traced code cannot raise).
 
+For the ``lyapunov`` observable the rk4 loop steps the state with one displacement,
+[F(t, y), J(t, y) w] with J the traced symbolic Jacobian (``rhs_jacobian``), renormalised
+after every step, as the numpy backend's :class:`~lagrangian.integrate.lyapunov.TangentFlow`.
+
 Linear solves (M q'' = f of the compiled ``mass_matrix`` and ``forcing``, the
 Newton steps) are the Gaussian elimination every target prints, unrolled over the
 batch (:func:`_solve`), several times faster than XLA's batched LU for small n.
@@ -92,16 +96,20 @@ class JaxBackend(AbstractEnsembleBackend):
         integrator.check(compiled)
         y_start = np.asarray(chunk.y0, dtype=float)
         with jax.enable_x64(chunk.precision == "float64"):
-            run = _loop(compiled, integrator, chunk.precision, chunk.every, chunk.track)
+            tangent = "lyapunov" in chunk.names
+            run = _loop(compiled, integrator, chunk.precision, chunk.every, chunk.track, tangent)
             size = max(count, self.pad_to or 0)
             arrays = (*_padded(y_start, np.asarray(chunk.params), size), chunk.grid)
             results = run(*(array.astype(chunk.dtype) for array in arrays))
-            final, flips, failed, paths = (
+            final, flips, failed, paths, exponents = (
                 np.asarray(x)[..., :count] for x in jax.device_get(results)
             )
         chunk.check_newton(failed)
         paths = np.transpose(paths, (1, 2, 0)) if chunk.every else None
-        return chunk.result(final, chunk.flip_times(flips), paths)
+        values = chunk.result(final, chunk.flip_times(flips), paths)
+        if tangent:
+            values["lyapunov"] = np.asarray(exponents, dtype=float)
+        return values
 
 
 def _padded(y0: np.ndarray, params: np.ndarray, size: int) -> tuple[np.ndarray, np.ndarray]:
@@ -130,14 +138,15 @@ def traced_system(compiled: CompiledSystem) -> CompiledSystem:
     )
 
 
-def _loop(compiled, integrator, precision: str, every: int, track: bool):
-    """The jitted ``run(y0, params, grid)`` for these settings (built once, then cached)."""
-    key = _settings(integrator, precision, every, track)
+def _loop(compiled, integrator, precision: str, every: int, track: bool, tangent: bool):
+    """The jitted ``run(y0, params, grid)`` for these settings (built once, then cached);
+    ``tangent``: carrying one displacement per member (the ``lyapunov`` observable)."""
+    key = (*_settings(integrator, precision, every, track), tangent)
     if compiled.forms is None:  # functions given by hand: nothing to key them on
-        return _loop_of(traced_system(compiled), integrator, precision, every, track)
+        return _loop_of(traced_system(compiled), integrator, precision, every, track, tangent)
     fingerprint, baumgarte = compiled.forms.fingerprint, compiled.baumgarte
     system = built(fingerprint, "jax", lambda: traced_system(compiled), baumgarte)
-    build = lambda: _loop_of(system, integrator, precision, every, track)  # noqa: E731
+    build = lambda: _loop_of(system, integrator, precision, every, track, tangent)  # noqa: E731
     return built(fingerprint, "jax", build, baumgarte, key)
 
 
@@ -150,25 +159,31 @@ def _settings(integrator, precision: str, every: int, track: bool) -> tuple:
     return (type(integrator), settings, precision, every, track)
 
 
-def _loop_of(system, integrator, precision: str, every: int, track: bool):
+def _loop_of(system, integrator, precision: str, every: int, track: bool, tangent: bool):
     eps = float(np.finfo(np.float64 if precision == "float64" else np.float32).eps)
+    if tangent:
+        return _build(system, _tangent_stepper(system, integrator), every, track, tangent)
     return _build(system, _stepper(system, integrator, eps), every, track)
 
 
 # -- the loop ----------------------------------------------------------------------------
-def _build(system: CompiledSystem, stepper: Stepper, every: int, track: bool):
-    """``run(y0, params, grid) -> (y_end, flip, failure, saved)``, jitted.
+def _build(system: CompiledSystem, stepper: Stepper, every: int, track: bool, tangent=False):
+    """``run(y0, params, grid) -> (y_end, flip, failure, saved, exponent)``, jitted.
 
     ``flip`` and ``failure`` are per member the index in ``grid`` of the first
     flip (the step's end) and of the first failed step (its start), -1 if none,
     so that times are read from the float64 grid whatever the precision.  The
     steps run in blocks of ``every`` (a ``lax.scan`` stacking the state after
     each block: the saved path), then the remainder; without saving, one block.
+    With ``tangent`` the stepper moves [y, w], a displacement w per member that starts
+    along (1, ..., 1) and is renormalised after every step; ``exponent`` is the mean of
+    log |w| per unit time (0 without).
     """
     jax = _jax()
     jnp, lax = jax.numpy, jax.lax
     project = system.project if system.has_constraints else None
     n = system.n
+    m = 2 * n
 
     def flipped(y):
         return jnp.any(jnp.abs(y[:n]) > math.pi, axis=0)
@@ -179,7 +194,7 @@ def _build(system: CompiledSystem, stepper: Stepper, every: int, track: bool):
         blocks, never = steps // size, jnp.full(y0.shape[1:], -1, dtype=jnp.int32)
 
         def one(s, carry):
-            y, state, flip, failed = carry
+            y, state, flip, failed, stretch = carry
             s = jnp.asarray(s, jnp.int32)  # the index type of flip and failed
             ta, tb = grid[s], grid[s + 1]
             y, state, bad = stepper.step(ta, tb - ta, y, state, params)
@@ -189,18 +204,25 @@ def _build(system: CompiledSystem, stepper: Stepper, every: int, track: bool):
                 flip = jnp.where((flip < 0) & flipped(y), s + 1, flip)
             if bad is not None:
                 failed = jnp.where((failed < 0) & bad, s, failed)
-            return y, state, flip, failed
+            if tangent:
+                w = y[m:]
+                norm = jnp.sqrt(jnp.sum(w * w, axis=0))
+                stretch = stretch + jnp.log(norm)
+                y = jnp.concatenate([y[:m], w / norm])
+            return y, state, flip, failed, stretch
 
         def block(carry, start):
             carry = lax.fori_loop(0, size, lambda i, c: one(start + i, c), carry)
-            return carry, (carry[0] if every else None)
+            return carry, (carry[0][:m] if every else None)
 
         flip = jnp.where(flipped(y0), 0, never) if track else never
-        carry = (y0, stepper.init(grid[0], y0, params), flip, never)
+        z0 = jnp.concatenate([y0, jnp.full_like(y0, 1.0 / math.sqrt(m))]) if tangent else y0
+        stretch = jnp.zeros(y0.shape[1:], dtype=y0.dtype)
+        carry = (z0, stepper.init(grid[0], z0, params), flip, never, stretch)
         carry, saved = lax.scan(block, carry, jnp.arange(blocks, dtype=jnp.int32) * size)
         carry = lax.fori_loop(blocks * size, steps, one, carry)
         paths = jnp.concatenate([y0[None], saved]) if every else y0[None]
-        return carry[0], carry[2], carry[3], paths
+        return carry[0][:m], carry[2], carry[3], paths, carry[4] / (grid[-1] - grid[0])
 
     return jax.jit(run)
 
@@ -223,12 +245,34 @@ def _stepper(system: CompiledSystem, integrator, eps: float) -> Stepper:
     raise ModelError(f"backend 'jax' does not integrate with method {integrator.name}")
 
 
+def _tangent_stepper(system: CompiledSystem, integrator) -> Stepper:
+    """The explicit method stepping the state with one displacement, z = [y, w]:
+    z' = [F(t, y), J(t, y) w], the numpy backend's
+    :class:`~lagrangian.integrate.lyapunov.TangentFlow` (J the compiled symbolic Jacobian)."""
+    if not isinstance(integrator, AbstractExplicitRungeKutta):
+        raise ModelError(
+            f"the lyapunov observable needs an explicit method (rk4), not {integrator.name}"
+        )
+    if system.has_constraints:
+        raise ModelError("backend 'jax' does not compute lyapunov with constraints (use numpy)")
+    jnp = _jax().numpy
+    rhs, m = _rhs(system), 2 * system.n
+
+    def tangent(t, z, params):
+        y, w = z[:m], z[m:]
+        stretched = jnp.einsum("ij...,j...->i...", system.rhs_jacobian(t, y, params), w)
+        return jnp.concatenate([rhs(t, y, params), stretched])
+
+    return _explicit_rk(system, integrator.tableau, tangent)
+
+
 # -- explicit Runge-Kutta --------------------------------------------------------------
-def _explicit_rk(system: CompiledSystem, tableau) -> Stepper:
-    """The stage sums of AbstractExplicitRungeKutta.step, term for term (same rounding)."""
+def _explicit_rk(system: CompiledSystem, tableau, rhs=None) -> Stepper:
+    """The stage sums of AbstractExplicitRungeKutta.step, term for term (same rounding);
+    ``rhs``: the slope stepped (default: the system's, :func:`_rhs`)."""
     a = [[float(x) for x in row] for row in tableau.a]
     b, c = [float(x) for x in tableau.b], [float(x) for x in tableau.c]
-    rhs = _rhs(system)
+    rhs = _rhs(system) if rhs is None else rhs
 
     def step(t, h, y, state, params):
         stages = []

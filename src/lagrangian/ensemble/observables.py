@@ -17,7 +17,7 @@ implementation of the physics:
   time of one displacement stepped with the state by the members' explicit method
   (the variational equations, :class:`~lagrangian.integrate.lyapunov.TangentFlow`),
   renormalised every step; the numpy, numba (the variational equations generated,
-  :mod:`lagrangian.codegen.schemes`) and dask backends compute it.
+  :mod:`lagrangian.codegen.schemes`), jax and dask backends compute it.
 
 Every run also reports ``failed``: the members whose state at the end (or where
 they stopped) is not finite, NaN or overflowed.
@@ -55,7 +55,7 @@ OBSERVABLES: dict[str, Observable] = {
         Observable("final_state", "the state at t_end (final_<q>, final_<q>_dot)", True),
         Observable("energy_drift", "|E(t_end) - E(0)| / |E(0)|", True),
         Observable("flip_time", "first time some |q| exceeds pi (NaN: never)", False),
-        Observable("lyapunov", "largest Lyapunov exponent over the run (numpy, numba, dask)", True),
+        Observable("lyapunov", "largest Lyapunov exponent over the run (rk4; not cuda)", True),
     )
 }
 
