@@ -55,8 +55,12 @@ def test_the_ueda_attractors_largest_exponent_is_the_published_one():
     # from x = 1 and 2, DOP853), so the exponent is the mean over 16 orbits of 200 drive
     # periods each, started on the attractor (after 20 periods): its own standard error
     # is 2 %; long runs gave 0.1037 (one orbit, t = 5000) and 0.1036 +- 0.0012 (32 orbits
-    # of 300 periods), 4 % above the published digits, which themselves carry the
-    # scatter of their run's length: agreement within 5 % is what these numbers support.
+    # of 300 periods), 4 % above the published digits. An independent check (a plain
+    # RK4 in numba, h = 0.005, t = 1e5 after 1000 of transient, 4 starts x = 2.5, 0.1, 1,
+    # -1.5; not this package's code) gave 0.1029, 0.1046, 0.1035, 0.1039: the published
+    # 0.0999 is itself about 4 % low (its run length is not stated). 7 % covers that and
+    # this 16-orbit mean's own scatter (about 1.5 %, and it moves with the rounding of the
+    # machine: chaotic orbits), so the test does not hang on the last bits of a CPU.
     period = 2 * math.pi
     system, dt = ueda(), period / 100
     settle = system.ensemble(initial={"x": np.linspace(0.5, 2.5, 16)}, t_end=20 * period, dt=dt)
@@ -66,7 +70,7 @@ def test_the_ueda_attractors_largest_exponent_is_the_published_one():
     )
     exponents = np.asarray(result["lyapunov"])
     assert np.all(exponents > 0.05)  # every orbit on the chaotic attractor
-    assert exponents.mean() == pytest.approx(0.0999, rel=0.05)
+    assert exponents.mean() == pytest.approx(0.0999, rel=0.07)
 
 
 @pytest.mark.parametrize("backend", ["numba", "jax"])
