@@ -188,3 +188,21 @@ def timer_handler(which: int, signum: int, handler: Callable, delay: float) -> I
     finally:
         signal.setitimer(which, 0)
         signal.signal(signum, previous)
+
+
+def spring_bar_and_bob():
+    """A planar mechanism with every kind of part a picture draws: a bob on a vertical
+    line hung from a spring at the origin, and a bar (a planar rigid body) turning about
+    (1, 0) under gravity."""
+    import lagrangian as lg
+    from lagrangian.model import Gravity, Particle, RigidBody2D, Spring
+
+    return lg.System.from_particles(
+        ["y", "phi"],
+        particles=[Particle("bob", "m", ("0", "-y"))],
+        bodies=[RigidBody2D("bar", "M", "M*a**2/12", ("1", "0"), "phi")],
+        springs=[Spring("k", ("bob", (0, 0)), rest_length="L0")],
+        gravity=Gravity("g"),
+        parameters={"m": 1.0, "M": 2.0, "a": 0.6, "k": 20.0, "L0": 0.5, "g": 9.81},
+        initial={"y": 0.9, "phi_dot": 1.0},
+    )

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import lagrangian as lg
-from lagrangian import Gravity, Particle, RigidBody2D, Spring
+from helpers import spring_bar_and_bob
 from lagrangian.cli import ExitStatus, main
 from lagrangian.examples import example_names
 from lagrangian.output.page import page_html
@@ -222,15 +222,7 @@ def test_a_3d_body_is_drawn_at_the_parameters_of_the_moment(browser, written):
 
 
 def test_springs_planar_bodies_and_particles_draw(browser, tmp_path):
-    system = lg.System.from_particles(
-        ["y", "phi"],
-        particles=[Particle("bob", "m", ("0", "-y"))],
-        bodies=[RigidBody2D("bar", "M", "M*a**2/12", ("1", "0"), "phi")],
-        springs=[Spring("k", ("bob", (0, 0)), rest_length="L0")],
-        gravity=Gravity("g"),
-        parameters={"m": 1.0, "M": 2.0, "a": 0.6, "k": 20.0, "L0": 0.5, "g": 9.81},
-        initial={"y": 0.9, "phi_dot": 1.0},
-    )
+    system = spring_bar_and_bob()
     path = tmp_path / "spring.html"
     path.write_text(page_html(system), encoding="utf-8")
     opened = open_page(browser, path)

@@ -7,7 +7,8 @@ import pytest
 from PIL import Image, ImageSequence
 
 import lagrangian as lg
-from lagrangian.model import Gravity, Particle, RigidBody2D, Spring
+from helpers import spring_bar_and_bob
+from lagrangian.model import Gravity, Particle
 from lagrangian.output.animation import Animation, animate, frame_plan, mechanism_view
 from lagrangian.output.geometry import ORIGIN, geometry, rods, zigzag
 from visual.pictures import color_mask, near, pixel_of
@@ -174,15 +175,7 @@ def test_spherical_pendulum_is_shown_from_the_side_and_from_above():
 
 
 def test_springs_zigzag_and_bodies_are_bars():
-    system = lg.System.from_particles(
-        ["y", "phi"],
-        particles=[Particle("bob", "m", ("0", "-y"))],
-        bodies=[RigidBody2D("bar", "M", "M*a**2/12", ("1", "0"), "phi")],
-        springs=[Spring("k", ("bob", (0, 0)), rest_length="L0")],
-        gravity=Gravity("g"),
-        parameters={"m": 1.0, "M": 2.0, "a": 0.6, "k": 20.0, "L0": 0.5, "g": 9.81},
-        initial={"y": 0.9, "phi_dot": 1.0},
-    )
+    system = spring_bar_and_bob()
     run = system.simulate(t_end=1.0, n_out=2001)
     view, plan = mechanism_view(run, system)
     view.update(5)
