@@ -94,10 +94,16 @@ def hermite(
     """
     h = t1 - t0
     s = (np.asarray(t, dtype=float) - t0) / h
+    y0, f0, y1, f1 = (np.asarray(a)[..., None] if np.ndim(t) else a for a in (y0, f0, y1, f1))
+    return hermite_at(s, h, y0, f0, y1, f1)
+
+
+def hermite_at(s, h, y0, f0, y1, f1):
+    """The cubic Hermite interpolant at the fraction ``s`` of a step of width ``h`` with
+    values y and slopes f at its ends, all broadcast together (many steps at once)."""
     s2, s3 = s * s, s * s * s
     h00, h10 = 2 * s3 - 3 * s2 + 1, s3 - 2 * s2 + s
     h01, h11 = -2 * s3 + 3 * s2, s3 - s2
-    y0, f0, y1, f1 = (np.asarray(a)[..., None] if np.ndim(t) else a for a in (y0, f0, y1, f1))
     return h00 * y0 + h10 * h * f0 + h01 * y1 + h11 * h * f1
 
 

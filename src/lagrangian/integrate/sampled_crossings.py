@@ -20,8 +20,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 import sympy
 
-from ..symbols import time_symbol
-from .section import Section
+from .events import hermite_at
+from .section import Section, section_arguments
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -47,10 +47,8 @@ class SampledCrossings:
 def section_values(compiled: CompiledSystem, section: Section):
     """g(t, y, params) of ``section`` for arrays: t, each row of y and of params broadcast
     together (the section's expression, printed for NumPy)."""
-    system = compiled.equations.system
-    state = (*(c.q for c in system.coordinates), *(c.q_dot for c in system.coordinates))
-    parameters = [p.symbol for p in system.parameters]
-    evaluate = sympy.lambdify((time_symbol(), *state, *parameters), section.expression, "numpy")
+    arguments = section_arguments(compiled.equations.system)
+    evaluate = sympy.lambdify(arguments, section.expression, "numpy")
 
     def values(t, y, params) -> np.ndarray:
         g = evaluate(t, *y, *params)
@@ -110,13 +108,7 @@ def _located(compiled, g_of, times, paths, p, members, steps):
         f1[:, at] = compiled.rhs(times[step + 1], y1[:, at], ps)
 
     def state(s):
-        s2, s3 = s * s, s * s * s
-        return (
-            (2 * s3 - 3 * s2 + 1) * y0
-            + (s3 - 2 * s2 + s) * h * f0
-            + (-2 * s3 + 3 * s2) * y1
-            + (s3 - s2) * h * f1
-        )
+        return hermite_at(s, h, y0, f0, y1, f1)
 
     def g(s):
         return g_of(t0 + s * h, state(s), p)

@@ -74,8 +74,7 @@ def parse_section(compiled: CompiledSystem, text: str, direction: str = "+") -> 
     state = (*coordinates, *velocities)
     if not expression.free_symbols & set(state):
         raise ModelError(f"the section {text!r} depends on no coordinate or velocity")
-    arguments = (time_symbol(), *state, *parameters)
-    evaluate = sympy.lambdify(arguments, expression, modules="math")
+    evaluate = sympy.lambdify(section_arguments(system), expression, modules="math")
     size = len(state)
 
     def function(t: float, y: np.ndarray, params: np.ndarray) -> float:
@@ -88,6 +87,13 @@ def parse_section(compiled: CompiledSystem, text: str, direction: str = "+") -> 
         defaults = {p.symbol: compiled.default_parameters.get(p.name) for p in system.parameters}
         value = float(right.subs(defaults)) if right.free_symbols <= set(defaults) else None
     return Section(text, expression, DIRECTIONS[direction], coordinate, value, function)
+
+
+def section_arguments(system) -> tuple[sympy.Symbol, ...]:
+    """(t, q..., q_dot..., parameters...): the arguments of a section's function."""
+    coordinates = [c.q for c in system.coordinates]
+    velocities = [c.q_dot for c in system.coordinates]
+    return (time_symbol(), *coordinates, *velocities, *(p.symbol for p in system.parameters))
 
 
 def state_names(compiled: CompiledSystem) -> tuple[str, ...]:
