@@ -267,7 +267,9 @@ def _is_polynomial_factor(factor: sympy.Expr) -> bool:
 
 def is_zero(expr: sympy.Expr) -> bool:
     """True when ``expr`` is identically zero after bounded simplification."""
-    return tidy(expr, trig=True) == 0
+    simplified = tidy(expr, trig=True)
+    # a float zero (a parameter set to 0.0) is not == 0 in SymPy
+    return simplified == 0 or (simplified.is_Number and bool(simplified.is_zero))
 
 
 # -- large systems: SymEngine arithmetic, converted to and from SymPy exactly --------------

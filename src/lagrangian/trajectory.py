@@ -197,10 +197,10 @@ class Trajectory:
         return str(self.dataset.attrs.get("energy_not_conserved", ""))
 
     @property
-    def energy_conserved_here(self) -> str:
-        """Why the energy is not conserved in general, where it is in this run all the same
-        (the causes vanish at its parameter values: an input 0, an amplitude 0); "" else."""
-        return str(self.dataset.attrs.get("energy_conserved_here", ""))
+    def conserved_here(self) -> dict[str, str]:
+        """The quantities conserved in this run though not in general, name -> why not in
+        general (the causes vanish at its parameter values: an input 0, an amplitude 0)."""
+        return json.loads(self.dataset.attrs.get("conserved_here", "{}"))
 
     def drifts(self) -> dict[str, float]:
         """The drift of every conserved quantity: the energy where it is conserved.
@@ -223,9 +223,9 @@ class Trajectory:
             document["not_conserved"] = {
                 "energy": {"change": self.drift("energy"), "reason": self.energy_not_conserved}
             }
-        if self.energy_conserved_here:  # in general not: say why it is in this run
+        if self.conserved_here:  # in general not: say why it is in this run
             document["conserved_in_this_run"] = {
-                "energy": {"reason_in_general": self.energy_conserved_here}
+                name: {"reason_in_general": reason} for name, reason in self.conserved_here.items()
             }
         document["method"] = attrs.get("method")
         for key in ("backend", "choice"):  # which code ran and why (integrate.choice)

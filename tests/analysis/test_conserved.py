@@ -166,3 +166,17 @@ def test_results_read_in_the_repl():
         "<System 'Cart-pole': coordinates x, theta; parameters M = 1, m = 0.1, l = 0.5, g = 9.81"
     )
     assert repr(system.equations_of_motion()).startswith("Cart-pole   (coordinates: x, θ)")
+
+
+def test_a_cause_whose_rate_is_a_float_zero_at_the_values_no_longer_acts():
+    # a charge pushed by the input F: with F = 0.0 (a float, as runs give) neither its
+    # momentum nor the energy has a cause left
+    system = lg.System.from_lagrangian(
+        "m*x_dot^2/2 - k*y^2/2 + m*y_dot^2/2", coordinates=["x", "y"], forces={"x": "F"}
+    )
+    result = conservation(system)
+    causes = {q.name: q for q in result.not_conserved}
+    F = system.symbol("F")
+    for name in ("p_x", "energy"):
+        assert causes[name].reasons_at({F: sympy.Float(0.0)}) == ()
+        assert causes[name].reasons_at({F: sympy.Float(0.5)}) != ()

@@ -273,3 +273,23 @@ def test_the_energy_is_conserved_in_a_run_where_its_causes_vanish(capsys, tmp_pa
         assert summary["not_conserved"]["energy"]["reason"] == reason
         assert summary["not_conserved"]["energy"]["change"] > 1e-3
         assert "energy" not in summary["invariants"] and "conserved_in_this_run" not in summary
+
+
+@pytest.mark.parametrize("force", [0.0, 0.5])
+def test_a_momentum_is_conserved_in_a_run_where_its_force_vanishes(capsys, force):
+    # the cart-pole's x is cyclic, but the input F pushes the cart: p_x is conserved in a run
+    # with F = 0 only, where its drift is reported like a conserved quantity's
+    argv = ("simulate", "cart_pole", "--t-end", "2", "--set", f"F={force}")
+    status, out, _ = run(capsys, *argv, "--json")
+    assert status == ExitStatus.SUCCESS
+    summary = json.loads(out)
+    if force:
+        assert "p_x" not in summary["invariants"] and "conserved_in_this_run" not in summary
+        return
+    assert summary["invariants"]["p_x"] < 1e-9
+    assert list(summary["conserved_in_this_run"]) == ["energy", "p_x"]
+    assert summary["conserved_in_this_run"]["p_x"] == {
+        "reason_in_general": "the generalized force Q_x acts on it"
+    }
+    _, text, _ = run(capsys, *argv)
+    assert "p_x is conserved in this run: not in general (the generalized force Q_x" in text

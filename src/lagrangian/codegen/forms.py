@@ -155,6 +155,21 @@ class SymbolicForms:
         return found
 
     @property
+    def conditional_invariants(self) -> Mapping[str, sympy.Expr]:
+        """The quantities other than the energy that are not conserved in general but are at
+        parameter values where every cause of their change vanishes (a momentum whose force
+        is an input that a run sets to 0), the definitions substituted."""
+        found = {
+            quantity.name: substitute(quantity.expression, self.definitions)
+            for quantity in self.conservation.not_conserved
+            if quantity.name != "energy"
+            and quantity.rates
+            and all(rate is not None for _, rate in quantity.rates)
+        }
+        _check_no_functions_left(list(found.values()))
+        return found
+
+    @property
     def not_conserved(self) -> Mapping[str, str]:
         """Name -> why, of the quantities that are not conserved (the energy when L depends
         on t, forces or inputs do work, or dissipation acts)."""

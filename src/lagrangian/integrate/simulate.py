@@ -24,6 +24,7 @@ or a failure stopped the run).
 
 from __future__ import annotations
 
+import json
 import math
 import time
 from collections.abc import Callable, Mapping, Sequence
@@ -183,7 +184,10 @@ def trajectory_of(
 ) -> Trajectory:
     """A Trajectory of one result (y (2n, T)): energy, invariants and multipliers added."""
     t, y = result.t, result.y
+    causes, conserved_here = _causes_at(compiled, params)
     invariants = {name: along(f, t, y, params) for name, f in compiled.invariants.items()}
+    for name in conserved_here.keys() - {"energy"}:
+        invariants[name] = along(compiled.conditional_invariants[name], t, y, params)
     multipliers = {}
     if compiled.has_constraints and compiled.multipliers is not None:
         values = along(compiled.multipliers, t, y, params).reshape(-1, t.shape[0])
@@ -200,7 +204,7 @@ def trajectory_of(
         "jacobian_evaluations": result.jacobian_evaluations,
         "wall_time": wall_time,
         "parameters": dict(parameters or {}),
-        **_energy_causes(compiled, params),
+        **causes,
     }
     return Trajectory.build(
         t=t,
@@ -215,22 +219,35 @@ def trajectory_of(
     )
 
 
-def _energy_causes(compiled: CompiledSystem, params: np.ndarray) -> dict[str, str]:
-    """Why the energy changes along the run, where it is not conserved (forces, inputs,
-    dissipation, L depending on t): its change is physics, not the method's drift.  Causes
-    that vanish at the run's parameter values (an input F = 0, an amplitude 0) do not act
-    in it: the energy is conserved in the run, which ``energy_conserved_here`` says, with
-    the causes of the general case."""
-    general = compiled.not_conserved.get("energy")
+def _causes_at(
+    compiled: CompiledSystem, params: np.ndarray
+) -> tuple[dict[str, str], dict[str, str]]:
+    """Why the energy changes along the run (its attribute), and the quantities conserved in
+    this run though not in general (name -> the general causes).
+
+    Where the energy is not conserved (forces, inputs, dissipation, L depending on t) its
+    change is physics, not the method's drift.  Causes that vanish at the run's parameter
+    values (an input F = 0, an amplitude 0) do not act in it: the energy, or a momentum whose
+    only force is such an input, is conserved in the run, and its drift is reported."""
+    general = dict(compiled.not_conserved)
     if not general:
-        return {}
+        return {}, {}
     here = general
     if compiled.not_conserved_at is not None and np.ndim(params) == 1:
         values = dict(zip(compiled.parameter_names, map(float, params), strict=True))
-        here = compiled.not_conserved_at(values).get("energy", "")
-    if here:
-        return {"energy_not_conserved": here}
-    return {"energy_conserved_here": general}
+        here = dict(compiled.not_conserved_at(values))
+    conditional = {"energy", *compiled.conditional_invariants}
+    conserved_here = {
+        name: general[name]
+        for name in sorted(general, key=lambda name: name != "energy")  # the energy first
+        if name not in here and name in conditional
+    }
+    attrs = {}
+    if "energy" in here:
+        attrs["energy_not_conserved"] = here["energy"]
+    if conserved_here:
+        attrs["conserved_here"] = json.dumps(conserved_here)
+    return attrs, conserved_here
 
 
 def along(function: Callable, t: np.ndarray, y: np.ndarray, params: np.ndarray) -> np.ndarray:

@@ -124,13 +124,9 @@ def compile_equations(
         forcing=dynamics.forcing,
         rhs_jacobian=dynamics.rhs_jacobian,
         energy=_kernel(forms, arrays, lambda: [forms.energy]).state_function(signature, "energy"),
-        invariants=LazyMapping(
-            lambda: {
-                name: _kernel(forms, arrays, lambda e=expression: [e]).state_function(
-                    signature, name
-                )
-                for name, expression in forms.invariants.items()
-            }
+        invariants=LazyMapping(lambda: _state_functions(forms, arrays, signature, "invariants")),
+        conditional_invariants=LazyMapping(
+            lambda: _state_functions(forms, arrays, signature, "conditional_invariants")
         ),
         not_conserved=LazyMapping(lambda: forms.not_conserved),
         not_conserved_at=forms.not_conserved_at,
@@ -163,6 +159,16 @@ def _kernel(forms: SymbolicForms, arrays: ArrayBackend, build: Callable[[], list
     """A kernel of (t, q, q', params)."""
     arguments = (forms.time, *forms.coordinates, *forms.velocities, *forms.parameters)
     return Kernel(arrays, arguments, build)
+
+
+def _state_functions(
+    forms: SymbolicForms, arrays: ArrayBackend, signature: Signature, which: str
+) -> dict[str, object]:
+    """A state function per quantity of ``forms.<which>`` (name -> expression)."""
+    return {
+        name: _kernel(forms, arrays, lambda e=expression: [e]).state_function(signature, name)
+        for name, expression in getattr(forms, which).items()
+    }
 
 
 def _lagrangian_functions(forms: SymbolicForms, signature: Signature) -> dict[str, object]:

@@ -64,6 +64,8 @@ class CompiledSystem:
     nonconservative_forces_jacobian_q: SplitFunction  # d(Q - dF/dq')/dq (n, n)
     invariants: Mapping[str, StateFunction] = field(default_factory=dict)  # conserved quantities
     not_conserved: Mapping[str, str] = field(default_factory=dict)  # name -> why (the energy)
+    # not conserved in general, but where the causes vanish at a run's parameters (a momentum)
+    conditional_invariants: Mapping[str, StateFunction] = field(default_factory=dict)
     # the same at given parameter values (name -> number): causes that vanish there left out
     not_conserved_at: Callable[[Mapping[str, float]], Mapping[str, str]] | None = None
     constant_mass_matrix: bool = False  # M depends on no q, q', t: Stormer-Verlet applies

@@ -84,9 +84,10 @@ def trajectory_html(trajectory: Trajectory) -> str:
         if trajectory.energy_not_conserved:  # its change is physics, not drift
             change = f"{trajectory.drift('energy'):.3e} ({trajectory.energy_not_conserved})"
             rows.append(("change of energy $h$, not conserved", change))
-        if trajectory.energy_conserved_here:
-            why = f"not in general ({trajectory.energy_conserved_here}): not at these values"
-            rows.append(("energy $h$ conserved in this run", why))
+        for name, reason in trajectory.conserved_here.items():
+            shown = "energy $h$" if name == "energy" else f"${latex_name(name)}$"
+            why = f"not in general ({reason}): not at these values"
+            rows.append((f"{shown} conserved in this run", why))
     body = "\n".join(
         f'<tr><th style="text-align:left">{html.escape(key)}</th>'
         f'<td style="text-align:left">{html.escape(value)}</td></tr>'
