@@ -52,6 +52,9 @@ except ImportError:  # Windows
 #: ...): every built-in example decides each stage well within it (the longest, the heavy
 #: top's steady motions, takes 7.6 s of CPU on a 2-core x86_64 machine; benchmarks/load.py).
 STAGE_SECONDS = 20.0
+#: Default budget of a single run started from the command line or ``System.simulate``
+#: (:mod:`lagrangian.integrate.pace` judges a run against it).
+RUN_SECONDS = 300.0
 #: CPU seconds at least for work that always ends (linearization: normal modes, the state
 #: space at a point): a budget there only stops what would take unreasonably long.
 ENDING_SECONDS = 120.0

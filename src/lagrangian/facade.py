@@ -24,9 +24,12 @@ lagrangian`` loads no analysis, ensemble, xarray or matplotlib until they are us
 
 from __future__ import annotations
 
+import importlib.abc
 import os
+import sys
 from collections.abc import Mapping
 from pathlib import Path
+from types import ModuleType
 
 from .budget import STAGE_SECONDS
 from .derive import EquationsOfMotion, derive
@@ -286,27 +289,88 @@ def _state_space_latex(self) -> str:
     return latex_state_space(self)
 
 
-def _add_display_methods() -> None:
-    from .analysis.hamiltonian import Hamiltonian
-    from .analysis.report import Analysis
-    from .analysis.state_space import StateSpace
-    from .ensemble.bifurcation import BifurcationDiagram
-    from .integrate.lyapunov import LyapunovSpectrum
-    from .integrate.poincare import PoincareSection
+#: module -> {class: {method name: function}}: what the facade adds to the classes of the
+#: layers, each module's as soon as it is imported (see :class:`_OnImport`).
+_DISPLAY_METHODS = {
+    "lagrangian.trajectory": {
+        "Trajectory": {"plot": _plot, "animate": _animate, "_repr_html_": _trajectory_html}
+    },
+    "lagrangian.derive.equations": {
+        # the REPL shows what the CLI prints, not the dataclass fields (pages of SymPy)
+        "EquationsOfMotion": {"_repr_latex_": _equations_latex, "__repr__": _equations_text}
+    },
+    "lagrangian.analysis.report": {
+        "Analysis": {"__repr__": _report_text, "_repr_latex_": _report_latex}
+    },
+    "lagrangian.analysis.hamiltonian": {"Hamiltonian": {"_repr_latex_": _hamiltonian_latex}},
+    "lagrangian.analysis.state_space": {"StateSpace": {"_repr_latex_": _state_space_latex}},
+    "lagrangian.integrate.lyapunov": {"LyapunovSpectrum": {"plot": _plot_lyapunov}},
+    "lagrangian.integrate.poincare": {"PoincareSection": {"plot": _plot_section}},
+    "lagrangian.ensemble.bifurcation": {"BifurcationDiagram": {"plot": _plot_bifurcation}},
+}
 
-    Trajectory.plot = _plot
-    Trajectory.animate = _animate
-    Trajectory._repr_html_ = _trajectory_html
-    LyapunovSpectrum.plot = _plot_lyapunov
-    PoincareSection.plot = _plot_section
-    BifurcationDiagram.plot = _plot_bifurcation
-    EquationsOfMotion._repr_latex_ = _equations_latex
-    # the REPL shows what the CLI prints, not the dataclass fields (pages of SymPy)
-    EquationsOfMotion.__repr__ = _equations_text
-    Analysis.__repr__ = _report_text
-    Hamiltonian._repr_latex_ = _hamiltonian_latex
-    Analysis._repr_latex_ = _report_latex
-    StateSpace._repr_latex_ = _state_space_latex
+
+def _add_methods(module: ModuleType) -> None:
+    for cls, methods in _DISPLAY_METHODS[module.__name__].items():
+        for name, method in methods.items():
+            setattr(getattr(module, cls), name, method)
+
+
+class _OnImport(importlib.abc.MetaPathFinder):
+    """Runs :func:`_add_methods` on each module of :data:`_DISPLAY_METHODS` right after it is
+    first imported.  Importing them all here would load the integrators and the ensemble
+    (a third of ``import lagrangian``) for every command, the ones that never run a motion
+    included; a layer cannot add the methods itself, they call the layers above it."""
+
+    def __init__(self, names: set[str]) -> None:
+        self.waiting = names
+
+    def find_spec(self, name: str, path, target=None):
+        if name not in self.waiting:
+            return None
+        for finder in sys.meta_path:  # the spec the other finders give, its loader wrapped
+            if finder is self or not hasattr(finder, "find_spec"):
+                continue
+            spec = finder.find_spec(name, path, target)
+            if spec is not None:
+                break
+        else:
+            return None
+        if spec.loader is not None and hasattr(spec.loader, "exec_module"):
+            spec.loader = _ThenAddMethods(spec.loader, self)
+        return spec
+
+
+class _ThenAddMethods(importlib.abc.Loader):
+    """A module's own loader, then :func:`_add_methods` on the module it ran."""
+
+    def __init__(self, loader, finder: _OnImport) -> None:
+        self.loader, self.finder = loader, finder
+
+    def create_module(self, spec):
+        return self.loader.create_module(spec)
+
+    def exec_module(self, module: ModuleType) -> None:
+        self.loader.exec_module(module)
+        _add_methods(module)
+        self.finder.waiting.discard(module.__name__)
+        if not self.finder.waiting and self.finder in sys.meta_path:
+            sys.meta_path.remove(self.finder)
+
+    def __getattr__(self, name: str):  # get_source, get_filename, ...: the module's loader's
+        return getattr(self.loader, name)
+
+
+def _add_display_methods() -> None:
+    """The methods of the modules imported already now, the others' when they are."""
+    waiting = set()
+    for name in _DISPLAY_METHODS:
+        if name in sys.modules:
+            _add_methods(sys.modules[name])
+        else:
+            waiting.add(name)
+    if waiting:
+        sys.meta_path.insert(0, _OnImport(waiting))
 
 
 _add_display_methods()

@@ -13,12 +13,13 @@ from typing import Any
 
 import numpy as np
 
+from .budget import RUN_SECONDS
 from .derive import derive
 from .errors import ModelError, setting
 from .integrate import method_class, simulate
 from .integrate.choice import choose_run
 from .integrate.lyapunov import DEFAULT_INTERVAL, LyapunovSpectrum, lyapunov_spectrum
-from .integrate.pace import RUN_SECONDS, RunPace, watching
+from .integrate.pace import RunPace, watching
 from .integrate.poincare import MAX_ORBITS, PoincareSection, poincare_section, shell_starts
 from .integrate.section import parse_section
 from .model import System

@@ -7,8 +7,6 @@ import json
 import click
 
 from ..budget import STAGE_SECONDS
-from ..integrate.registry import METHODS
-from ..numeric.compile import RUN_BACKENDS
 from . import options
 
 MODEL_HELP = "MODEL is a model file (TOML) or the name of a built-in example."
@@ -234,7 +232,7 @@ def analyze(
 @click.option("--t-end", type=float, help="End time (default: the model's [simulate] t_end).")
 @options.choice(
     "--method",
-    METHODS,
+    options.run_methods,
     "Integrator (default: the model's, else chosen for the run's length: dop853, "
     "its loop compiled for long runs, or taylor where heyoka is installed).",
 )
@@ -246,7 +244,7 @@ def analyze(
 @options.define
 @options.choice(
     "--backend",
-    sorted(RUN_BACKENDS),
+    options.run_backends,
     "Compiled code (default: chosen with the method): llvm compiles in milliseconds; "
     "numba generates machine code, cached on disk (pip install numba), and runs dop853's "
     "whole loop.",

@@ -6,14 +6,12 @@ from __future__ import annotations
 import click
 import numpy as np
 
-from ..ensemble.choices import BACKENDS, METHODS
-from ..numeric.compile import RUN_BACKENDS
 from . import options
 from .app import MODEL_HELP, app
 
 backend_option = options.choice(
     "--backend",
-    sorted(RUN_BACKENDS),
+    options.run_backends,
     "Compiled code (default llvm where SymEngine has it, else numpy).",
 )
 
@@ -238,10 +236,12 @@ def poincare(
 @click.option("--steps-per-period", type=int, help="Fixed steps per period (default 200).")
 @options.number("--t-end", "With --section: time after the transient (default: the model's).")
 @options.number("--dt", "With --section: the step (default: chosen for the motion).")
-@options.choice("--method", METHODS, "Fixed-step method of the runs.", default="rk4")
+@options.choice(
+    "--method", options.ensemble_choices("METHODS"), "Fixed-step method of the runs.", default="rk4"
+)
 @options.choice(
     "--backend",
-    BACKENDS,
+    options.ensemble_choices("BACKENDS"),
     "How the values are integrated together (the ensemble's backends).",
     default="numpy",
 )

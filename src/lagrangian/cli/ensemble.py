@@ -7,7 +7,6 @@ from typing import TYPE_CHECKING
 import click
 import numpy as np
 
-from ..ensemble.choices import BACKENDS, METHODS, PRECISIONS
 from . import options
 from .app import MODEL_HELP, app
 
@@ -54,12 +53,15 @@ def _grids(values: tuple[str, ...]) -> dict[str, GridAxis]:
 )
 @options.choice(
     "--backend",
-    BACKENDS,
+    options.ensemble_choices("BACKENDS"),
     "How the members are integrated (jax and cuda: on a GPU).",
     default="numpy",
 )
 @options.choice(
-    "--precision", PRECISIONS, "Floating point of backends jax and cuda.", default="float64"
+    "--precision",
+    options.ensemble_choices("PRECISIONS"),
+    "Floating point of backends jax and cuda.",
+    default="float64",
 )
 @click.option("--scheduler", metavar="tcp://HOST:PORT", help="A dask scheduler (backend dask).")
 @options.repeated(
@@ -70,7 +72,7 @@ def _grids(values: tuple[str, ...]) -> dict[str, GridAxis]:
 )
 @click.option("--t-end", type=float, help="End time (default: the model's t_end).")
 @click.option("--dt", type=float, help="Step (default: the model's dt, else t_end / 1000).")
-@options.choice("--method", METHODS, "Integrator.")
+@options.choice("--method", options.ensemble_choices("METHODS"), "Integrator.")
 @options.set_values("A fixed parameter value or initial coordinate / velocity (repeatable).")
 @options.define
 @click.option(

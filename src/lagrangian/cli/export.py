@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import click
 
-from .. import export as code_export
 from . import options
 from .app import MODEL_HELP, app
 
@@ -13,7 +12,7 @@ from .app import MODEL_HELP, app
 @click.argument("model")
 @options.choice(
     "--to",
-    lambda: code_export.LANGUAGES,  # read when the command runs: a target added is offered
+    options.export_languages,  # read when the command runs: a target added is offered
     "The language of the file.",
     dest="language",
     required=True,

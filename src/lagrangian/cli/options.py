@@ -15,8 +15,7 @@ from collections.abc import Callable, Iterable
 
 import click
 
-from ..budget import checked_seconds
-from ..integrate.pace import RUN_SECONDS
+from ..budget import RUN_SECONDS, checked_seconds
 
 #: --define NAME=EXPR, read by :func:`definitions` (simulate, ensemble).
 define = click.option(
@@ -58,6 +57,40 @@ timeout = seconds(
     "CPU seconds the runs may take (wall seconds on a GPU or dask; > 0, at most a week); "
     "a run whose pace shows it would take longer is stopped at once.",
 )
+
+
+def run_methods() -> Iterable[str]:
+    """The integrators of a single run (their registry is imported when the names are
+    read: a command that runs nothing loads no integrator)."""
+    from ..integrate.registry import METHODS
+
+    return METHODS
+
+
+def run_backends() -> list[str]:
+    """The compiled code a single run may use (read, like :func:`run_methods`, on use)."""
+    from ..numeric.compile import RUN_BACKENDS
+
+    return sorted(RUN_BACKENDS)
+
+
+def ensemble_choices(name: str) -> Callable[[], Iterable[str]]:
+    """The ensemble's choices ``name`` (``BACKENDS``, ``METHODS``, ``PRECISIONS`` of
+    :mod:`lagrangian.ensemble.choices`), read on use like :func:`run_methods`."""
+
+    def names() -> Iterable[str]:
+        from ..ensemble import choices
+
+        return getattr(choices, name)
+
+    return names
+
+
+def export_languages() -> Iterable[str]:
+    """The languages ``export --to`` writes (read on use, like :func:`run_methods`)."""
+    from ..export import LANGUAGES
+
+    return LANGUAGES
 
 
 class RegistryChoice(click.Choice):

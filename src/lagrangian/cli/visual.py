@@ -13,7 +13,6 @@ from pathlib import Path
 import click
 
 from ..files import check_output_path, output_error
-from ..integrate.registry import METHODS
 from . import options
 from .app import MODEL_HELP, app
 
@@ -41,7 +40,7 @@ def _run_options(function):
     """--t-end, --method, --set, --define and --timeout, as ``simulate`` has them."""
     decorators = [
         click.option("--t-end", type=float, help="End time (default: the model's t_end)."),
-        options.choice("--method", METHODS, "Integrator."),
+        options.choice("--method", options.run_methods, "Integrator."),
         options.set_values(),
         options.define,
         options.timeout,

@@ -45,41 +45,44 @@ the standalone targets.
 Adding a target: write one module here with one :class:`AbstractTarget` subclass (see
 ``javascript.py``: about 150 lines, tested against our rhs through node), and add its
 class to :data:`TARGETS` below: ``export --to`` and the CLI's choices read the registry.
+The targets' modules are imported when :data:`TARGETS` is first read, not with the
+package: a page needs the JavaScript target only, a derivation none.
 """
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Mapping
 from types import MappingProxyType
 
-from .c_file import CTarget
-from .heyoka import HeyokaTarget
-from .javascript import JavaScriptTarget
-from .julia import JuliaTarget
-from .llvm import LLVMTarget
-from .matlab import MatlabTarget
-from .numba import NumbaTarget
-from .numpy_text import NumPyTextTarget
 from .program import Program, Quantity, Routine, program
 from .target import AbstractLoadedTarget, AbstractTarget
 
-#: Target name -> class: every language and backend code is generated for.  A new target
-#: is one module and one line here.
-TARGETS: Mapping[str, type[AbstractTarget]] = MappingProxyType(
-    {
-        target.name: target
-        for target in (
-            CTarget,
-            HeyokaTarget,
-            JavaScriptTarget,
-            JuliaTarget,
-            LLVMTarget,
-            MatlabTarget,
-            NumbaTarget,
-            NumPyTextTarget,
-        )
-    }
+#: (module, class) of every target: every language and backend code is generated for.  A
+#: new target is one module and one line here.
+_TARGET_CLASSES = (
+    (".c_file", "CTarget"),
+    (".heyoka", "HeyokaTarget"),
+    (".javascript", "JavaScriptTarget"),
+    (".julia", "JuliaTarget"),
+    (".llvm", "LLVMTarget"),
+    (".matlab", "MatlabTarget"),
+    (".numba", "NumbaTarget"),
+    (".numpy_text", "NumPyTextTarget"),
 )
+
+
+def __getattr__(name: str) -> object:
+    """``TARGETS``, target name -> class, made when first read (PEP 562)."""
+    if name != "TARGETS":
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    classes = (
+        getattr(importlib.import_module(module, __name__), cls) for module, cls in _TARGET_CLASSES
+    )
+    targets: Mapping[str, type[AbstractTarget]] = MappingProxyType({t.name: t for t in classes})
+    globals()["TARGETS"] = targets
+    return targets
+
 
 __all__ = [
     "TARGETS",

@@ -6,9 +6,10 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from typing import TYPE_CHECKING
 
+from ..budget import RUN_SECONDS
 from ..derive import derive
 from ..errors import ModelError
-from ..integrate.pace import ENSEMBLE_ADVICE, RUN_SECONDS, RunPace, watching
+from ..integrate.pace import ENSEMBLE_ADVICE, RunPace, watching
 from .bifurcation import BifurcationDiagram, bifurcation_diagram
 from .core import METHODS, budget_clock, run_ensemble
 from .result import EnsembleTrajectory

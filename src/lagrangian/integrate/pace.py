@@ -30,8 +30,6 @@ from collections.abc import Callable
 from ..budget import checked_seconds, cpu_seconds
 from ..errors import LagrangianError, setting
 
-#: Default budget of a single run started from the command line or ``System.simulate``.
-RUN_SECONDS = 300.0
 RUN_ADVICE = (
     f"give a shorter {setting('t_end')}, a looser {setting('rtol')} or a larger {setting('dt')}, "
     f"or allow more time with {setting('timeout')}"

@@ -1,0 +1,70 @@
+"""What importing the package loads: a command loads the layers it uses and no more (issue
+18: ``lagrangian page`` is written in seconds), and the public API is whole whichever
+module is imported first."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import lagrangian
+
+#: Layers and libraries that deriving, analysing or writing a page never uses.
+UNUSED_BY_THE_PAGE = (
+    "lagrangian.integrate",
+    "lagrangian.numeric",
+    "lagrangian.ensemble",
+    "lagrangian.export",
+    "lagrangian.serve.app",
+    "scipy",
+    "matplotlib",
+    "xarray",
+    "jax",
+    "numba",
+)
+
+
+def _loaded_after(code: str) -> set[str]:
+    """The modules a fresh interpreter holds after running ``code``."""
+    script = f"{code}\nimport sys\nprint('\\n'.join(sys.modules))"
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, check=True
+    )
+    return set(done.stdout.split())
+
+
+def test_the_command_line_and_the_package_load_no_integrator_ensemble_or_plotting():
+    loaded = _loaded_after("import lagrangian.cli")
+    unused = sorted(
+        m for m in loaded if any(m == u or m.startswith(u + ".") for u in UNUSED_BY_THE_PAGE)
+    )
+    assert unused == []
+
+
+def test_every_public_name_of_the_package_resolves():
+    for name in lagrangian.__all__:
+        assert getattr(lagrangian, name) is not None, name
+    assert set(lagrangian.__all__) <= set(dir(lagrangian))
+    assert lagrangian.simulate.__module__ == "lagrangian.integrate.simulate"
+    assert lagrangian.CompiledSystem.__name__ == "CompiledSystem"
+
+
+def test_display_methods_are_added_to_classes_imported_after_the_package():
+    code = """
+import lagrangian
+from lagrangian.ensemble.bifurcation import BifurcationDiagram
+from lagrangian.integrate.lyapunov import LyapunovSpectrum
+from lagrangian.integrate.poincare import PoincareSection
+from lagrangian.analysis.report import Analysis
+from lagrangian.analysis.hamiltonian import Hamiltonian
+from lagrangian.analysis.state_space import StateSpace
+from lagrangian.trajectory import Trajectory
+assert BifurcationDiagram.plot.__name__ == "_plot_bifurcation"
+assert LyapunovSpectrum.plot.__name__ == "_plot_lyapunov"
+assert PoincareSection.plot.__name__ == "_plot_section"
+assert Analysis.__repr__.__name__ == "_report_text"
+assert Hamiltonian._repr_latex_.__name__ == "_hamiltonian_latex"
+assert StateSpace._repr_latex_.__name__ == "_state_space_latex"
+assert Trajectory.plot.__name__ == "_plot"
+"""
+    _loaded_after(code)  # check=True: an assertion that fails fails the run
