@@ -31,8 +31,6 @@ on the app of ``cli.app``; ``cli/__init__`` imports them all.  ``lint-imports`` 
 contracts in pyproject.toml, run by .ci/run) checks both orders, with no exceptions.
 """
 
-import importlib
-
 from .derive import CoordinateDerivation, EquationsOfMotion, derive
 from .errors import (
     FileError,
@@ -44,26 +42,20 @@ from .errors import (
     SingularMassMatrixError,
 )
 from .facade import System, load, loads
+from .lazy import on_use
 from .model import Gravity, Parameter, Particle, RigidBody, RigidBody2D, Spring
 from .trajectory import Trajectory
 
-#: Public names whose layers are imported on first use (PEP 562): deriving, analysing or
-#: writing a page needs no integrator, and their modules (SciPy's adapters, the numeric
-#: backends) are a quarter of the import of the package.
+#: Public names whose layers are imported on first use: deriving, analysing or writing a
+#: page needs no integrator, and their modules (SciPy's adapters, the numeric backends,
+#: the code generators they load) were a quarter of the import of the package.
 _ON_USE = {
-    "CompiledSystem": "lagrangian.numeric",
-    "compile_equations": "lagrangian.numeric",
-    "Event": "lagrangian.integrate",
-    "simulate": "lagrangian.integrate",
+    "CompiledSystem": ".numeric",
+    "compile_equations": ".numeric",
+    "Event": ".integrate",
+    "simulate": ".integrate",
 }
-
-
-def __getattr__(name: str) -> object:
-    if name not in _ON_USE:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_ON_USE[name]), name)
-    globals()[name] = value  # looked up once
-    return value
+__getattr__ = on_use(__name__, _ON_USE)
 
 
 def __dir__() -> list[str]:

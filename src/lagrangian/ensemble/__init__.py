@@ -10,8 +10,7 @@ and optional paths).  :func:`ensemble_of_system` does the same from a
 
 from __future__ import annotations
 
-import importlib
-
+from ..lazy import on_use
 from .choices import BACKENDS, METHODS
 
 #: Public name -> the module that defines it, imported on first use: the runner brings
@@ -27,12 +26,7 @@ _LAZY = {
     "bifurcation_of_system": ".system",
     "BifurcationDiagram": ".bifurcation",
 }
-
-
-def __getattr__(name: str) -> object:
-    if name not in _LAZY:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    return getattr(importlib.import_module(_LAZY[name], __name__), name)
+__getattr__ = on_use(__name__, _LAZY)
 
 
 __all__ = [
