@@ -6,9 +6,10 @@
    child process (interpreter start-up and imports included), median of ``--repeat`` of
    the wall time and of the CPU time (user + sys, the child's children included: SymPy's
    solve of the equilibria runs in one); the same for two systems not among the examples
-   (a 3-link chain, a spring pendulum), so that a gain is not one model's; then, in this
-   process, the parts of one ``page_html`` (derive, analyse, the generated code, the rest)
-   timed by wrapping them.
+   (a 3-link chain, a spring pendulum), so that a gain is not one model's.  "cold" is a page
+   made anew (``--no-cache``: the target), "warm" one written from the cache of pages (a
+   folder of this run, filled by one run first).  Then, in this process, the parts of one
+   ``page_html`` (derive, analyse, the generated code, the rest) timed by wrapping them.
 2. Page size (bytes) of the double pendulum and of the ``--links`` chain.
 3. The ``--links`` chain (benchmarks/cli.py's n-link pendulum, theta1 = 0.5) animating in
    headless Chromium (Debian's, driven by Playwright) for ``--seconds`` of wall time at
@@ -70,18 +71,28 @@ theta = 0.8
 """
 
 
-def write_seconds(model: str, repeat: int, folder: Path) -> tuple[list[float], list[float]]:
+def write_seconds(
+    model: str, repeat: int, folder: Path, *, warm: bool = False
+) -> tuple[list[float], list[float]]:
     """Wall and CPU seconds (user + sys of the process and its children) of ``repeat``
-    runs of ``lagrangian page MODEL``."""
+    runs of ``lagrangian page MODEL``: made anew, or (``warm``) from the cache of pages in
+    ``folder``, filled by a run before the timed ones."""
+    environment = dict(os.environ, LAGRANGIAN_CACHE=str(folder / "cache"))
+    flags = [] if warm else ["--no-cache"]
+    if warm:
+        out = folder / f"{Path(model).stem}_fill.html"
+        command = [sys.executable, "-m", "lagrangian", "page", model, "--out", str(out)]
+        subprocess.run(command, check=True, capture_output=True, env=environment)
     wall, cpu = [], []
     for k in range(repeat):
         out = folder / f"{Path(model).stem}_{k}.html"
         before = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
         subprocess.run(
-            [sys.executable, "-m", "lagrangian", "page", model, "--out", str(out)],
+            [sys.executable, "-m", "lagrangian", "page", model, "--out", str(out), *flags],
             check=True,
             capture_output=True,
+            env=environment,
         )
         wall.append(time.perf_counter() - start)
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -94,14 +105,16 @@ def print_write_times(repeat: int, folder: Path) -> None:
     (folder / "spring_pendulum.toml").write_text(SPRING_PENDULUM, encoding="utf-8")
     models = ["double_pendulum", str(folder / "chain3.toml"), str(folder / "spring_pendulum.toml")]
     for model in models:
-        wall, cpu = write_seconds(model, repeat, folder)
-        size = (folder / f"{Path(model).stem}_0.html").stat().st_size
-        print(
-            f"lagrangian page {Path(model).stem} (a process): median {statistics.median(wall):.2f}"
-            f" s wall of {', '.join(f'{s:.2f}' for s in wall)}; CPU (user + sys) median"
-            f" {statistics.median(cpu):.2f} s of {', '.join(f'{s:.2f}' for s in cpu)};"
-            f" {size:,} bytes; load average {os.getloadavg()[0]:.1f}"
-        )
+        for warm in (False, True):
+            wall, cpu = write_seconds(model, repeat, folder, warm=warm)
+            size = (folder / f"{Path(model).stem}_0.html").stat().st_size
+            print(
+                f"lagrangian page {Path(model).stem} (a process, {'warm' if warm else 'cold'}):"
+                f" median {statistics.median(wall):.2f} s wall of"
+                f" {', '.join(f'{s:.2f}' for s in wall)}; CPU (user + sys) median"
+                f" {statistics.median(cpu):.2f} s of {', '.join(f'{s:.2f}' for s in cpu)};"
+                f" {size:,} bytes; load average {os.getloadavg()[0]:.1f}"
+            )
 
 
 def parts_of_one_write(system) -> dict[str, float]:

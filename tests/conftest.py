@@ -33,6 +33,14 @@ def _seed_random_generators(request: pytest.FixtureRequest) -> None:
     np.random.seed(seed % 2**32)
 
 
+@pytest.fixture(autouse=True)
+def _no_kept_pages(monkeypatch: pytest.MonkeyPatch) -> None:
+    """``lagrangian page`` makes every page anew in the tests (tests/cli/test_page_cache.py
+    turns the cache of pages on in a folder of its own): a test that changes how a page is
+    made must see the change, and the user's cache stays untouched."""
+    monkeypatch.setenv("LAGRANGIAN_NO_CACHE", "1")
+
+
 @pytest.fixture(scope="session")
 def compiler() -> str:
     """The C compiler (cc or gcc); the test is skipped where there is none."""

@@ -7,6 +7,7 @@ with the Agg backend, so nothing needs a display.
 
 from __future__ import annotations
 
+import contextlib
 import time
 from pathlib import Path
 
@@ -182,34 +183,55 @@ def animate(model, out, t_end, method, assignments, definitions, timeout, fps, m
     "A parameter value or an initial coordinate / velocity to start from (repeatable)."
 )
 @options.define
-def page(model, out, assignments, definitions) -> None:
+@click.option(
+    "--no-cache",
+    is_flag=True,
+    help="Make the page anew, neither reading nor keeping it in the cache of pages "
+    "(also LAGRANGIAN_NO_CACHE=1).",
+)
+def page(model, out, assignments, definitions, no_cache: bool) -> None:
     """Write the page of MODEL: one HTML file, for any browser, offline.
 
     The worked solution typeset (L, Lagrange's equations, M and f, conserved
     quantities, equilibria and normal modes) beside a live simulation with a control
-    for every parameter and initial value.
+    for every parameter and initial value.  A page made before from the same model
+    file, values and version of the toolkit is written from the cache of pages.
     """
-    from ..errors import ModelError
+    from ..errors import LagrangianError, ModelError
     from ..facade import load
     from ..files import write_atomically
-    from ..output.page import page_html
+    from ..model.toml_io import model_bytes
+    from ..output.page import built_page
+    from ..output.page_cache import cache_enabled, cached_page
 
     out = out or f"{_stem(model)}.html"
     if Path(out).suffix.lower() not in PAGE_SUFFIXES:
         raise click.BadParameter("the output file must end in .html", param_hint="--out")
     check_output_path(out)  # before the work: a typo in --out fails at once
-    system = load(model)
-    values = options.assignments(assignments)
-    states = {n for c in system.coordinates for n in (c.name, c.q_dot.name)}
-    for name in values:
-        if name not in states and name not in system.parameter_names:
-            raise ModelError(f"'{name}' is neither a parameter nor a coordinate or velocity")
-    text = page_html(
-        system,
-        parameters={k: v for k, v in values.items() if k in system.parameter_names},
-        initial={k: v for k, v in values.items() if k in states},
-        definitions=options.definitions(definitions),
-    )
+
+    def build():
+        system = load(model)
+        values = options.assignments(assignments)
+        states = {n for c in system.coordinates for n in (c.name, c.q_dot.name)}
+        for name in values:
+            if name not in states and name not in system.parameter_names:
+                raise ModelError(f"'{name}' is neither a parameter nor a coordinate or velocity")
+        return built_page(
+            system,
+            parameters={k: v for k, v in values.items() if k in system.parameter_names},
+            initial={k: v for k, v in values.items() if k in states},
+            definitions=options.definitions(definitions),
+        )
+
+    source = None
+    if cache_enabled() and not no_cache:
+        with contextlib.suppress(OSError, LagrangianError):  # loading says what is wrong
+            source = model_bytes(model)
+    if source is None:
+        text = build().html
+    else:
+        given = {"set": list(assignments), "define": list(definitions)}
+        text = cached_page(source, given, build)
     write_atomically(out, lambda temporary: temporary.write_text(text, encoding="utf-8"))
     click.echo(f"wrote {out}: open it in a browser (it needs no server and no network)")
 

@@ -95,18 +95,24 @@ def built_already(fingerprint: str, target: str, *options: Hashable) -> bool:
     return (fingerprint, target, *options) in _BUILT
 
 
-def cache_directory() -> Path:
-    """Where generated modules live: ``$LAGRANGIAN_CACHE/numba`` or the user cache."""
+def cache_root() -> Path:
+    """The folder of every cache of the package: ``$LAGRANGIAN_CACHE`` or the user cache's
+    ``lagrangian`` (generated modules in ``numba``, pages in ``pages``)."""
     root = os.environ.get("LAGRANGIAN_CACHE")
     if root:
-        return Path(root) / "numba"
+        return Path(root)
     if sys.platform == "win32":
         base = Path(os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local")
     elif sys.platform == "darwin":
         base = Path.home() / "Library" / "Caches"
     else:
         base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
-    return base / "lagrangian" / "numba"
+    return base / "lagrangian"
+
+
+def cache_directory() -> Path:
+    """Where generated modules live: ``$LAGRANGIAN_CACHE/numba`` or the user cache."""
+    return cache_root() / "numba"
 
 
 def usable_directory() -> Path:
@@ -115,7 +121,7 @@ def usable_directory() -> Path:
     with _LOCK:
         chosen = _CHOSEN.get(str(configured))
         if chosen is None:
-            problem = _unwritable(configured)
+            problem = folder_problem(configured)
             chosen = configured if problem is None else _temporary_folder(configured, problem)
             _CHOSEN[str(configured)] = chosen
         return chosen
@@ -132,7 +138,7 @@ def load_text(digest: str, source: object) -> ModuleType:
             return module
         body = str(source)
         text = _HEADER + hashlib.sha256(body.encode()).hexdigest() + "\n" + body
-        if _cached_bytes(path) == text.encode("utf-8"):
+        if trusted_bytes(path) == text.encode("utf-8"):
             _check_numba_files(path)
         else:
             _forget_numba_files(path)  # machine code of whatever was there before
@@ -143,7 +149,7 @@ def load_text(digest: str, source: object) -> ModuleType:
         return module
 
 
-def _cached_bytes(path: Path) -> bytes | None:
+def trusted_bytes(path: Path) -> bytes | None:
     """The bytes of ``path`` when it is this user's regular file that others cannot write."""
     try:
         if _foreign(path.lstat(), regular=True) is None:
@@ -209,7 +215,7 @@ def _write(path: Path, text: str) -> None:
 
 
 # -- the folder ------------------------------------------------------------------------
-def _unwritable(folder: Path) -> str | None:
+def folder_problem(folder: Path) -> str | None:
     """Why ``folder`` cannot hold the cache, or None when it is this user's private folder
     and a file can be made in it."""
     try:
@@ -283,7 +289,7 @@ def _check_numba_files(path: Path) -> None:
     if not files:
         return
     try:
-        listing = _cached_bytes(_manifest(path))
+        listing = trusted_bytes(_manifest(path))
         if _trusted(files) and listing is not None and listing.decode() == _listing(files):
             return
     except (OSError, UnicodeDecodeError):

@@ -351,19 +351,30 @@ def _gravity(table):
 
 def load(model: str | Path) -> System:
     """A system from a model file path or the name of a built-in example."""
+    return load_file(model_path(model))
+
+
+def model_path(model: str | Path) -> Path:
+    """The file of ``model``: a model file path, or the file of the built-in example of
+    that name (ModelError when it is neither)."""
     from ..examples import example_names, example_path
 
     path = Path(model)
     if path.suffix == ".toml" or _exists(path):
-        return load_file(path)
+        return path
     builtin = example_path(str(model))
     if builtin is None:
         raise ModelError(
             f"no such model file or built-in example (examples: {', '.join(example_names())})",
             source=str(model),
         )
-    system = load_file(builtin)
-    return system
+    return builtin
+
+
+def model_bytes(model: str | Path) -> bytes:
+    """The bytes of ``model``'s file (see :func:`model_path`), read as :func:`load_file`
+    reads them (a regular file within the size limit); OSError or ModelError otherwise."""
+    return _read_regular_file(model_path(model))
 
 
 def _exists(path: Path) -> bool:

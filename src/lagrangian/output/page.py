@@ -28,6 +28,7 @@ import html
 import json
 import re
 from collections.abc import Mapping
+from dataclasses import dataclass
 from functools import cache
 from importlib import resources
 
@@ -59,6 +60,26 @@ def page_html(
     Raises :class:`~lagrangian.errors.ModelError` (and the other errors of deriving a
     model) for names or values that do not fit it.
     """
+    return built_page(system, parameters=parameters, initial=initial, definitions=definitions).html
+
+
+@dataclass(frozen=True)
+class Page:
+    """A page's ``html`` and whether its analysis ``decided`` every stage within its time
+    (then the page is the same on any machine, and worth keeping: :mod:`.page_cache`)."""
+
+    html: str
+    decided: bool
+
+
+def built_page(
+    system: System,
+    *,
+    parameters: Mapping[str, float] | None = None,
+    initial: Mapping[str, float] | None = None,
+    definitions: Mapping[str, str] | None = None,
+) -> Page:
+    """The :class:`Page` of ``system`` (the arguments as for :func:`page_html`)."""
     content = page_content(system, parameters=parameters, initial=initial, definitions=definitions)
     page_script = "\n".join(_asset(name) for name in _PAGE_SCRIPTS)
     if content.script is None:
@@ -76,7 +97,8 @@ def page_html(
         "KATEX_JS": katex,
         "CODE": code,
     }
-    return _PLACEHOLDER.sub(lambda match: parts[match.group(1)], _asset("page.html"))
+    html_text = _PLACEHOLDER.sub(lambda match: parts[match.group(1)], _asset("page.html"))
+    return Page(html_text, content.decided)
 
 
 #: The page's own script, in the order appended to the generated module: the integrators,

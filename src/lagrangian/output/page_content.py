@@ -87,10 +87,12 @@ PARTICLE_COLORS = (
 @dataclass(frozen=True)
 class PageContent:
     """The page's document (JSON-ready: str, float, list, dict) and its JavaScript (None
-    when the model cannot run: ``document["unavailable"]`` says why)."""
+    when the model cannot run: ``document["unavailable"]`` says why); ``decided``: every
+    stage of the analysis ended within its time, so the page is the same on any machine."""
 
     document: dict
     script: str | None
+    decided: bool = True
 
 
 def page_content(
@@ -141,9 +143,10 @@ def page_content(
             f"No live simulation: the functions {functions} are unspecified; a page written"
             " with a definition of each runs the motion."
         )
-        return PageContent(document, None)
+        return PageContent(document, None, decided=not analysis.undecided)
     document["scene"] = _scene(system, values)
-    return PageContent(document, _script(code, system, conserved))
+    script = _script(code, system, conserved)
+    return PageContent(document, script, decided=not analysis.undecided)
 
 
 def _unspecified(eom: EquationsOfMotion, definitions: Mapping[str, str] | None) -> list[str]:
