@@ -161,6 +161,7 @@ def animation(path: Path, seconds: float) -> dict:
         browser = playwright.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
         tab = browser.new_page(viewport={"width": 1300, "height": 900})
         baseline = _empty_page_fps(tab)
+        baseline_cpu = frame_cpu(tab)
         tab.goto(path.resolve().as_uri())
         tab.wait_for_function("() => window.lagrangian !== undefined")
         tab.evaluate("() => { lagrangian.reset(); lagrangian.play(); }")
@@ -172,6 +173,7 @@ def animation(path: Path, seconds: float) -> dict:
             samples.append(tab.evaluate("() => lagrangian.stats()"))
         wall = time.perf_counter() - start
         simulated = tab.evaluate("() => lagrangian.state().t") - t0
+        cpu = frame_cpu(tab)
         begin = time.perf_counter()
         tab.evaluate("() => { lagrangian.pause(); lagrangian.reset(); lagrangian.run(10); }")
         run_wall = time.perf_counter() - begin
@@ -180,6 +182,8 @@ def animation(path: Path, seconds: float) -> dict:
     steady = samples[1:] or samples  # the first second includes the start
     return {
         "baseline_fps": baseline,
+        "baseline_cpu": baseline_cpu,
+        "cpu": cpu,
         "fps": statistics.median(s["fps"] for s in steady),
         "frame_ms": statistics.median(s["frame_ms"] for s in steady),
         "steps_per_second": samples[-1]["steps_per_second"],
@@ -201,6 +205,43 @@ function frame() {
 }
 requestAnimationFrame(frame);
 </script>"""
+
+
+def frame_cpu(tab, seconds: float = 3.0) -> dict[str, float]:
+    """Thread CPU time per animation frame (ms), from a Chromium trace (CDP ``Tracing``) of
+    ``seconds`` of the page running: the renderer's main thread (the page's scripts, style,
+    layout, paint) and every thread of the browser together (the compositor, raster,
+    GPU process included).  CPU time, not wall time: the load of the machine does not
+    enter, only how much work a frame is."""
+    client = tab.context.new_cdp_session(tab)
+    events: list[dict] = []
+    finished: list[bool] = []
+    client.on("Tracing.dataCollected", lambda message: events.extend(message["value"]))
+    client.on("Tracing.tracingComplete", lambda message: finished.append(True))
+    categories = "toplevel,devtools.timeline,disabled-by-default-devtools.timeline.frame"
+    client.send("Tracing.start", {"categories": categories, "transferMode": "ReportEvents"})
+    tab.wait_for_timeout(seconds * 1000)
+    client.send("Tracing.end")
+    while not finished:
+        tab.wait_for_timeout(100)
+    client.detach()
+    names = {
+        (e["pid"], e["tid"]): e["args"]["name"]
+        for e in events
+        if e.get("ph") == "M" and e.get("name") == "thread_name"
+    }
+    main = {key for key, name in names.items() if name == "CrRendererMain"}
+    frames = [e for e in events if e.get("name") == "FireAnimationFrame"]
+    busiest = max(main, key=lambda key: sum((e["pid"], e["tid"]) == key for e in frames))
+    count = sum((e["pid"], e["tid"]) == busiest for e in frames)
+    tasks = [e for e in events if e.get("ph") == "X" and "toplevel" in e.get("cat", "")]
+    on_main = sum(e.get("tdur", 0) for e in tasks if (e["pid"], e["tid"]) == busiest)
+    everywhere = sum(e.get("tdur", 0) for e in tasks)
+    return {
+        "frames": count,
+        "main_ms": on_main / 1000 / max(count, 1),
+        "all_ms": everywhere / 1000 / max(count, 1),
+    }
 
 
 def _empty_page_fps(tab, seconds: float = 3.0) -> float:
@@ -241,9 +282,17 @@ def main() -> None:
         if "skipped" in result:
             print(f"  animation: skipped, {result['skipped']}")
             return
+        empty, busy = result["baseline_cpu"], result["cpu"]
         print(
             f"  an empty page that only draws a square per frame: {result['baseline_fps']:.1f}"
-            " frames/s (the browser on this machine now)"
+            f" frames/s (the browser on this machine now); CPU per frame (trace of"
+            f" {empty['frames']} frames): {empty['main_ms']:.2f} ms on the renderer's main"
+            f" thread, {empty['all_ms']:.2f} ms on all threads"
+        )
+        print(
+            f"  the chain's page, CPU per frame (trace of {busy['frames']} frames):"
+            f" {busy['main_ms']:.2f} ms on the renderer's main thread, {busy['all_ms']:.2f} ms"
+            " on all threads (16.7 ms is one frame at 60 frames/s)"
         )
         print(
             f"  animation in headless Chromium over {options.seconds:g} s: {result['fps']:.1f}"
