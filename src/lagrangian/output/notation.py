@@ -9,6 +9,7 @@ A declared function applied to its declared arguments, A(x, y, z), prints as A.
 
 from __future__ import annotations
 
+import functools
 import unicodedata
 from collections.abc import Callable, Iterable
 
@@ -52,6 +53,7 @@ def unicode_name(name: str) -> str:
     return unicodedata.normalize("NFC", shown[:head] + mark + shown[head:])  # ẋ, not x + dot
 
 
+@functools.lru_cache(maxsize=4096)  # a page names each symbol hundreds of times
 def latex_name(name: str) -> str:
     """\\dot{\\theta}_{1} for 'theta1_dot'."""
     base, dots = _split_dots(name)
