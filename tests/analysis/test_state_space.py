@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import functools
 import json
 import math
 import sys
@@ -158,8 +159,10 @@ def test_outputs_give_c_and_d():
 
 
 # -- the double pendulum on a cart: sympy.physics.mechanics as the oracle ----------------
-def mechanics_linearization(values: dict[str, float], angles: tuple) -> tuple[np.ndarray, ...]:
-    """A, B of the double pendulum on a cart by LagrangesMethod.linearize, at ``values``."""
+@functools.cache
+def mechanics_double_pendulum_on_cart():
+    """The double pendulum on a cart in sympy.physics.mechanics, its equations formed once:
+    (the LagrangesMethod, the coordinates, the input F, the parameters)."""
     from sympy.physics.mechanics import (
         LagrangesMethod,
         Lagrangian,
@@ -188,7 +191,12 @@ def mechanics_linearization(values: dict[str, float], angles: tuple) -> tuple[np
         Lagrangian(frame, *parts), [x, t1, t2], forcelist=[(cart, force * frame.x)], frame=frame
     )
     method.form_lagranges_equations()
-    q = [x, t1, t2]
+    return method, [x, t1, t2], force, symbols
+
+
+def mechanics_linearization(values: dict[str, float], angles: tuple) -> tuple[np.ndarray, ...]:
+    """A, B of the double pendulum on a cart by LagrangesMethod.linearize, at ``values``."""
+    method, q, force, symbols = mechanics_double_pendulum_on_cart()
     qd = [s.diff() for s in q]
     point = dict(zip(q, (0, *angles), strict=True)) | dict.fromkeys(qd, 0)
     point |= {s.diff(): 0 for s in qd}

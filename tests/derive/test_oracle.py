@@ -46,12 +46,20 @@ def plain_state(expr: sympy.Expr, coordinates: Sequence[sympy.Function]) -> symp
     return expr.xreplace(mapping)
 
 
-def oracle_accelerations(
-    method: LagrangesMethod, coordinates: Sequence[sympy.Function], point: Mapping[str, float]
-) -> dict[str, float]:
+def oracle_forms(
+    method: LagrangesMethod, coordinates: Sequence[sympy.Function]
+) -> tuple[sympy.Matrix, sympy.Matrix]:
+    """The oracle's M and f in plain symbols, formed once for all the points compared."""
     method.form_lagranges_equations()
-    mass = plain_state(method.mass_matrix, coordinates)
-    forcing = plain_state(method.forcing, coordinates)
+    return plain_state(method.mass_matrix, coordinates), plain_state(method.forcing, coordinates)
+
+
+def oracle_accelerations(
+    forms: tuple[sympy.Matrix, sympy.Matrix],
+    coordinates: Sequence[sympy.Function],
+    point: Mapping[str, float],
+) -> dict[str, float]:
+    mass, forcing = forms
     n = len(coordinates)
     matrix = [[evaluate(mass[i, j], point) for j in range(n)] for i in range(n)]
     rhs = [evaluate(forcing[i], point) for i in range(n)]
@@ -82,11 +90,12 @@ def compare(
     """Assert equal accelerations at ``count`` random points; returns the points."""
     eom = system.equations_of_motion()
     assert [c.name for c in system.coordinates] == [q.func.__name__ for q in coordinates]
+    forms = oracle_forms(method, coordinates)
     points = []
     for _ in range(count):
         point = random_point(system, rng, ranges, avoid=avoid)
         ours = toolkit_accelerations(eom, point)
-        theirs = oracle_accelerations(method, coordinates, point)
+        theirs = oracle_accelerations(forms, coordinates, point)
         for name in ours:
             assert_close(ours[name], theirs[name], what=f"{name}_ddot at {point}")
         points.append(point)

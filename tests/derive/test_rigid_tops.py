@@ -17,6 +17,7 @@
 
 from __future__ import annotations
 
+import functools
 import random
 
 import numpy as np
@@ -95,8 +96,10 @@ def body_omega(phi, theta, psi, phi_dot, theta_dot, psi_dot):
 
 
 # -- heavy symmetric top ---------------------------------------------------------------
-def textbook_accelerations(values, state):
-    """q'' of the hand-typed Lagrangian, derived by SymPy's LagrangesMethod."""
+@functools.cache
+def textbook_equations():
+    """M and f of the hand-typed Lagrangian by SymPy's LagrangesMethod (formed once), with
+    the parameters and the state they are functions of."""
     phi, theta, psi = dynamicsymbols("phi theta psi")
     M, l, g, I1, I3 = sympy.symbols("M l g I1 I3")
     t = dynamicsymbols._t
@@ -109,10 +112,16 @@ def textbook_accelerations(values, state):
     )
     method = LagrangesMethod(lagrangian, [phi, theta, psi])
     method.form_lagranges_equations()
+    return method.mass_matrix, method.forcing, (M, l, g, I1, I3), (phi, theta, psi, *d)
+
+
+def textbook_accelerations(values, state):
+    """q'' of the hand-typed Lagrangian at the parameter ``values`` and ``state``."""
+    mass, forcing, (M, l, g, I1, I3), state_symbols = textbook_equations()
     numbers = {M: values["M"], l: values["l"], g: values["g"], I1: values["I1"], I3: values["I3"]}
-    numbers.update(dict(zip([phi, theta, psi, *d], state, strict=True)))
-    mass = np.array(method.mass_matrix.subs(numbers), float)
-    forcing = np.array(method.forcing.subs(numbers), float).ravel()
+    numbers.update(dict(zip(state_symbols, state, strict=True)))
+    mass = np.array(mass.subs(numbers), float)
+    forcing = np.array(forcing.subs(numbers), float).ravel()
     return np.linalg.solve(mass, forcing)
 
 
