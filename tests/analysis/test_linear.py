@@ -9,6 +9,7 @@ import sympy
 
 import lagrangian as lg
 from lagrangian.analysis.linear import Stability, linearize
+from lagrangian.analysis.modes import ModeAnalysis
 
 EQUAL_DOUBLE_PENDULUM = (
     "m*l**2*theta1_dot**2 + m*l**2*theta2_dot**2/2"
@@ -117,6 +118,37 @@ def test_three_unequal_masses_fall_back_to_numbers():
     np.testing.assert_allclose([float(w2) for w2 in result.omega_squared], expected, rtol=1e-9)
     for shape, vector in zip(result.shapes, vectors.T, strict=True):
         np.testing.assert_allclose([float(v) for v in shape], vector / vector[0], rtol=1e-9)
+
+
+def test_a_cubic_that_does_not_split_is_seen_without_the_symbolic_factorization(monkeypatch):
+    """Three unequal masses: det(K0 - s M0) is an irreducible cubic, seen at rational values
+    of the parameters (ModeAnalysis._beyond_quadratics) before any symbolic determinant;
+    three equal ones split into a line and a quadratic, and keep their closed form."""
+    unequal = lg.System.from_lagrangian(
+        "(m1*x1_dot**2 + m2*x2_dot**2 + m3*x3_dot**2)/2"
+        " - (k1*x1**2 + k2*(x2 - x1)**2 + k3*(x3 - x2)**2 + k4*x3**2)/2",
+        coordinates=["x1", "x2", "x3"],
+        parameters={"m1": 1.0, "m2": 2.0, "m3": 3.0, "k1": 1.0, "k2": 2.0, "k3": 3.0, "k4": 4.0},
+    )
+    equal = lg.System.from_lagrangian(
+        "m*(x1_dot**2 + x2_dot**2 + x3_dot**2)/2"
+        " - k*(x1**2 + (x2 - x1)**2 + (x3 - x2)**2 + x3**2)/2",
+        coordinates=["x1", "x2", "x3"],
+    )
+    at = {"x1": 0, "x2": 0, "x3": 0}
+    symbolic = []
+    original = ModeAnalysis._exact_roots
+    monkeypatch.setattr(
+        ModeAnalysis, "_exact_roots", lambda self: symbolic.append(1) or original(self)
+    )
+    result = modes(unequal, at)
+    assert not result.closed_form and result.stability is Stability.STABLE
+    assert symbolic == []  # decided at the rational values, no symbolic determinant
+    k, m = equal.symbol("k"), equal.symbol("m")
+    result = modes(equal, at)
+    assert result.closed_form and symbolic == [1]
+    assert same(sum(result.omega_squared), 6 * k / m)
+    assert 2 * k / m in result.omega_squared
 
 
 def test_neutral_direction_is_marginal():
