@@ -4,6 +4,7 @@ the ways around the cache (--no-cache, LAGRANGIAN_NO_CACHE)."""
 
 from __future__ import annotations
 
+import os
 import warnings
 
 import pytest
@@ -73,6 +74,18 @@ def test_a_damaged_or_foreign_entry_is_ignored_and_written_again(cache, builds, 
     entry.chmod(0o666)  # others may write it: not trusted
     assert _write(tmp_path, "c.html") == first
     assert len(builds) == 3
+
+
+def test_the_oldest_pages_go_beyond_the_limit(cache, tmp_path, monkeypatch):
+    for k in range(3):  # written a second apart, oldest first
+        page_cache.cached_page(f"model {k}".encode(), {}, lambda k=k: page.Page(f"{k}", True))
+    for path in cache.iterdir():
+        k = int(path.read_bytes().rsplit(b"\n", 1)[-1])
+        os.utime(path, (1_000_000 + k, 1_000_000 + k))
+    monkeypatch.setattr(page_cache, "KEPT_PAGES", 2)
+    page_cache.cached_page(b"model 3", {}, lambda: page.Page("3", True))
+    kept = sorted(path.read_bytes().rsplit(b"\n", 1)[-1] for path in cache.iterdir())
+    assert kept == [b"2", b"3"]
 
 
 def test_the_variable_turns_the_cache_off(cache, builds, tmp_path, monkeypatch):

@@ -12,6 +12,7 @@ relative path, size and modification time, as Python's bytecode cache judges a s
 and the versions of Python, SymPy, SymEngine, NumPy and SciPy).  A page is kept only when
 its analysis decided every stage within its time and nothing was warned: a stage cut
 short on a busy machine is not remembered, and a warning is said again on every run.
+At most :data:`KEPT_PAGES` are kept, the least recently written going first.
 
 A kept page is text this process writes into a file, never runs.  It is read only from
 this user's private folder and files (as the code cache: not another user's, not
@@ -42,6 +43,8 @@ _HEADER = "<!-- lagrangian page cache: sha256="
 _END = " -->\n"
 #: Part of every key: a change in what a kept file holds makes the old ones unused.
 _FORMAT = "lagrangian page cache 1"
+#: Pages kept at most (about 0.7-1 MB each): the least recently written go first.
+KEPT_PAGES = 64
 
 
 def cache_enabled() -> bool:
@@ -133,5 +136,14 @@ def _write(path: Path, html: str) -> None:
     try:
         write_atomically(path, lambda temporary: temporary.write_bytes(text + _END.encode() + body))
         path.chmod(0o600)  # a group-writable file (umask 002) would never be read back
+        _forget_oldest(path.parent)
     except (FileError, LagrangianError, OSError):
         return
+
+
+def _forget_oldest(folder: Path) -> None:
+    """Delete the pages beyond :data:`KEPT_PAGES`, the least recently written first (a
+    page read back is not touched: reading writes nothing)."""
+    pages = sorted(folder.glob("*.html"), key=lambda page: page.stat().st_mtime_ns)
+    for page in pages[: max(0, len(pages) - KEPT_PAGES)]:
+        page.unlink(missing_ok=True)
