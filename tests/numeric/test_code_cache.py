@@ -203,3 +203,37 @@ def test_a_damaged_numba_index_is_recompiled_not_a_crash(tmp_path):
     assert second.returncode == 0, second.stderr
     assert second.stdout.strip() == "3.0"
     assert run().stdout.strip() == "3.0"  # and the files numba wrote again are trusted
+
+
+_TWICE = (
+    "from numba import njit\n"
+    "from lagrangian.codegen.numba_cache import tolerate_full_disk\n"
+    "tolerate_full_disk()\n\n"
+    "@njit(cache=True)\ndef twice(x):\n    return 2.0 * x\n"
+)
+
+_LOAD_TWICE = """
+from lagrangian.codegen.cache import load_text
+module = load_text({digest!r}, {text!r})
+stats = module.twice(1.5), module.twice.stats
+print(stats[0], sum(stats[1].cache_hits.values()), sum(stats[1].cache_misses.values()))
+"""
+
+
+def test_machine_code_is_vouched_for_when_saved_so_a_process_beside_this_one_loads_it(cache):
+    # a second pytest worker, a subprocess or a command run beside a long session: before,
+    # the files were listed only at this process's exit, so every other process deleted
+    # and compiled them again
+    pytest.importorskip("numba")
+    digest = _digest(_TWICE)
+    module = code_cache.load_text(digest, _TWICE)
+    assert module.twice(1.5) == 3.0  # compiled and saved by this process, which goes on
+    assert (cache / f"{digest}.numba-sha256").read_text() == code_cache._listing(
+        code_cache._numba_files(cache / f"{digest}.py")
+    )
+    script = _LOAD_TWICE.format(digest=digest, text=_TWICE)
+    beside = subprocess.run(
+        [sys.executable, "-c", script], env=dict(os.environ), capture_output=True, text=True
+    )
+    assert beside.returncode == 0, beside.stderr
+    assert beside.stdout.split() == ["3.0", "1", "0"]  # loaded from disk, nothing compiled

@@ -29,10 +29,11 @@ not owned by this user or that others may write is not used: its machine code
 numba keeps the machine code beside the module (``__pycache__/<digest>.*.nbi``,
 ``.nbc``), pickles it reads without checking: a damaged index stops every
 later run with an ``UnpicklingError``, damaged machine code can abort the
-process inside LLVM.  So at exit the sha256 of those files goes into
-``<digest>.numba-sha256``, and before a module is used its numba files are
-compared with it; files that do not match, or that no list vouches for (a run
-killed before its exit), are deleted and numba compiles again.
+process inside LLVM.  So after each of numba's saves, and at exit, the sha256 of
+those files goes into ``<digest>.numba-sha256``, and before a module is used its
+numba files are compared with it; files that do not match, or that no list
+vouches for (a run killed between a save and its listing), are deleted and numba
+compiles again.
 
 A cache folder that cannot be written (read-only, a path through a file), or
 that is another user's or writable by others, is replaced by a private
@@ -307,10 +308,25 @@ def _forget_numba_files(path: Path) -> None:
 def _list_numba_files() -> None:
     """At exit: the sha256 of numba's files of every module this process used."""
     for path in sorted(_LOADED):
-        with contextlib.suppress(OSError, FileError):
-            files = _numba_files(path)
-            listing = _listing(files) if files else ""
-            manifest = _manifest(path)
-            if not files or (manifest.exists() and manifest.read_text() == listing):
-                continue
-            write_atomically(manifest, lambda target, text=listing: target.write_text(text))
+        vouch_for_numba_files(path)
+
+
+def vouch_for_numba_files(module_file: str | os.PathLike) -> None:
+    """List the sha256 of numba's files of a module this process loaded from the cache.
+
+    Called at exit and as soon as numba has saved machine code (see
+    :mod:`~lagrangian.codegen.numba_cache`): another process that starts meanwhile (a
+    second worker, a subprocess, a command run beside a long session) finds the files
+    vouched for and loads them, where a listing made only at exit would have it delete
+    and compile them again.  numba writes each file whole (a temporary file, then a
+    rename), so a listing made after a save vouches for complete files."""
+    path = Path(module_file)
+    if path not in _LOADED:
+        return  # not a module of the cache, or not this process's
+    with contextlib.suppress(OSError, FileError):
+        files = _numba_files(path)
+        listing = _listing(files) if files else ""
+        manifest = _manifest(path)
+        if not files or (manifest.exists() and manifest.read_text() == listing):
+            return
+        write_atomically(manifest, lambda target: target.write_text(listing))
