@@ -4,11 +4,14 @@
 folder); each ``lagrangian ...`` line of a ```sh / ```console block is a test of
 its own (named by file and line, so a failure names the line and the workers
 share a long block), run through the CLI in-process in a temporary folder, after
-the lines before it in its block that write a file it reads.  What is not run
+the lines before it in its block that write a file it reads (or with the files they
+wrote where the same process ran them already: WRITTEN).  What is not run
 is said here, each with its reason (SKIPPED, SYNOPSIS), and so is every change
-made to a command before it runs (SMALLER, ANIMATION_FRAMES): nothing else is left out or
-altered.  Where a comment in the docs states what a command prints, the
-statement is checked against the output (PRINTS).
+made to a command before it runs (SMALLER, ANIMATION_FRAMES); a line that is the
+same command as one before it (README and tutorial share several) is the same test,
+run once under the first place it appears: nothing else is left out or altered.
+Where a comment in the docs states what a command prints, the statement is checked
+against the output (PRINTS).
 """
 
 from __future__ import annotations
@@ -49,14 +52,14 @@ SMALLER = (
     ("-3.14:3.14:300 ", "-3.14:3.14:20 "),
     # the README's Python ensemble of 10,000 members: 100 members
     ("np.linspace(-3, 3, 10_000)", "np.linspace(-3, 3, 100)"),
-    # the Python examples' runs of 10 s that are animated (250 frames each): 2 s, 50 frames
+    # the Python examples' runs of 10 s that are animated (250 frames each): 1 s, 25 frames
     (
         'simulate(t_end=10, method="variational", dt=1e-3,',
-        'simulate(t_end=2, method="variational", dt=1e-3,',
+        'simulate(t_end=1, method="variational", dt=1e-3,',
     ),
     (
         'simulate(t_end=10, method="variational", dt=0.005)',
-        'simulate(t_end=2, method="variational", dt=0.005)',
+        'simulate(t_end=1, method="variational", dt=0.005)',
     ),
     # the chaos commands (minutes at full size): a few orbits, values and periods each
     ("--t-end 500 --plot lyapunov.png", "--t-end 5 --plot lyapunov.png"),
@@ -160,7 +163,7 @@ def _shell_lines(blocks) -> list:
 
     A line that reads a file an earlier line of its block writes (``plot run.nc``
     after ``simulate ... --out run.nc``) runs that line first, as the reader would."""
-    params = []
+    params, seen = [], set()  # (the lines needed, the command as run) of each test
     for kind, body, where in blocks:
         if kind not in ("sh", "console"):
             continue
@@ -177,8 +180,13 @@ def _shell_lines(blocks) -> list:
                         for line in (*before, writer)
                     )
                 )
-                params.append(pytest.param(needed, command, id=f"{name}:{int(start) + 1 + offset}"))
                 earlier[command] = needed
+                runs_as = (needed, tuple(shlex.split(_smaller(command), comments=True)))
+                if runs_as not in seen:
+                    seen.add(runs_as)
+                    params.append(
+                        pytest.param(needed, command, id=f"{name}:{int(start) + 1 + offset}")
+                    )
     return params
 
 
@@ -211,13 +219,30 @@ def test_python_block_runs(body, tmp_path):
     assert result.returncode == 0, result.stderr[-3000:]
 
 
+#: The files each line that another line needs wrote when it ran in this process (its own
+#: test, or the first that needed it): a later test copies them instead of running it again.
+WRITTEN: dict[str, dict[str, bytes]] = {}
+NEEDED = {earlier for param in SHELL_LINES for earlier in param.values[0]}
+
+
 @pytest.mark.parametrize(("needed", "line"), SHELL_LINES)
 def test_shell_line_runs(needed, line, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     _readme_model(tmp_path)
     for earlier in needed:
-        _run_line(earlier, tmp_path, capsys)
+        if earlier in WRITTEN:
+            for name, content in WRITTEN[earlier].items():
+                (tmp_path / name).write_bytes(content)
+        else:
+            _run_line(earlier, tmp_path, capsys)
+            _keep(earlier, tmp_path)
     _run_line(line, tmp_path, capsys)
+    _keep(line, tmp_path)
+
+
+def _keep(line: str, folder: Path) -> None:
+    if line in NEEDED:
+        WRITTEN[line] = {name: (folder / name).read_bytes() for name in _written(line)}
 
 
 def _run_line(line: str, folder: Path, capsys) -> None:

@@ -110,24 +110,25 @@ def test_rolling_disc_accelerations_equal_sympy_mechanics(disc):
     numbers = {m: VALUES["m"], r: VALUES["r"], g: VALUES["g"]}
     t = dynamicsymbols._t
     multipliers = list(method.lam_vec)
+    accelerations = [v.diff(t) for v in speeds]
+    symbols = [*accelerations, *multipliers]
+    placeholders = sympy.symbols(f"z0:{len(symbols)}")
+    swap = dict(zip(symbols, placeholders, strict=True))
+    # M q'' = f + A^T lambda (SymPy's rows, lambda columns included), and the rolling
+    # constraints differentiated once: A q'' + (dA/dt) q' = 0; formed once, for every point
+    rates = [c.diff(t).subs(swap) for c in constraints]
+    rows = [[rate.diff(z) for z in placeholders] for rate in rates]
+    rest = [rate.subs(dict.fromkeys(placeholders, 0)) for rate in rates]
+    full_matrix = sympy.Matrix([*method.mass_matrix.subs(swap).tolist(), *rows])
+    full_forcing = sympy.Matrix([*method.forcing.subs(swap), *(-x for x in rest)])
     rng = random.Random(8)
     for _ in range(4):
         q = [rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-3, 3), rng.uniform(-1, 1)]
         q.append(rng.uniform(-3, 3))
         yaw, lean, spin = rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-5, 5)
         point = rolling_state(disc, q, yaw, lean, spin)
-        accelerations = [v.diff(t) for v in speeds]
-        symbols = [*accelerations, *multipliers]
-        placeholders = sympy.symbols(f"z0:{len(symbols)}")
-        swap = dict(zip(symbols, placeholders, strict=True))
-        # M q'' = f + A^T lambda (SymPy's rows, lambda columns included), and the rolling
-        # constraints differentiated once: A q'' + (dA/dt) q' = 0
-        rates = [c.diff(t).subs(swap) for c in constraints]
-        rows = [[rate.diff(z) for z in placeholders] for rate in rates]
-        rest = [rate.subs(dict.fromkeys(placeholders, 0)) for rate in rates]
-        full = sympy.Matrix([*method.mass_matrix.subs(swap).tolist(), *rows])
-        forcing = sympy.Matrix([*method.forcing.subs(swap), *(-x for x in rest)])
-        full, forcing = full.subs(point).subs(numbers), forcing.subs(point).subs(numbers)
+        full = full_matrix.subs(point).subs(numbers)
+        forcing = full_forcing.subs(point).subs(numbers)
         expected = np.linalg.solve(np.array(full, float), np.array(forcing, float).ravel())
         y = np.array(q + [float(point[v]) for v in speeds])
         ours = compiled.rhs(0.0, y, compiled.parameter_vector())
