@@ -21,6 +21,7 @@ import pytest
 import sympy
 
 import lagrangian as lg
+from lagrangian.analysis.state_space import state_space
 from lagrangian.cli import main
 from lagrangian.numeric import compile_equations
 
@@ -160,9 +161,16 @@ def test_outputs_give_c_and_d():
 
 # -- the double pendulum on a cart: sympy.physics.mechanics as the oracle ----------------
 @functools.cache
+def double_pendulum_on_cart():
+    """Its equations of motion, derived once for the four operating points."""
+    return lg.loads(DOUBLE_PENDULUM_ON_CART).equations_of_motion()
+
+
+@functools.cache
 def mechanics_double_pendulum_on_cart():
-    """The double pendulum on a cart in sympy.physics.mechanics, its equations formed once:
-    (the LagrangesMethod, the coordinates, the input F, the parameters)."""
+    """The double pendulum on a cart in sympy.physics.mechanics, its equations formed and
+    its Linearizer made once (what LagrangesMethod.linearize makes anew each call): (the
+    Linearizer, the coordinates, the input F, the parameters)."""
     from sympy.physics.mechanics import (
         LagrangesMethod,
         Lagrangian,
@@ -191,17 +199,18 @@ def mechanics_double_pendulum_on_cart():
         Lagrangian(frame, *parts), [x, t1, t2], forcelist=[(cart, force * frame.x)], frame=frame
     )
     method.form_lagranges_equations()
-    return method, [x, t1, t2], force, symbols
+    q = [x, t1, t2]
+    return method.to_linearizer(q_ind=q, qd_ind=[s.diff() for s in q]), q, force, symbols
 
 
 def mechanics_linearization(values: dict[str, float], angles: tuple) -> tuple[np.ndarray, ...]:
-    """A, B of the double pendulum on a cart by LagrangesMethod.linearize, at ``values``."""
-    method, q, force, symbols = mechanics_double_pendulum_on_cart()
+    """A, B of the double pendulum on a cart by sympy's Linearizer, at ``values``."""
+    linearizer, q, force, symbols = mechanics_double_pendulum_on_cart()
     qd = [s.diff() for s in q]
     point = dict(zip(q, (0, *angles), strict=True)) | dict.fromkeys(qd, 0)
     point |= {s.diff(): 0 for s in qd}
-    a, b, inputs = method.linearize(q_ind=q, qd_ind=qd, A_and_B=True, op_point=point)
-    assert list(inputs) == [force]
+    a, b = linearizer.linearize(A_and_B=True, op_point=point)
+    assert list(linearizer.r) == [force]
     table = {s: values[s.name] for s in symbols}
     return (
         np.array(a.subs(table).evalf(), dtype=float),
@@ -215,10 +224,9 @@ def mechanics_linearization(values: dict[str, float], angles: tuple) -> tuple[np
     ids=["down-down", "up-down", "down-up", "up-up"],
 )
 def test_double_pendulum_on_cart_matches_sympy_mechanics(angles, rng):
-    system = lg.loads(DOUBLE_PENDULUM_ON_CART)
     values = {name: rng.uniform(0.5, 2.0) for name in ("M", "m1", "m2", "l1", "l2")}
     values["g"] = 9.81
-    linear = system.state_space(at={"theta1": angles[0], "theta2": angles[1]})
+    linear = state_space(double_pendulum_on_cart(), {"theta1": angles[0], "theta2": angles[1]})
     ours = linear.numeric(values)
     a, b = mechanics_linearization(values, angles)
     assert ours.A.shape == (6, 6) and ours.B.shape == (6, 1)
