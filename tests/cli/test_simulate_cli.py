@@ -117,9 +117,8 @@ def test_define_gives_unspecified_functions(capsys):
     assert summary["final_state"]["z"] == 0.0
 
 
-def test_numba_backend_gives_the_numpy_run(capsys, tmp_path, monkeypatch):
+def test_numba_backend_gives_the_numpy_run(capsys):
     pytest.importorskip("numba")
-    monkeypatch.setenv("LAGRANGIAN_CACHE", str(tmp_path))
     finals = {}
     for backend in ("numpy", "numba"):
         status, out, _ = run(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 import math
 
 import numpy as np
@@ -36,19 +37,45 @@ def test_linear_oscillator_has_one_point_per_value_its_steady_state():
     assert table.shape == (20, 3) and table[4, 0] == drives[1]
 
 
+# J. R. Taylor, Classical Mechanics (University Science Books, 2005), section 12.5:
+# phi'' + 2 beta phi' + w0^2 sin(phi) = gamma w0^2 cos(w t) with w = 2 pi, w0 = 1.5 w,
+# beta = w0 / 4, from phi(0) = -pi/2 at rest
+TAYLOR_W0 = 3 * math.pi
+TAYLOR = {
+    "variable": "theta", "period": 1.0, "steps_per_period": 150,
+    "params": {"g": TAYLOR_W0**2, "b": TAYLOR_W0 / 2, "omega": 2 * math.pi},
+    "initial": {"theta": -math.pi / 2},
+}  # fmt: skip
+#: The compiled loop where numba is installed: the same rk4 steps as the numpy backend's
+#: (test_strobe_diagram_is_the_same_on_the_numba_backend), 38,000 of them in 0.1 s, not 24 s
+#: of CPU; its one compile is the README's bifurcation line's too.
+FAST = "numba" if importlib.util.find_spec("numba") else "numpy"
+
+
 def test_driven_pendulum_doubles_its_period_as_published():
-    # J. R. Taylor, Classical Mechanics (University Science Books, 2005), section 12.5:
-    # phi'' + 2 beta phi' + w0^2 sin(phi) = gamma w0^2 cos(w t) with w = 2 pi, w0 = 1.5 w,
-    # beta = w0 / 4, from phi(0) = -pi/2 at rest: period 1 at gamma = 1.060, period 2 at
-    # 1.078, period 4 at 1.081 (his Figs. 12.8-12.10 and the table of thresholds).
-    w0 = 3 * math.pi
+    # period 1 at gamma = 1.060, period 2 at 1.078, period 4 at 1.081 (Taylor's
+    # Figs. 12.8-12.10 and his table of thresholds)
     diagram = lg.load("driven_damped_pendulum").bifurcation(
-        vary={"A": np.array([1.060, 1.078, 1.081]) * w0**2}, variable="theta", period=1.0,
-        transient=250, samples=8, steps_per_period=150,
-        params={"g": w0**2, "b": w0 / 2, "omega": 2 * math.pi}, initial={"theta": -math.pi / 2},
+        vary={"A": np.array([1.060, 1.078, 1.081]) * TAYLOR_W0**2}, transient=250, samples=8,
+        backend=FAST, **TAYLOR,
     )  # fmt: skip
+    assert diagram.settings["backend"] == FAST
     periods = [len(np.unique(np.round(row, 4))) for row in diagram.points]
     assert periods == [1, 2, 4]
+
+
+def test_strobe_diagram_is_the_same_on_the_numba_backend():
+    pytest.importorskip("numba")
+    settings = {
+        "vary": {"A": np.array([1.060, 1.078, 1.081]) * TAYLOR_W0**2}, "transient": 3,
+        "samples": 4, **TAYLOR,
+    }  # fmt: skip
+    pendulum = lg.load("driven_damped_pendulum")
+    ours = pendulum.bifurcation(backend="numpy", **settings)
+    theirs = pendulum.bifurcation(backend="numba", **settings)
+    assert theirs.settings["backend"] == "numba"
+    np.testing.assert_array_equal(theirs.times, ours.times)
+    np.testing.assert_allclose(theirs.points, ours.points, rtol=1e-9, atol=1e-12)
 
 
 def _driven_oscillator(b: float, omega: float):

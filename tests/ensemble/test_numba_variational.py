@@ -81,12 +81,6 @@ SYSTEMS = {
 }
 
 
-@pytest.fixture(autouse=True)
-def _cache(tmp_path_factory, monkeypatch):
-    """Generated modules in a directory of this test session, not the user's cache."""
-    monkeypatch.setenv("LAGRANGIAN_CACHE", str(tmp_path_factory.getbasetemp() / "cache"))
-
-
 @pytest.fixture(scope="module")
 def compiled_systems():
     return {

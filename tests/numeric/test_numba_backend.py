@@ -27,12 +27,6 @@ pytest.importorskip("numba")
 UNCONSTRAINED = tuple(name for name in EXAMPLES if name not in CONSTRAINED)
 
 
-@pytest.fixture(autouse=True)
-def _cache(tmp_path_factory, monkeypatch):
-    """Generated modules in a directory of this test session, not the user's cache."""
-    monkeypatch.setenv("LAGRANGIAN_CACHE", str(tmp_path_factory.getbasetemp() / "cache"))
-
-
 def jitted(name: str):
     return compile_equations(equations(name), backend="numba", definitions=DEFINITIONS.get(name))
 

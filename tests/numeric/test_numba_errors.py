@@ -14,12 +14,6 @@ from lagrangian.numeric import compile_equations
 pytest.importorskip("numba")
 
 
-@pytest.fixture(autouse=True)
-def _cache(tmp_path_factory, monkeypatch):
-    """Generated modules in a directory of this test session, not the user's cache."""
-    monkeypatch.setenv("LAGRANGIAN_CACHE", str(tmp_path_factory.getbasetemp() / "cache"))
-
-
 def both(lagrangian: str, coordinates: list[str]):
     eom = lg.System.from_lagrangian(lagrangian, coordinates=coordinates).equations_of_motion()
     return compile_equations(eom), compile_equations(eom, backend="numba")
