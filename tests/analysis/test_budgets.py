@@ -134,6 +134,24 @@ def test_a_childs_cpu_time_is_charged_to_the_deadline_that_waited_for_it():
     assert cpu_seconds() - before >= 0.35  # both children's CPU time is on the clock
 
 
+def _deadline_signal_blocked() -> bool:
+    return budget.SIGNAL in signal.pthread_sigmask(signal.SIG_BLOCK, set())
+
+
+def test_a_deadline_is_held_back_across_the_fork_and_open_in_the_child(monkeypatch):
+    """A deadline due during the fork would raise inside fork's handlers (logging's lock
+    release), where the error is lost and the lock stays taken: its signal is held back
+    there, and the child, which inherits the mask, lets its own timer's through."""
+    import os
+
+    seen = []
+    monkeypatch.setattr(
+        os, "fork", lambda fork=os.fork: seen.append(_deadline_signal_blocked()) or fork()
+    )
+    assert in_child(_deadline_signal_blocked, (), 5.0) is False
+    assert seen == [True] and not _deadline_signal_blocked()
+
+
 def test_out_of_time_is_not_an_exception_that_library_code_swallows():
     assert not issubclass(OutOfTime, Exception)
 

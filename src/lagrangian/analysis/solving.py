@@ -16,6 +16,7 @@ side by side on two cores.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import math
 import multiprocessing
@@ -77,26 +78,45 @@ def in_child(function, arguments: tuple, timeout: float, *, meanwhile=None):
     process = context.Process(
         target=_child, args=(sender, function, arguments, timeout), daemon=True
     )
-    with warnings.catch_warnings():
-        # JAX warns at every fork that its threads may hold locks.  The child runs only
-        # SymPy (pure Python), never XLA, and glibc's malloc is fork-safe; a fork server
-        # or spawn would re-run the user's __main__ script, which is worse.
-        warnings.filterwarnings(
-            "ignore", message=r"os\.fork\(\) was called", category=RuntimeWarning
-        )
-        process.start()
-    sender.close()
-    patience = time.monotonic() + WALL_FACTOR * timeout + WALL_EXTRA
     try:
+        with warnings.catch_warnings(), _deadlines_held():
+            # JAX warns at every fork that its threads may hold locks.  The child runs only
+            # SymPy (pure Python), never XLA, and glibc's malloc is fork-safe; a fork server
+            # or spawn would re-run the user's __main__ script, which is worse.
+            warnings.filterwarnings(
+                "ignore", message=r"os\.fork\(\) was called", category=RuntimeWarning
+            )
+            process.start()
+        sender.close()
+        patience = time.monotonic() + WALL_FACTOR * timeout + WALL_EXTRA
         if meanwhile is not None:
             meanwhile()
         return _received(receiver, max(0.0, patience - time.monotonic()))
     finally:
+        sender.close()
         receiver.close()
         if process.is_alive():
             process.kill()
-        process.join()
+        if process.pid is not None:
+            process.join()
         recount()  # the child's CPU time is on the clock now: charge it to the deadlines
+
+
+@contextlib.contextmanager
+def _deadlines_held():
+    """The deadlines' signal held back while the block runs (delivered after it).
+
+    A deadline raises from its signal handler wherever the main thread is; inside fork's
+    handlers (logging's, releasing its lock after the fork) the error would be lost and
+    the lock left taken.  Held across the fork, it is raised after it, here."""
+    if not hasattr(signal, "pthread_sigmask") or not hasattr(signal, "SIGPROF"):
+        yield
+        return
+    signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGPROF})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGPROF})
 
 
 def _received(receiver, wait: float):
@@ -111,6 +131,8 @@ def _received(receiver, wait: float):
 
 
 def _child(sender, function, arguments, seconds: float) -> None:
+    if hasattr(signal, "pthread_sigmask"):  # the mask is inherited: the parent held SIGPROF
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGPROF})
     if hasattr(signal, "ITIMER_PROF"):  # timers are not inherited across fork: arm ours
         signal.signal(signal.SIGPROF, _out_of_time)
         signal.setitimer(signal.ITIMER_PROF, max(seconds, 1e-6))
