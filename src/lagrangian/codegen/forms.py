@@ -147,25 +147,24 @@ class SymbolicForms:
     @property
     def invariants(self) -> Mapping[str, sympy.Expr]:
         """The conserved quantities (:attr:`conservation`), the definitions substituted."""
-        found = {
-            quantity.name: substitute(quantity.expression, self.definitions)
-            for quantity in self.conservation.conserved
-        }
-        _check_no_functions_left(list(found.values()))
-        return found
+        return self._defined(self.conservation.conserved)
 
     @property
     def conditional_invariants(self) -> Mapping[str, sympy.Expr]:
         """The quantities other than the energy that are not conserved in general but are at
         parameter values where every cause of their change vanishes (a momentum whose force
         is an input that a run sets to 0), the definitions substituted."""
-        found = {
-            quantity.name: substitute(quantity.expression, self.definitions)
+        return self._defined(
+            quantity
             for quantity in self.conservation.not_conserved
             if quantity.name != "energy"
             and quantity.rates
             and all(rate is not None for _, rate in quantity.rates)
-        }
+        )
+
+    def _defined(self, quantities) -> dict[str, sympy.Expr]:
+        """Name -> expression of ``quantities``, the definitions substituted (none left)."""
+        found = {q.name: substitute(q.expression, self.definitions) for q in quantities}
         _check_no_functions_left(list(found.values()))
         return found
 

@@ -124,9 +124,11 @@ def compile_equations(
         forcing=dynamics.forcing,
         rhs_jacobian=dynamics.rhs_jacobian,
         energy=_kernel(forms, arrays, lambda: [forms.energy]).state_function(signature, "energy"),
-        invariants=LazyMapping(lambda: _state_functions(forms, arrays, signature, "invariants")),
+        invariants=LazyMapping(
+            lambda: _state_functions(forms, arrays, signature, forms.invariants)
+        ),
         conditional_invariants=LazyMapping(
-            lambda: _state_functions(forms, arrays, signature, "conditional_invariants")
+            lambda: _state_functions(forms, arrays, signature, forms.conditional_invariants)
         ),
         not_conserved=LazyMapping(lambda: forms.not_conserved),
         not_conserved_at=forms.not_conserved_at,
@@ -162,12 +164,15 @@ def _kernel(forms: SymbolicForms, arrays: ArrayBackend, build: Callable[[], list
 
 
 def _state_functions(
-    forms: SymbolicForms, arrays: ArrayBackend, signature: Signature, which: str
+    forms: SymbolicForms,
+    arrays: ArrayBackend,
+    signature: Signature,
+    expressions: Mapping[str, sympy.Expr],
 ) -> dict[str, object]:
-    """A state function per quantity of ``forms.<which>`` (name -> expression)."""
+    """A state function of (t, y, params) per expression (name -> expression)."""
     return {
         name: _kernel(forms, arrays, lambda e=expression: [e]).state_function(signature, name)
-        for name, expression in getattr(forms, which).items()
+        for name, expression in expressions.items()
     }
 
 
