@@ -128,6 +128,9 @@ def cpu_seconds() -> float:
 # The armed deadlines, innermost last: (end on the cpu_seconds clock, the exception to raise).
 _active: list[tuple[float, OutOfTime]] = []
 
+#: CPU seconds after which an expired deadline raises again, should its error have been lost.
+REPEAT_SECONDS = 0.05
+
 #: The timer the deadlines use, and its signal: CPU time of the process, not wall time.
 TIMER, SIGNAL = getattr(signal, "ITIMER_PROF", None), getattr(signal, "SIGPROF", None)
 
@@ -164,6 +167,10 @@ def deadline(seconds: float | None, stage: str) -> Iterator[None]:
                     signal.raise_signal(SIGNAL)
             return  # else: leaving the block re-arms the outer timer, due at once
         if state["armed"]:
+            # Again every REPEAT_SECONDS until the block is left: Python runs the handler at
+            # the next bytecode, which may be a gc callback's or a __del__'s, where the
+            # error is printed as unraisable and lost.
+            signal.setitimer(TIMER, REPEAT_SECONDS)
             raise error
 
     # Everything from installing the handler on is inside the try: a timer due at once

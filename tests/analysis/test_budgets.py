@@ -152,6 +152,28 @@ def test_a_deadline_is_held_back_across_the_fork_and_open_in_the_child(monkeypat
     assert seen == [True] and not _deadline_signal_blocked()
 
 
+def test_a_deadline_whose_error_was_lost_raises_again():
+    """The handler runs at the next bytecode, which may be in a gc callback or a __del__,
+    where the error is printed as unraisable and lost (seen in jax's gc callback): the
+    deadline fires again until its block is left."""
+    lost = []
+
+    def lose_the_first_then_spin():
+        end = cpu_seconds() + 5.0  # the test's own bound: counted work, not a time limit
+        while cpu_seconds() < end:
+            try:
+                while cpu_seconds() < end:
+                    pass
+            except OutOfTime:
+                if lost:
+                    raise
+                lost.append(True)  # as gc would: printed, then the work goes on
+        return "ran to its end"
+
+    assert attempt("lossy", 0.05, lose_the_first_then_spin)[1] is not None
+    assert lost == [True] and remaining() is None
+
+
 def test_out_of_time_is_not_an_exception_that_library_code_swallows():
     assert not issubclass(OutOfTime, Exception)
 
