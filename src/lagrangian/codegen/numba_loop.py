@@ -61,7 +61,7 @@ def rk4_init(t, y, p, work, counts):  # pragma: no cover - compiled by numba
     pass
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True, _nrt=False)
 def rk4_step(t, h, y, p, work, tol, floor, iterations, counts):  # pragma: no cover
     return 0
 

@@ -683,6 +683,18 @@ class CStepPrinter(StepPrinter):
         ]
 
 
+#: numba's decorator of every function of the package's numba modules that allocates
+#: nothing: compiled on its own, not inlined, and without numba's reference counting (NRT;
+#: ``_nrt=False``, a flag of numba's ``jit`` since 0.19).  Such calls were inlined
+#: (``inline="always"``) because a call that passes arrays costs two atomic operations per
+#: array; but numba inlines by copying the callee's IR to every call site, recursively, and
+#: that took most of the compile time.  First runs (CPU s, benchmarks/README.md): Lyapunov
+#: spectrum of Henon-Heiles 29.6 -> 11.7, its ensemble 48.3 -> 13.4, the flip-time ensemble
+#: 23.4 -> 10.4; runs: the double pendulum's spectrum 1.11 -> 0.91 s, the ensembles' steps
+#: 13-29% slower (one call a step, where the inlined step had none).
+LEAN = "@njit(cache=True, _nrt=False)"
+
+
 class NumbaStepPrinter(StepPrinter):
     """The scheme as numba Python (see the module): ``<name>_workspace``, ``_init``, ``_step``,
     which takes a last argument ``counts`` (3 integers: the evaluations of the right-hand
@@ -728,11 +740,11 @@ class NumbaStepPrinter(StepPrinter):
         return [f"{pad}eliminate({matrix}, {rhs}, {out}, {node.offset})"]
 
     def function(self, function: Function) -> str:
-        """The module-level numba function (inlined where it is called, cached on disk)."""
+        """The module-level numba function (:data:`LEAN`, cached on disk)."""
         arguments = ", ".join(name for name, _ in function.arguments)
         cover = "  # pragma: no cover - compiled by numba"
         return "\n".join([
-            '@njit(inline="always", cache=True)',
+            LEAN,
             f"def {function.name}({arguments}):{cover}",
             *self.block(function.body, 1),
             "",
@@ -760,7 +772,7 @@ class NumbaStepPrinter(StepPrinter):
             *(self.block(scheme.init, 1) or ["    pass"]),
             "",
             "",
-            '@njit(inline="always", cache=True)',
+            LEAN,
             f"def {name}_step(t, h, y, p, work, tol, floor, iterations, counts):{cover}",
             unpack,
             *self.block(scheme.step, 1),

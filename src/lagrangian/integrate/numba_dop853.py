@@ -26,7 +26,7 @@ step size fell below 10 ulp of t (SciPy's "Required step size is less than spaci
 between numbers."), 3 an accepted state is not finite.
 
 The pieces of a step (``step``, ``interpolation``, ``interpolate``, ``accept``) are
-inlined functions of their own, so that other loops (the sections of
+functions of their own, so that other loops (the sections of
 :mod:`lagrangian.integrate.numba_sections`) take the same steps.  The vector integrated
 has any length: with ``TANGENT`` it is the state followed by K displacements W (2N x K,
 row by row) of the variational equations W' = J W (:mod:`lagrangian.integrate.lyapunov`),
@@ -63,17 +63,16 @@ def workspace():  # pragma: no cover - compiled by numba
     return np.empty((N, N)), np.empty(N), np.empty((0, 0)), np.empty(0), np.empty(0)
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True)
 def buffers(size):  # pragma: no cover - compiled by numba
     """(stages, a stage, y_new, the workspace, the interpolant) of a loop over vectors of
     ``size``."""
     return np.empty((16, size)), np.empty(size), np.empty(size), workspace(), np.empty((7, size))
 
 
-# All inlined: a call of a jitted function that takes arrays costs their reference counts,
-# and the stages make 15 a step (inlined: 0.064-0.070 s against 0.087-0.111 s for the double
-# pendulum's 1000 s, compiling in 16 s against 12 s under load).
-@njit(inline="always", cache=True)
+# What allocates nothing is compiled lean: not inlined, no reference counts (LEAN of
+# lagrangian.codegen.steps, which says why).
+@njit(cache=True, _nrt=False)
 def derivative(t, y, p, work, out, flags):  # pragma: no cover - compiled by numba
     """out = y' = [q', q''] at (t, y), then J W with TANGENT; flags[0] = 1 where it is not
     finite."""
@@ -99,7 +98,7 @@ def slope(t, y, p, out, flags):  # pragma: no cover - compiled by numba
     derivative(t, y, p, workspace(), out, flags)
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True, _nrt=False)
 def tangent(t, y, p, work, out):  # pragma: no cover - compiled by numba
     """out[2N:] = J W for the displacements W = y[2N:] (2N x K, row by row), with
     J = [[0, I], [M^-1 G]] and G = d(f - M a)/d(q, q') at a = q'' = out[N:2N]."""
@@ -121,7 +120,7 @@ def tangent(t, y, p, work, out):  # pragma: no cover - compiled by numba
             out[size + (N + i) * count + j] = column[i]
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True, _nrt=False)
 def take_stages(first, last, t, h, y, p, stages, stage, work, flags):  # pragma: no cover
     """Stages first..last-1 of the step of size h from (t, y), rows of ``stages``."""
     for s in range(first, last):
@@ -133,7 +132,7 @@ def take_stages(first, last, t, h, y, p, stages, stage, work, flags):  # pragma:
         derivative(t + C[s] * h, stage, p, work, stages[s], flags)
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True, _nrt=False)
 def step(
     clock, y, f, p, t_end, rtol, atol, stages, stage, y_new, work, counts, flags
 ):  # pragma: no cover - compiled by numba
@@ -194,7 +193,7 @@ def step(
         counts[3] = 1
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True, _nrt=False)
 def interpolation(
     t, h, y, y_new, p, stages, stage, work, interpolant, counts, flags
 ):  # pragma: no cover - compiled by numba
@@ -214,7 +213,7 @@ def interpolation(
             interpolant[3 + r, i] = h * total
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True, _nrt=False)
 def interpolate(interpolant, x, y, out):  # pragma: no cover - compiled by numba
     """out = the interpolant at x = (t - t_old) / h of the step from y."""
     for i in range(y.shape[0]):
@@ -228,7 +227,7 @@ def interpolate(interpolant, x, y, out):  # pragma: no cover - compiled by numba
         out[i] = value + y[i]
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True, _nrt=False)
 def accept(clock, y, f, y_new, stages, t_new, h_next, counts):  # pragma: no cover
     """The step to t_new taken: y, f and the clock moved on; whether y is finite."""
     finite = True

@@ -36,7 +36,7 @@ TOLERANCE = 4 * np.finfo(np.float64).eps  # SciPy's xtol and rtol of an event's 
 ITERATIONS = 100  # brentq's default
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True, _nrt=False)
 def crosses(before, after, direction):  # pragma: no cover - compiled by numba
     up = before <= 0 <= after
     down = before >= 0 >= after
@@ -47,7 +47,7 @@ def crosses(before, after, direction):  # pragma: no cover - compiled by numba
     return up or down
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True, _nrt=False)
 def value(s, t, h, y, p, interpolant, level, state, out):  # pragma: no cover - compiled
     """g at time s on the interpolant of the step of width h from (t, y)."""
     if s == level[1]:
@@ -57,7 +57,7 @@ def value(s, t, h, y, p, interpolant, level, state, out):  # pragma: no cover - 
     return out[0]
 
 
-@njit(inline="always", cache=True)
+@njit(cache=True, _nrt=False)
 def root(t, h, y, p, interpolant, level, state, out):  # pragma: no cover - compiled by numba
     """The root of g on the step (t, t + h), by SciPy's ``brentq`` (scipy/optimize/Zeros/
     brentq.c, BSD-3-Clause: Brent's method, R. P. Brent, *Algorithms for Minimization
