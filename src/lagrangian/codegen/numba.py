@@ -74,7 +74,7 @@ N = {n}
 {eliminate}
 
 
-@njit(cache=True, _nrt=False)
+{lean}
 def fill(t, y, p, M, f):
 {fill}
 
@@ -115,7 +115,7 @@ def rhs(t, y, p):
     return out
 
 
-@njit(cache=True, _nrt=False)
+{lean}
 def energy(t, y, p):
 {energy}
 '''
@@ -206,6 +206,7 @@ class _SourceText:
         targets += [f"f[{i}] = " for i in range(n)]
         return _TEMPLATE.format(
             version=GENERATOR_VERSION,
+            lean=LEAN,
             n=n,
             eliminate=NumbaStepPrinter(n).function(elimination(n)),
             fill=_body(forms, targets, [*mass, *forcing]),
