@@ -8,8 +8,9 @@ same method (SciPy's coefficients, initial step, error norm and step-size contro
 :mod:`.numba_dop853`) runs as one numba loop over the system's generated M and f
 (:mod:`lagrangian.codegen.numba`, solved in the loop by Gaussian elimination with
 partial pivoting), so it takes the steps SciPy takes and gives its answers to
-rounding; the loop is written to the code cache once per system and numba keeps its
-machine code on disk.
+rounding.  The method is compiled once for every system (its machine code kept in the
+code cache) and takes the system's y' as a function pointer: a new system compiles only
+its own y', about a second, where the whole loop took 4-5 s more.
 
 Why this and not the other ways to an adaptive method without Python per step
 (measured, benchmarks/user_paths.py, figures in benchmarks/README.md):
@@ -40,6 +41,7 @@ from __future__ import annotations
 
 import hashlib
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -66,7 +68,37 @@ _EPS = float(np.finfo(float).eps)
 MIN_FACTOR = 0.2  # SciPy's smallest shrink of a rejected step
 
 
-def compiled_loop(compiled: CompiledSystem) -> ModuleType | None:
+@dataclass(frozen=True)
+class Loop:
+    """The compiled DOP853 method (:mod:`.numba_dop853`, one for every system) with one
+    system's y' (its ``derivative`` of :mod:`.numba_derivative`, in a typed list of one)."""
+
+    method: ModuleType
+    y_prime: object
+    n: int
+    tangent: bool
+
+    def advance(self, *arguments: object) -> int:
+        """The method's ``advance`` on this system: its arguments after ``y_prime``, ``n``
+        and ``tangent``."""
+        return self.method.advance(self.y_prime, self.n, self.tangent, *arguments)
+
+    def slope(self, t: float, y: np.ndarray, p: np.ndarray, out: np.ndarray, flags) -> None:
+        """out = y' at (t, y) (flags[0] = 1 where it is not finite)."""
+        self.method.slope(self.y_prime, self.n, self.tangent, t, y, p, out, flags)
+
+
+def pointer_list(kind, function) -> object:
+    """A numba typed list of the one function pointer ``function`` of type ``kind`` (a
+    ``types.ListType`` of a ``types.FunctionType``): converted once, here."""
+    from numba import typed
+
+    pointers = typed.List.empty_list(kind.item_type)
+    pointers.append(function)
+    return pointers
+
+
+def compiled_loop(compiled: CompiledSystem) -> Loop | None:
     """The jitted DOP853 loop of ``compiled`` (built once, machine code cached on disk), or
     None where it does not apply: constraints, functions given by hand, numba missing."""
     if not loop_applies(compiled):
@@ -74,14 +106,27 @@ def compiled_loop(compiled: CompiledSystem) -> ModuleType | None:
     return built(compiled.forms.fingerprint, "dop853", lambda: _build(compiled))
 
 
-def tangent_loop(compiled: CompiledSystem) -> ModuleType | None:
+def tangent_loop(compiled: CompiledSystem) -> Loop | None:
     """The loop of the variational equations of ``compiled`` (the state followed by K
-    displacements, any K, see :mod:`.numba_dop853`), or None as :func:`compiled_loop`."""
+    displacements, any K, see :mod:`.numba_derivative`), or None as :func:`compiled_loop`."""
     if not loop_applies(compiled):
         return None
     return built(
         compiled.forms.fingerprint, "dop853-tangent", lambda: _build(compiled, tangent=True)
     )
+
+
+def method_module() -> ModuleType:
+    """The DOP853 method's generated module (:mod:`.numba_dop853`, the same for every
+    system)."""
+    from ..codegen.cache import load_text
+
+    return load_text(*_method_text())
+
+
+def _method_text() -> tuple[str, str]:
+    text = Path(__file__).with_name("numba_dop853.py").read_text(encoding="utf-8")
+    return hashlib.sha256(text.encode()).hexdigest(), text
 
 
 def loop_applies(compiled: CompiledSystem) -> bool:
@@ -107,16 +152,20 @@ def compiled_ready(compiled: CompiledSystem) -> bool:
         return False
     if built_already(compiled.forms.fingerprint, "dop853"):
         return True
-    return compiled_on_disk(_loop_text(compiled)[0], "advance")
+    return compiled_on_disk(_method_text()[0], "advance") and compiled_on_disk(
+        _derivative_text(compiled)[0], "derivative"
+    )
 
 
-def _build(compiled: CompiledSystem, *, tangent: bool = False) -> ModuleType:
+def _build(compiled: CompiledSystem, *, tangent: bool = False) -> Loop:
     from ..codegen.cache import load_text
     from ..codegen.numba import NumbaTarget
 
-    NumbaTarget().load(compiled.program)  # the fillers' module, imported by the loop's
+    NumbaTarget().load(compiled.program)  # the fillers' module, imported by the system's
     jacobian = _jacobian_filler(compiled).__name__ if tangent else None
-    return load_text(*_loop_text(compiled, jacobian))
+    method = method_module()
+    system = load_text(*_derivative_text(compiled, jacobian))
+    return Loop(method, pointer_list(method.Y_PRIME, system.derivative), compiled.n, tangent)
 
 
 def _jacobian_filler(compiled: CompiledSystem) -> ModuleType:
@@ -136,9 +185,9 @@ def _jacobian_filler(compiled: CompiledSystem) -> ModuleType:
     )  # fmt: skip
 
 
-def _loop_text(compiled: CompiledSystem, jacobian: str | None = None) -> tuple[str, str]:
-    """(sha256, text) of the loop's module: the template with N and the fillers' imports
-    (with ``jacobian``, the module of G: the loop of the variational equations)."""
+def _derivative_text(compiled: CompiledSystem, jacobian: str | None = None) -> tuple[str, str]:
+    """(sha256, text) of the module of the system's y': the template with N and the
+    fillers' imports (with ``jacobian``, the module of G: the variational equations)."""
     from ..codegen.cache import module_name, usable_directory
     from ..codegen.numba import generated_source
 
@@ -149,7 +198,7 @@ def _loop_text(compiled: CompiledSystem, jacobian: str | None = None) -> tuple[s
         f"from {fillers} import eliminate, fill",
         f"from {jacobian} import jacobian" if jacobian else "jacobian = None",
     ]
-    return filled_template("numba_dop853.py", generated)
+    return filled_template("numba_derivative.py", generated)
 
 
 def filled_template(name: str, generated: Sequence[str]) -> tuple[str, str]:
@@ -166,7 +215,7 @@ _BEGIN, _END = "# -- generated: begin", "# -- generated: end"
 
 
 def solve_compiled(
-    loop: ModuleType, compiled: CompiledSystem, run: Run, *, rtol: float, atol: float,
+    loop: Loop, compiled: CompiledSystem, run: Run, *, rtol: float, atol: float,
     settings: dict[str, object],
 ) -> IntegrationResult:  # fmt: skip
     """DOP853 on a checked ``run`` (a finite start with a finite y') by the compiled loop;

@@ -19,6 +19,7 @@ cannot be printed for numba.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -29,10 +30,12 @@ from .compiled_dop853 import (
     FIRST_CHUNK,
     LARGEST_CHUNK,
     MIN_FACTOR,
+    Loop,
     compiled_loop,
     filled_template,
     first_step,
     loop_applies,
+    pointer_list,
 )
 from .events import Event, scipy_event
 from .guard import start_problem
@@ -49,7 +52,7 @@ FOUND_CAPACITY = 256
 MORE, REACHED, FULL = 0, 1, 4
 
 
-def section_loop(compiled: CompiledSystem, section: Section) -> ModuleType | None:
+def section_loop(compiled: CompiledSystem, section: Section) -> SectionLoop | None:
     """The jitted crossing loop of ``compiled`` and ``section`` (built once, machine code
     cached on disk), or None where it does not apply (see the module docstring)."""
     if not loop_applies(compiled):
@@ -65,23 +68,41 @@ def section_loop(compiled: CompiledSystem, section: Section) -> ModuleType | Non
         return None
 
 
-def _build(compiled: CompiledSystem, section: Section) -> ModuleType:
+@dataclass(frozen=True)
+class SectionLoop:
+    """The compiled crossing loop (:mod:`.numba_sections`, one for every system and
+    section) with one system's DOP853 loop and one section's g (in a typed list of one)."""
+
+    sections: ModuleType
+    loop: Loop
+    g: object
+
+    def cross(self, *arguments: object) -> int:
+        """The loop's ``cross`` on this system and section: its arguments after ``y_prime``,
+        ``g``, ``n`` and ``tangent``."""
+        loop = self.loop
+        return self.sections.cross(loop.y_prime, self.g, loop.n, loop.tangent, *arguments)
+
+
+def _build(compiled: CompiledSystem, section: Section) -> SectionLoop:
     from ..codegen.cache import load_text
     from ..codegen.numba import load_functions
 
-    loop = compiled_loop(compiled)  # the pieces of a step, imported by the section's module
+    loop = compiled_loop(compiled)  # the method's module and the system's y'
     kernel = load_functions(
         compiled.forms, "section", [("section", [("out", [section.expression])])]
     )
     generated = [
-        f"from {loop.__name__} import accept, buffers, interpolate, interpolation, step",
-        f"from {kernel.__name__} import section",
+        f"from {loop.method.__name__} import (",
+        "    Y_PRIME, accept, buffers, interpolate, interpolation, step, workspace,",
+        ")",
     ]
-    return load_text(*filled_template("numba_sections.py", generated))
+    sections = load_text(*filled_template("numba_sections.py", generated))
+    return SectionLoop(sections, loop, pointer_list(sections.SECTION, kernel.section))
 
 
 def crossings(
-    loop: ModuleType,
+    loop: SectionLoop,
     compiled: CompiledSystem,
     section: Section,
     y0: np.ndarray,

@@ -1,14 +1,18 @@
-"""DOP853's step loop in numba, as the text of a generated module.
+"""DOP853's step loop in numba, as the text of a generated module shared by every system.
 
-numba keeps machine code on disk only for functions at the top of a real module
-file, so :mod:`lagrangian.integrate.compiled_dop853` writes, per system, a copy of
-this text into the code cache with the globals between the ``generated`` markers
-filled in (N, TANGENT and the imports of the system's generated ``fill`` of M and f
-and its ``jacobian``, from :mod:`lagrangian.codegen.numba`), where ``@njit(cache=True)``
-keeps the compiled loop.
+numba keeps machine code on disk only for functions at the top of a real module file,
+so :mod:`lagrangian.integrate.compiled_dop853` writes this text into the code cache as it
+is, where ``@njit(cache=True)`` keeps the compiled method: one for every system.  A
+system's y' comes in as an argument, ``y_prime`` (a typed list holding the system's
+``derivative``, from its own generated module, :mod:`.numba_derivative`; n coordinates,
+``tangent`` for the variational equations): ``advance`` is compiled for the type of a
+function pointer of that signature (``DERIVATIVE``), not for each system's function, so
+a new system compiles only its y' (about a second, where the whole loop took 4-5 s more
+for each system and each loop).
 
-    advance(clock, y, f, p, t_end, rtol, atol, dense, t_eval, out, ts, ys, olds, slopes,
-            counts, flags) -> status
+    advance(y_prime, n, tangent, clock, y, f, p, t_end, rtol, atol, dense, t_eval, out,
+            ts, ys, olds, slopes, counts, flags) -> status
+    slope(y_prime, n, tangent, t, y, p, out, flags)      out = y' at (t, y), for Python
 
 is SciPy's ``DOP853._step_impl`` (scipy/integrate/_ivp/rk.py, BSD-3-Clause) for one
 state, repeated: the same coefficients, error norm and step-size control.  It takes
@@ -28,25 +32,16 @@ between numbers."), 3 an accepted state is not finite.
 The pieces of a step (``step``, ``interpolation``, ``interpolate``, ``accept``) are
 functions of their own, so that other loops (the sections of
 :mod:`lagrangian.integrate.numba_sections`) take the same steps.  The vector integrated
-has any length: with ``TANGENT`` it is the state followed by K displacements W (2N x K,
-row by row) of the variational equations W' = J W (:mod:`lagrangian.integrate.lyapunov`),
-whose Jacobian comes from the generated ``jacobian`` G = d(f - M a)/d(q, q') at a = q''
-(J's lower rows are M^-1 G, solved column by column: no solved accelerations are
-differentiated).  This module itself is never run.
+has any length (the state, or the state and the displacements of the variational
+equations).  This module itself is never run.
 """
 
 import math
 
 import numpy as np
-from numba import njit
+from numba import njit, types
 
 from lagrangian.integrate.dop853_tableau import E3, E5, A, B, C, D
-
-# -- generated: begin (each generated module has its own values here) ----------------
-N = 1
-TANGENT = False  # whether the vector integrated carries displacements after the state
-fill = eliminate = jacobian = None  # the system's M and f, the printed solve, G (tangent)
-# -- generated: end ------------------------------------------------------------------
 
 SAFETY = 0.9  # SciPy's step-size controller (scipy/integrate/_ivp/rk.py)
 MIN_FACTOR = 0.2
@@ -54,74 +49,47 @@ MAX_FACTOR = 10.0
 EXPONENT = -1.0 / 8.0  # -1 / (error estimator order + 1)
 STAGES = 12
 
+_1D, _2D, _3D = types.float64[::1], types.float64[:, ::1], types.float64[:, :, ::1]
+#: The arrays a system's ``derivative`` works in (its ``workspace()``).
+WORK = types.Tuple((_2D, _1D, _2D, _1D, _1D))
+_FLAGS = types.int64[::1]
+#: derivative(t, y, p, work, out, flags): the type every system's y' is called as.  It
+#: comes in a typed list of one: a function pointer passed from Python is converted at
+#: every call (0.14 ms), one in a list once, when the list is made.
+DERIVATIVE = types.FunctionType(types.void(types.float64, _1D, _1D, WORK, _1D, _FLAGS))
+Y_PRIME = types.ListType(DERIVATIVE)
+
 
 @njit(cache=True)
-def workspace():  # pragma: no cover - compiled by numba
-    """(M, f, a copy of M, G row by row, a column): the arrays ``derivative`` works in."""
-    if TANGENT:
-        return np.empty((N, N)), np.empty(N), np.empty((N, N)), np.empty(2 * N * N), np.empty(N)
-    return np.empty((N, N)), np.empty(N), np.empty((0, 0)), np.empty(0), np.empty(0)
+def workspace(n, tangent):  # pragma: no cover - compiled by numba
+    """(M, f, a copy of M, G row by row, a column): the arrays ``derivative`` works in, for
+    n coordinates (the last three for the variational equations only)."""
+    if tangent:
+        return np.empty((n, n)), np.empty(n), np.empty((n, n)), np.empty(2 * n * n), np.empty(n)
+    return np.empty((n, n)), np.empty(n), np.empty((0, 0)), np.empty(0), np.empty(0)
+
+
+@njit(
+    types.void(Y_PRIME, types.int64, types.boolean, types.float64, _1D, _1D, _1D, _FLAGS),
+    cache=True,
+)
+def slope(y_prime, n, tangent, t, y, p, out, flags):  # pragma: no cover - compiled by numba
+    """out = y' at (t, y), for Python (the size of a first step)."""
+    y_prime[0](t, y, p, workspace(n, tangent), out, flags)
 
 
 @njit(cache=True)
 def buffers(size):  # pragma: no cover - compiled by numba
-    """(stages, a stage, y_new, the workspace, the interpolant) of a loop over vectors of
-    ``size``."""
-    return np.empty((16, size)), np.empty(size), np.empty(size), workspace(), np.empty((7, size))
+    """(stages, a stage, y_new, the interpolant) of a loop over vectors of ``size``."""
+    return np.empty((16, size)), np.empty(size), np.empty(size), np.empty((7, size))
 
 
 # What allocates nothing is compiled lean: not inlined, no reference counts (LEAN of
 # lagrangian.codegen.steps, which says why).
 @njit(cache=True, _nrt=False)
-def derivative(t, y, p, work, out, flags):  # pragma: no cover - compiled by numba
-    """out = y' = [q', q''] at (t, y), then J W with TANGENT; flags[0] = 1 where it is not
-    finite."""
-    mass, force, copy = work[0], work[1], work[2]
-    fill(t, y, p, mass, force)
-    for i in range(N):
-        out[i] = y[N + i]
-    if TANGENT:
-        for i in range(N):
-            for j in range(N):
-                copy[i, j] = mass[i, j]
-    eliminate(mass, force, out, N)
-    if TANGENT and y.shape[0] > 2 * N:
-        tangent(t, y, p, work, out)
-    for i in range(y.shape[0]):
-        if not math.isfinite(out[i]):
-            flags[0] = 1
-
-
-@njit(cache=True)
-def slope(t, y, p, out, flags):  # pragma: no cover - compiled by numba
-    """out = the derivative of y at t, for Python (the size of a first step)."""
-    derivative(t, y, p, workspace(), out, flags)
-
-
-@njit(cache=True, _nrt=False)
-def tangent(t, y, p, work, out):  # pragma: no cover - compiled by numba
-    """out[2N:] = J W for the displacements W = y[2N:] (2N x K, row by row), with
-    J = [[0, I], [M^-1 G]] and G = d(f - M a)/d(q, q') at a = q'' = out[N:2N]."""
-    mass, copy, gradient, column = work[0], work[2], work[3], work[4]
-    size = 2 * N
-    count = (y.shape[0] - size) // size
-    jacobian(t, y, p, out[N:size], gradient)
-    for j in range(count):
-        for i in range(N):
-            out[size + i * count + j] = y[size + (N + i) * count + j]
-            total = 0.0
-            for k in range(size):
-                total += gradient[i * size + k] * y[size + k * count + j]
-            column[i] = total
-            for k in range(N):
-                mass[i, k] = copy[i, k]
-        eliminate(mass, column, column, 0)
-        for i in range(N):
-            out[size + (N + i) * count + j] = column[i]
-
-
-@njit(cache=True, _nrt=False)
-def take_stages(first, last, t, h, y, p, stages, stage, work, flags):  # pragma: no cover
+def take_stages(
+    derivative, first, last, t, h, y, p, stages, stage, work, flags
+):  # pragma: no cover - compiled by numba
     """Stages first..last-1 of the step of size h from (t, y), rows of ``stages``."""
     for s in range(first, last):
         for i in range(y.shape[0]):
@@ -134,7 +102,7 @@ def take_stages(first, last, t, h, y, p, stages, stage, work, flags):  # pragma:
 
 @njit(cache=True, _nrt=False)
 def step(
-    clock, y, f, p, t_end, rtol, atol, stages, stage, y_new, work, counts, flags
+    derivative, clock, y, f, p, t_end, rtol, atol, stages, stage, y_new, work, counts, flags
 ):  # pragma: no cover - compiled by numba
     """One step from (t, y, f) = (``clock[0]``, y, f), tried with the size ``clock[1]`` and
     shrunk until its error is within the tolerance: y_new and the stages of the step
@@ -159,7 +127,7 @@ def step(
         for i in range(size):
             stages[0, i] = f[i]
         counts[0] += STAGES
-        take_stages(1, STAGES, t, h, y, p, stages, stage, work, flags)
+        take_stages(derivative, 1, STAGES, t, h, y, p, stages, stage, work, flags)
         for i in range(size):
             total = 0.0
             for j in range(STAGES):
@@ -195,12 +163,12 @@ def step(
 
 @njit(cache=True, _nrt=False)
 def interpolation(
-    t, h, y, y_new, p, stages, stage, work, interpolant, counts, flags
+    derivative, t, h, y, y_new, p, stages, stage, work, interpolant, counts, flags
 ):  # pragma: no cover - compiled by numba
     """The rows of the step's 7th-order interpolant (SciPy's ``Dop853DenseOutput``) into
     ``interpolant``, after the three stages more it needs."""
     counts[0] += 3
-    take_stages(STAGES + 1, 16, t, h, y, p, stages, stage, work, flags)
+    take_stages(derivative, STAGES + 1, 16, t, h, y, p, stages, stage, work, flags)
     for i in range(y.shape[0]):
         delta = y_new[i] - y[i]
         interpolant[0, i] = delta
@@ -242,26 +210,38 @@ def accept(clock, y, f, y_new, stages, t_new, h_next, counts):  # pragma: no cov
     return finite
 
 
-@njit(cache=True)
+#: advance's signature: explicit, so that y_prime is typed as a list of function pointers.
+ADVANCE = types.int64(
+    Y_PRIME, types.int64, types.boolean, _1D, _1D, _1D, _1D, types.float64, types.float64,
+    types.float64, types.boolean, _1D, _2D, _1D, _2D, _2D, _3D, _FLAGS, _FLAGS,
+)  # fmt: skip
+
+
+@njit(ADVANCE, cache=True)
 def advance(
-    clock, y, f, p, t_end, rtol, atol, dense, t_eval, out, ts, ys, olds, slopes, counts, flags
-):  # pragma: no cover - compiled by numba
+    y_prime, n, tangent, clock, y, f, p, t_end, rtol, atol, dense, t_eval, out, ts, ys, olds,
+    slopes, counts, flags,
+):  # pragma: no cover - compiled by numba  # fmt: skip
+    derivative, work = y_prime[0], workspace(n, tangent)
     size = y.shape[0]
-    stages, stage, y_new, work, interpolant = buffers(size)
+    stages, stage, y_new, interpolant = buffers(size)
     capacity = ts.shape[0]
     while counts[1] < capacity:
         t = clock[0]
         if t >= t_end:
             return 1
         t_new, h_next = step(
-            clock, y, f, p, t_end, rtol, atol, stages, stage, y_new, work, counts, flags
-        )
+            derivative, clock, y, f, p, t_end, rtol, atol, stages, stage, y_new, work, counts,
+            flags,
+        )  # fmt: skip
         if t_new == t:
             return 2
         h = t_new - t
         k = counts[1]
         if dense:
-            interpolation(t, h, y, y_new, p, stages, stage, work, interpolant, counts, flags)
+            interpolation(
+                derivative, t, h, y, y_new, p, stages, stage, work, interpolant, counts, flags
+            )
             for i in range(size):
                 olds[k, i] = y[i]
                 for r in range(7):

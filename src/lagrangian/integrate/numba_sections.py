@@ -1,13 +1,15 @@
 """Crossings of a surface of section found in DOP853's compiled loop, as a generated module.
 
-:mod:`lagrangian.integrate.compiled_sections` writes, per system and section, a copy of
-this text into the code cache with the block between the ``generated`` markers filled
-in: the pieces of a step from the system's DOP853 loop module (:mod:`.numba_dop853`) and
-the section's generated ``section(t, y, p, out)``, out[0] = g (from
-:mod:`lagrangian.codegen.numba`).
+:mod:`lagrangian.integrate.compiled_sections` writes a copy of this text into the code
+cache with the block between the ``generated`` markers filled in: the import of the
+pieces of a step from the DOP853 method's module (:mod:`.numba_dop853`).  Like the
+method, it is compiled once for every system and section: the system's ``derivative``
+(:mod:`.numba_derivative`) and the section's generated ``section(t, y, p, out)``,
+out[0] = g (from :mod:`lagrangian.codegen.numba`), come in as function pointers (each in
+a typed list of one, ``y_prime`` and ``g``).
 
-    cross(clock, y, f, p, t_end, rtol, atol, direction, level, budget, found_t, found_y,
-          counts, flags) -> status
+    cross(y_prime, g, n, tangent, clock, y, f, p, t_end, rtol, atol, direction, level,
+          budget, found_t, found_y, counts, flags) -> status
 
 takes up to ``budget`` steps of one motion as ``advance`` takes them (the same
 arguments: ``clock``, ``y``, ``f``, ``counts[0:4]``, ``flags``; everything kept in them
@@ -24,13 +26,25 @@ Status: 0 ``budget`` steps taken, 1 t_end reached, 2 and 3 as ``advance``'s, 4
 """
 
 import numpy as np
-from numba import njit
+from numba import njit, types
 
-# -- generated: begin (each generated module has its own values here) ----------------
-from lagrangian.integrate.numba_dop853 import accept, buffers, interpolate, interpolation, step
+# -- generated: begin (the generated module imports the method's module) --------------
+from lagrangian.integrate.numba_dop853 import (
+    Y_PRIME,
+    accept,
+    buffers,
+    interpolate,
+    interpolation,
+    step,
+    workspace,
+)
 
-section = None  # the system's g(t, y, p, out)
 # -- generated: end ------------------------------------------------------------------
+
+_1D, _2D, _FLAGS = types.float64[::1], types.float64[:, ::1], types.int64[::1]
+#: section(t, y, p, out): out[0] = g, the type every section is called as (in a typed list
+#: of one, as the method's y_prime).
+SECTION = types.ListType(types.FunctionType(types.void(types.float64, _1D, _1D, _1D)))
 
 TOLERANCE = 4 * np.finfo(np.float64).eps  # SciPy's xtol and rtol of an event's root
 ITERATIONS = 100  # brentq's default
@@ -48,7 +62,9 @@ def crosses(before, after, direction):  # pragma: no cover - compiled by numba
 
 
 @njit(cache=True, _nrt=False)
-def value(s, t, h, y, p, interpolant, level, state, out):  # pragma: no cover - compiled
+def value(
+    section, s, t, h, y, p, interpolant, level, state, out
+):  # pragma: no cover - compiled by numba
     """g at time s on the interpolant of the step of width h from (t, y)."""
     if s == level[1]:
         return level[2]
@@ -58,13 +74,15 @@ def value(s, t, h, y, p, interpolant, level, state, out):  # pragma: no cover - 
 
 
 @njit(cache=True, _nrt=False)
-def root(t, h, y, p, interpolant, level, state, out):  # pragma: no cover - compiled by numba
+def root(
+    section, t, h, y, p, interpolant, level, state, out
+):  # pragma: no cover - compiled by numba
     """The root of g on the step (t, t + h), by SciPy's ``brentq`` (scipy/optimize/Zeros/
     brentq.c, BSD-3-Clause: Brent's method, R. P. Brent, *Algorithms for Minimization
     without Derivatives*, 1973, ch. 4)."""
     x_pre, x_cur = t, t + h
-    f_pre = value(x_pre, t, h, y, p, interpolant, level, state, out)
-    f_cur = value(x_cur, t, h, y, p, interpolant, level, state, out)
+    f_pre = value(section, x_pre, t, h, y, p, interpolant, level, state, out)
+    f_cur = value(section, x_cur, t, h, y, p, interpolant, level, state, out)
     if f_pre == 0.0:
         return x_pre
     if f_cur == 0.0:
@@ -99,15 +117,24 @@ def root(t, h, y, p, interpolant, level, state, out):  # pragma: no cover - comp
             x_cur += s_cur
         else:
             x_cur += delta if s_bis > 0 else -delta
-        f_cur = value(x_cur, t, h, y, p, interpolant, level, state, out)
+        f_cur = value(section, x_cur, t, h, y, p, interpolant, level, state, out)
     return x_cur
 
 
-@njit(cache=True)
+#: cross's signature: explicit, so that y_prime and g are typed as lists of function pointers.
+CROSS = types.int64(
+    Y_PRIME, SECTION, types.int64, types.boolean, _1D, _1D, _1D, _1D, types.float64,
+    types.float64, types.float64, types.int64, _1D, types.int64, _1D, _2D, _FLAGS, _FLAGS,
+)  # fmt: skip
+
+
+@njit(CROSS, cache=True)
 def cross(
-    clock, y, f, p, t_end, rtol, atol, direction, level, budget, found_t, found_y, counts, flags
-):  # pragma: no cover - compiled by numba
-    stages, stage, y_new, work, interpolant = buffers(y.shape[0])
+    y_prime, g, n, tangent, clock, y, f, p, t_end, rtol, atol, direction, level, budget,
+    found_t, found_y, counts, flags,
+):  # pragma: no cover - compiled by numba  # fmt: skip
+    derivative, section, work = y_prime[0], g[0], workspace(n, tangent)
+    stages, stage, y_new, interpolant = buffers(y.shape[0])
     state, out = np.empty(y.shape[0]), np.empty(1)
     for _ in range(budget):
         t = clock[0]
@@ -116,16 +143,19 @@ def cross(
         if counts[4] >= found_t.shape[0]:
             return 4
         t_new, h_next = step(
-            clock, y, f, p, t_end, rtol, atol, stages, stage, y_new, work, counts, flags
-        )
+            derivative, clock, y, f, p, t_end, rtol, atol, stages, stage, y_new, work, counts,
+            flags,
+        )  # fmt: skip
         if t_new == t:
             return 2
         h = t_new - t
         section(t_new, y_new, p, out)
         after = out[0]
         if crosses(level[0], after, direction):
-            interpolation(t, h, y, y_new, p, stages, stage, work, interpolant, counts, flags)
-            found = root(t, h, y, p, interpolant, level, state, out)
+            interpolation(
+                derivative, t, h, y, y_new, p, stages, stage, work, interpolant, counts, flags
+            )
+            found = root(section, t, h, y, p, interpolant, level, state, out)
             k = counts[4]
             found_t[k] = found
             interpolate(interpolant, (found - t) / h, y, found_y[k])

@@ -45,9 +45,8 @@ from .events import scipy_event
 from .guard import UNDEFINED, describe_state, state_problem
 
 if TYPE_CHECKING:
-    from types import ModuleType
-
     from ..numeric.compiled import CompiledSystem
+    from .compiled_dop853 import Loop
 
 #: The smallest rtol SciPy's methods honour (100 machine epsilons); below it they use it.
 MIN_RTOL = 100 * float(np.finfo(float).eps)
@@ -189,7 +188,7 @@ class AbstractScipyIntegrator(AbstractIntegrator):
             settings=self.settings_for(compiled),
         )
 
-    def compiled_loop(self, compiled: CompiledSystem) -> ModuleType | None:
+    def compiled_loop(self, compiled: CompiledSystem) -> Loop | None:
         """The method's compiled loop for ``compiled`` (None: SciPy's loop runs)."""
         return None
 
@@ -242,7 +241,7 @@ class Dop853(AbstractScipyIntegrator):
     order: ClassVar[int] = 8
     scipy_method: ClassVar[str] = "DOP853"
 
-    def compiled_loop(self, compiled: CompiledSystem) -> ModuleType | None:
+    def compiled_loop(self, compiled: CompiledSystem) -> Loop | None:
         """On the numba backend, the whole loop compiled (:mod:`.compiled_dop853`)."""
         return compiled_loop(compiled) if compiled.backend == "numba" else None
 

@@ -1,0 +1,74 @@
+"""One system's y' for the compiled DOP853 method, as the text of a generated module.
+
+:mod:`lagrangian.integrate.compiled_dop853` writes, per system, a copy of this text into
+the code cache with the globals between the ``generated`` markers filled in (N, TANGENT
+and the imports of the system's generated ``fill`` of M and f, the printed ``eliminate``
+and, with TANGENT, its ``jacobian``, from :mod:`lagrangian.codegen.numba`), where
+``@njit(cache=True)`` keeps the compiled code.  The method itself
+(:mod:`.numba_dop853`) is compiled once for every system and takes ``derivative`` as an
+argument (a function pointer):
+
+    derivative(t, y, p, work, out, flags)
+        out = y' at (t, y), with the arrays ``work`` of the method's ``workspace(N,
+        TANGENT)``; flags[0] = 1 where it is not finite
+
+The vector has any length: with ``TANGENT`` it is the state followed by K displacements W
+(2N x K, row by row) of the variational equations W' = J W
+(:mod:`lagrangian.integrate.lyapunov`), whose Jacobian comes from the generated
+``jacobian`` G = d(f - M a)/d(q, q') at a = q'' (J's lower rows are M^-1 G, solved column
+by column: no solved accelerations are differentiated).  This module itself is never run.
+"""
+
+import math
+
+from numba import njit
+
+# -- generated: begin (each generated module has its own values here) ----------------
+N = 1
+TANGENT = False  # whether the vector integrated carries displacements after the state
+fill = eliminate = jacobian = None  # the system's M and f, the printed solve, G (tangent)
+# -- generated: end ------------------------------------------------------------------
+
+
+# What allocates nothing is compiled lean: not inlined, no reference counts (LEAN of
+# lagrangian.codegen.steps, which says why).
+@njit(cache=True, _nrt=False)
+def derivative(t, y, p, work, out, flags):  # pragma: no cover - compiled by numba
+    """out = y' = [q', q''] at (t, y), then J W with TANGENT; flags[0] = 1 where it is not
+    finite."""
+    mass, force, copy = work[0], work[1], work[2]
+    fill(t, y, p, mass, force)
+    for i in range(N):
+        out[i] = y[N + i]
+    if TANGENT:
+        for i in range(N):
+            for j in range(N):
+                copy[i, j] = mass[i, j]
+    eliminate(mass, force, out, N)
+    if TANGENT and y.shape[0] > 2 * N:
+        tangent(t, y, p, work, out)
+    for i in range(y.shape[0]):
+        if not math.isfinite(out[i]):
+            flags[0] = 1
+
+
+@njit(cache=True, _nrt=False)
+def tangent(t, y, p, work, out):  # pragma: no cover - compiled by numba
+    """out[2N:] = J W for the displacements W = y[2N:] (2N x K, row by row), with
+    J = [[0, I], [M^-1 G]] and G = d(f - M a)/d(q, q') at a = q'' = out[N:2N]."""
+    mass, copy, gradient, column = work[0], work[2], work[3], work[4]
+    size = 2 * N
+    count = (y.shape[0] - size) // size
+    jacobian(t, y, p, out[N:size], gradient)
+    for j in range(count):
+        for i in range(N):
+            out[size + i * count + j] = y[size + (N + i) * count + j]
+            total = 0.0
+            for k in range(size):
+                total += gradient[i * size + k] * y[size + k * count + j]
+            column[i] = total
+            for k in range(N):
+                mass[i, k] = copy[i, k]
+        eliminate(mass, column, column, 0)
+        for i in range(N):
+            out[size + (N + i) * count + j] = column[i]
