@@ -1,14 +1,16 @@
-"""The compiled fixed-step loops of the numba target: one generated module per system and scheme.
+"""The compiled fixed-step loops of the numba target: steps per system, loops per scheme.
 
 :func:`numba_loop` writes the template :mod:`.numba_loop` out for one system and one
 scheme (``rk4``, ``midpoint``, ``stormer-verlet``, or ``rk4-tangent``: rk4 carrying one
-displacement for the ``lyapunov`` observable): the template's globals get the
-system's values (``N``, ``W`` and the import of its generated fillers,
-:mod:`lagrangian.codegen.numba`), the scheme's step printed from :mod:`.steps` goes
-between the ``scheme`` markers, and the text is written to the code cache under a hash
-of itself (:func:`~lagrangian.codegen.cache.load_text`), where numba keeps the machine
-code.  The module's ``run`` is the numba ensemble's loop, its ``advance`` a stretch of
-one single run: the same step in both.  Importing this module does not import numba.
+displacement for the ``lyapunov`` observable): the template's globals get the import
+of the system's generated fillers (:mod:`lagrangian.codegen.numba`), the scheme's step
+printed from :mod:`.steps` goes between the ``scheme`` markers, and the text is written
+to the code cache under a hash of itself (:func:`~lagrangian.codegen.cache.load_text`),
+where numba keeps the machine code.  The loops that take the steps, ``run`` (the numba
+ensemble's) and ``advance`` (a stretch of one single run), are :mod:`.numba_stepping`,
+written once per scheme (the type of its workspace filled in) and compiled once for
+every system: they get the system's functions as pointers (:class:`SteppingLoop`).
+Importing this module does not import numba.
 """
 
 from __future__ import annotations
@@ -39,8 +41,33 @@ _SCHEME_BEGIN, _SCHEME_END = "# -- scheme: begin", "# -- scheme: end"
 _SELECTION = "workspace, init, step = rk4_workspace, rk4_init, rk4_step"
 
 
-def numba_loop(forms: SymbolicForms, scheme: str, *, tableau, stall: float) -> ModuleType:
-    """The loop module of ``forms`` (unconstrained) and ``scheme``, built once per process.
+class SteppingLoop:
+    """The loops of a scheme (:mod:`.numba_stepping`) with one system's functions of that
+    scheme (its module of :mod:`.numba_loop`): ``workspace()``, ``init(...)``, and
+    ``run(...)`` and ``advance(...)`` with the arguments after the function pointers."""
+
+    def __init__(self, loops: ModuleType, system: ModuleType, carried: int):
+        from .numba import pointer_list
+
+        self.loops, self.system = loops, system
+        self.workspace, self.init = system.workspace, system.init
+        self._carried = carried
+        self._workspaces = pointer_list(loops.RUN.args[0], system.workspace)
+        self._inits = pointer_list(loops.RUN.args[1], system.init)
+        self._steppers = pointer_list(loops.RUN.args[2], system.step)
+
+    def run(self, *arguments: object) -> None:
+        """The ensemble's loop over members (see :mod:`.numba_stepping`)."""
+        pointers = (self._workspaces, self._inits, self._steppers, self._carried)
+        self.loops.run(*pointers, *arguments)
+
+    def advance(self, *arguments: object) -> tuple[int, int]:
+        """A stretch of steps of one single run (see :mod:`.numba_stepping`)."""
+        return self.loops.advance(self._steppers, *arguments)
+
+
+def numba_loop(forms: SymbolicForms, scheme: str, *, tableau, stall: float) -> SteppingLoop:
+    """The loops of ``forms`` (unconstrained) and ``scheme``, built once per process.
 
     ``tableau``: the RK4 tableau (a, b, c) printed into the rk4 step; ``stall``: the
     Newton test's STALL_RATIO (see :func:`.steps.scheme_program`)."""
@@ -59,17 +86,11 @@ def scheme_fillers(forms: SymbolicForms, scheme: str) -> ModuleType:
     return load_functions(forms, scheme, expressions, scalars=scalars, matrices=MATRICES)
 
 
-def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> ModuleType:
+def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> SteppingLoop:
     fillers = scheme_fillers(forms, scheme)
-    generated = [
-        f"N = {forms.n}",
-        f"W = {_CARRIED.get(scheme, 0) * forms.n}",
-        f"from {fillers.__name__} import {', '.join(_FILLERS[scheme])}",
-    ]
+    generated = [f"from {fillers.__name__} import {', '.join(_FILLERS[scheme])}"]
     program = scheme_program(scheme, forms.n, tableau=tableau, stall=stall)
-    template = Path(__file__).with_name("numba_loop.py").read_text(encoding="utf-8")
-    head, rest = template.split(_BEGIN, 1)
-    tail = rest.split(_END, 1)[1].split("\n", 1)[1]
+    head, tail = _template("numba_loop.py")
     before, rest = tail.split(_SCHEME_BEGIN, 1)
     after = rest.split(_SCHEME_END, 1)[1].split("\n", 1)[1]
     printed = NumbaStepPrinter(forms.n).scheme(program)
@@ -77,5 +98,27 @@ def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> Mo
     chosen = _SELECTED[scheme]
     selection = f"workspace, init, step = {chosen}_workspace, {chosen}_init, {chosen}_step"
     tail = tail.replace(_SELECTION, selection)
-    text = "\n".join([head.rstrip("\n"), "", *generated, "", tail])
+    system = _loaded("\n".join([head.rstrip("\n"), "", *generated, "", tail]))
+    head, tail = _template("numba_stepping.py")
+    work = f"WORK = {_type_text(system.workspace())}"
+    loops = _loaded("\n".join([head.rstrip("\n"), work, tail]))
+    return SteppingLoop(loops, system, _CARRIED.get(scheme, 0) * forms.n)
+
+
+def _template(name: str) -> tuple[str, str]:
+    """The template ``name`` before its ``generated`` block, and after it."""
+    template = Path(__file__).with_name(name).read_text(encoding="utf-8")
+    head, rest = template.split(_BEGIN, 1)
+    return head, rest.split(_END, 1)[1].split("\n", 1)[1]
+
+
+def _loaded(text: str) -> ModuleType:
     return load_text(hashlib.sha256(text.encode()).hexdigest(), text)
+
+
+def _type_text(work: tuple) -> str:
+    """The numba type of the tuple of C-contiguous float arrays ``work``, as source."""
+    if not all(a.dtype == float and a.flags.c_contiguous for a in work):
+        raise TypeError("a scheme's workspace holds C-contiguous float arrays only")
+    arrays = [f"types.float64[{':, ' * (a.ndim - 1)}::1]" for a in work]
+    return f"types.Tuple(({', '.join(arrays)},))"

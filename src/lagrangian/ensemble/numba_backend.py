@@ -48,13 +48,14 @@ def _forms(compiled: CompiledSystem) -> SymbolicForms:
 
 
 def kernel(compiled: CompiledSystem, scheme: str = "rk4"):
-    """The jitted ensemble loop of ``compiled`` and ``scheme`` (built once per equations)."""
+    """The jitted ensemble loop of ``compiled`` and ``scheme`` (built once per equations):
+    its ``run``."""
     from ..codegen.loops import numba_loop
     from ..integrate import tableaus
     from ..integrate.variational import STALL_RATIO
 
     forms = _forms(compiled)
-    return numba_loop(forms, scheme, tableau=tableaus.RK4, stall=STALL_RATIO).run
+    return numba_loop(forms, scheme, tableau=tableaus.RK4, stall=STALL_RATIO)
 
 
 class NumbaBackend(AbstractEnsembleBackend):
@@ -67,7 +68,7 @@ class NumbaBackend(AbstractEnsembleBackend):
         lyapunov = "lyapunov" in chunk.names
         if lyapunov:
             scheme = tangent_scheme(scheme, chunk.integrator.name)
-        run = kernel(chunk.compiled, scheme)
+        run = kernel(chunk.compiled, scheme).run
         grid, count = chunk.grid, chunk.count
         states = np.ascontiguousarray(np.asarray(chunk.y0, dtype=float).T)
         p = np.asarray(chunk.params, dtype=float)

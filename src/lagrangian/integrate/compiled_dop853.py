@@ -48,6 +48,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..codegen.cache import built, built_already
+from ..codegen.numba import pointer_list
 from ..trajectory import EventRecord
 from .base import IntegrationResult, Run, Status
 from .events import scipy_event
@@ -86,16 +87,6 @@ class Loop:
     def slope(self, t: float, y: np.ndarray, p: np.ndarray, out: np.ndarray, flags) -> None:
         """out = y' at (t, y) (flags[0] = 1 where it is not finite)."""
         self.method.slope(self.y_prime, self.n, self.tangent, t, y, p, out, flags)
-
-
-def pointer_list(kind, function) -> object:
-    """A numba typed list of the one function pointer ``function`` of type ``kind`` (a
-    ``types.ListType`` of a ``types.FunctionType``): converted once, here."""
-    from numba import typed
-
-    pointers = typed.List.empty_list(kind.item_type)
-    pointers.append(function)
-    return pointers
 
 
 def compiled_loop(compiled: CompiledSystem) -> Loop | None:

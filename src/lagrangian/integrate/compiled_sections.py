@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..codegen.cache import built
+from ..codegen.numba import pointer_list
 from ..errors import ModelError
 from .compiled_dop853 import (
     FIRST_CHUNK,
@@ -35,7 +36,6 @@ from .compiled_dop853 import (
     filled_template,
     first_step,
     loop_applies,
-    pointer_list,
 )
 from .events import Event, scipy_event
 from .guard import start_problem

@@ -53,9 +53,8 @@ _1D, _2D, _3D = types.float64[::1], types.float64[:, ::1], types.float64[:, :, :
 #: The arrays a system's ``derivative`` works in (its ``workspace()``).
 WORK = types.Tuple((_2D, _1D, _2D, _1D, _1D))
 _FLAGS = types.int64[::1]
-#: derivative(t, y, p, work, out, flags): the type every system's y' is called as.  It
-#: comes in a typed list of one: a function pointer passed from Python is converted at
-#: every call (0.14 ms), one in a list once, when the list is made.
+#: derivative(t, y, p, work, out, flags): the type every system's y' is called as (in a
+#: typed list of one, lagrangian.codegen.numba.pointer_list).
 DERIVATIVE = types.FunctionType(types.void(types.float64, _1D, _1D, WORK, _1D, _FLAGS))
 Y_PRIME = types.ListType(DERIVATIVE)
 

@@ -1,0 +1,146 @@
+"""The compiled fixed-step loops of the numba target, shared by every system of a scheme.
+
+:func:`lagrangian.codegen.loops.numba_loop` writes a copy of this text into the code
+cache with the type of the scheme's workspace (``WORK``, the tuple of arrays its
+``workspace()`` returns, the same for every system) between the ``generated`` markers,
+where ``@njit(cache=True)`` keeps the machine code: the loops are compiled once per
+scheme, and a system's scheme functions (:mod:`.numba_loop`) come in as function
+pointers, each in a typed list of one (a pointer passed from Python is converted at
+every call, one in a list once).
+
+    run(workspaces, inits, steppers, w, y0, params, grid, track, stop, save_every, tol,
+        floor, iterations, final, flips, failures, paths, exponents)
+
+is the ensemble's loop: one member per ``prange`` iteration, each with its own
+workspace; with a displacement of ``w`` entries carried after the state (rk4-tangent),
+it renormalises it after every step and gives each member's largest Lyapunov exponent,
+the mean of log |w| per unit time (the numpy backend's ``lyapunov`` observable,
+:mod:`lagrangian.ensemble.numpy_backend`).
+
+    advance(steppers, y, p, work, grid, start, stop, tol, floor, iterations, states, counts)
+
+is a stretch of steps of one single run.  This module itself is never run.
+"""
+
+import math
+
+import numpy as np
+from numba import njit, prange, types
+
+_1D, _2D, _3D = types.float64[::1], types.float64[:, ::1], types.float64[:, :, ::1]
+_INTS = types.int64[::1]
+
+# -- generated: begin (each generated module has its scheme's workspace type here) ----
+WORK = types.Tuple((_1D,))
+# -- generated: end ------------------------------------------------------------------
+
+#: workspace() -> work, init(t, y, p, work, counts) and step(t, h, y, p, work, tol, floor,
+#: iterations, counts) -> code: the types a scheme's functions are called as.
+MAKE = types.FunctionType(WORK())
+INIT = types.FunctionType(types.none(types.float64, _1D, _1D, WORK, _INTS))
+STEP = types.FunctionType(
+    types.int64(
+        types.float64, types.float64, _1D, _1D, WORK, types.float64, types.float64,
+        types.int64, _INTS,
+    )
+)  # fmt: skip
+#: A coordinate beyond this angle has flipped (the flip_time observable).
+LIMIT = math.pi
+
+
+# -- the loop over members -----------------------------------------------------------
+#: run's signature: explicit, so that the scheme's functions are typed as pointers.
+RUN = types.void(
+    types.ListType(MAKE), types.ListType(INIT), types.ListType(STEP), types.int64, _2D, _2D,
+    _1D, types.boolean, types.boolean, types.int64, types.float64, types.float64,
+    types.int64, _2D, _1D, _INTS, _3D, _1D,
+)  # fmt: skip
+
+
+@njit(RUN, parallel=True, cache=True)
+def run(
+    workspaces, inits, steppers, w, y0, params, grid, track, stop, save_every, tol, floor,
+    iterations, final, flips, failures, paths, exponents,
+):  # pragma: no cover - compiled by numba  # fmt: skip
+    workspace, init, step = workspaces[0], inits[0], steppers[0]
+    count, m = y0.shape
+    n = m // 2
+    steps = grid.shape[0] - 1
+    for b in prange(count):
+        y = np.empty(m + w)
+        for i in range(m):
+            y[i] = y0[b, i]
+        for i in range(w):
+            y[m + i] = 1.0 / math.sqrt(w)
+        stretch = 0.0
+        p = params[b]
+        work = workspace()
+        counts = np.zeros(3, dtype=np.int64)
+        flip = np.nan
+        failure = -1
+        if track:
+            for i in range(n):
+                if abs(y[i]) > LIMIT:
+                    flip = grid[0]
+        if save_every > 0:
+            for i in range(m):
+                paths[b, i, 0] = y[i]
+        if not (stop and flip == flip):
+            init(grid[0], y, p, work, counts)
+            for s in range(steps):
+                ta = grid[s]
+                if step(ta, grid[s + 1] - ta, y, p, work, tol, floor, iterations, counts) != 0:
+                    failure = s
+                    break
+                if w > 0:
+                    norm = 0.0
+                    for i in range(w):
+                        norm += y[m + i] * y[m + i]
+                    norm = math.sqrt(norm)
+                    stretch += math.log(norm)
+                    for i in range(w):
+                        y[m + i] /= norm
+                if save_every > 0 and (s + 1) % save_every == 0:
+                    for i in range(m):
+                        paths[b, i, (s + 1) // save_every] = y[i]
+                if track and flip != flip:
+                    for i in range(n):
+                        if abs(y[i]) > LIMIT:
+                            flip = grid[s + 1]
+                    if stop and flip == flip:
+                        break
+        flips[b] = flip
+        failures[b] = failure
+        exponents[b] = stretch / (grid[steps] - grid[0]) if w > 0 else math.nan
+        for i in range(m):
+            final[b, i] = y[i]
+
+
+# -- a stretch of one single run ----------------------------------------------------
+#: advance's signature (as run's).
+ADVANCE = types.UniTuple(types.int64, 2)(
+    types.ListType(STEP), _1D, _1D, WORK, _1D, types.int64, types.int64, types.float64,
+    types.float64, types.int64, _2D, _INTS,
+)  # fmt: skip
+
+
+@njit(ADVANCE, cache=True)
+def advance(
+    steppers, y, p, work, grid, start, stop, tol, floor, iterations, states, counts
+):  # pragma: no cover - compiled by numba  # fmt: skip
+    """Steps start, ..., stop - 1 of ``grid`` from y (advanced in place), the state after
+    step s into ``states[s + 1]``.  Returns (the step reached, 0), or (the step that
+    failed, its code: 1 or 2 from the scheme's Newton iterations, 3 for a state that is
+    not finite)."""
+    step, m = steppers[0], states.shape[1]
+    for s in range(start, stop):
+        ta = grid[s]
+        failed = step(ta, grid[s + 1] - ta, y, p, work, tol, floor, iterations, counts)
+        if failed != 0:
+            return s, failed
+        for i in range(m):
+            value = y[i]
+            if value - value != 0:  # inf or NaN
+                return s, 3
+            states[s + 1, i] = value
+    return stop, 0
