@@ -41,6 +41,8 @@ from .trajectory import Trajectory
 
 __all__ = ["System", "load", "load_file", "loads"]
 
+_DERIVED, _HELD = "_equations_of_motion", "_equations_with_inputs_held"
+
 
 class System(ModelSystem):
     """A mechanical system with the convenient methods of each stage (see
@@ -49,7 +51,18 @@ class System(ModelSystem):
     # -- stages ----------------------------------------------------------------------
     def equations_of_motion(self) -> EquationsOfMotion:
         """Lagrange's equations (see :class:`~lagrangian.derive.EquationsOfMotion`)."""
-        return derive(self)
+        return self._derived(inputs_held=False)
+
+    def _derived(self, *, inputs_held: bool) -> EquationsOfMotion:
+        """The equations of motion (of the system with its inputs held at 0), derived once
+        per System: it is immutable, and each analysis below asks for them again (a
+        notebook's ``conserved_quantities()``, ``hamiltonian()``, ``equilibria()``)."""
+        key = _HELD if inputs_held else _DERIVED
+        found = self.__dict__.get(key)
+        if found is None:
+            found = derive(self.without_inputs() if inputs_held else self)
+            self.__dict__[key] = found  # the dataclass is frozen: its fields, not this
+        return found
 
     # -- analysis (DESIGN section 6) ------------------------------------------------
     def conserved_quantities(self):
@@ -57,40 +70,40 @@ class System(ModelSystem):
         (inputs held at 0)."""
         from .analysis import conserved_quantities
 
-        return conserved_quantities(derive(self.without_inputs()))
+        return conserved_quantities(self._derived(inputs_held=True))
 
     def hamiltonian(self):
         """H(q, p, t) by Legendre transform, with Hamilton's equations."""
         from .analysis import hamiltonian
 
-        return hamiltonian(derive(self))
+        return hamiltonian(self._derived(inputs_held=False))
 
     def equilibria(self):
         """Points at rest that stay at rest, each with its normal modes (inputs held at 0);
         with holonomic constraints, on the constraint surface with the multipliers."""
         from .analysis import rest_points
 
-        return rest_points(derive(self.without_inputs()))
+        return rest_points(self._derived(inputs_held=True))
 
     def steady_motions(self, momenta: Mapping[str, float] | None = None):
         """Steady motions (cyclic coordinates turning uniformly at the momenta p_c, given
         or symbolic; the others at rest), each with the small oscillations about it."""
         from .analysis import steady_motions
 
-        return steady_motions(derive(self.without_inputs()), momenta=momenta)
+        return steady_motions(self._derived(inputs_held=True), momenta=momenta)
 
     def linearize(self, at: Mapping[str, object]):
         """M0 x'' + C0 x' + K0 x = 0 about the equilibrium ``at``; ``.normal_modes()``."""
         from .analysis import linearize
 
-        return linearize(derive(self.without_inputs()), at)
+        return linearize(self._derived(inputs_held=True), at)
 
     def state_space(self, at: Mapping[str, object] | None = None, **options: object):
         """x' = A x + B u, y = C x + D u about an equilibrium or steady motion, x = [q, q']
         (options ``outputs``, ``inputs``: see :func:`lagrangian.analysis.state_space`)."""
         from .analysis.state_space import state_space
 
-        return state_space(derive(self), at, **options)
+        return state_space(self._derived(inputs_held=False), at, **options)
 
     def analyze(
         self,
@@ -105,7 +118,7 @@ class System(ModelSystem):
         """
         from .analysis import analyze
 
-        return analyze(derive(self.without_inputs()), timeout=timeout, momenta=momenta)
+        return analyze(self._derived(inputs_held=True), timeout=timeout, momenta=momenta)
 
     # -- motion -----------------------------------------------------------------------
     def simulate(self, **options: object) -> Trajectory:
