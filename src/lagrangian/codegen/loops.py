@@ -47,14 +47,12 @@ class SteppingLoop:
     ``run(...)`` and ``advance(...)`` with the arguments after the function pointers."""
 
     def __init__(self, loops: ModuleType, system: ModuleType, carried: int):
-        from .numba import pointer_list
-
         self.loops, self.system = loops, system
         self.workspace, self.init = system.workspace, system.init
         self._carried = carried
-        self._workspaces = pointer_list(loops.RUN.args[0], system.workspace)
-        self._inits = pointer_list(loops.RUN.args[1], system.init)
-        self._steppers = pointer_list(loops.RUN.args[2], system.step)
+        self._workspaces = loops.workspaces(system.workspace)
+        self._inits = loops.inits(system.init)
+        self._steppers = loops.steppers(system.step)
 
     def run(self, *arguments: object) -> None:
         """The ensemble's loop over members (see :mod:`.numba_stepping`)."""

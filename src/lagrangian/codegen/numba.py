@@ -306,14 +306,3 @@ class NumbaTarget(
     def load(self, program: Program) -> ModuleType:
         return load_module(program.forms)
 
-
-def pointer_list(kind, function) -> object:
-    """A numba typed list of the one jitted ``function``, as a pointer of the list type
-    ``kind`` (a ``types.ListType`` of a ``types.FunctionType``).  The generated loops shared
-    by every system take a system's functions this way: a pointer passed from Python is
-    converted at every call (0.14 ms), one in a list once, here."""
-    from numba import typed
-
-    pointers = typed.List.empty_list(kind.item_type)
-    pointers.append(function)
-    return pointers

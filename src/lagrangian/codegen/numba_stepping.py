@@ -26,8 +26,9 @@ import math
 
 import numpy as np
 from numba import njit, prange, types
+from numba.typed import List
 
-_1D, _2D, _3D = types.float64[::1], types.float64[:, ::1], types.float64[:, :, ::1]
+_1D = types.float64[::1]
 _INTS = types.int64[::1]
 
 # -- generated: begin (each generated module has its scheme's workspace type here) ----
@@ -48,16 +49,32 @@ STEP = types.FunctionType(
 LIMIT = math.pi
 
 
+# Each of a system's functions in a typed list of one, made in compiled code (numba
+# compiles a typed list's methods in every process, 0.3-0.5 s for each type of item;
+# these functions' machine code is cached): see lagrangian.integrate.numba_dop853.
+@njit(types.ListType(MAKE)(MAKE), cache=True)
+def workspaces(function):  # pragma: no cover - compiled by numba
+    pointers = List.empty_list(MAKE)
+    pointers.append(function)
+    return pointers
+
+
+@njit(types.ListType(INIT)(INIT), cache=True)
+def inits(function):  # pragma: no cover - compiled by numba
+    pointers = List.empty_list(INIT)
+    pointers.append(function)
+    return pointers
+
+
+@njit(types.ListType(STEP)(STEP), cache=True)
+def steppers(function):  # pragma: no cover - compiled by numba
+    pointers = List.empty_list(STEP)
+    pointers.append(function)
+    return pointers
+
+
 # -- the loop over members -----------------------------------------------------------
-#: run's signature: explicit, so that the scheme's functions are typed as pointers.
-RUN = types.void(
-    types.ListType(MAKE), types.ListType(INIT), types.ListType(STEP), types.int64, _2D, _2D,
-    _1D, types.boolean, types.boolean, types.int64, types.float64, types.float64,
-    types.int64, _2D, _1D, _INTS, _3D, _1D,
-)  # fmt: skip
-
-
-@njit(RUN, parallel=True, cache=True)
+@njit(parallel=True, cache=True)
 def run(
     workspaces, inits, steppers, w, y0, params, grid, track, stop, save_every, tol, floor,
     iterations, final, flips, failures, paths, exponents,
@@ -117,14 +134,7 @@ def run(
 
 
 # -- a stretch of one single run ----------------------------------------------------
-#: advance's signature (as run's).
-ADVANCE = types.UniTuple(types.int64, 2)(
-    types.ListType(STEP), _1D, _1D, WORK, _1D, types.int64, types.int64, types.float64,
-    types.float64, types.int64, _2D, _INTS,
-)  # fmt: skip
-
-
-@njit(ADVANCE, cache=True)
+@njit(cache=True)
 def advance(
     steppers, y, p, work, grid, start, stop, tol, floor, iterations, states, counts
 ):  # pragma: no cover - compiled by numba  # fmt: skip

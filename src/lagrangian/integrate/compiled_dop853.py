@@ -48,7 +48,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..codegen.cache import built, built_already
-from ..codegen.numba import pointer_list
 from ..trajectory import EventRecord
 from .base import IntegrationResult, Run, Status
 from .events import scipy_event
@@ -156,7 +155,7 @@ def _build(compiled: CompiledSystem, *, tangent: bool = False) -> Loop:
     jacobian = _jacobian_filler(compiled).__name__ if tangent else None
     method = method_module()
     system = load_text(*_derivative_text(compiled, jacobian))
-    return Loop(method, pointer_list(method.Y_PRIME, system.derivative), compiled.n, tangent)
+    return Loop(method, method.y_prime(system.derivative), compiled.n, tangent)
 
 
 def _jacobian_filler(compiled: CompiledSystem) -> ModuleType:

@@ -25,7 +25,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..codegen.cache import built
-from ..codegen.numba import pointer_list
 from ..errors import ModelError
 from .compiled_dop853 import (
     FIRST_CHUNK,
@@ -94,11 +93,11 @@ def _build(compiled: CompiledSystem, section: Section) -> SectionLoop:
     )
     generated = [
         f"from {loop.method.__name__} import (",
-        "    Y_PRIME, accept, buffers, interpolate, interpolation, step, workspace,",
+        "    accept, buffers, interpolate, interpolation, step, workspace,",
         ")",
     ]
     sections = load_text(*filled_template("numba_sections.py", generated))
-    return SectionLoop(sections, loop, pointer_list(sections.SECTION, kernel.section))
+    return SectionLoop(sections, loop, sections.g(kernel.section))
 
 
 def crossings(

@@ -40,6 +40,7 @@ import math
 
 import numpy as np
 from numba import njit, types
+from numba.typed import List
 
 from lagrangian.integrate.dop853_tableau import E3, E5, A, B, C, D
 
@@ -49,14 +50,24 @@ MAX_FACTOR = 10.0
 EXPONENT = -1.0 / 8.0  # -1 / (error estimator order + 1)
 STAGES = 12
 
-_1D, _2D, _3D = types.float64[::1], types.float64[:, ::1], types.float64[:, :, ::1]
-#: The arrays a system's ``derivative`` works in (its ``workspace()``).
+_1D, _2D = types.float64[::1], types.float64[:, ::1]
+#: The arrays a system's ``derivative`` works in (``workspace(n, tangent)``).
 WORK = types.Tuple((_2D, _1D, _2D, _1D, _1D))
-_FLAGS = types.int64[::1]
-#: derivative(t, y, p, work, out, flags): the type every system's y' is called as (in a
-#: typed list of one, lagrangian.codegen.numba.pointer_list).
-DERIVATIVE = types.FunctionType(types.void(types.float64, _1D, _1D, WORK, _1D, _FLAGS))
-Y_PRIME = types.ListType(DERIVATIVE)
+#: derivative(t, y, p, work, out, flags): the type every system's y' is called as.
+DERIVATIVE = types.FunctionType(types.void(types.float64, _1D, _1D, WORK, _1D, types.int64[::1]))
+
+
+# The loops below take a system's y' in a typed list of one, made here: a function passed
+# from Python is converted to a pointer at every call (0.14 ms), one in a list once, and
+# the list's type, the same for every system, is what they are compiled for.  Made in
+# compiled code because numba compiles a typed list's methods in every process (0.3-0.5 s
+# for each type of item); this function's machine code is cached.
+@njit(types.ListType(DERIVATIVE)(DERIVATIVE), cache=True)
+def y_prime(derivative):  # pragma: no cover - compiled by numba
+    """[derivative]: the system's y' as the loops take it."""
+    pointers = List.empty_list(DERIVATIVE)
+    pointers.append(derivative)
+    return pointers
 
 
 @njit(cache=True)
@@ -68,10 +79,7 @@ def workspace(n, tangent):  # pragma: no cover - compiled by numba
     return np.empty((n, n)), np.empty(n), np.empty((0, 0)), np.empty(0), np.empty(0)
 
 
-@njit(
-    types.void(Y_PRIME, types.int64, types.boolean, types.float64, _1D, _1D, _1D, _FLAGS),
-    cache=True,
-)
+@njit(cache=True)
 def slope(y_prime, n, tangent, t, y, p, out, flags):  # pragma: no cover - compiled by numba
     """out = y' at (t, y), for Python (the size of a first step)."""
     y_prime[0](t, y, p, workspace(n, tangent), out, flags)
@@ -209,14 +217,7 @@ def accept(clock, y, f, y_new, stages, t_new, h_next, counts):  # pragma: no cov
     return finite
 
 
-#: advance's signature: explicit, so that y_prime is typed as a list of function pointers.
-ADVANCE = types.int64(
-    Y_PRIME, types.int64, types.boolean, _1D, _1D, _1D, _1D, types.float64, types.float64,
-    types.float64, types.boolean, _1D, _2D, _1D, _2D, _2D, _3D, _FLAGS, _FLAGS,
-)  # fmt: skip
-
-
-@njit(ADVANCE, cache=True)
+@njit(cache=True)
 def advance(
     y_prime, n, tangent, clock, y, f, p, t_end, rtol, atol, dense, t_eval, out, ts, ys, olds,
     slopes, counts, flags,

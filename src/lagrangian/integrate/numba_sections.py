@@ -27,10 +27,10 @@ Status: 0 ``budget`` steps taken, 1 t_end reached, 2 and 3 as ``advance``'s, 4
 
 import numpy as np
 from numba import njit, types
+from numba.typed import List
 
 # -- generated: begin (the generated module imports the method's module) --------------
 from lagrangian.integrate.numba_dop853 import (
-    Y_PRIME,
     accept,
     buffers,
     interpolate,
@@ -41,10 +41,19 @@ from lagrangian.integrate.numba_dop853 import (
 
 # -- generated: end ------------------------------------------------------------------
 
-_1D, _2D, _FLAGS = types.float64[::1], types.float64[:, ::1], types.int64[::1]
-#: section(t, y, p, out): out[0] = g, the type every section is called as (in a typed list
-#: of one, as the method's y_prime).
-SECTION = types.ListType(types.FunctionType(types.void(types.float64, _1D, _1D, _1D)))
+_1D = types.float64[::1]
+#: section(t, y, p, out): out[0] = g, the type every section is called as.
+SECTION = types.FunctionType(types.void(types.float64, _1D, _1D, _1D))
+
+
+@njit(types.ListType(SECTION)(SECTION), cache=True)
+def g(section):  # pragma: no cover - compiled by numba
+    """[section]: the section's function as ``cross`` takes it (a typed list of one, made
+    in compiled code: see the method's ``y_prime``)."""
+    pointers = List.empty_list(SECTION)
+    pointers.append(section)
+    return pointers
+
 
 TOLERANCE = 4 * np.finfo(np.float64).eps  # SciPy's xtol and rtol of an event's root
 ITERATIONS = 100  # brentq's default
@@ -121,14 +130,7 @@ def root(
     return x_cur
 
 
-#: cross's signature: explicit, so that y_prime and g are typed as lists of function pointers.
-CROSS = types.int64(
-    Y_PRIME, SECTION, types.int64, types.boolean, _1D, _1D, _1D, _1D, types.float64,
-    types.float64, types.float64, types.int64, _1D, types.int64, _1D, _2D, _FLAGS, _FLAGS,
-)  # fmt: skip
-
-
-@njit(CROSS, cache=True)
+@njit(cache=True)
 def cross(
     y_prime, g, n, tangent, clock, y, f, p, t_end, rtol, atol, direction, level, budget,
     found_t, found_y, counts, flags,
