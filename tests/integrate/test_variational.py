@@ -17,21 +17,22 @@ def _energy_error(compiled, result) -> np.ndarray:
     return np.abs(energy - energy[0])
 
 
-def test_energy_error_stays_bounded_over_1e5_steps_while_rk4_drifts():
-    compiled = systems.pendulum(theta0=1.0)  # omega h = 0.22: a coarse step
+def test_energy_error_stays_bounded_over_2e4_steps_while_rk4_drifts():
+    compiled = systems.pendulum(theta0=1.0)  # omega h = 0.44: a coarse step
     y0, params = compiled.state_vector(), compiled.parameter_vector()
-    span = (0.0, 1e4)  # 1e5 steps of 0.1, about 3500 periods
-    variational = Variational(dt=0.1).solve(compiled, span, y0, params)
-    rk4 = RK4(dt=0.1).solve(compiled, span, y0, params)
-    assert variational.steps == rk4.steps == 100_000
+    span = (0.0, 4e3)  # 2e4 steps of 0.2, about 1400 periods
+    variational = Variational(dt=0.2).solve(compiled, span, y0, params)
+    rk4 = RK4(dt=0.2).solve(compiled, span, y0, params)
+    assert variational.steps == rk4.steps == 20_000
     tenth = variational.t.shape[0] // 10
     error = _energy_error(compiled, variational)
     first, last = error[:tenth].max(), error[-tenth:].max()
-    assert last <= first * (1 + 1e-6)  # measured: both 0.1021 (1% of |E|), no growth
+    assert last <= first * (1 + 1e-6)  # measured: both 0.4089 (4% of |E|), no growth
     rk4_error = _energy_error(compiled, rk4)
     rk4_first, rk4_last = rk4_error[:tenth].max(), rk4_error[-tenth:].max()
-    assert rk4_last > 5 * rk4_first  # measured 0.105 -> 1.01: linear drift
+    assert rk4_last > 5 * rk4_first  # measured 1.245 -> 7.404: linear drift
     assert rk4_last > 5 * last
+    # (1e5 steps of 0.1: 0.1021 bounded against 0.105 -> 1.01, five times the time)
 
 
 def test_spherical_pendulum_p_phi_is_conserved_to_rounding():
