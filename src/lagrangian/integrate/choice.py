@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError
-from .compiled_dop853 import compiled_loop, compiled_ready, numba_installed
+from .compiled_dop853 import compiled_loop, compiled_ready, method_ready, numba_installed
 from .guard import start_problem
 from .scipy_methods import MIN_RTOL, Dop853
 
@@ -65,11 +65,14 @@ def compiled_step_seconds(n: int) -> float:
     return 12 * (1e-7 + 2e-8 * n * n)
 
 
-def numba_start_seconds(n: int, cached: bool) -> float:
-    """Seconds before the compiled loop's first step: generate and compile (1.4 s for the
-    double pendulum's M and f, 3.5 s for a 10-link chain's, then the loop), or load the
-    machine code from the code cache."""
-    return 0.8 if cached else 4.0 + 0.05 * n * n
+def numba_start_seconds(n: int, cached: bool, method_cached: bool = True) -> float:
+    """Seconds before the compiled loop's first step: load the machine code from the code
+    cache, or generate and compile the system's y' (2.2 s for the double pendulum, 5.2 s
+    for a 10-link chain, numba's start included), and the first time on a machine the
+    method shared by every system too (5 s more)."""
+    if cached:
+        return 0.8
+    return (2.0 if method_cached else 7.0) + 0.035 * n * n
 
 
 def taylor_start_seconds(n: int) -> float:
@@ -160,7 +163,7 @@ def choose_run(
         return scipy_loop(f"{scipy}, too short for a compiled way (start ~{quickest:.2g} s)")
     if numba_installed():
         fast = compiled_on("numba")
-        start = numba_start_seconds(n, cached=compiled_ready(fast))
+        start = numba_start_seconds(n, compiled_ready(fast), method_ready())
         costs["compiled loop"] = start + steps * compiled_step_seconds(n)
     else:
         notes.append("numba is not installed (the compiled loop)")

@@ -142,9 +142,15 @@ def compiled_ready(compiled: CompiledSystem) -> bool:
         return False
     if built_already(compiled.forms.fingerprint, "dop853"):
         return True
-    return compiled_on_disk(_method_text()[0], "advance") and compiled_on_disk(
-        _derivative_text(compiled)[0], "derivative"
-    )
+    return method_ready() and compiled_on_disk(_derivative_text(compiled)[0], "derivative")
+
+
+def method_ready() -> bool:
+    """Whether the method's machine code (the same for every system) is in the code cache:
+    a new system then compiles only its y'."""
+    from ..codegen.cache import compiled_on_disk
+
+    return compiled_on_disk(_method_text()[0], "advance")
 
 
 def _build(compiled: CompiledSystem, *, tangent: bool = False) -> Loop:
