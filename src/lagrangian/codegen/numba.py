@@ -305,4 +305,3 @@ class NumbaTarget(
 
     def load(self, program: Program) -> ModuleType:
         return load_module(program.forms)
-

@@ -48,8 +48,8 @@ def _forms(compiled: CompiledSystem) -> SymbolicForms:
 
 
 def kernel(compiled: CompiledSystem, scheme: str = "rk4"):
-    """The jitted ensemble loop of ``compiled`` and ``scheme`` (built once per equations):
-    its ``run``."""
+    """The jitted loops of ``compiled`` and ``scheme`` (built once per equations): ``run``
+    is the ensemble's (:class:`~lagrangian.codegen.loops.SteppingLoop`)."""
     from ..codegen.loops import numba_loop
     from ..integrate import tableaus
     from ..integrate.variational import STALL_RATIO
