@@ -55,7 +55,7 @@ import sys
 import tempfile
 import threading
 import warnings
-from collections.abc import Callable, Hashable
+from collections.abc import Callable, Hashable, Sequence
 from pathlib import Path
 from types import ModuleType
 from typing import TypeVar
@@ -148,6 +148,19 @@ def load_text(digest: str, source: object) -> ModuleType:
         _MODULES[str(path)] = module
         _LOADED.add(path)
         return module
+
+
+def filled_template(template: Path, generated: Sequence[str]) -> tuple[str, str]:
+    """(sha256, text) of the template module ``template`` (a numba template of the
+    package) with the lines ``generated`` in place of the block between its
+    ``# -- generated: begin`` and ``# -- generated: end`` markers."""
+    head, rest = template.read_text(encoding="utf-8").split(_GENERATED_BEGIN, 1)
+    tail = rest.split(_GENERATED_END, 1)[1].split("\n", 1)[1]
+    text = "\n".join([head.rstrip("\n"), "", *generated, "", tail])
+    return hashlib.sha256(text.encode()).hexdigest(), text
+
+
+_GENERATED_BEGIN, _GENERATED_END = "# -- generated: begin", "# -- generated: end"
 
 
 def trusted_bytes(path: Path) -> bytes | None:

@@ -19,7 +19,7 @@ import hashlib
 from pathlib import Path
 from types import ModuleType
 
-from .cache import built, load_text
+from .cache import built, filled_template, load_text
 from .forms import SymbolicForms
 from .schemes import MATRICES, scheme_expressions, scheme_scalars
 from .steps import NumbaStepPrinter, scheme_program
@@ -36,7 +36,6 @@ _SELECTED = {
 }  # fmt: skip
 #: Displacement entries carried with each member's state (``W`` of the template).
 _CARRIED = {"rk4-tangent": 2}
-_BEGIN, _END = "# -- generated: begin", "# -- generated: end"
 _SCHEME_BEGIN, _SCHEME_END = "# -- scheme: begin", "# -- scheme: end"
 _SELECTION = "workspace, init, step = rk4_workspace, rk4_init, rk4_step"
 
@@ -88,30 +87,18 @@ def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> St
     fillers = scheme_fillers(forms, scheme)
     generated = [f"from {fillers.__name__} import {', '.join(_FILLERS[scheme])}"]
     program = scheme_program(scheme, forms.n, tableau=tableau, stall=stall)
-    head, tail = _template("numba_loop.py")
-    before, rest = tail.split(_SCHEME_BEGIN, 1)
+    text = filled_template(Path(__file__).with_name("numba_loop.py"), generated)[1]
+    before, rest = text.split(_SCHEME_BEGIN, 1)
     after = rest.split(_SCHEME_END, 1)[1].split("\n", 1)[1]
     printed = NumbaStepPrinter(forms.n).scheme(program)
-    tail = "\n".join([before.rstrip("\n"), "", "", printed, "", after.lstrip("\n")])
+    text = "\n".join([before.rstrip("\n"), "", "", printed, "", after.lstrip("\n")])
     chosen = _SELECTED[scheme]
     selection = f"workspace, init, step = {chosen}_workspace, {chosen}_init, {chosen}_step"
-    tail = tail.replace(_SELECTION, selection)
-    system = _loaded("\n".join([head.rstrip("\n"), "", *generated, "", tail]))
-    head, tail = _template("numba_stepping.py")
+    text = text.replace(_SELECTION, selection)
+    system = load_text(hashlib.sha256(text.encode()).hexdigest(), text)
     work = f"WORK = {_type_text(system.workspace())}"
-    loops = _loaded("\n".join([head.rstrip("\n"), work, tail]))
+    loops = load_text(*filled_template(Path(__file__).with_name("numba_stepping.py"), [work]))
     return SteppingLoop(loops, system, _CARRIED.get(scheme, 0) * forms.n)
-
-
-def _template(name: str) -> tuple[str, str]:
-    """The template ``name`` before its ``generated`` block, and after it."""
-    template = Path(__file__).with_name(name).read_text(encoding="utf-8")
-    head, rest = template.split(_BEGIN, 1)
-    return head, rest.split(_END, 1)[1].split("\n", 1)[1]
-
-
-def _loaded(text: str) -> ModuleType:
-    return load_text(hashlib.sha256(text.encode()).hexdigest(), text)
 
 
 def _type_text(work: tuple) -> str:

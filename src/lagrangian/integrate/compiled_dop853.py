@@ -40,14 +40,13 @@ Applies to unconstrained systems with derived equations where numba is installed
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..codegen.cache import built, built_already
+from ..codegen.cache import built, built_already, filled_template
 from ..trajectory import EventRecord
 from .base import IntegrationResult, Run, Status
 from .events import scipy_event
@@ -194,20 +193,7 @@ def _derivative_text(compiled: CompiledSystem, jacobian: str | None = None) -> t
         f"from {fillers} import eliminate, fill",
         f"from {jacobian} import jacobian" if jacobian else "jacobian = None",
     ]
-    return filled_template("numba_derivative.py", generated)
-
-
-def filled_template(name: str, generated: Sequence[str]) -> tuple[str, str]:
-    """(sha256, text) of the template module ``name`` (beside this one) with the lines
-    ``generated`` in place of the block between its ``generated`` markers."""
-    template = Path(__file__).with_name(name).read_text(encoding="utf-8")
-    head, rest = template.split(_BEGIN, 1)
-    tail = rest.split(_END, 1)[1].split("\n", 1)[1]
-    text = "\n".join([head.rstrip("\n"), "", *generated, "", tail])
-    return hashlib.sha256(text.encode()).hexdigest(), text
-
-
-_BEGIN, _END = "# -- generated: begin", "# -- generated: end"
+    return filled_template(Path(__file__).with_name("numba_derivative.py"), generated)
 
 
 def solve_compiled(

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -32,7 +33,6 @@ from .compiled_dop853 import (
     MIN_FACTOR,
     Loop,
     compiled_loop,
-    filled_template,
     first_step,
     loop_applies,
 )
@@ -84,7 +84,7 @@ class SectionLoop:
 
 
 def _build(compiled: CompiledSystem, section: Section) -> SectionLoop:
-    from ..codegen.cache import load_text
+    from ..codegen.cache import filled_template, load_text
     from ..codegen.numba import load_functions
 
     loop = compiled_loop(compiled)  # the method's module and the system's y'
@@ -96,7 +96,8 @@ def _build(compiled: CompiledSystem, section: Section) -> SectionLoop:
         "    accept, buffers, interpolate, interpolation, step, workspace,",
         ")",
     ]
-    sections = load_text(*filled_template("numba_sections.py", generated))
+    template = Path(__file__).with_name("numba_sections.py")
+    sections = load_text(*filled_template(template, generated))
     return SectionLoop(sections, loop, sections.g(kernel.section))
 
 
