@@ -39,6 +39,7 @@ Applies to unconstrained systems with derived equations where numba is installed
 
 from __future__ import annotations
 
+import functools
 import hashlib
 from dataclasses import dataclass
 from pathlib import Path
@@ -113,6 +114,7 @@ def method_module() -> ModuleType:
     return load_text(*_method_text())
 
 
+@functools.cache  # the package's file: read once (every run's choice asks method_ready)
 def _method_text() -> tuple[str, str]:
     text = Path(__file__).with_name("numba_dop853.py").read_text(encoding="utf-8")
     return hashlib.sha256(text.encode()).hexdigest(), text
