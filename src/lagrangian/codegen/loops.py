@@ -1,4 +1,4 @@
-"""The compiled fixed-step loops of the numba target: steps per system, loops per scheme.
+"""The compiled fixed-step loops of the numba target: steps per system, loops shared.
 
 :func:`numba_loop` writes the template :mod:`.numba_loop` out for one system and one
 scheme (``rk4``, ``midpoint``, ``stormer-verlet``, or ``rk4-tangent``: rk4 carrying one
@@ -8,13 +8,14 @@ printed from :mod:`.steps` goes between the ``scheme`` markers, and the text is 
 to the code cache under a hash of itself (:func:`~lagrangian.codegen.cache.load_text`),
 where numba keeps the machine code.  The loops that take the steps, ``run`` (the numba
 ensemble's) and ``advance`` (a stretch of one single run), are :mod:`.numba_stepping`,
-written once per scheme (the type of its workspace filled in) and compiled once for
-every system: they get the system's functions as pointers (:class:`SteppingLoop`).
+written once (every scheme's workspace has one type) and compiled once for every
+system and scheme: they get the system's functions as pointers (:class:`SteppingLoop`).
 Importing this module does not import numba.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 from pathlib import Path
 from types import ModuleType
@@ -22,7 +23,7 @@ from types import ModuleType
 from .cache import built, filled_template, load_text
 from .forms import SymbolicForms
 from .schemes import MATRICES, scheme_expressions, scheme_scalars
-from .steps import NumbaStepPrinter, scheme_program
+from .steps import WORKSPACE_MATRICES, WORKSPACE_VECTORS, NumbaStepPrinter, scheme_program
 
 #: The generated fillers each scheme's loop calls (see numba_loop's globals).
 _FILLERS = {
@@ -41,7 +42,7 @@ _SELECTION = "workspace, init, step = rk4_workspace, rk4_init, rk4_step"
 
 
 class SteppingLoop:
-    """The loops of a scheme (:mod:`.numba_stepping`) with one system's functions of that
+    """The shared loops (:mod:`.numba_stepping`) with one system's functions of one
     scheme (its module of :mod:`.numba_loop`): ``workspace()``, ``init(...)``, and
     ``run(...)`` and ``advance(...)`` with the arguments after the function pointers."""
 
@@ -96,14 +97,12 @@ def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> St
     selection = f"workspace, init, step = {chosen}_workspace, {chosen}_init, {chosen}_step"
     text = text.replace(_SELECTION, selection)
     system = load_text(hashlib.sha256(text.encode()).hexdigest(), text)
-    work = f"WORK = {_type_text(system.workspace())}"
-    loops = load_text(*filled_template(Path(__file__).with_name("numba_stepping.py"), [work]))
-    return SteppingLoop(loops, system, _CARRIED.get(scheme, 0) * forms.n)
+    return SteppingLoop(stepping_module(), system, _CARRIED.get(scheme, 0) * forms.n)
 
 
-def _type_text(work: tuple) -> str:
-    """The numba type of the tuple of C-contiguous float arrays ``work``, as source."""
-    if not all(a.dtype == float and a.flags.c_contiguous for a in work):
-        raise TypeError("a scheme's workspace holds C-contiguous float arrays only")
-    arrays = [f"types.float64[{':, ' * (a.ndim - 1)}::1]" for a in work]
-    return f"types.Tuple(({', '.join(arrays)},))"
+@functools.cache
+def stepping_module() -> ModuleType:
+    """:mod:`.numba_stepping` in the code cache, the workspace's type filled in: one
+    module for every scheme and system (numba compiles its loops once on a machine)."""
+    work = f"WORK = types.Tuple((_1D,) * {WORKSPACE_VECTORS} + (_2D,) * {WORKSPACE_MATRICES})"
+    return load_text(*filled_template(Path(__file__).with_name("numba_stepping.py"), [work]))

@@ -1,12 +1,12 @@
-"""The compiled fixed-step loops of the numba target, shared by every system of a scheme.
+"""The compiled fixed-step loops of the numba target, shared by every system and scheme.
 
-:func:`lagrangian.codegen.loops.numba_loop` writes a copy of this text into the code
-cache with the type of the scheme's workspace (``WORK``, the tuple of arrays its
-``workspace()`` returns, the same for every system) between the ``generated`` markers,
-where ``@njit(cache=True)`` keeps the machine code: the loops are compiled once per
-scheme, and a system's scheme functions (:mod:`.numba_loop`) come in as function
-pointers, each in a typed list of one (a pointer passed from Python is converted at
-every call, one in a list once).
+:func:`lagrangian.codegen.loops.stepping_module` writes a copy of this text into the
+code cache with the type of the workspace (``WORK``: every scheme's ``workspace()``
+returns the same number of vectors and of matrices, :data:`lagrangian.codegen.steps.
+WORKSPACE_VECTORS`) between the ``generated`` markers, where ``@njit(cache=True)``
+keeps the machine code: the loops are compiled once on a machine, and a system's scheme
+functions (:mod:`.numba_loop`) come in as function pointers, each in a typed list of
+one (a pointer passed from Python is converted at every call, one in a list once).
 
     run(workspaces, inits, steppers, w, y0, params, grid, track, stop, save_every, tol,
         floor, iterations, final, flips, failures, paths, exponents)
@@ -29,10 +29,11 @@ from numba import njit, prange, types
 from numba.typed import List
 
 _1D = types.float64[::1]
+_2D = types.float64[:, ::1]
 _INTS = types.int64[::1]
 
-# -- generated: begin (each generated module has its scheme's workspace type here) ----
-WORK = types.Tuple((_1D,))
+# -- generated: begin (the workspace's type: codegen.steps.WORKSPACE_VECTORS, _MATRICES) --
+WORK = types.Tuple((_1D,) * 12 + (_2D,) * 4)
 # -- generated: end ------------------------------------------------------------------
 
 #: workspace() -> work, init(t, y, p, work, counts) and step(t, h, y, p, work, tol, floor,

@@ -693,6 +693,10 @@ class CStepPrinter(StepPrinter):
 #: 23.4 -> 10.4; runs: the double pendulum's spectrum 1.11 -> 0.91 s, the ensembles' steps
 #: 13-29% slower (one call a step, where the inlined step had none).
 LEAN = "@njit(cache=True, _nrt=False)"
+#: The numba workspace of every scheme: this many vectors, then this many matrices (the
+#: unused ones empty), so that it has one type and the loops that take the steps
+#: (:mod:`lagrangian.codegen.numba_stepping`) are compiled once for all schemes.
+WORKSPACE_VECTORS, WORKSPACE_MATRICES = 12, 4
 
 
 class NumbaStepPrinter(StepPrinter):
@@ -754,9 +758,20 @@ class NumbaStepPrinter(StepPrinter):
         """The three module-level functions (numba, cached on disk)."""
         name = scheme.name
         arrays = [*scheme.kept, *scheme.scratch]
-        allocations = ", ".join(f"np.empty({shape[0] if len(shape) == 1 else shape})"
-                                for _, shape in arrays)  # fmt: skip
-        unpack = f"    {', '.join(a for a, _ in arrays)}, = work"
+        vectors = [(a, shape) for a, shape in arrays if len(shape) == 1]
+        matrices = [(a, shape) for a, shape in arrays if len(shape) == 2]
+        if len(vectors) > WORKSPACE_VECTORS or len(matrices) > WORKSPACE_MATRICES:
+            raise ValueError(f"the {name} scheme's arrays do not fit the numba workspace")
+        allocations = ", ".join(
+            [f"np.empty({shape[0]})" for _, shape in vectors]
+            + ["np.empty(0)"] * (WORKSPACE_VECTORS - len(vectors))
+            + [f"np.empty({shape})" for _, shape in matrices]
+            + ["np.empty((0, 0))"] * (WORKSPACE_MATRICES - len(matrices))
+        )
+        slots = {a: i for i, (a, _) in enumerate(vectors)}
+        slots.update({a: WORKSPACE_VECTORS + j for j, (a, _) in enumerate(matrices)})
+        names = ", ".join(a for a, _ in arrays)
+        unpack = f"    {names}, = {', '.join(f'work[{slots[a]}]' for a, _ in arrays)},"
         cover = "  # pragma: no cover - compiled by numba"
         return "\n".join([
             self.function(elimination(self.n)),
