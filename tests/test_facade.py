@@ -25,4 +25,3 @@ def test_a_system_derives_once_for_all_its_analyses(monkeypatch):
     assert system.equations_of_motion() is first
     assert sorted(derived) == [(), system.input_names]  # once with the input, once held
     assert lg.load("cart_pole").equations_of_motion() is not first  # another System
-

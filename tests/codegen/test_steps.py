@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from lagrangian.codegen.c import CPrinter
-from lagrangian.codegen.steps import CStepPrinter, NumbaStepPrinter, scheme_program
+from lagrangian.codegen.steps import CStepPrinter, NumbaStepPrinter, elimination, scheme_program
 from lagrangian.integrate import tableaus
 
 METHODS = ["rk4", "midpoint", "stormer-verlet"]
@@ -45,7 +45,8 @@ def oscillator():
 def test_printed_python_steps_an_oscillator(method):
     program = scheme_program(method, 1, tableau=tableaus.RK4, stall=0.5)
     namespace = oscillator()
-    exec(NumbaStepPrinter(1).scheme(program), namespace)  # our own printed text, no model text
+    printer = NumbaStepPrinter(1)  # our own printed text, no model text:
+    exec(printer.function(elimination(1)) + "\n" + printer.scheme(program), namespace)
     name = program.name
     work = namespace[f"{name}_workspace"]()
     y, h = np.array([1.0, 0.0]), 0.01

@@ -85,8 +85,13 @@ def scheme_fillers(forms: SymbolicForms, scheme: str) -> ModuleType:
 
 
 def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> SteppingLoop:
+    from .numba import linear_import
+
     fillers = scheme_fillers(forms, scheme)
-    generated = [f"from {fillers.__name__} import {', '.join(_FILLERS[scheme])}"]
+    generated = [
+        f"from {fillers.__name__} import {', '.join(_FILLERS[scheme])}",
+        linear_import(forms.n),
+    ]
     program = scheme_program(scheme, forms.n, tableau=tableau, stall=stall)
     text = filled_template(Path(__file__).with_name("numba_loop.py"), generated)[1]
     before, rest = text.split(_SCHEME_BEGIN, 1)

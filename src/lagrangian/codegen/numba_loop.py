@@ -28,8 +28,9 @@ CUDA kernel prints as C):
 Two loops call it (:mod:`.numba_stepping`): ``run``, the ensemble's (one member per
 ``prange`` iteration), and ``advance``, a stretch of steps of one single run, every
 state kept.
-Linear solves are the printed ``eliminate`` (:func:`lagrangian.codegen.steps.elimination`)
-for a constant n.  This module itself is never run.
+Linear solves are the printed ``eliminate`` for a constant n (imported from the module
+of :func:`lagrangian.codegen.numba.linear_module`, one per n).  This module itself is
+never run.
 """
 
 import math  # noqa: F401 - the printed steps call it

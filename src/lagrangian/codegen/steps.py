@@ -774,8 +774,6 @@ class NumbaStepPrinter(StepPrinter):
         unpack = f"    {names}, = {', '.join(f'work[{slots[a]}]' for a, _ in arrays)},"
         cover = "  # pragma: no cover - compiled by numba"
         return "\n".join([
-            self.function(elimination(self.n)),
-            "",
             "@njit(cache=True)",
             f"def {name}_workspace():{cover}",
             f"    return ({allocations},)",

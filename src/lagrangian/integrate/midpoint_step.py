@@ -116,6 +116,8 @@ def njit(*arguments, **options):  # the text numba compiles elsewhere, run by Py
 momenta = momenta_force = mass = jacobian = None  # the system's fillers, set when loaded
 
 
+{eliminate}
+
 {scheme}'''
 
 
@@ -125,12 +127,12 @@ def printed_step(functions: MidpointFunctions, fingerprint: str, stall: float):
     import hashlib
 
     from ..codegen.cache import load_text
-    from ..codegen.steps import NumbaStepPrinter, scheme_program
+    from ..codegen.steps import NumbaStepPrinter, elimination, scheme_program
 
-    scheme = NumbaStepPrinter(functions.n).scheme(
-        scheme_program("midpoint", functions.n, stall=stall)
-    )
-    text = _TEXT.format(fingerprint=fingerprint, scheme=scheme)
+    printer = NumbaStepPrinter(functions.n)
+    scheme = printer.scheme(scheme_program("midpoint", functions.n, stall=stall))
+    eliminate = printer.function(elimination(functions.n))
+    text = _TEXT.format(fingerprint=fingerprint, eliminate=eliminate, scheme=scheme)
     module = load_text(hashlib.sha256(text.encode()).hexdigest(), text)
     for name in ("momenta", "momenta_force", "mass", "jacobian"):
         setattr(module, name, getattr(functions, name))
