@@ -20,10 +20,18 @@ import hashlib
 from pathlib import Path
 from types import ModuleType
 
+import numpy as np
+
 from .cache import built, filled_template, load_text
 from .forms import SymbolicForms
 from .schemes import MATRICES, scheme_expressions, scheme_scalars
-from .steps import WORKSPACE_MATRICES, WORKSPACE_VECTORS, NumbaStepPrinter, scheme_program
+from .steps import (
+    WORKSPACE_MATRICES,
+    WORKSPACE_VECTORS,
+    NumbaStepPrinter,
+    scheme_program,
+    workspace_sizes,
+)
 
 #: The generated fillers each scheme's loop calls (see numba_loop's globals).
 _FILLERS = {
@@ -43,20 +51,25 @@ _SELECTION = "workspace, init, step = rk4_workspace, rk4_init, rk4_step"
 
 class SteppingLoop:
     """The shared loops (:mod:`.numba_stepping`) with one system's functions of one
-    scheme (its module of :mod:`.numba_loop`): ``workspace()``, ``init(...)``, and
-    ``run(...)`` and ``advance(...)`` with the arguments after the function pointers."""
+    scheme (its module of :mod:`.numba_loop`) and the sizes of its workspace:
+    ``workspace()``, ``init(...)``, and ``run(...)`` and ``advance(...)`` with the
+    arguments after the function pointers."""
 
-    def __init__(self, loops: ModuleType, system: ModuleType, carried: int):
+    def __init__(self, loops: ModuleType, system: ModuleType, sizes: tuple, carried: int):
         self.loops, self.system = loops, system
-        self.workspace, self.init = system.workspace, system.init
+        self.init = system.init
+        self._sizes = tuple(np.array(size, dtype=np.int64) for size in sizes)
         self._carried = carried
-        self._workspaces = loops.workspaces(system.workspace)
         self._inits = loops.inits(system.init)
         self._steppers = loops.steppers(system.step)
 
+    def workspace(self) -> tuple:
+        """The arrays the scheme keeps and works in, for one state."""
+        return self.loops.workspace(*self._sizes)
+
     def run(self, *arguments: object) -> None:
         """The ensemble's loop over members (see :mod:`.numba_stepping`)."""
-        pointers = (self._workspaces, self._inits, self._steppers, self._carried)
+        pointers = (*self._sizes, self._inits, self._steppers, self._carried)
         self.loops.run(*pointers, *arguments)
 
     def advance(self, *arguments: object) -> tuple[int, int]:
@@ -102,12 +115,24 @@ def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> St
     selection = f"workspace, init, step = {chosen}_workspace, {chosen}_init, {chosen}_step"
     text = text.replace(_SELECTION, selection)
     system = load_text(hashlib.sha256(text.encode()).hexdigest(), text)
-    return SteppingLoop(stepping_module(), system, _CARRIED.get(scheme, 0) * forms.n)
+    sizes = workspace_sizes(program)
+    return SteppingLoop(stepping_module(), system, sizes, _CARRIED.get(scheme, 0) * forms.n)
 
 
 @functools.cache
 def stepping_module() -> ModuleType:
     """:mod:`.numba_stepping` in the code cache, the workspace's type filled in: one
     module for every scheme and system (numba compiles its loops once on a machine)."""
-    work = f"WORK = types.Tuple((_1D,) * {WORKSPACE_VECTORS} + (_2D,) * {WORKSPACE_MATRICES})"
-    return load_text(*filled_template(Path(__file__).with_name("numba_stepping.py"), [work]))
+    vectors = [f"np.empty(lengths[{i}])" for i in range(WORKSPACE_VECTORS)]
+    matrices = [f"np.empty((shapes[{j}, 0], shapes[{j}, 1]))" for j in range(WORKSPACE_MATRICES)]
+    generated = [
+        f"WORK = types.Tuple((_1D,) * {WORKSPACE_VECTORS} + (_2D,) * {WORKSPACE_MATRICES})",
+        "",
+        "",
+        "@njit(cache=True)",
+        "def workspace(lengths, shapes):  # pragma: no cover - compiled by numba",
+        f"    return ({', '.join(vectors + matrices)})",
+        "",
+        "",
+    ]
+    return load_text(*filled_template(Path(__file__).with_name("numba_stepping.py"), generated))

@@ -8,8 +8,13 @@ keeps the machine code: the loops are compiled once on a machine, and a system's
 functions (:mod:`.numba_loop`) come in as function pointers, each in a typed list of
 one (a pointer passed from Python is converted at every call, one in a list once).
 
-    run(workspaces, inits, steppers, w, y0, params, grid, track, stop, save_every, tol,
-        floor, iterations, final, flips, failures, paths, exponents)
+    workspace(lengths, shapes)
+
+is a workspace of a scheme for a system: vectors of the given lengths and matrices of
+the given shapes (:func:`lagrangian.codegen.steps.workspace_sizes`), and
+
+    run(lengths, shapes, inits, steppers, w, y0, params, grid, track, stop, save_every,
+        tol, floor, iterations, final, flips, failures, paths, exponents)
 
 is the ensemble's loop: one member per ``prange`` iteration, each with its own
 workspace; with a displacement of ``w`` entries carried after the state (rk4-tangent),
@@ -32,13 +37,19 @@ _1D = types.float64[::1]
 _2D = types.float64[:, ::1]
 _INTS = types.int64[::1]
 
-# -- generated: begin (the workspace's type: codegen.steps.WORKSPACE_VECTORS, _MATRICES) --
-WORK = types.Tuple((_1D,) * 12 + (_2D,) * 4)
+# -- generated: begin (the workspace: codegen.steps.WORKSPACE_VECTORS, _MATRICES) -------
+WORK = types.Tuple((_1D, _2D))
+
+
+@njit(cache=True)
+def workspace(lengths, shapes):  # pragma: no cover - compiled by numba
+    return (np.empty(lengths[0]), np.empty((shapes[0, 0], shapes[0, 1])))
+
+
 # -- generated: end ------------------------------------------------------------------
 
-#: workspace() -> work, init(t, y, p, work, counts) and step(t, h, y, p, work, tol, floor,
-#: iterations, counts) -> code: the types a scheme's functions are called as.
-MAKE = types.FunctionType(WORK())
+#: init(t, y, p, work, counts) and step(t, h, y, p, work, tol, floor, iterations, counts)
+#: -> code: the types a scheme's functions are called as.
 INIT = types.FunctionType(types.none(types.float64, _1D, _1D, WORK, _INTS))
 STEP = types.FunctionType(
     types.int64(
@@ -53,13 +64,6 @@ LIMIT = math.pi
 # Each of a system's functions in a typed list of one, made in compiled code (numba
 # compiles a typed list's methods in every process, 0.3-0.5 s for each type of item;
 # these functions' machine code is cached): see lagrangian.integrate.numba_dop853.
-@njit(types.ListType(MAKE)(MAKE), cache=True)
-def workspaces(function):  # pragma: no cover - compiled by numba
-    pointers = List.empty_list(MAKE)
-    pointers.append(function)
-    return pointers
-
-
 @njit(types.ListType(INIT)(INIT), cache=True)
 def inits(function):  # pragma: no cover - compiled by numba
     pointers = List.empty_list(INIT)
@@ -77,10 +81,10 @@ def steppers(function):  # pragma: no cover - compiled by numba
 # -- the loop over members -----------------------------------------------------------
 @njit(parallel=True, cache=True)
 def run(
-    workspaces, inits, steppers, w, y0, params, grid, track, stop, save_every, tol, floor,
-    iterations, final, flips, failures, paths, exponents,
+    lengths, shapes, inits, steppers, w, y0, params, grid, track, stop, save_every, tol,
+    floor, iterations, final, flips, failures, paths, exponents,
 ):  # pragma: no cover - compiled by numba  # fmt: skip
-    workspace, init, step = workspaces[0], inits[0], steppers[0]
+    init, step = inits[0], steppers[0]
     count, m = y0.shape
     n = m // 2
     steps = grid.shape[0] - 1
@@ -92,7 +96,7 @@ def run(
             y[m + i] = 1.0 / math.sqrt(w)
         stretch = 0.0
         p = params[b]
-        work = workspace()
+        work = workspace(lengths, shapes)
         counts = np.zeros(3, dtype=np.int64)
         flip = np.nan
         failure = -1

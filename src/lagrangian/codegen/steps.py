@@ -699,6 +699,19 @@ LEAN = "@njit(cache=True, _nrt=False)"
 WORKSPACE_VECTORS, WORKSPACE_MATRICES = 12, 4
 
 
+def workspace_sizes(scheme: Scheme) -> tuple[list[int], list[list[int]]]:
+    """The lengths of the numba workspace's vectors and the shapes of its matrices, the
+    scheme's arrays in their order and the unused slots empty (see WORKSPACE_VECTORS)."""
+    arrays = [*scheme.kept, *scheme.scratch]
+    lengths = [shape[0] for _, shape in arrays if len(shape) == 1]
+    shapes = [list(shape) for _, shape in arrays if len(shape) == 2]
+    if len(lengths) > WORKSPACE_VECTORS or len(shapes) > WORKSPACE_MATRICES:
+        raise ValueError(f"the {scheme.name} scheme's arrays do not fit the numba workspace")
+    lengths += [0] * (WORKSPACE_VECTORS - len(lengths))
+    shapes += [[0, 0]] * (WORKSPACE_MATRICES - len(shapes))
+    return lengths, shapes
+
+
 class NumbaStepPrinter(StepPrinter):
     """The scheme as numba Python (see the module): ``<name>_workspace``, ``_init``, ``_step``,
     which takes a last argument ``counts`` (3 integers: the evaluations of the right-hand
@@ -758,18 +771,15 @@ class NumbaStepPrinter(StepPrinter):
         """The three module-level functions (numba, cached on disk)."""
         name = scheme.name
         arrays = [*scheme.kept, *scheme.scratch]
-        vectors = [(a, shape) for a, shape in arrays if len(shape) == 1]
-        matrices = [(a, shape) for a, shape in arrays if len(shape) == 2]
-        if len(vectors) > WORKSPACE_VECTORS or len(matrices) > WORKSPACE_MATRICES:
-            raise ValueError(f"the {name} scheme's arrays do not fit the numba workspace")
+        lengths, shapes = workspace_sizes(scheme)
         allocations = ", ".join(
-            [f"np.empty({shape[0]})" for _, shape in vectors]
-            + ["np.empty(0)"] * (WORKSPACE_VECTORS - len(vectors))
-            + [f"np.empty({shape})" for _, shape in matrices]
-            + ["np.empty((0, 0))"] * (WORKSPACE_MATRICES - len(matrices))
+            [f"np.empty({length})" for length in lengths]
+            + [f"np.empty({shape})" for shape in (tuple(s) for s in shapes)]
         )
-        slots = {a: i for i, (a, _) in enumerate(vectors)}
-        slots.update({a: WORKSPACE_VECTORS + j for j, (a, _) in enumerate(matrices)})
+        vectors = [a for a, shape in arrays if len(shape) == 1]
+        matrices = [a for a, shape in arrays if len(shape) == 2]
+        slots = {a: i for i, a in enumerate(vectors)}
+        slots.update({a: WORKSPACE_VECTORS + j for j, a in enumerate(matrices)})
         names = ", ".join(a for a, _ in arrays)
         unpack = f"    {names}, = {', '.join(f'work[{slots[a]}]' for a, _ in arrays)},"
         cover = "  # pragma: no cover - compiled by numba"
