@@ -8,6 +8,7 @@ constrained system, handled with multipliers and Baumgarte's stabilisation."""
 from __future__ import annotations
 
 import ctypes
+import functools
 import importlib.util
 import re
 import shutil
@@ -72,6 +73,15 @@ SYSTEMS = {
     "cartesian_pendulum": lambda: lg.load("cartesian_pendulum"),
     "special_functions": lambda: lg.loads(SPECIAL_FUNCTIONS),
 }
+
+
+@functools.cache
+def built(name: str) -> lg.System:
+    """SYSTEMS[name], loaded once per module: the systems are immutable and their
+    derivation is kept with them, so the tests share it instead of deriving it anew."""
+    return SYSTEMS[name]()
+
+
 STATES = 12
 RTOL = 1e-12
 
@@ -126,7 +136,7 @@ def call_c(function, t, y, params, u, size):
 
 @pytest.mark.parametrize("name", SYSTEMS)
 def test_c_matches_our_compiled_rhs(name, compiler, tmp_path, np_rng):
-    system = SYSTEMS[name]()
+    system = built(name)
     lib = c_library(export_code(system, "c"), tmp_path, compiler)
     compiled = compile_equations(system.equations_of_motion())
     n = len(system.coordinates)
@@ -166,7 +176,7 @@ def load_module(path):
 
 @pytest.mark.parametrize("name", SYSTEMS)
 def test_numpy_file_matches_our_compiled_rhs(name, tmp_path, np_rng):
-    system = SYSTEMS[name]()
+    system = built(name)
     path = write_code(system, "numpy", tmp_path / f"{name}_rhs.py")
     text = path.read_text()
     assert "lagrangian" not in re.sub(r"(?m)^#.*$", "", text)  # self-contained
@@ -188,7 +198,7 @@ def test_numpy_defaults_and_a_run_with_scipy(tmp_path):
     our own simulate does."""
     from scipy.integrate import solve_ivp
 
-    system = lg.load("double_pendulum")
+    system = built("double_pendulum")
     module = load_module(write_code(system, "numpy", tmp_path / "dp.py"))
     assert module.DEFAULT_PARAMS.tolist() == [system.parameter_values[p] for p in module.PARAMETERS]
     y0 = [1.0, 0.5, 0.0, 0.0]
@@ -202,7 +212,7 @@ def test_numpy_defaults_and_a_run_with_scipy(tmp_path):
 @pytest.mark.parametrize("name", SYSTEMS)
 def test_cse_leaves_no_repeated_call(name):
     """Within each generated C function no call of sin, cos, ... is written twice."""
-    text = export_code(SYSTEMS[name](), "c")
+    text = export_code(built(name), "c")
     if name not in ("cartesian_pendulum", "special_functions"):  # little to share there
         assert "const double w_0 = " in text
     for body in re.findall(r"\n\{\n(.*?)\n\}\n", text, flags=re.S):
@@ -237,7 +247,7 @@ def assigned_before_use(text, assign):
 
 @pytest.mark.parametrize("name", SYSTEMS)
 def test_julia_structure(name):
-    system = SYSTEMS[name]()
+    system = built(name)
     text = export_code(system, "julia")
     assert balanced(text, "#")
     assert assigned_before_use(text, r"\s*(w_\d+) = ")
@@ -253,7 +263,7 @@ def test_julia_structure(name):
 
 @pytest.mark.parametrize("name", SYSTEMS)
 def test_matlab_structure(name):
-    system = SYSTEMS[name]()
+    system = built(name)
     text = export_code(system, "matlab", name="model_rhs")
     assert text.startswith("function model = model_rhs()\n")
     assert balanced(text, "%")
@@ -267,7 +277,7 @@ def test_julia_runs_when_installed(tmp_path):
     julia = shutil.which("julia")
     if julia is None:
         pytest.skip("julia is not installed")
-    system = lg.load("double_pendulum")
+    system = built("double_pendulum")
     path = write_code(system, "julia", tmp_path / "dp.jl")
     script = f'include("{path}"); println(join(rhs(0.0, [1.0, 0.5, 0.2, -0.1]), " "))'
     out = subprocess.run([julia, "-e", script], check=True, capture_output=True, text=True)
@@ -280,7 +290,7 @@ def test_octave_runs_when_installed(tmp_path):
     octave = shutil.which("octave")
     if octave is None:
         pytest.skip("octave is not installed")
-    system = lg.load("double_pendulum")
+    system = built("double_pendulum")
     write_code(system, "matlab", tmp_path / "dp.m")
     script = "m = dp(); printf('%.17g ', m.rhs(0, [1.0; 0.5; 0.2; -0.1]))"
     out = subprocess.run([octave, "--no-gui", "--eval", script], cwd=tmp_path, check=True,
@@ -295,7 +305,7 @@ def test_cli_writes_each_language(tmp_path, capsys):
     for language, writer in LANGUAGES.items():
         out = tmp_path / f"double_pendulum{writer.suffix}"
         assert main(["export", "double_pendulum", "--to", language, "--out", str(out)]) == 0
-        assert out.read_text() == export_code(lg.load("double_pendulum"), language,
+        assert out.read_text() == export_code(built("double_pendulum"), language,
                                               name="double_pendulum")  # fmt: skip
     assert main(["export", "simple_pendulum", "--to", "numpy"]) == 0
     assert "def rhs(t, y, params=DEFAULT_PARAMS, u=None):" in capsys.readouterr().out
