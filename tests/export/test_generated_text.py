@@ -4,6 +4,7 @@ file names that a language would misread are refused, the Baumgarte rate is boun
 
 from __future__ import annotations
 
+import functools
 import math
 import re
 
@@ -210,9 +211,16 @@ def test_matlab_names_used_by_this_model_are_refused_through_the_api():
         assert export_code(system, "matlab", name=name).startswith(f"function model = {name}()")
 
 
+@functools.cache
+def rolling_disc() -> lg.System:
+    """The rolling disc, loaded (and its equations derived) once for the tests below: the
+    System is immutable and keeps its derivation."""
+    return lg.load("rolling_disc")
+
+
 @pytest.mark.parametrize("alpha", [math.nan, math.inf, -math.inf, -1.0, 1e308, 1.0000001e6])
 def test_baumgarte_rate_is_finite_and_bounded(alpha):
-    disc = lg.load("rolling_disc")
+    disc = rolling_disc()
     with pytest.raises(ModelError, match=r"^baumgarte: the Baumgarte stabilisation rate alpha"):
         export_code(disc, "c", baumgarte=alpha)
     with pytest.raises(ModelError, match=r"^baumgarte: "):
@@ -220,7 +228,7 @@ def test_baumgarte_rate_is_finite_and_bounded(alpha):
 
 
 def test_baumgarte_bounds_are_accepted():
-    disc = lg.load("rolling_disc")
+    disc = rolling_disc()
     for alpha in (0.0, 1e6):
         assert "alpha = " in export_code(disc, "c", baumgarte=alpha)
 
