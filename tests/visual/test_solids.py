@@ -4,6 +4,8 @@ rotation matrices), the stem of a top, and the files written."""
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pytest
 import sympy
@@ -98,10 +100,17 @@ def test_a_brick_is_drawn_with_its_corners_where_the_rotation_puts_them():
         assert np.allclose(zs, expected[list(path), 2], atol=1e-5)
 
 
+@functools.cache
+def heavy_top_run():
+    """The heavy top and a run of 0.4 s, made once for both files (the first run of a
+    system derives its equations and analyses them: seconds; animate only reads the run)."""
+    system = lg.load("heavy_top")
+    return system, system.simulate(t_end=0.4, n_out=41)
+
+
 @pytest.mark.parametrize("suffix", [".gif", ".html"])
 def test_the_top_is_animated_to_a_file(tmp_path, suffix):
-    system = lg.load("heavy_top")
-    run = system.simulate(t_end=0.4, n_out=41)
+    system, run = heavy_top_run()
     result = animate(run, system, tmp_path / f"top{suffix}", fps=10, size=3.0, dpi=50)
     assert result.path.stat().st_size > 1000
     if suffix == ".gif":
