@@ -88,13 +88,20 @@ def same_matrix(ours: sympy.MatrixBase, theirs: sympy.MatrixBase, system) -> boo
     )
 
 
+@functools.cache
+def loaded(text: str) -> lg.System:
+    """The model of ``text``, loaded once per module: a System is immutable and keeps its
+    derivation, so the tests of one model share it instead of deriving it again each."""
+    return lg.loads(text)
+
+
 # -- the cart-pole: textbook A, B ------------------------------------------------------
 M, m, l, g = sympy.symbols("M m l g", positive=True)
 
 
 def test_cart_pole_upright_matches_the_textbook():
     """Upright (theta = 0): x'' = -m g/M theta + F/M, theta'' = (M + m) g/(M l) theta - F/(M l)."""
-    system = lg.loads(CART_POLE)
+    system = loaded(CART_POLE)
     linear = system.state_space(at={"theta": 0})
     assert linear.states == ("x", "theta", "x_dot", "theta_dot")
     assert linear.inputs == ("F",)
@@ -119,7 +126,7 @@ def test_cart_pole_upright_matches_the_textbook():
 def test_cart_pole_hanging_matches_the_textbook():
     """Hanging: the textbook angle phi from the downward vertical, bob at x + l sin(phi), has
     x'' = m g/M phi + F/M, phi'' = -(M + m) g/(M l) phi - F/(M l).  Here theta = pi - phi."""
-    system = lg.loads(CART_POLE)
+    system = loaded(CART_POLE)
     linear = system.state_space(at={"theta": sympy.pi})
     phi_rows = sympy.Matrix(
         [
@@ -137,7 +144,7 @@ def test_cart_pole_hanging_matches_the_textbook():
 
 
 def test_cart_pole_text_values_and_default_point():
-    system = lg.loads(CART_POLE)
+    system = loaded(CART_POLE)
     from_text = system.state_space(at={"theta": "pi"})
     assert from_text.point == {"theta": sympy.pi}
     assert same_matrix(from_text.A, system.state_space(at={"theta": sympy.pi}).A, system)
@@ -148,7 +155,7 @@ def test_cart_pole_text_values_and_default_point():
 
 def test_outputs_give_c_and_d():
     """y = (tip x-position, F): C = (1, l cos(theta0), 0, 0), D = (0, 1)^T."""
-    system = lg.loads(CART_POLE)
+    system = loaded(CART_POLE)
     linear = system.state_space(
         at={"theta": 0}, outputs={"tip": "x + l*sin(theta)", "push": "2*F + x_dot"}
     )
@@ -163,7 +170,7 @@ def test_outputs_give_c_and_d():
 @functools.cache
 def double_pendulum_on_cart():
     """Its equations of motion, derived once for the four operating points."""
-    return lg.loads(DOUBLE_PENDULUM_ON_CART).equations_of_motion()
+    return loaded(DOUBLE_PENDULUM_ON_CART).equations_of_motion()
 
 
 @functools.cache
@@ -269,7 +276,7 @@ def finite_difference_matrices(system, state, params, inputs=(), step=1e-6):
     ],
 )
 def test_a_and_b_are_the_derivatives_of_our_rhs(model, point, state):
-    system = lg.loads(model)
+    system = loaded(model)
     linear = system.state_space(at=point)
     params = dict(system.parameter_values)
     a, b = finite_difference_matrices(system, state, params, inputs=("F",))
@@ -326,7 +333,7 @@ def test_an_equilibrium_held_by_a_nominal_input():
 def test_text_and_latex_of_the_matrices():
     from lagrangian.output.state_space import format_state_space, latex_state_space
 
-    linear = lg.loads(CART_POLE).state_space(at={"theta": 0}, outputs={"tip": "x + l*sin(theta)"})
+    linear = loaded(CART_POLE).state_space(at={"theta": 0}, outputs={"tip": "x + l*sin(theta)"})
     text = format_state_space(linear)
     assert "about θ = 0" in text and "x = (x, θ, ẋ, θ̇)" in text and "y = (tip)" in text
     rows = [" ".join(line.split()) for line in text.splitlines()]
@@ -340,7 +347,7 @@ def test_text_and_latex_of_the_matrices():
 # -- python-control --------------------------------------------------------------------
 def test_to_control_poles_of_the_upright_cart_pole():
     control = pytest.importorskip("control")
-    system = lg.loads(CART_POLE)
+    system = loaded(CART_POLE)
     plant = system.state_space(at={"theta": 0}).to_control()
     assert isinstance(plant, control.StateSpace)
     rate = math.sqrt(1.1 * 9.81 / (1.0 * 0.5))  # sqrt((M + m) g / (M l))
@@ -351,7 +358,7 @@ def test_to_control_poles_of_the_upright_cart_pole():
 
 def test_to_control_without_python_control_says_what_to_install(monkeypatch):
     monkeypatch.setitem(sys.modules, "control", None)  # import control -> ImportError
-    linear = lg.loads(CART_POLE).state_space(at={"theta": 0})
+    linear = loaded(CART_POLE).state_space(at={"theta": 0})
     with pytest.raises(lg.MissingDependencyError, match=r"needs python-control: pip install"):
         linear.to_control()
 
@@ -371,7 +378,7 @@ def test_to_control_without_python_control_says_what_to_install(monkeypatch):
     ],
 )
 def test_bad_points_and_outputs_are_one_line_errors(at, options, message):
-    system = lg.loads(CART_POLE)
+    system = loaded(CART_POLE)
     with pytest.raises(lg.ModelError, match=message) as caught:
         system.state_space(at=at, **options)
     assert "\n" not in str(caught.value)
