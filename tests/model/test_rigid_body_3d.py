@@ -7,6 +7,7 @@ vector of R^T dR/dt evaluated numerically, and hand-typed kinetic energies.
 
 from __future__ import annotations
 
+import functools
 import random
 import textwrap
 
@@ -48,6 +49,13 @@ inertia = ["I1", "I1", "I3"]
 g = "g"
 """
 EULER = 'orientation = {euler = ["phi", "theta", "psi"], convention = "zxz"}'
+
+
+@functools.cache
+def euler_top() -> lg.System:
+    """The top in zxz Euler angles, loaded once: two tests compare its (immutable, kept)
+    derivation with another route's."""
+    return lg.loads(TOP.format(orientation=EULER))
 
 
 def numbers(expr, point):
@@ -107,7 +115,7 @@ def test_rotation_matrix_form_gives_the_euler_form():
     matrix = ACTIVE["z"](phi) * ACTIVE["x"](theta) * ACTIVE["z"](psi)
     rows = ", ".join("[" + ", ".join(f'"{x}"' for x in matrix.row(j)) + "]" for j in range(3))
     by_matrix = lg.loads(TOP.format(orientation=f"orientation = {{rotation = [{rows}]}}"))
-    by_euler = lg.loads(TOP.format(orientation=EULER))
+    by_euler = euler_top()
     matrix_form, euler_form = (
         lg.compile_equations(system.equations_of_motion()) for system in (by_matrix, by_euler)
     )
@@ -167,7 +175,7 @@ def test_full_tensor_equals_principal_moments_in_the_rotated_frame():
 
 
 def test_large_route_gives_the_readable_equations():
-    system = lg.loads(TOP.format(orientation=EULER))
+    system = euler_top()
     readable = system.equations_of_motion()
     large = derive_large(system)
     rng = random.Random(3)
