@@ -20,18 +20,10 @@ import hashlib
 from pathlib import Path
 from types import ModuleType
 
-import numpy as np
-
 from .cache import built, filled_template, load_text
 from .forms import SymbolicForms
 from .schemes import MATRICES, scheme_expressions, scheme_scalars
-from .steps import (
-    WORKSPACE_MATRICES,
-    WORKSPACE_VECTORS,
-    NumbaStepPrinter,
-    scheme_program,
-    workspace_sizes,
-)
+from .steps import NumbaStepPrinter, scheme_program, workspace_layout
 
 #: The generated fillers each scheme's loop calls (see numba_loop's globals).
 _FILLERS = {
@@ -55,10 +47,10 @@ class SteppingLoop:
     ``workspace()``, ``init(...)``, and ``run(...)`` and ``advance(...)`` with the
     arguments after the function pointers."""
 
-    def __init__(self, loops: ModuleType, system: ModuleType, sizes: tuple, carried: int):
+    def __init__(self, loops: ModuleType, system: ModuleType, layout, carried: int):
         self.loops, self.system = loops, system
         self.init = system.init
-        self._sizes = tuple(np.array(size, dtype=np.int64) for size in sizes)
+        self._sizes = (layout.size, *layout.stack)
         self._carried = carried
         self._inits = loops.inits(system.init)
         self._steppers = loops.steppers(system.step)
@@ -115,24 +107,13 @@ def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> St
     selection = f"workspace, init, step = {chosen}_workspace, {chosen}_init, {chosen}_step"
     text = text.replace(_SELECTION, selection)
     system = load_text(hashlib.sha256(text.encode()).hexdigest(), text)
-    sizes = workspace_sizes(program)
-    return SteppingLoop(stepping_module(), system, sizes, _CARRIED.get(scheme, 0) * forms.n)
+    layout = workspace_layout(program)
+    return SteppingLoop(stepping_module(), system, layout, _CARRIED.get(scheme, 0) * forms.n)
 
 
 @functools.cache
 def stepping_module() -> ModuleType:
-    """:mod:`.numba_stepping` in the code cache, the workspace's type filled in: one
-    module for every scheme and system (numba compiles its loops once on a machine)."""
-    vectors = [f"np.empty(lengths[{i}])" for i in range(WORKSPACE_VECTORS)]
-    matrices = [f"np.empty((shapes[{j}, 0], shapes[{j}, 1]))" for j in range(WORKSPACE_MATRICES)]
-    generated = [
-        f"WORK = types.Tuple((_1D,) * {WORKSPACE_VECTORS} + (_2D,) * {WORKSPACE_MATRICES})",
-        "",
-        "",
-        "@njit(cache=True)",
-        "def workspace(lengths, shapes):  # pragma: no cover - compiled by numba",
-        f"    return ({', '.join(vectors + matrices)})",
-        "",
-        "",
-    ]
-    return load_text(*filled_template(Path(__file__).with_name("numba_stepping.py"), generated))
+    """:mod:`.numba_stepping` in the code cache: one module for every scheme and system
+    (numba compiles its loops once on a machine)."""
+    text = Path(__file__).with_name("numba_stepping.py").read_text(encoding="utf-8")
+    return load_text(hashlib.sha256(text.encode()).hexdigest(), text)

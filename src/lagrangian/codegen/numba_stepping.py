@@ -1,20 +1,19 @@
 """The compiled fixed-step loops of the numba target, shared by every system and scheme.
 
 :func:`lagrangian.codegen.loops.stepping_module` writes a copy of this text into the
-code cache with the type of the workspace (``WORK``: every scheme's ``workspace()``
-returns the same number of vectors and of matrices, :data:`lagrangian.codegen.steps.
-WORKSPACE_VECTORS`) between the ``generated`` markers, where ``@njit(cache=True)``
-keeps the machine code: the loops are compiled once on a machine, and a system's scheme
-functions (:mod:`.numba_loop`) come in as function pointers, each in a typed list of
-one (a pointer passed from Python is converted at every call, one in a list once).
+code cache, where ``@njit(cache=True)`` keeps the machine code: the loops are compiled
+once on a machine (every scheme's workspace has one type, ``WORK``:
+:class:`lagrangian.codegen.steps.WorkspaceLayout`), and a system's scheme functions
+(:mod:`.numba_loop`) come in as function pointers, each in a typed list of one (a
+pointer passed from Python is converted at every call, one in a list once).
 
-    workspace(lengths, shapes)
+    workspace(size, stack, rows, columns)
 
-is a workspace of a scheme for a system: vectors of the given lengths and matrices of
-the given shapes (:func:`lagrangian.codegen.steps.workspace_sizes`), and
+is a workspace of a scheme for a system: ``size`` entries for its vectors, ``stack``
+matrices of rows x columns, and
 
-    run(lengths, shapes, inits, steppers, w, y0, params, grid, track, stop, save_every,
-        tol, floor, iterations, final, flips, failures, paths, exponents)
+    run(size, stack, rows, columns, inits, steppers, w, y0, params, grid, track, stop,
+        save_every, tol, floor, iterations, final, flips, failures, paths, exponents)
 
 is the ensemble's loop: one member per ``prange`` iteration, each with its own
 workspace; with a displacement of ``w`` entries carried after the state (rk4-tangent),
@@ -34,19 +33,17 @@ from numba import njit, prange, types
 from numba.typed import List
 
 _1D = types.float64[::1]
-_2D = types.float64[:, ::1]
 _INTS = types.int64[::1]
 
-# -- generated: begin (the workspace: codegen.steps.WORKSPACE_VECTORS, _MATRICES) -------
-WORK = types.Tuple((_1D, _2D))
+#: A scheme's workspace (codegen.steps.WorkspaceLayout): its vectors in one buffer, its
+#: matrices in one stack, the same type for every scheme.
+WORK = types.Tuple((_1D, types.float64[:, :, ::1]))
 
 
 @njit(cache=True)
-def workspace(lengths, shapes):  # pragma: no cover - compiled by numba
-    return (np.empty(lengths[0]), np.empty((shapes[0, 0], shapes[0, 1])))
+def workspace(size, stack, rows, columns):  # pragma: no cover - compiled by numba
+    return np.empty(size), np.empty((stack, rows, columns))
 
-
-# -- generated: end ------------------------------------------------------------------
 
 #: init(t, y, p, work, counts) and step(t, h, y, p, work, tol, floor, iterations, counts)
 #: -> code: the types a scheme's functions are called as.
@@ -81,8 +78,8 @@ def steppers(function):  # pragma: no cover - compiled by numba
 # -- the loop over members -----------------------------------------------------------
 @njit(parallel=True, cache=True)
 def run(
-    lengths, shapes, inits, steppers, w, y0, params, grid, track, stop, save_every, tol,
-    floor, iterations, final, flips, failures, paths, exponents,
+    size, stack, rows, columns, inits, steppers, w, y0, params, grid, track, stop,
+    save_every, tol, floor, iterations, final, flips, failures, paths, exponents,
 ):  # pragma: no cover - compiled by numba  # fmt: skip
     init, step = inits[0], steppers[0]
     count, m = y0.shape
@@ -96,7 +93,7 @@ def run(
             y[m + i] = 1.0 / math.sqrt(w)
         stretch = 0.0
         p = params[b]
-        work = workspace(lengths, shapes)
+        work = workspace(size, stack, rows, columns)
         counts = np.zeros(3, dtype=np.int64)
         flip = np.nan
         failure = -1

@@ -693,23 +693,53 @@ class CStepPrinter(StepPrinter):
 #: 23.4 -> 10.4; runs: the double pendulum's spectrum 1.11 -> 0.91 s, the ensembles' steps
 #: 13-29% slower (one call a step, where the inlined step had none).
 LEAN = "@njit(cache=True, _nrt=False)"
-#: The numba workspace of every scheme: this many vectors, then this many matrices (the
-#: unused ones empty), so that it has one type and the loops that take the steps
-#: (:mod:`lagrangian.codegen.numba_stepping`) are compiled once for all schemes.
-WORKSPACE_VECTORS, WORKSPACE_MATRICES = 12, 4
 
 
-def workspace_sizes(scheme: Scheme) -> tuple[list[int], list[list[int]]]:
-    """The lengths of the numba workspace's vectors and the shapes of its matrices, the
-    scheme's arrays in their order and the unused slots empty (see WORKSPACE_VECTORS)."""
-    arrays = [*scheme.kept, *scheme.scratch]
-    lengths = [shape[0] for _, shape in arrays if len(shape) == 1]
-    shapes = [list(shape) for _, shape in arrays if len(shape) == 2]
-    if len(lengths) > WORKSPACE_VECTORS or len(shapes) > WORKSPACE_MATRICES:
-        raise ValueError(f"the {scheme.name} scheme's arrays do not fit the numba workspace")
-    lengths += [0] * (WORKSPACE_VECTORS - len(lengths))
-    shapes += [[0, 0]] * (WORKSPACE_MATRICES - len(shapes))
-    return lengths, shapes
+@dataclass(frozen=True)
+class WorkspaceLayout:
+    """Where a scheme's arrays lie in the numba workspace, which has one type for every
+    scheme (so the loops that take the steps, :mod:`lagrangian.codegen.numba_stepping`, are
+    compiled once): ``(vectors, matrices)``, one buffer of ``size`` entries holding every
+    vector one after the other, and a stack of shape ``stack`` holding the matrices.
+    ``places``: each array's name -> its slice of ``vectors`` or its index in ``matrices``."""
+
+    size: int
+    stack: tuple[int, int, int]
+    places: dict[str, slice | int]
+
+    def views(self, work: tuple) -> dict:
+        """Name -> the array, in a workspace ``(vectors, matrices)`` made by Python."""
+        vectors, matrices = work
+        return {
+            name: vectors[place] if isinstance(place, slice) else matrices[place]
+            for name, place in self.places.items()
+        }
+
+    def unpacked(self, indent: str) -> list[str]:
+        """The lines that name the arrays of ``work`` in the printed functions."""
+        lines = [f"{indent}vectors, matrices = work"]
+        for name, place in self.places.items():
+            where = (f"vectors[{place.start}:{place.stop}]" if isinstance(place, slice)
+                     else f"matrices[{place}]")  # fmt: skip
+            lines.append(f"{indent}{name} = {where}")
+        return lines
+
+
+def workspace_layout(scheme: Scheme) -> WorkspaceLayout:
+    """The :class:`WorkspaceLayout` of ``scheme``'s kept and scratch arrays."""
+    places: dict[str, slice | int] = {}
+    size, shapes = 0, []
+    for name, shape in [*scheme.kept, *scheme.scratch]:
+        if len(shape) == 1:
+            places[name] = slice(size, size + shape[0])
+            size += shape[0]
+        else:
+            places[name] = len(shapes)
+            shapes.append(tuple(shape))
+    if len(set(shapes)) > 1:
+        raise ValueError(f"the {scheme.name} scheme's matrices differ in shape: {set(shapes)}")
+    rows, columns = shapes[0] if shapes else (0, 0)
+    return WorkspaceLayout(size, (len(shapes), rows, columns), places)
 
 
 class NumbaStepPrinter(StepPrinter):
@@ -770,34 +800,24 @@ class NumbaStepPrinter(StepPrinter):
     def scheme(self, scheme: Scheme) -> str:
         """The three module-level functions (numba, cached on disk)."""
         name = scheme.name
-        arrays = [*scheme.kept, *scheme.scratch]
-        lengths, shapes = workspace_sizes(scheme)
-        allocations = ", ".join(
-            [f"np.empty({length})" for length in lengths]
-            + [f"np.empty({shape})" for shape in (tuple(s) for s in shapes)]
-        )
-        vectors = [a for a, shape in arrays if len(shape) == 1]
-        matrices = [a for a, shape in arrays if len(shape) == 2]
-        slots = {a: i for i, a in enumerate(vectors)}
-        slots.update({a: WORKSPACE_VECTORS + j for j, a in enumerate(matrices)})
-        names = ", ".join(a for a, _ in arrays)
-        unpack = f"    {names}, = {', '.join(f'work[{slots[a]}]' for a, _ in arrays)},"
+        layout = workspace_layout(scheme)
+        unpack = layout.unpacked("    ")
         cover = "  # pragma: no cover - compiled by numba"
         return "\n".join([
             "@njit(cache=True)",
             f"def {name}_workspace():{cover}",
-            f"    return ({allocations},)",
+            f"    return np.empty({layout.size}), np.empty({layout.stack})",
             "",
             "",
             "@njit(cache=True)",
             f"def {name}_init(t, y, p, work, counts):{cover}",
-            unpack,
+            *unpack,
             *(self.block(scheme.init, 1) or ["    pass"]),
             "",
             "",
             LEAN,
             f"def {name}_step(t, h, y, p, work, tol, floor, iterations, counts):{cover}",
-            unpack,
+            *unpack,
             *self.block(scheme.step, 1),
             "",
         ])  # fmt: skip

@@ -127,15 +127,17 @@ def printed_step(functions: MidpointFunctions, fingerprint: str, stall: float):
     import hashlib
 
     from ..codegen.cache import load_text
-    from ..codegen.steps import NumbaStepPrinter, elimination, scheme_program
+    from ..codegen.steps import NumbaStepPrinter, elimination, scheme_program, workspace_layout
 
     printer = NumbaStepPrinter(functions.n)
-    scheme = printer.scheme(scheme_program("midpoint", functions.n, stall=stall))
+    program = scheme_program("midpoint", functions.n, stall=stall)
+    scheme = printer.scheme(program)
     eliminate = printer.function(elimination(functions.n))
     text = _TEXT.format(fingerprint=fingerprint, eliminate=eliminate, scheme=scheme)
     module = load_text(hashlib.sha256(text.encode()).hexdigest(), text)
     for name in ("momenta", "momenta_force", "mass", "jacobian"):
         setattr(module, name, getattr(functions, name))
+    module.layout = workspace_layout(program)  # where its workspace keeps what
     return module
 
 
@@ -159,7 +161,8 @@ def step_one(
     n = functions.n
     module = functions.step
     workspace = module.midpoint_workspace()
-    kept, velocity, started = workspace[:3]
+    views = module.layout.views(workspace)
+    kept, velocity, started = views["kept"], views["last"], views["started"]
     kept[:] = p
     velocity[:] = y[n:] if last is None else last
     started[0] = 0.0 if last is None else 1.0
