@@ -1,0 +1,66 @@
+"""is_zero: a nonzero value at a point decides "not zero" without simplifying; a zero is
+still proved by simplification, never by numbers alone."""
+
+from __future__ import annotations
+
+import pytest
+import sympy
+
+from lagrangian import algebra
+from lagrangian.algebra import is_zero, nonzero_at_a_point
+
+x, y = sympy.symbols("x y", real=True)
+m, length = sympy.symbols("m l", positive=True)
+k = sympy.Symbol("k", negative=True)
+
+IDENTITIES = [
+    sympy.sin(x) ** 2 + sympy.cos(x) ** 2 - 1,
+    m * sympy.sin(2 * x) - 2 * m * sympy.sin(x) * sympy.cos(x),
+    m * (x + 1) - m * x - m,
+    sympy.cos(x) ** 2 - (1 + sympy.cos(2 * x)) / 2,
+    sympy.tan(x) * sympy.cos(x) - sympy.sin(x),
+    sympy.Abs(m * length) - m * length,  # the signs: m, l > 0
+    sympy.sqrt(k**2) + k,  # k < 0
+    sympy.Integer(0),
+    sympy.Float(0.0),
+]
+
+
+@pytest.mark.parametrize("expr", IDENTITIES, ids=str)
+def test_an_identity_is_never_called_nonzero(expr):
+    assert not nonzero_at_a_point(expr)
+    assert is_zero(expr)
+
+
+def test_a_nonzero_expression_is_decided_without_simplifying(monkeypatch):
+    # the force gradient of a top in Tait-Bryan angles: trigsimp took seconds to give up
+    gradient = m * length**2 * (
+        sympy.sin(x) * sympy.cos(x) * sympy.cos(y) ** 2 - sympy.sin(x) * sympy.cos(y)
+    ) + m * sympy.sin(y) ** 2 * sympy.cos(x)
+
+    def no_simplifying(*arguments, **options):
+        raise AssertionError("simplified")
+
+    monkeypatch.setattr(algebra, "tidy", no_simplifying)
+    assert nonzero_at_a_point(gradient)
+    assert not is_zero(gradient)
+
+
+@pytest.mark.parametrize(
+    "expr",
+    [
+        sympy.Function("A")(x, y) - sympy.Function("A")(y, x),  # an unspecified function
+        1 / (sympy.sin(x) - sympy.sin(x)),  # undefined everywhere
+        sympy.sqrt(-m),  # not real at any point of m's domain
+    ],
+    ids=str,
+)
+def test_what_cannot_be_evaluated_is_left_to_simplification(expr):
+    assert not nonzero_at_a_point(expr)
+
+
+def test_the_point_is_the_same_in_every_run():
+    values = {s: algebra._probe_value(s) for s in (x, y, m, length, k)}
+    assert values[k] < 0 < min(values[m], values[length])
+    assert values == {s: algebra._probe_value(s) for s in (x, y, m, length, k)}
+    assert values[x] != values[y]
