@@ -288,9 +288,14 @@ def nonzero_at_a_point(expr: sympy.Expr) -> bool:
     then decides by simplifying."""
     if not isinstance(expr, sympy.Expr) or expr.has(sympy.Derivative, AppliedUndef):
         return False
+    if exceeds(expr, TIDY_MAX_NODES):  # linear in the size, but not unbounded
+        return False
     point = {symbol: _probe_value(symbol) for symbol in expr.free_symbols}
-    try:
-        coarse, fine = (expr.evalf(digits, subs=point) for digits in (30, 50))
+    try:  # Floats substituted: each node evaluated once at that precision
+        coarse, fine = (
+            expr.xreplace({s: sympy.Float(v, digits) for s, v in point.items()}).evalf(digits)
+            for digits in (30, 50)
+        )
     except (TypeError, ValueError, ZeroDivisionError, ArithmeticError):
         return False
     if not (fine.is_Float and coarse.is_Float) or fine == 0 or not fine.is_finite:
