@@ -305,10 +305,8 @@ def nonzero_at_a_point(expr: sympy.Expr) -> bool:
 
 def _probe_value(symbol: sympy.Symbol) -> sympy.Rational:
     """A value of ``symbol``'s sign, between 1/2 and 3/2 in size, the same in every run."""
-    size = sympy.Rational(500 + int(hashlib.sha256(symbol.name.encode()).hexdigest()[:6], 16)
-                          % 1000, 1000)  # fmt: skip
-    if symbol.is_integer:
-        size = sympy.Integer(2)
+    spread = int(hashlib.sha256(symbol.name.encode()).hexdigest()[:6], 16) % 1000
+    size = sympy.Integer(2) if symbol.is_integer else sympy.Rational(500 + spread, 1000)
     return -size if symbol.is_negative or symbol.is_nonpositive else size
 
 

@@ -23,7 +23,7 @@ from types import ModuleType
 from .cache import built, filled_template, load_text
 from .forms import SymbolicForms
 from .schemes import MATRICES, scheme_expressions, scheme_scalars
-from .steps import NumbaStepPrinter, scheme_program, workspace_layout
+from .steps import NumbaStepPrinter, WorkspaceLayout, scheme_program, workspace_layout
 
 #: The generated fillers each scheme's loop calls (see numba_loop's globals).
 _FILLERS = {
@@ -47,7 +47,9 @@ class SteppingLoop:
     ``workspace()``, ``init(...)``, and ``run(...)`` and ``advance(...)`` with the
     arguments after the function pointers."""
 
-    def __init__(self, loops: ModuleType, system: ModuleType, layout, carried: int):
+    def __init__(
+        self, loops: ModuleType, system: ModuleType, layout: WorkspaceLayout, carried: int
+    ):
         self.loops, self.system = loops, system
         self.init = system.init
         self._sizes = (layout.size, *layout.stack)
