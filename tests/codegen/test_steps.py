@@ -8,7 +8,13 @@ import numpy as np
 import pytest
 
 from lagrangian.codegen.c import CPrinter
-from lagrangian.codegen.steps import CStepPrinter, NumbaStepPrinter, elimination, scheme_program
+from lagrangian.codegen.steps import (
+    CStepPrinter,
+    NumbaStepPrinter,
+    elimination,
+    scheme_program,
+    workspace_layout,
+)
 from lagrangian.integrate import tableaus
 
 METHODS = ["rk4", "midpoint", "stormer-verlet"]
@@ -48,7 +54,7 @@ def test_printed_python_steps_an_oscillator(method):
     printer = NumbaStepPrinter(1)  # our own printed text, no model text:
     exec(printer.function(elimination(1)) + "\n" + printer.scheme(program), namespace)
     name = program.name
-    work = namespace[f"{name}_workspace"]()
+    work = workspace_layout(program).allocated()
     y, h = np.array([1.0, 0.0]), 0.01
     counts = np.zeros(3, dtype=np.int64)
     namespace[f"{name}_init"](0.0, y, None, work, counts)

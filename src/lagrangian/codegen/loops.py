@@ -38,7 +38,7 @@ _SELECTED = {
 #: Displacement entries carried with each member's state (``W`` of the template).
 _CARRIED = {"rk4-tangent": 2}
 _SCHEME_BEGIN, _SCHEME_END = "# -- scheme: begin", "# -- scheme: end"
-_SELECTION = "workspace, init, step = rk4_workspace, rk4_init, rk4_step"
+_SELECTION = "init, step = rk4_init, rk4_step"
 
 
 class SteppingLoop:
@@ -106,7 +106,7 @@ def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> St
     printed = NumbaStepPrinter(forms.n).scheme(program)
     text = "\n".join([before.rstrip("\n"), "", "", printed, "", after.lstrip("\n")])
     chosen = _SELECTED[scheme]
-    selection = f"workspace, init, step = {chosen}_workspace, {chosen}_init, {chosen}_step"
+    selection = f"init, step = {chosen}_init, {chosen}_step"
     text = text.replace(_SELECTION, selection)
     system = load_text(hashlib.sha256(text.encode()).hexdigest(), text)
     layout = workspace_layout(program)

@@ -16,7 +16,6 @@ Stormer-Verlet; ``mass_force`` and ``tangent`` for rk4-tangent).  The scheme, fo
 member's state, is printed from :mod:`lagrangian.codegen.steps` (the same program the
 CUDA kernel prints as C):
 
-    workspace()                       the arrays the scheme keeps and works in
     init(t, y, p, work, counts)       the scheme's state at the first step
     step(t, h, y, p, work, tol, floor, iterations, counts) -> int
                                       y (2n,) advanced by h in place; 0, or
@@ -45,11 +44,6 @@ mass_force = momenta = momenta_force = mass = jacobian = gradient = tangent = No
 
 # -- scheme: begin (each generated module has its scheme, printed by codegen.steps) -------
 @njit(cache=True)
-def rk4_workspace():  # pragma: no cover - compiled by numba
-    return ()
-
-
-@njit(cache=True)
 def rk4_init(t, y, p, work, counts):  # pragma: no cover - compiled by numba
     pass
 
@@ -63,4 +57,4 @@ def rk4_step(t, h, y, p, work, tol, floor, iterations, counts):  # pragma: no co
 
 
 # -- the scheme (each generated module selects its own) --------------------------------
-workspace, init, step = rk4_workspace, rk4_init, rk4_step
+init, step = rk4_init, rk4_step

@@ -14,9 +14,10 @@ The printers turn them into text:
 - :class:`CStepPrinter`: the ``lg_state`` struct and the ``__device__`` functions
   ``lg_init`` and ``lg_step`` of the CUDA kernel (:mod:`lagrangian.ensemble.cuda_source`),
   and the solve (:func:`lagrangian.codegen.c.gaussian_elimination`, ``lg_solve``);
-- :class:`NumbaStepPrinter`: ``eliminate``, ``<scheme>_workspace``, ``<scheme>_init`` and
-  ``<scheme>_step`` for the numba loops (:mod:`lagrangian.codegen.numba_loop`: the
-  ensemble's and the single run's), counting evaluations;
+- :class:`NumbaStepPrinter`: ``eliminate``, ``<scheme>_init`` and ``<scheme>_step`` (their
+  workspace laid out by :func:`workspace_layout`) for the numba loops
+  (:mod:`lagrangian.codegen.numba_loop`: the ensemble's and the single run's), counting
+  evaluations;
 - the JavaScript target's printer of the solve
   (:class:`lagrangian.codegen.javascript.JavaScriptStepPrinter`).
 
@@ -36,6 +37,8 @@ import math
 import re
 from dataclasses import dataclass
 from typing import ClassVar
+
+import numpy as np
 
 # -- expressions ---------------------------------------------------------------------------
 
@@ -707,8 +710,13 @@ class WorkspaceLayout:
     stack: tuple[int, int, int]
     places: dict[str, slice | int]
 
+    def allocated(self) -> tuple:
+        """A workspace ``(vectors, matrices)`` made by NumPy (the numba loops make theirs
+        with the same sizes)."""
+        return np.empty(self.size), np.empty(self.stack)
+
     def views(self, work: tuple) -> dict:
-        """Name -> the array, in a workspace ``(vectors, matrices)`` made by Python."""
+        """Name -> the array, in a workspace ``(vectors, matrices)``."""
         vectors, matrices = work
         return {
             name: vectors[place] if isinstance(place, slice) else matrices[place]
@@ -743,9 +751,9 @@ def workspace_layout(scheme: Scheme) -> WorkspaceLayout:
 
 
 class NumbaStepPrinter(StepPrinter):
-    """The scheme as numba Python (see the module): ``<name>_workspace``, ``_init``, ``_step``,
-    which takes a last argument ``counts`` (3 integers: the evaluations of the right-hand
-    side or of L_q' and L_q + Q, of the Jacobians, and the Newton updates)."""
+    """The scheme as numba Python (see the module): ``<name>_init`` and ``_step``, which
+    take a last argument ``counts`` (3 integers: the evaluations of the right-hand side or
+    of L_q' and L_q + Q, of the Jacobians, and the Newton updates)."""
 
     operators: ClassVar[dict[str, str]] = {}
     absolute = "abs"
@@ -798,17 +806,12 @@ class NumbaStepPrinter(StepPrinter):
         ])  # fmt: skip
 
     def scheme(self, scheme: Scheme) -> str:
-        """The three module-level functions (numba, cached on disk)."""
+        """The two module-level functions (numba, cached on disk)."""
         name = scheme.name
         layout = workspace_layout(scheme)
         unpack = layout.unpacked("    ")
         cover = "  # pragma: no cover - compiled by numba"
         return "\n".join([
-            "@njit(cache=True)",
-            f"def {name}_workspace():{cover}",
-            f"    return np.empty({layout.size}), np.empty({layout.stack})",
-            "",
-            "",
             "@njit(cache=True)",
             f"def {name}_init(t, y, p, work, counts):{cover}",
             *unpack,

@@ -160,7 +160,7 @@ def step_one(
     """
     n = functions.n
     module = functions.step
-    workspace = module.midpoint_workspace()
+    workspace = module.layout.allocated()
     views = module.layout.views(workspace)
     kept, velocity, started = views["kept"], views["last"], views["started"]
     kept[:] = p
