@@ -45,6 +45,7 @@ from __future__ import annotations
 
 import atexit
 import contextlib
+import functools
 import hashlib
 import importlib.machinery
 import importlib.util
@@ -148,6 +149,14 @@ def load_text(digest: str, source: object) -> ModuleType:
         _MODULES[str(path)] = module
         _LOADED.add(path)
         return module
+
+
+@functools.cache  # a package file, read once per process (a run's choice asks for its hash)
+def package_text(module_file: Path) -> tuple[str, str]:
+    """(sha256, text) of a numba module of the package that goes into the code cache as it
+    is (the same for every system: compiled once on a machine)."""
+    text = module_file.read_text(encoding="utf-8")
+    return hashlib.sha256(text.encode()).hexdigest(), text
 
 
 def filled_template(template: Path, generated: Sequence[str]) -> tuple[str, str]:

@@ -15,12 +15,11 @@ Importing this module does not import numba.
 
 from __future__ import annotations
 
-import functools
 import hashlib
 from pathlib import Path
 from types import ModuleType
 
-from .cache import built, filled_template, load_text
+from .cache import built, filled_template, load_text, package_text
 from .forms import SymbolicForms
 from .schemes import MATRICES, scheme_expressions, scheme_scalars
 from .steps import NumbaStepPrinter, WorkspaceLayout, scheme_program, workspace_layout
@@ -113,9 +112,7 @@ def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> St
     return SteppingLoop(stepping_module(), system, layout, _CARRIED.get(scheme, 0) * forms.n)
 
 
-@functools.cache
 def stepping_module() -> ModuleType:
     """:mod:`.numba_stepping` in the code cache: one module for every scheme and system
     (numba compiles its loops once on a machine)."""
-    text = Path(__file__).with_name("numba_stepping.py").read_text(encoding="utf-8")
-    return load_text(hashlib.sha256(text.encode()).hexdigest(), text)
+    return load_text(*package_text(Path(__file__).with_name("numba_stepping.py")))

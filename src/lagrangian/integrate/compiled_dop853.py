@@ -39,15 +39,13 @@ Applies to unconstrained systems with derived equations where numba is installed
 
 from __future__ import annotations
 
-import functools
-import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..codegen.cache import built, built_already, filled_template
+from ..codegen.cache import built, built_already, filled_template, package_text
 from ..trajectory import EventRecord
 from .base import IntegrationResult, Run, Status
 from .events import scipy_event
@@ -114,10 +112,8 @@ def method_module() -> ModuleType:
     return load_text(*_method_text())
 
 
-@functools.cache  # the package's file: read once (every run's choice asks method_ready)
 def _method_text() -> tuple[str, str]:
-    text = Path(__file__).with_name("numba_dop853.py").read_text(encoding="utf-8")
-    return hashlib.sha256(text.encode()).hexdigest(), text
+    return package_text(Path(__file__).with_name("numba_dop853.py"))
 
 
 def loop_applies(compiled: CompiledSystem) -> bool:
