@@ -1,5 +1,11 @@
 """Test-wide setup: seeded random number generators and the shared helpers.
 
+Two tiers: ``pytest`` runs the quick one (every test not marked ``slow``, a few minutes on
+two cores); ``pytest --slow`` runs every test, ``pytest -m slow`` the slow tier alone (CI
+runs both tiers).  A test is marked slow when it takes more than about 1.5 s by itself on
+such a machine (``benchmarks/suite_tiers.py`` measures the tiers and lists the tests on the
+wrong side); a file named on the command line runs all its tests.
+
 Every test starts with ``random`` and NumPy's global generator seeded from its
 own node id, so a failure reproduces exactly when the test is run alone; the
 ``rng`` fixture is a ``random.Random`` seeded the same way.  Shared helpers
@@ -20,6 +26,39 @@ import pytest
 TESTS = Path(__file__).resolve().parent
 if str(TESTS) not in sys.path:
     sys.path.insert(0, str(TESTS))
+
+
+def pytest_addoption(parser: pytest.Parser) -> None:
+    parser.addoption(
+        "--slow",
+        action="store_true",
+        help="run the slow tier too (tests marked slow; without it they are deselected)",
+    )
+
+
+def _quick_tier_only(config: pytest.Config) -> bool:
+    return not (config.getoption("--slow") or config.getoption("markexpr"))
+
+
+def pytest_report_header(config: pytest.Config) -> str:
+    if _quick_tier_only(config):
+        return "the quick tier: the tests marked slow are left out (pytest --slow runs them too)"
+    return ""
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    if not _quick_tier_only(config):
+        return
+    named = {
+        Path(argument.split("::")[0]).resolve()
+        for argument in config.args
+        if argument.split("::")[0].endswith(".py")
+    }
+    slow = [i for i in items if i.get_closest_marker("slow") and i.path not in named]
+    if slow:
+        left_out = set(slow)
+        items[:] = [item for item in items if item not in left_out]
+        config.hook.pytest_deselected(items=slow)
 
 
 def _seed_of(request: pytest.FixtureRequest) -> int:

@@ -86,6 +86,9 @@ SMALLER = (
 #: ``lagrangian animate`` lines draw at most this many frames (``--max-frames``; the docs'
 #: runs make up to 500, each drawn by matplotlib): the same command, a shorter film.
 ANIMATION_FRAMES = 50
+#: The commands whose lines are in the slow tier (``pytest --slow``): films, pages and many
+#: motions, seconds each.  Every Python block is too (a fresh interpreter each).
+SLOW_COMMANDS = ("demo", "animate", "page", "ensemble", "bifurcation", "lyapunov", "poincare")
 #: ``python docs/make_images.py [FILTER]`` remakes the pictures (every one: about a
 #: minute; the double pendulum's: half a minute): the test runs it, into a temporary
 #: folder, with this filter instead (the pictures whose name contains it).
@@ -187,8 +190,14 @@ def _shell_lines(blocks) -> list:
                 runs_as = (needed, tuple(shlex.split(_smaller(command), comments=True)))
                 if runs_as not in seen:
                     seen.add(runs_as)
+                    slow = runs_as[1][1] in SLOW_COMMANDS
                     params.append(
-                        pytest.param(needed, command, id=f"{name}:{int(start) + 1 + offset}")
+                        pytest.param(
+                            needed,
+                            command,
+                            id=f"{name}:{int(start) + 1 + offset}",
+                            marks=[pytest.mark.slow] * slow,
+                        )
                     )
     return params
 
@@ -208,6 +217,7 @@ def _readme_model(folder: Path) -> None:
     (folder / "my_model.toml").write_text(toml, encoding="utf-8")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("body", PYTHON)
 def test_python_block_runs(body, tmp_path):
     script = tmp_path / "block.py"

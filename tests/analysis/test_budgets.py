@@ -274,6 +274,7 @@ def test_with_time_enough_nothing_is_undecided():
     assert "phi" in analysis.conservation.cyclic_coordinates
 
 
+@pytest.mark.slow
 def test_asymmetric_top_finishes_with_its_cyclic_angle_and_energy():
     # analyze ran for over 5 minutes (the reduced system's solve for q'').  The steady
     # motions are not asked for: they are not decided within the default 20 s (the whole
@@ -287,6 +288,7 @@ def test_asymmetric_top_finishes_with_its_cyclic_angle_and_energy():
         assert stage in ("Routh reduction", "modes")
 
 
+@pytest.mark.slow
 def test_the_asymmetric_top_with_a_small_budget_says_what_it_did_not_decide():
     analysis = asymmetric_top().analyze(timeout=0.2)
     assert analysis.undecided  # the steady motions need more than 0.2 s
@@ -316,6 +318,7 @@ def _check_hamilton_equations(eom, h, rng, points=2):
             )
 
 
+@pytest.mark.slow
 def test_hamiltonian_of_a_five_link_chain_finishes_and_is_right():
     # 48 s before (dH/dq of M^-1 untidied); now by dH/dq = -dL/dq at q'(q, p)
     eom = chain_pendulum(5).equations_of_motion()

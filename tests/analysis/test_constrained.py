@@ -39,6 +39,7 @@ def test_bead_on_a_parabolic_wire():
     assert sympy.simplify(bottom.multipliers["lambda1"] - m * g) == 0
 
 
+@pytest.mark.slow
 def test_two_masses_on_a_rigid_rod_hanging_from_a_spring():
     # a dumbbell (rod of length d between two masses) hanging vertically from a spring
     system = lg.System.from_particles(

@@ -69,6 +69,7 @@ def test_bead_on_rotating_wire_is_thrown_outward():
     assert rest.modes.stability is Stability.UNSTABLE
 
 
+@pytest.mark.slow
 def test_double_pendulum_has_four_equilibria_only_one_stable():
     found = equilibria(lg.load("double_pendulum").equations_of_motion())
     pi = sympy.pi
@@ -164,6 +165,7 @@ def test_bead_on_rotating_hoop_rises_when_spun_fast(omega):
         assert risen == []
 
 
+@pytest.mark.slow
 def test_transcendental_equilibrium_is_found_numerically():
     system = lg.System.from_lagrangian(
         "m*x_dot**2/2 - k*(x**2/2 - sin(x))",
@@ -178,6 +180,7 @@ def test_transcendental_equilibrium_is_found_numerically():
     assert rest.stable and not rest.modes.closed_form
 
 
+@pytest.mark.slow
 def test_numerical_route_needs_default_values():
     system = lg.System.from_lagrangian("m*x_dot**2/2 - k*(x**2/2 - sin(x))", coordinates=["x"])
     with pytest.raises(lg.ModelError, match="default values for k, m"):
@@ -216,6 +219,7 @@ def test_the_symbolic_solve_forks_quietly_after_jax_started_its_threads():
     assert sorted(round(float(e.point["theta"]), 9) for e in found) == [0.0, round(math.pi, 9)]
 
 
+@pytest.mark.slow
 def test_a_coordinate_singularity_is_not_an_equilibrium():
     # spherical coordinates with a horizontal axis: at theta = 0 the bob is at (l, 0, 0),
     # sideways; G = 0 there only because phi names nothing (issue 22: a gimbal lock)
@@ -236,6 +240,7 @@ def test_a_coordinate_singularity_is_not_an_equilibrium():
         "degenerate there), not an equilibrium" in " ".join(analysis.notes)  # fmt: skip
 
 
+@pytest.mark.slow
 def test_the_singular_points_of_a_top_that_are_at_rest_stay_equilibria():
     # zxz Euler angles are singular at theta = 0 and pi, where the top stands and hangs
     top, hanging = lg.load("heavy_top").equilibria()

@@ -127,6 +127,7 @@ def test_oscillator_in_polar_coordinates_has_theta_degenerate_at_the_centre():
     assert centre.omega_squared == (k / m,) and centre.stable
 
 
+@pytest.mark.slow
 def test_spherical_pendulum_modes_plot(tmp_path, capsys):
     out = tmp_path / "modes.png"
     status = main(["plot", "spherical_pendulum", "--kind", "modes", "--out", str(out)])
@@ -177,6 +178,7 @@ def bent_molecule():
     )
 
 
+@pytest.mark.slow
 def test_a_bent_molecule_found_numerically_is_one_family_with_named_zero_modes():
     system = bent_molecule()
     found = equilibria(system.equations_of_motion(), timeout=1.0)
@@ -216,6 +218,7 @@ def test_a_bent_molecule_found_numerically_is_one_family_with_named_zero_modes()
     )
 
 
+@pytest.mark.slow
 def test_complex_branches_of_a_family_are_not_equilibria():
     # V = k r^4/4 for a pair: x1 = x2 + i (y1 - y2) solves G = 0 but is no real configuration
     from lagrangian.model import Particle

@@ -122,6 +122,7 @@ def test_nothing_to_reduce():
         reduce(lg.load("central_force").equations_of_motion(), momenta={"p_r": 1.0})
 
 
+@pytest.mark.slow
 def test_heavy_top_routhian_is_tidy():
     # (I1 + M l^2) sin^2 θ, not I1 sin^2 - I3 sin^2 - I3 cos^2 + I3 + M l^2 sin^2 (issue 22):
     # R = ½ (I1 + M l²) θ'² - (p_φ - p_ψ cos θ)²/(2 (I1 + M l²) sin² θ) - p_ψ²/(2 I3) - M g l cos θ

@@ -225,6 +225,7 @@ def mechanics_linearization(values: dict[str, float], angles: tuple) -> tuple[np
     )
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "angles",
     [(0, 0), (sympy.pi, 0), (0, sympy.pi), (sympy.pi, sympy.pi)],
@@ -390,6 +391,7 @@ def test_constrained_systems_are_refused():
         system.state_space(at={})
 
 
+@pytest.mark.slow
 def test_analyze_state_space_json_and_errors(capsys, tmp_path):
     model = tmp_path / "cart_pole.toml"
     model.write_text(CART_POLE)

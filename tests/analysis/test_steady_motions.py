@@ -67,6 +67,7 @@ def test_constrained_systems_have_equilibria_through_the_system():
     assert not found[l].stable
 
 
+@pytest.mark.slow
 def test_analyze_takes_values_of_the_cyclic_momenta(capsys):
     from lagrangian.cli import ExitStatus, main
 

@@ -15,6 +15,7 @@ def run(capsys, *argv):
     return status, captured.out, captured.err
 
 
+@pytest.mark.slow
 def test_lyapunov_json_has_the_spectrum_and_settings(capsys):
     status, out, _ = run(
         capsys, "lyapunov", "driven_damped_pendulum", "--t-end", "20", "--transient", "5",
@@ -29,6 +30,7 @@ def test_lyapunov_json_has_the_spectrum_and_settings(capsys):
     assert summary["reorthonormalisations"] == 20
 
 
+@pytest.mark.slow
 def test_lyapunov_text_and_plot(capsys, tmp_path):
     picture = tmp_path / "convergence.png"
     status, out, _ = run(
@@ -60,6 +62,7 @@ def test_lyapunov_errors_are_one_line(capsys, argv, message):
     assert len(err.strip().splitlines()) == 1 and out == ""
 
 
+@pytest.mark.slow
 def test_poincare_writes_points_and_picture(capsys, tmp_path):
     table, picture = tmp_path / "points.csv", tmp_path / "section.png"
     status, out, _ = run(
@@ -160,6 +163,7 @@ def test_bifurcation_errors_are_one_line(capsys, argv, message):
     assert len(err.strip().splitlines()) == 1 and out == ""
 
 
+@pytest.mark.slow
 def test_ensemble_lyapunov_map(capsys, tmp_path):
     picture = tmp_path / "map.png"
     status, out, _ = run(

@@ -108,6 +108,7 @@ def _ensemble_backend_missing(backend: str) -> str:
     return ""
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", sorted(ensemble_core.BACKENDS))
 @pytest.mark.parametrize("method", sorted(ensemble_core.METHODS))
 def test_every_ensemble_backend_and_method(capsys, tmp_path, backend, method):

@@ -57,6 +57,7 @@ def test_rotating_wire_follows_cosh(capsys, tmp_path):
         assert float(row["r"]) == pytest.approx(exact, rel=1e-8)
 
 
+@pytest.mark.slow
 def test_netcdf_round_trip(capsys, tmp_path):
     out_file = tmp_path / "run.nc"
     status, _, _ = run(

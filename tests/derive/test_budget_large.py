@@ -19,6 +19,7 @@ def test_large_route_out_of_time_is_a_one_line_model_error(monkeypatch):
         _chain(8).equations_of_motion()
 
 
+@pytest.mark.slow
 def test_large_route_within_its_time_derives():
     eom = _chain(8).equations_of_motion()
     assert eom.mass_matrix.shape == (8, 8)

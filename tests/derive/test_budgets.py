@@ -73,6 +73,7 @@ def _check(system, eom, rng, *, solved=True):
             assert_close(rate, evaluate(forms.bias[k], point), scale=1.0, what="A q'' = beta")
 
 
+@pytest.mark.slow
 def test_leaning_rolling_disc_is_derived_with_its_accelerations():
     system = leaning_disc()
     eom = system.equations_of_motion()
@@ -80,6 +81,7 @@ def test_leaning_rolling_disc_is_derived_with_its_accelerations():
     _check(system, eom, random.Random(3))
 
 
+@pytest.mark.slow
 def test_past_the_readable_budget_the_large_route_gives_the_same_equations(monkeypatch):
     monkeypatch.setattr(euler_lagrange, "READABLE_SECONDS", 1e-4)
     system = leaning_disc()
@@ -88,6 +90,7 @@ def test_past_the_readable_budget_the_large_route_gives_the_same_equations(monke
     _check(system, eom, random.Random(4))
 
 
+@pytest.mark.slow
 def test_past_the_tidying_budget_the_solution_is_untidied_and_right(monkeypatch):
     solve = importlib.import_module("lagrangian.derive.solve")
     calls = []

@@ -100,6 +100,7 @@ def check_chain(n: int, rng: random.Random, count: int) -> None:
                 assert_close(value, reference, rtol=1e-8, scale=1.0, what=f"{name}_ddot")
 
 
+@pytest.mark.slow
 def test_four_link_pendulum(rng):
     """Four coupled coordinates: the accelerations are solved symbolically (LU)."""
     _, eom = derived(4)

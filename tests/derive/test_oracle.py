@@ -435,6 +435,7 @@ def test_spherical_pendulum_in_3d_from_particles(rng):
 
 
 # -- a 3-link pendulum ----------------------------------------------------------------------
+@pytest.mark.slow
 def test_three_link_pendulum_from_particles(rng):
     particles = []
     x_text, y_text = "0", "0"

@@ -160,6 +160,7 @@ def euler_equations_accelerations(
     return {name: float(value) for name, value in zip(coordinates, solution, strict=True)}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("with_time", [False, True], ids=["autonomous", "explicit_t"])
 @SETTINGS
 @given(data=st.data())
@@ -189,6 +190,7 @@ def test_accelerations_agree_with_euler_equations(with_time: bool, data):
             )
 
 
+@pytest.mark.slow
 @settings(
     max_examples=10,
     deadline=None,

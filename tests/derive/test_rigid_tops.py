@@ -125,6 +125,7 @@ def textbook_accelerations(values, state):
     return np.linalg.solve(mass, forcing)
 
 
+@pytest.mark.slow
 def test_heavy_top_equations_equal_the_textbook_lagrangians(heavy_top):
     _, compiled = heavy_top
     rng = random.Random(1)
@@ -190,6 +191,7 @@ def sleeping_threshold(p):
     return np.sqrt(4 * pivot * p["M"] * p["g"] * p["l"]) / p["I3"]
 
 
+@pytest.mark.slow
 def test_upright_spin_is_stable_exactly_above_the_sleeping_top_threshold(sleeping_top):
     system, compiled = sleeping_top
     critical = sleeping_threshold(system.parameter_values)
@@ -223,6 +225,7 @@ def test_a_top_spun_above_the_threshold_stays_up_below_it_falls(factor, stays_up
 
 
 # -- torque-free asymmetric top --------------------------------------------------------
+@pytest.mark.slow
 def test_torque_free_top_obeys_eulers_equations(torque_free_top):
     _, compiled = torque_free_top
     moments = np.array([1.0, 2.0, 3.0])

@@ -105,6 +105,7 @@ def rolling_state(disc, q, yaw, lean, spin) -> dict:
     return point
 
 
+@pytest.mark.slow
 def test_rolling_disc_accelerations_equal_sympy_mechanics(disc):
     compiled, method, _, speeds, constraints = disc
     m, r, g = sympy.symbols("m r g")

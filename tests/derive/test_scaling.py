@@ -197,6 +197,7 @@ OTHER_SYSTEMS = [
 ]  # fmt: skip
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("build", OTHER_SYSTEMS)
 def test_the_large_route_gives_the_readable_equations_of_other_systems(build, rng, monkeypatch):
     """Systems that are not examples: 3-D springs with rest length, time, damping, charges,
@@ -285,6 +286,7 @@ def test_long_closed_forms_of_the_multipliers_are_given_untidied(rng):
             assert_close(rate, evaluate(forms.bias[j], point), scale=1.0, what=f"A q'' = beta, {j}")
 
 
+@pytest.mark.slow
 def test_a_large_constrained_chain_moves_as_the_chain_in_angles():
     """Four particles, eight Cartesian coordinates, four constraints (the large route) against
     the 4-link pendulum in angles: the last bob at t = 2 agrees to the tolerance."""

@@ -12,6 +12,7 @@ import lagrangian as lg
 from lagrangian.errors import ModelError
 
 
+@pytest.mark.slow
 def test_linear_oscillator_has_one_point_per_value_its_steady_state():
     # x'' + b x' + x = A cos(omega t): after the transient x(t_k) = R cos(omega t_k - phi),
     # R = A / sqrt((1 - omega^2)^2 + (b omega)^2): one point per drive, growing with it
@@ -85,6 +86,7 @@ def _driven_oscillator(b: float, omega: float):
     )  # fmt: skip
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("direction", "sign"), [("+", 1.0), ("-", -1.0)])
 def test_section_of_a_linear_oscillator_holds_its_steady_velocity_where_x_is_zero(direction, sign):
     # x'' + b x' + x = A cos(omega t): after the transient x = R cos(omega t - phi), so x
@@ -113,6 +115,7 @@ def test_section_of_a_linear_oscillator_holds_its_steady_velocity_where_x_is_zer
     assert diagram.table().shape == (int(found.sum()), 3)  # the missing crossings left out
 
 
+@pytest.mark.slow
 def test_section_diagram_is_the_same_on_the_numba_backend():
     pytest.importorskip("numba")
     b, omega = 0.3, 0.9

@@ -227,6 +227,7 @@ def test_the_text_names_no_model_symbol(compiled_systems):
     assert 'extern "C"' in text and "__global__ void lg_integrate(" in text
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(shutil.which("nvcc") is None, reason="no CUDA compiler (nvcc)")
 @pytest.mark.parametrize("precision", ["float64", "float32"])
 def test_the_text_compiles_with_nvcc(compiled_systems, tmp_path, precision):

@@ -126,6 +126,7 @@ def test_a_failing_cluster_is_one_line(pendulum, monkeypatch, fail_at, message, 
     assert fake.closed == closed
 
 
+@pytest.mark.slow
 def test_the_local_cluster_leaves_no_scratch_folder(pendulum, tmp_path, monkeypatch):
     import tempfile
 

@@ -114,6 +114,7 @@ def test_cuda_without_a_gpu_says_what_to_install(pendulum1, monkeypatch):
         run_ensemble(pendulum1, initial={"theta": [0.1]}, t_end=1, backend="cuda")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["rk4", "variational"])
 def test_jax_through_run_ensemble_equals_numpy(pendulum2, method):
     pytest.importorskip("jax")
@@ -145,6 +146,7 @@ def test_numba_equals_numpy(pendulum2):
         )
 
 
+@pytest.mark.slow
 def test_dask_equals_numpy(pendulum2):
     pytest.importorskip("distributed")
     options = dict(
@@ -179,6 +181,7 @@ def test_cli_writes_a_map_and_a_dataset(tmp_path, capsys):
     assert "wrote" in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_cli_define_gives_the_unspecified_functions(tmp_path, capsys):
     # V = k r^2 / 2 with A = -y/2, B = x/2: a charge in a uniform field B_z = 1 and a trap
     nc = tmp_path / "run.nc"

@@ -88,6 +88,7 @@ def test_float64_equals_numpy(name, method):
     assert_same(expected, actual, tolerance, tolerance)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["rk4", "variational"])
 def test_float32_is_close_to_float64(method):
     expected, actual = both("forced_rotating_frame", method, precision="float32")
@@ -106,6 +107,7 @@ def test_precision_is_scoped_not_global():
     assert jax.config.read("jax_enable_x64") == previous
 
 
+@pytest.mark.slow
 def test_double_pendulum_in_float32_with_the_midpoint_scheme():
     expected, actual = both("double_pendulum", "variational", t_end=0.5, precision="float32")
     assert_same(expected, actual, 1e-3, 1e-4)
@@ -129,6 +131,7 @@ def test_flip_times_equal_numpy_on_a_grid():
         np.testing.assert_allclose(single["flip_time"], flips, atol=0.011)  # a step at most
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["rk4", "variational"])
 def test_saved_paths_equal_numpy(method):
     expected, actual = both(
@@ -138,6 +141,7 @@ def test_saved_paths_equal_numpy(method):
     assert_same(expected, actual, 1e-12, 1e-12)
 
 
+@pytest.mark.slow
 def test_per_member_parameters_and_a_constrained_system():
     system = compile_equations(lg.load("cartesian_pendulum").equations_of_motion())
     angle = np.linspace(-1.0, 1.0, 4)
@@ -172,6 +176,7 @@ def _loops(system):
     }
 
 
+@pytest.mark.slow
 def test_newton_failure_is_one_line():
     system = compiled("double_pendulum")
     y0, params = members(system, 3), system.parameter_vector()

@@ -20,6 +20,7 @@ def oscillator(b: float) -> lg.System:
     )
 
 
+@pytest.mark.slow
 def test_a_damped_linear_oscillators_exponent_is_minus_half_the_damping():
     # x'' + b x' + x = 0 (b < 2): every solution decays like exp(-b t / 2), so does every
     # displacement; the rotation adds a bounded factor, O(1 / t) to the estimate, so the
@@ -35,6 +36,7 @@ def test_a_damped_linear_oscillators_exponent_is_minus_half_the_damping():
     np.testing.assert_allclose(result["lyapunov"], [-0.05, -0.2, -0.5], atol=1e-2)
 
 
+@pytest.mark.slow
 def test_members_equal_single_runs():
     system = lg.load("henon_heiles")
     starts = np.array([-0.25, -0.1])
@@ -90,6 +92,7 @@ def test_the_ueda_attractors_largest_exponent_is_the_published_one():
     assert exponents.mean() == pytest.approx(0.0999, rel=0.07)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", ["numba", "jax"])
 def test_compiled_backends_give_the_numpy_backends_values(backend):
     # the variational equations printed for numba (codegen.schemes' ``tangent``, the

@@ -101,6 +101,7 @@ def _both(compiled, **options):
     return expected
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(SYSTEMS))
 def test_equals_numpy_with_per_member_parameters(compiled_systems, name):
     compiled = compiled_systems[name]
@@ -171,6 +172,7 @@ def test_constraints_are_refused():
         run_ensemble(disc, t_end=0.1, method="rk4", backend="numba")
 
 
+@pytest.mark.slow
 def test_a_second_process_loads_the_compiled_loop_from_the_cache(tmp_path):
     import os
     import subprocess

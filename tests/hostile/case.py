@@ -29,6 +29,7 @@ class HostileCase:
     output: str = ""  # for exit 0: a regular expression searched in stdout
     warning: str = ""  # a regular expression searched in stderr (warnings with exit 0)
     env: tuple[tuple[str, str], ...] = ()  # extra environment variables ({dir} replaced)
+    slow: bool = False  # seconds of symbolic work: in the slow tier (pytest --slow)
 
     def prepare(self, folder: Path) -> list[str]:
         """Write the case's files into ``folder`` and return the argv to run."""

@@ -44,6 +44,7 @@ CASES = [
         exit_code=0,
         output=r"(?s)Undecided \(out of time.*: not decided within 0\.1 s",
         model=ASYMMETRIC_TOP,
+        slow=True,
     ),
     HostileCase(
         "analyze-asymmetric-top-json-undecided",
@@ -51,6 +52,7 @@ CASES = [
         exit_code=0,
         output=r'"undecided": \[\s*\{\s*"stage": ',
         model=ASYMMETRIC_TOP,
+        slow=True,
     ),
     HostileCase(
         "analyze-timeout-must-be-positive",
@@ -64,6 +66,7 @@ CASES = [
         exit_code=0,
         output=r"Lagrange multipliers",
         model=LEANING_DISC,
+        slow=True,
     ),
 ]
 
@@ -135,5 +138,6 @@ CASES += [
         exit_code=0,
         output=r"H = too long to print; analyze --json gives it",
         model=_dense_coupling(6),
+        slow=True,
     ),
 ]

@@ -27,7 +27,11 @@ def _alarm(signum, frame):
     raise Hung
 
 
-@pytest.mark.parametrize("case", all_cases(), ids=lambda case: case.name)
+@pytest.mark.parametrize(
+    "case",
+    [pytest.param(case, marks=[pytest.mark.slow] * case.slow) for case in all_cases()],
+    ids=lambda case: case.name,
+)
 def test_hostile_case(case, tmp_path, capsys, monkeypatch):
     argv = case.prepare(tmp_path)
     for name, value in case.environment(tmp_path).items():

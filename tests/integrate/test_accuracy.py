@@ -21,6 +21,7 @@ OSCILLATOR_CASES = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("method", "settings", "build", "bound"),
     OSCILLATOR_CASES,
@@ -66,6 +67,7 @@ def test_kepler_orbit_returns_to_its_start_after_one_period():
     assert half.final_state["y"] == pytest.approx(0.0, abs=1e-9)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("method", "orbits", "phase_error"),
     [

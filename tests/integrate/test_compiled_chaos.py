@@ -81,6 +81,7 @@ def test_a_section_crossed_many_times_keeps_every_point():
     np.testing.assert_allclose(points.times, 1.5 * np.pi + 2 * np.pi * np.arange(318), atol=1e-7)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("system", "count"), [(QUARTIC, None), (COUPLED, None), (COUPLED, 2)])
 def test_spectrum_is_scipys(monkeypatch, system, count):
     compiled = compile_equations(system.equations_of_motion(), backend="llvm")

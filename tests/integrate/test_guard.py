@@ -83,6 +83,7 @@ def test_stepping_across_a_singularity_is_a_failure_not_a_success(method):
     assert trajectory.t.tolist() == [0.0, 0.001]  # the output ends before the broken step
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["rk4", "variational"])
 def test_an_infinite_force_stepped_across_breaks_the_work_energy_balance(method):
     # no potential: h = T changes by the work of Q = -k/x^2, which one step across x = 0

@@ -17,6 +17,7 @@ def _energy_error(compiled, result) -> np.ndarray:
     return np.abs(energy - energy[0])
 
 
+@pytest.mark.slow
 def test_energy_error_stays_bounded_over_2e4_steps_while_rk4_drifts():
     compiled = systems.pendulum(theta0=1.0)  # omega h = 0.44: a coarse step
     y0, params = compiled.state_vector(), compiled.parameter_vector()

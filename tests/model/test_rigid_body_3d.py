@@ -110,6 +110,7 @@ def test_euler_rates_equal_the_axial_vector_of_Rt_Rdot(convention):
         assert np.allclose(np.array(matrix.xreplace(point), float), np.array(expected, float))
 
 
+@pytest.mark.slow
 def test_rotation_matrix_form_gives_the_euler_form():
     phi, theta, psi = sympy.symbols("phi theta psi")
     matrix = ACTIVE["z"](phi) * ACTIVE["x"](theta) * ACTIVE["z"](psi)
@@ -128,6 +129,7 @@ def test_rotation_matrix_form_gives_the_euler_form():
         assert np.allclose(accelerations(matrix_form, point), accelerations(euler_form, point))
 
 
+@pytest.mark.slow
 def test_full_tensor_equals_principal_moments_in_the_rotated_frame():
     """Tensor Q D Q^T with orientation R equals moments D with orientation R Q."""
     q = sympy.Matrix([[3, -4, 0], [4, 3, 0], [0, 0, 5]]) / 5  # a rotation about z

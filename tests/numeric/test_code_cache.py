@@ -182,6 +182,7 @@ print(load_text("0123456789abcdef" * 4, TEXT).twice(1.5))
 """
 
 
+@pytest.mark.slow
 def test_a_damaged_numba_index_is_recompiled_not_a_crash(tmp_path):
     pytest.importorskip("numba")
     script = tmp_path / "run.py"
@@ -220,6 +221,7 @@ print(stats[0], sum(stats[1].cache_hits.values()), sum(stats[1].cache_misses.val
 """
 
 
+@pytest.mark.slow
 def test_machine_code_is_vouched_for_when_saved_so_a_process_beside_this_one_loads_it(cache):
     # a second pytest worker, a subprocess or a command run beside a long session: before,
     # the files were listed only at this process's exit, so every other process deleted

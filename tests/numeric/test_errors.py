@@ -153,6 +153,7 @@ def test_jax_missing(monkeypatch):
     )
 
 
+@pytest.mark.slow
 def test_numpy_backend_does_not_import_jax():
     import subprocess
 

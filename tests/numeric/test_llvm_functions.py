@@ -29,6 +29,7 @@ def chain(n: int) -> lg.System:
     )
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     "make",
     [

@@ -25,13 +25,18 @@ from .cases import (
 pytest.importorskip("numba")
 
 UNCONSTRAINED = tuple(name for name in EXAMPLES if name not in CONSTRAINED)
+#: One system of each kind in the quick tier; each other one is a numba compile of seconds.
+QUICK = {"simple_pendulum", "double_pendulum", "driven_damped_pendulum"}
 
 
 def jitted(name: str):
     return compile_equations(equations(name), backend="numba", definitions=DEFINITIONS.get(name))
 
 
-@pytest.mark.parametrize("name", UNCONSTRAINED)
+@pytest.mark.parametrize(
+    "name",
+    [pytest.param(name, marks=[pytest.mark.slow] * (name not in QUICK)) for name in UNCONSTRAINED],
+)
 def test_numba_equals_numpy(name, rng):
     reference, fast = compiled(name), jitted(name)
     assert fast.backend == "numba"
@@ -68,6 +73,7 @@ def test_wrong_state_is_reported_as_by_numpy():
         fast.rhs(0.0, np.zeros(3), params)
 
 
+@pytest.mark.slow
 def test_generated_code_is_cached_on_disk(tmp_path, monkeypatch):
     monkeypatch.setenv("LAGRANGIAN_CACHE", str(tmp_path))
     eom = equations("harmonic_oscillator")
@@ -85,6 +91,7 @@ def test_generated_code_is_cached_on_disk(tmp_path, monkeypatch):
     assert files[0].stat().st_mtime_ns == written
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["double_pendulum", "velocity_dependent_potential"])
 def test_simulate_with_numba_equals_numpy(name, rng):
     reference, fast = compiled(name), jitted(name)

@@ -13,6 +13,7 @@ from numba.core import caching
 from lagrangian.cli import ExitStatus, main
 
 
+@pytest.mark.slow
 def test_a_full_disk_while_numba_saves_its_code_is_a_warning(capsys, tmp_path, monkeypatch):
     def full(self, key, data):
         raise OSError(errno.ENOSPC, "No space left on device")

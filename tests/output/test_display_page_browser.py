@@ -3,11 +3,14 @@ frame) opened in headless Chromium runs the page inside the frame, and nothing o
 
 from __future__ import annotations
 
+import pytest
+
 import lagrangian as lg
 from output.browser import chromium
 from output.test_page import HOSTILE_MODEL, HOSTILE_NAME
 
 
+@pytest.mark.slow
 def test_the_inline_page_runs_in_its_frame(tmp_path):
     shown = lg.loads(HOSTILE_MODEL).page()._repr_html_()
     notebook = tmp_path / "notebook.html"

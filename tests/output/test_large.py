@@ -105,6 +105,7 @@ def test_json_text_is_symengine_form_only_for_large_systems():
     assert is_large(large) and not is_large(small)
 
 
+@pytest.mark.slow
 def test_huge_acceleration_of_a_small_system_reads_back():
     system = chain(4)
     eom = system.equations_of_motion()

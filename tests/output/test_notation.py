@@ -52,6 +52,7 @@ def test_jupyter_display():
     assert r"\ddot{\theta}" in system.equations_of_motion()._repr_latex_()
 
 
+@pytest.mark.slow
 def test_closed_forms_too_long_to_read_are_named_not_printed():
     """The 5-link chain's q''_1 runs to thousands of operations: text and LaTeX say so
     (printing the 6-link's took 20 s and 2.8 MB); JSON keeps every closed form."""

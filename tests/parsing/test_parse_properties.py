@@ -68,6 +68,7 @@ def check(text: str) -> None:
         assert found.functions <= set(NAMESPACE.functions)
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(st.text(max_size=200))
 def test_any_text(text):
@@ -134,6 +135,7 @@ def test_hostile_token_soup(text):
     check(text)
 
 
+@pytest.mark.slow
 @settings(SETTINGS, max_examples=400)
 @given(random_expressions)
 def test_random_expressions_with_constants_anywhere(text):

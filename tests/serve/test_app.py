@@ -76,6 +76,7 @@ def real_client():
 
 
 # -- pages and errors of real models ----------------------------------------------------
+@pytest.mark.slow
 def test_a_good_model_returns_its_page(real_client):
     response = real_client.post("/page", content=OSCILLATOR, headers=SAME_ORIGIN)
     assert response.status_code == 200

@@ -63,6 +63,7 @@ def browser():
         yield browser
 
 
+@pytest.mark.slow
 def test_the_editor_shows_the_error_line_then_the_page(browser, editor_url):
     page = browser.new_page()
     problems: list[str] = []

@@ -127,6 +127,7 @@ def test_mp4_needs_ffmpeg(bob_pendulum, bob_run, tmp_path, monkeypatch):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.slow
 def test_a_model_without_geometry_is_drawn_as_its_coordinates():
     # one dot per coordinate at (q_i, -i), following the run; no rods between them
     system = lg.load("harmonic_oscillator")

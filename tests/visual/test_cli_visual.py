@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from PIL import Image, ImageSequence
 
 from lagrangian.cli import ExitStatus, main
@@ -26,6 +27,7 @@ def drawn(path) -> bool:
     return image.std() > 20 and (np.abs(image - 255).sum(axis=-1) > 60).mean() > 0.01
 
 
+@pytest.mark.slow
 def test_demo_writes_its_files_and_says_where(capsys, tmp_path):
     folder = tmp_path / "demo"
     status, out, err = run(capsys, "demo", "--out-dir", folder)

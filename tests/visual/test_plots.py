@@ -143,6 +143,7 @@ def test_poincare_section_of_two_oscillators_is_exact():
         assert color_mask(near(image, row, column, 1)[None], "C0").any()
 
 
+@pytest.mark.slow
 def test_normal_modes_of_the_double_pendulum():
     """Unit masses and lengths: omega^2 = g (2 -+ sqrt 2), shapes (1, +-sqrt 2)."""
     figure = plot_normal_modes(lg.load("double_pendulum"), {"theta1": 0, "theta2": 0})

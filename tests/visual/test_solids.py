@@ -76,6 +76,7 @@ def test_the_outline_is_the_rotated_body_frame_outline(rng):
     assert solid_pivots(positions) == (0,)
 
 
+@pytest.mark.slow
 def test_a_brick_is_drawn_with_its_corners_where_the_rotation_puts_them():
     system = lg.loads(BOX)
     run = system.simulate(t_end=1.0, n_out=11)
