@@ -85,6 +85,7 @@ def test_every_method_plots_and_animates(capsys, tmp_path, method, command, suff
     assert out.stat().st_size > 0
 
 
+@pytest.mark.slow
 def test_every_run_backend_simulates_the_same_motion(capsys):
     finals = {}
     for backend in sorted(RUN_BACKENDS):

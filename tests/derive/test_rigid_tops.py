@@ -209,6 +209,7 @@ def test_upright_spin_is_stable_exactly_above_the_sleeping_top_threshold(sleepin
         assert (growth < 1e-4) == stable, (factor, growth)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("factor", "stays_up"), [(1.1, True), (0.9, False)])
 def test_a_top_spun_above_the_threshold_stays_up_below_it_falls(factor, stays_up, sleeping_top):
     """Released tilted by 0.02 rad, spinning about its own axis at factor x the threshold

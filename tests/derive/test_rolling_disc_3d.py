@@ -139,6 +139,7 @@ def test_rolling_disc_accelerations_equal_sympy_mechanics(disc):
         assert np.max(np.abs(expected[:5])) > 0.1  # a real test: the disc accelerates
 
 
+@pytest.mark.slow
 def test_a_rolling_disc_keeps_rolling_and_conserves_energy(disc):
     compiled, _, coordinates, speeds, _ = disc
     from lagrangian.integrate import simulate

@@ -53,6 +53,7 @@ TAYLOR = {
 FAST = "numba" if importlib.util.find_spec("numba") else "numpy"
 
 
+@pytest.mark.slow
 def test_driven_pendulum_doubles_its_period_as_published():
     # period 1 at gamma = 1.060, period 2 at 1.078, period 4 at 1.081 (Taylor's
     # Figs. 12.8-12.10 and his table of thresholds)

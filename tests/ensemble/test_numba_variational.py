@@ -113,6 +113,7 @@ def test_equals_numpy_with_per_member_parameters(compiled_systems, name):
     _both(compiled, chunk_size=4, **options)  # a member's parameters follow it into its chunk
 
 
+@pytest.mark.slow
 def test_flip_times_stop_early_and_equal_numpy(compiled_systems):
     compiled = compiled_systems["double_pendulum"]
     initial = {"theta1": [3.5, 0.0, 3.0, 2.0], "theta1_dot": [0.0, 0.0, 3.0, 1.0]}

@@ -46,6 +46,7 @@ def both_sections(monkeypatch, system, **options):
     return ours, theirs
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("section", "direction"),
     [("x = y", "-"), ("x + a*y = 0.1*t", "both")],
