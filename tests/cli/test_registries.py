@@ -139,6 +139,7 @@ def test_every_language_exports(capsys, tmp_path, language):
     assert out.read_text().strip()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("backend", sorted(RUN_BACKENDS))
 def test_every_backend_gives_a_lyapunov_spectrum(capsys, backend):
     summary = json.loads(

@@ -66,6 +66,7 @@ def test_driven_pendulum_doubles_its_period_as_published():
     assert periods == [1, 2, 4]
 
 
+@pytest.mark.slow
 def test_strobe_diagram_is_the_same_on_the_numba_backend():
     pytest.importorskip("numba")
     settings = {

@@ -80,7 +80,11 @@ def assert_same(expected, actual, rtol, atol):
         np.testing.assert_allclose(actual[key], value, rtol=rtol, atol=atol, err_msg=key)
 
 
-@pytest.mark.parametrize("name", list(SYSTEMS))
+@pytest.mark.parametrize(
+    "name",
+    # the pendulums in the quick tier (the midpoint scheme, Stormer-Verlet); the others slow
+    [pytest.param(n, marks=[pytest.mark.slow] * ("pendulum" not in n)) for n in SYSTEMS],
+)
 @pytest.mark.parametrize("method", ["rk4", "variational"])
 def test_float64_equals_numpy(name, method):
     expected, actual = both(name, method)

@@ -122,6 +122,7 @@ def test_flip_times_stop_early_and_equal_numpy(compiled_systems):
     assert flip[0] == 0.0 and np.isnan(flip[1]) and np.all(flip[2:] > 0)
 
 
+@pytest.mark.slow
 def test_saved_paths_equal_numpy(compiled_systems):
     compiled = compiled_systems["double_pendulum"]
     _, _, initial, params = SYSTEMS["double_pendulum"]

@@ -62,6 +62,7 @@ def test_section_points_are_scipys(monkeypatch, section, direction):
     np.testing.assert_allclose(ours.values, theirs.values, rtol=0, atol=1e-8)
 
 
+@pytest.mark.slow
 def test_energy_shell_starts_on_the_section_count_as_scipy_counts_them(monkeypatch):
     # every start lies on x = 0 (g = 0 at t = 0): not a crossing, as for solve_ivp
     ours, theirs = both_sections(

@@ -31,7 +31,11 @@ JAX_EXAMPLES = (
 )
 
 
-@pytest.mark.parametrize("name", JAX_EXAMPLES)
+@pytest.mark.parametrize(
+    "name",
+    # one system in the quick tier; each other one is a JAX trace and compile of seconds
+    [pytest.param(n, marks=[pytest.mark.slow] * (n != "double_pendulum")) for n in JAX_EXAMPLES],
+)
 def test_jax_equals_numpy(name, rng):
     reference = compiled(name)
     traced = compile_equations(equations(name), backend="jax", definitions=DEFINITIONS.get(name))

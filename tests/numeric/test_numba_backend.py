@@ -25,8 +25,8 @@ from .cases import (
 pytest.importorskip("numba")
 
 UNCONSTRAINED = tuple(name for name in EXAMPLES if name not in CONSTRAINED)
-#: One system of each kind in the quick tier; each other one is a numba compile of seconds.
-QUICK = {"simple_pendulum", "double_pendulum", "driven_damped_pendulum"}
+#: One system in the quick tier; each other one is a numba compile of seconds (slow tier).
+QUICK = {"simple_pendulum"}
 
 
 def jitted(name: str):
