@@ -120,3 +120,63 @@ def test_a_pace_is_judged_once_it_has_settled(clock):
         for _ in range(5):
             clock.now += 0.5
             watch(watch.reached + 0.001)
+
+
+class WorkClock:
+    """Seconds that the work moves (the test adds each call's cost); counts its reads."""
+
+    def __init__(self):
+        self.now, self.reads = 0.0, 0
+
+    def __call__(self):
+        self.reads += 1
+        return self.now
+
+
+def _run_until_refused(watch: RunPace, clock: WorkClock, cost) -> int:
+    """Call ``watch`` as a run would, each call costing ``cost(calls)`` of the clock, until
+    it refuses the run; the calls made."""
+    calls = 0
+    with pytest.raises(RunTooLong, match="did not finish within"):
+        while True:
+            watch(calls * 1e-3)
+            calls += 1
+            clock.now += cost(calls)
+    return calls
+
+
+def test_the_clock_is_read_every_few_milliseconds_not_at_every_call():
+    # 5 us of work a call (a small system's right-hand side): half a second is 100,000
+    # calls, of which under 1 % read the clock (2 us of system calls each); the budget
+    # still ends the run within a read's time of it
+    clock = WorkClock()
+    watch = RunPace((0.0, 1e9), seconds=0.5, clock=clock)
+    calls = _run_until_refused(watch, clock, lambda calls: 5e-6)
+    assert calls > 99_000 and clock.reads == watch.reads < calls / 100
+    assert 0.5 < clock.now <= 0.5 + pace.READ_SECONDS
+    # calls that grow 8x dearer (an ensemble's chunks grow so): the stride follows at the
+    # next read, the budget is overshot by 8 reads' time at most (just before it ends)
+    for grown in (99_600, 99_700, 99_777):  # at about 0.498 s
+        clock = WorkClock()
+        watch = RunPace((0.0, 1e9), seconds=0.5, clock=clock)
+        _run_until_refused(
+            watch, clock, lambda calls, grown=grown: 5e-6 * (8 if calls > grown else 1)
+        )
+        assert 0.5 < clock.now <= 0.5 + 8 * pace.READ_SECONDS
+    # a pause between two calls (2 ms here, a compile's seconds elsewhere) adds only itself
+    clock = WorkClock()
+    watch = RunPace((0.0, 1e9), seconds=0.5, clock=clock)
+    calls = _run_until_refused(watch, clock, lambda calls: 5e-6 if calls % 10_000 else 2e-3)
+    assert 0.5 < clock.now <= 0.5 + 2e-3 + pace.READ_SECONDS
+
+
+@pytest.mark.parametrize("every", [1, 3])
+def test_a_clock_moving_a_reads_time_a_call_is_read_at_every_call(clock, every):
+    # the clocks of the tests above and of the ensemble's (moved after each chunk, not at
+    # its steps): every call judged, as if each read the clock
+    watch = RunPace((0.0, 100.0), seconds=10.0)
+    for k in range(1, 301):
+        if k % every == 0:
+            clock.now += pace.READ_SECONDS * every
+        watch(k / 3)
+    assert watch.reads == watch.calls == 300

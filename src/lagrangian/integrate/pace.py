@@ -17,10 +17,24 @@ time reached at every step and ends the run with a :class:`RunTooLong` error
   times the budget: a run that cannot finish is refused in about a second,
   not after the whole budget (an ensemble tells the fraction of its work
   done instead of the time).  The pace is the better of the one since the
-  start and the latest (since the call before), and it is judged once it has
+  start and the latest (since the read before), and it is judged once it has
   settled: not while the latest pace is over ``SETTLING`` times the one
   before (an ensemble's chunks growing past a fixed cost each, a step size
   still growing); the margin allows for a pace that improves further.
+
+Reading the CPU clock costs two system calls (2 us alone, about 10 us inside a
+run: more than a small system's right-hand side), and the watch is told at every
+evaluation of it (benchmarks/README.md, "The run budget reads its clock").  So
+the clock is read at the first call (the budget starts there), then once every
+``stride`` calls: at each read the stride becomes the number of calls that took
+``READ_SECONDS`` of the clock since it last moved, growing at most
+``STRIDE_GROWTH``-fold a read and never past ``MAX_STRIDE``.  Between reads a
+call only keeps ``reached``; the budget and the pace are judged at the reads.
+A budget is overshot by about ``READ_SECONDS``, by more only where the calls
+grow dearer before the next read (up to 8 reads' time when they grow 8-fold, as
+an ensemble's chunks may).  A clock that moves by ``READ_SECONDS`` or more a
+call, on average since it last moved (a compiled loop's chunks, an ensemble's,
+a test's clock), is read at every call.
 """
 
 from __future__ import annotations
@@ -44,6 +58,13 @@ PROBE_SECONDS = 1.0
 PROJECTION = 2.0
 #: A latest pace over this many times the one before is still improving: not judged yet.
 SETTLING = 2.0
+#: Seconds of the clock between two reads of it (the calls in between only keep ``reached``):
+#: the overshoot of a budget, and the reads' cost (10 us each in a run: 0.2 %).
+READ_SECONDS = 5e-3
+#: The most the stride between reads grows from one read to the next.
+STRIDE_GROWTH = 2
+#: The most calls between two reads of the clock.
+MAX_STRIDE = 256
 
 
 class RunTooLong(LagrangianError):
@@ -53,10 +74,11 @@ class RunTooLong(LagrangianError):
 class RunPace:
     """Called with the time reached (often); raises :class:`RunTooLong` past the budget.
 
-    The budget counts from the first call; the pace from the first call past the
+    The budget counts from the first call; the pace from the first read past the
     start time, so a compile on the way (numba's, seconds long) is not mistaken
     for slow stepping.  ``clock``: seconds used so far (None: CPU time,
-    :func:`~lagrangian.budget.cpu_seconds`).
+    :func:`~lagrangian.budget.cpu_seconds`), read every ``stride`` calls (see the
+    module); ``reads`` counts its reads.
     """
 
     def __init__(
@@ -75,15 +97,28 @@ class RunPace:
         self.clock = clock or cpu_seconds
         self.started: float | None = None
         self.moving: tuple[float, float] | None = None  # (clock, t) when t first moved
-        self.last: tuple[float, float] | None = None  # (clock, t) of the call before
-        self.latest = 0.0  # the pace since the call before that (model time / s)
+        self.last: tuple[float, float] | None = None  # (clock, t) of the read before
+        self.latest = 0.0  # the pace since the read before that (model time / s)
         self.reached = self.t0
+        self.calls = self.reads = 0
+        self.stride = 1
+        self.due = 1  # the call that reads the clock next
+        self.anchor: tuple[float, int] | None = None  # (clock, calls) when it last moved
 
     def __call__(self, t: float) -> None:
-        now = self.clock()
+        if t > self.reached:  # max(reached, min(t, t1)), without the builtins' cost; not NaN
+            self.reached = float(t) if t < self.t1 else max(self.reached, self.t1)
+        self.calls += 1
+        if self.calls >= self.due:
+            self._judge(self.clock())
+
+    def _judge(self, now: float) -> None:
+        """Raise :class:`RunTooLong` if the run is over its budget at ``now`` (a read of
+        the clock) or its pace projects a total over ``PROJECTION`` budgets."""
+        self.reads += 1
         if self.started is None:
             self.started = now
-        self.reached = max(self.reached, min(float(t), self.t1))
+        self._next_read(now)
         if self.moving is None and self.reached > self.t0:
             self.moving = (now, self.reached)
         elapsed = now - self.started
@@ -107,8 +142,20 @@ class RunPace:
                 f"more than the {self.seconds:g} s allowed; {self.advice}"
             )
 
+    def _next_read(self, now: float) -> None:
+        """Set the call of the next read: ``READ_SECONDS`` of the clock away at the cost
+        per call since the clock last moved (the stride kept while it has not moved)."""
+        anchor, calls = self.anchor, self.calls
+        if anchor is None or now != anchor[0]:
+            if anchor is not None:
+                per_call = (now - anchor[0]) / (calls - anchor[1])
+                wanted = READ_SECONDS / per_call if per_call > 0 else 1.0
+                self.stride = max(1, min(int(wanted), STRIDE_GROWTH * self.stride, MAX_STRIDE))
+            self.anchor = (now, calls)
+        self.due = calls + self.stride
+
     def _settling(self, now: float) -> bool:
-        """Whether the pace since the call before is over ``SETTLING`` times the one before
+        """Whether the pace since the read before is over ``SETTLING`` times the one before
         it (the pace still improves); keeps the latest pace."""
         last, self.last = self.last, (now, self.reached)
         if last is None or now <= last[0]:
@@ -131,10 +178,14 @@ def _duration(seconds: float) -> str:
 
 def watching(*watchers: Callable[[float], None] | None) -> Callable[[float], None] | None:
     """One watch telling each given watcher (None ones left out) what it is told; None
-    when there is none, so a run without budget or progress bar pays nothing."""
-    present = [w for w in watchers if w is not None]
+    when there is none, so a run without budget or progress bar pays nothing (and a
+    single watcher is itself the watch: no call in between)."""
+    # a RunPace's bound __call__: calling the instance looks __call__ up at every call
+    present = [w.__call__ if isinstance(w, RunPace) else w for w in watchers if w is not None]
     if not present:
         return None
+    if len(present) == 1:
+        return present[0]
 
     def told(reached: float) -> None:
         for watcher in present:
