@@ -29,7 +29,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 
 #: The pytest plugin that records (node id, wall, CPU, slow?) of every test, one file per worker.
-PLUGIN = '''
+PLUGIN = """
 import json, os, resource, time
 import pytest
 
@@ -49,7 +49,7 @@ def pytest_unconfigure(config):
     name = os.environ.get("PYTEST_XDIST_WORKER", "main")
     with open(os.path.join(os.environ["TIERS_OUT"], name + ".json"), "w") as f:
         json.dump(_rows, f)
-'''
+"""
 
 TIERS = {"quick": [], "slow": ["-m", "slow"], "all": ["--slow"]}
 
@@ -79,7 +79,7 @@ def main() -> int:
         rows = [row for part in sorted(out.glob("*.json")) for row in json.loads(part.read_text())]
     cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
     print(done.stdout.strip().splitlines()[-1] if done.stdout.strip() else done.stderr[-2000:])
-    print(f"tier {args.tier}: {wall:.0f} s wall, {cpu:.0f} s CPU (pytest and its children), ")
+    print(f"tier {args.tier}: {wall:.0f} s wall, {cpu:.0f} s CPU (pytest and its children),")
     print(f"  {len(rows)} tests, {sum(r[1] for r in rows):.0f} s of test wall in the workers")
     print(f"\nthe {args.top} slowest (wall, CPU, tier):")
     for nodeid, seconds, used, slow in sorted(rows, key=lambda r: -r[1])[: args.top]:
