@@ -16,9 +16,10 @@ from __future__ import annotations
 import contextlib
 import random
 import signal
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 
 import mpmath
+import pytest
 import sympy
 from sympy.core.function import AppliedUndef
 
@@ -174,6 +175,13 @@ def total_time_derivative(expr: sympy.Expr, coordinates: Sequence[str]) -> sympy
         q, q_dot, q_ddot = sympy.symbols(f"{name} {name}_dot {name}_ddot")
         result += sympy.diff(expr, q) * q_dot + sympy.diff(expr, q_dot) * q_ddot
     return result
+
+
+def slow_where(values: Iterable, is_slow: Callable[[object], bool]) -> list:
+    """``values`` for ``pytest.mark.parametrize``, those where ``is_slow(value)`` marked
+    slow (left out of plain ``pytest``: tests/conftest.py)."""
+    return [pytest.param(value, marks=pytest.mark.slow) if is_slow(value) else value
+            for value in values]  # fmt: skip
 
 
 @contextlib.contextmanager

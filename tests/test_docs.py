@@ -190,13 +190,13 @@ def _shell_lines(blocks) -> list:
                 runs_as = (needed, tuple(shlex.split(_smaller(command), comments=True)))
                 if runs_as not in seen:
                     seen.add(runs_as)
-                    slow = runs_as[1][1] in SLOW_COMMANDS
+                    subcommand = runs_as[1][1]  # lagrangian SUBCOMMAND ...
                     params.append(
                         pytest.param(
                             needed,
                             command,
                             id=f"{name}:{int(start) + 1 + offset}",
-                            marks=[pytest.mark.slow] * slow,
+                            marks=[pytest.mark.slow] * (subcommand in SLOW_COMMANDS),
                         )
                     )
     return params

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import lagrangian as lg
+from helpers import slow_where
 from lagrangian.codegen import cache as code_cache
 from lagrangian.ensemble.chunk import Chunk
 from lagrangian.ensemble.jax_backend import JaxBackend
@@ -83,7 +84,7 @@ def assert_same(expected, actual, rtol, atol):
 @pytest.mark.parametrize(
     "name",
     # the pendulums in the quick tier (the midpoint scheme, Stormer-Verlet); the others slow
-    [pytest.param(n, marks=[pytest.mark.slow] * ("pendulum" not in n)) for n in SYSTEMS],
+    slow_where(SYSTEMS, lambda name: "pendulum" not in name),
 )
 @pytest.mark.parametrize("method", ["rk4", "variational"])
 def test_float64_equals_numpy(name, method):

@@ -13,6 +13,7 @@ import signal
 
 import pytest
 
+from helpers import slow_where
 from hostile.case import all_cases
 from lagrangian.cli import main
 
@@ -29,7 +30,7 @@ def _alarm(signum, frame):
 
 @pytest.mark.parametrize(
     "case",
-    [pytest.param(case, marks=[pytest.mark.slow] * case.slow) for case in all_cases()],
+    slow_where(all_cases(), lambda case: case.slow),
     ids=lambda case: case.name,
 )
 def test_hostile_case(case, tmp_path, capsys, monkeypatch):

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from helpers import slow_where
 from lagrangian.numeric import compile_equations
 
 from .cases import DEFINITIONS, arguments, assert_arrays_close, compiled, equations, point
@@ -34,7 +35,7 @@ JAX_EXAMPLES = (
 @pytest.mark.parametrize(
     "name",
     # one system in the quick tier; each other one is a JAX trace and compile of seconds
-    [pytest.param(n, marks=[pytest.mark.slow] * (n != "double_pendulum")) for n in JAX_EXAMPLES],
+    slow_where(JAX_EXAMPLES, lambda name: name != "double_pendulum"),
 )
 def test_jax_equals_numpy(name, rng):
     reference = compiled(name)

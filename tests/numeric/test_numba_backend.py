@@ -7,6 +7,7 @@ import sys
 import numpy as np
 import pytest
 
+from helpers import slow_where
 from lagrangian.errors import MissingDependencyError
 from lagrangian.integrate import simulate
 from lagrangian.numeric import compile_equations
@@ -35,7 +36,7 @@ def jitted(name: str):
 
 @pytest.mark.parametrize(
     "name",
-    [pytest.param(name, marks=[pytest.mark.slow] * (name not in QUICK)) for name in UNCONSTRAINED],
+    slow_where(UNCONSTRAINED, lambda name: name not in QUICK),
 )
 def test_numba_equals_numpy(name, rng):
     reference, fast = compiled(name), jitted(name)
