@@ -12,6 +12,21 @@ from lagrangian.serve.worker import PageWorker, render
 OSCILLATOR = "m*x_dot**2/2 - k*x**2/2"
 
 
+def chain_text(links: int) -> str:
+    """A model file of a planar chain of ``links`` pendulums (5 links: a minute of CPU
+    for a page, the derivation's and analysis' symbolic work growing fast with links)."""
+    names = ", ".join(f'"theta{i}"' for i in range(1, links + 1))
+    lines = [f'name = "Chain of {links}"', f"coordinates = [{names}]", "", "[parameters]"]
+    lines += [f"m{i} = 1.0\nl{i} = 1.0" for i in range(1, links + 1)] + ["g = 9.81"]
+    x, y = "0", "0"
+    for i in range(1, links + 1):
+        x, y = f"{x} + l{i}*sin(theta{i})", f"{y} - l{i}*cos(theta{i})"
+        lines += ["", "[[particles]]", f'name = "bob{i}"', f'mass = "m{i}"']
+        lines.append(f'position = ["{x}", "{y}"]')
+    lines += ["", "[gravity]", 'g = "g"', "direction = [0, -1]"]
+    return "\n".join(lines) + "\n"
+
+
 def test_render_gives_the_page_or_the_error_line():
     assert render(OSCILLATOR).page.lower().startswith("<!doctype html")
     assert render(OSCILLATOR).error is None
@@ -47,3 +62,63 @@ def test_a_dead_or_stuck_worker_is_replaced_and_pages_are_kept():
     finally:
         worker.close()
     assert worker._process is None
+
+
+def test_a_stage_out_of_time_is_said_and_its_page_marked(monkeypatch):
+    # the page is made with the stage said undecided; the worker must learn that a
+    # deadline ran out (its process is then replaced), and the page is not kept
+    from lagrangian.output import page_content
+
+    monkeypatch.setattr(page_content, "ANALYSIS_SECONDS", 1e-6)
+    rendered = render(OSCILLATOR)
+    assert rendered.error is None
+    assert "not decided within 1e-06 s" in rendered.page
+    assert rendered.timed_out
+    assert not render("m*x_dot**2/2", seconds=60.0).timed_out  # the deadlines restored
+    out_of_time = render(OSCILLATOR, seconds=1e-6)
+    assert out_of_time.page is None and out_of_time.timed_out
+
+
+@pytest.mark.slow
+def test_a_worker_that_ran_out_of_time_is_replaced_before_the_next_edit():
+    # issue 37 item 1: a worker in which a deadline ran out served every later edit
+    # "not decided within 5 s"; now it never serves another: the next edit (the
+    # harmonic oscillator, 0.6 s of CPU) gets a page from a fresh process
+    worker = PageWorker(seconds=2.0)
+    try:
+        worker.start()
+        first = worker._process.pid
+        costly = worker.render(chain_text(5))
+        assert costly.error == (
+            "page: not decided within 2 s: the model is too costly to derive here"
+        )
+        assert worker._process.pid != first  # replaced at once, importing meanwhile
+        page = worker.render(OSCILLATOR)
+        assert page.error is None and "Lagrange" in page.page
+    finally:
+        worker.close()
+
+
+@pytest.mark.slow
+def test_a_worker_killed_during_a_page_is_reported_by_its_signal():
+    # issue 37 item 13: the pipe closes an instant before the process is reaped, and
+    # the message said "exit code None"
+    worker = PageWorker()
+    try:
+        worker.start()
+        connection, process = worker._connection, worker._process
+
+        class KilledOnSend:
+            def __getattr__(self, name):
+                return getattr(connection, name)
+
+            def send(self, text):
+                connection.send(text)
+                os.kill(process.pid, signal.SIGKILL)
+
+        worker._connection = KilledOnSend()
+        killed = worker.render(OSCILLATOR)
+        assert killed.error == "the process making the page was killed (SIGKILL); try again"
+        assert worker._process is None
+    finally:
+        worker.close()

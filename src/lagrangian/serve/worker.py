@@ -7,9 +7,12 @@ main thread runs the whole page within :data:`PAGE_SECONDS` of its CPU time (the
 stages' own budgets inside it), and waits for the answer off the event loop.  A
 worker that has not answered after :data:`WALL_FACTOR` times that in wall time (a
 busy machine stretches CPU seconds), plus :data:`GRACE_SECONDS`, is stuck in code no
-signal interrupts (or stopped): it is killed and replaced; so is one that died.  The
-worker is started with ``spawn``, never ``fork``: the server has threads, and a forked
-copy of a threaded process may hang.
+signal interrupts (or stopped): it is killed and replaced; so is one that died, and so
+is one in which any deadline ran out (the page's, or a stage's inside it): the signal
+and timer state a time-out leaves behind is never trusted with the next edit.  The
+replacement is started at once, and imports the toolkit while the user reads the
+message.  The worker is started with ``spawn``, never ``fork``: the server has threads,
+and a forked copy of a threaded process may hang.
 """
 
 from __future__ import annotations
@@ -42,10 +45,13 @@ _READY = "ready"
 
 @dataclass(frozen=True)
 class Rendered:
-    """The page of a model text, or the one-line error that says why there is none."""
+    """The page of a model text, or the one-line error that says why there is none;
+    ``timed_out``: a deadline ran out while making it (the whole page's, or a stage's
+    whose part the page then says is undecided)."""
 
     page: str | None = None
     error: str | None = None
+    timed_out: bool = False
 
 
 class Renderer(Protocol):
@@ -59,16 +65,18 @@ class Renderer(Protocol):
 def render(text: str, *, seconds: float = PAGE_SECONDS) -> Rendered:
     """The page of the model ``text`` (see :mod:`lagrangian.serve.models`), made within
     ``seconds``; an error the user caused comes back as its line, as the CLI prints it."""
-    from ..output.page import page_html
+    from ..output.page import built_page
     from .models import model_from_text
 
     try:
         with deadline(seconds, "page"):
-            return Rendered(page=page_html(model_from_text(text)))
+            made = built_page(model_from_text(text))
+        return Rendered(page=made.html, timed_out=not made.decided)
     except LagrangianError as error:
         return Rendered(error=_line(str(error)))
     except OutOfTime as error:
-        return Rendered(error=_line(f"{error}: the model is too costly to derive here"))
+        message = f"{error}: the model is too costly to derive here"
+        return Rendered(error=_line(message), timed_out=True)
     except (RecursionError, MemoryError) as error:
         return Rendered(error=_line(f"the model is too large to derive ({type(error).__name__})"))
     except Exception as error:  # a bug of ours: one line, as the CLI says it
@@ -79,8 +87,9 @@ class PageWorker:
     """A worker process that renders model texts, restarted when it hangs or dies.
 
     :meth:`render` blocks (call it from a thread); calls are served one at a time.  The
-    last :data:`PAGES_KEPT` pages are kept, by text (errors are not: they come quickly,
-    and one of being out of time depends on the machine's load).
+    last :data:`PAGES_KEPT` pages are kept, by text (errors are not: they come quickly;
+    nor are pages with a part undecided: being out of time depends on the machine's
+    load).  A worker that ran out of time anywhere is replaced before the next page.
     """
 
     def __init__(self, *, seconds: float = PAGE_SECONDS, grace: float = GRACE_SECONDS):
@@ -90,6 +99,7 @@ class PageWorker:
         self._context = multiprocessing.get_context("spawn")
         self._process = None
         self._connection = None
+        self._ready = False
         self._pages: OrderedDict[str, str] = OrderedDict()
 
     def start(self) -> None:
@@ -116,15 +126,18 @@ class PageWorker:
                     return self._kept(text, self._connection.recv())
                 error = f"page: not made within {waited:g} s; stopped"
             except (EOFError, OSError):
-                code = self._process.exitcode
-                error = f"the process making the page ended (exit code {code}); try again"
+                ended = _how_it_ended(self._process)
+                error = f"the process making the page {ended}; try again"
             except _NotStarted as failure:
                 error = str(failure)
             self._stop()
             return Rendered(error=error)
 
     def _kept(self, text: str, rendered: Rendered) -> Rendered:
-        if rendered.page is not None:
+        if rendered.timed_out:  # a deadline's signal and timer state is not trusted again
+            self._stop()
+            self._spawn()
+        elif rendered.page is not None:
             self._pages[text] = rendered.page
             while len(self._pages) > PAGES_KEPT:
                 self._pages.popitem(last=False)
@@ -136,9 +149,23 @@ class PageWorker:
             self._stop()
 
     def _ensure_started(self) -> None:
-        if self._process is not None and self._process.is_alive():
+        if self._process is None or not self._process.is_alive():
+            self._stop()
+            self._spawn()
+        if self._ready:
             return
-        self._stop()
+        try:
+            self._ready = self._connection.poll(START_SECONDS) and self._connection.recv() == _READY
+        except (EOFError, OSError):
+            self._ready = False
+        if not self._ready:
+            raise _NotStarted(
+                f"the process making the pages did not start within {START_SECONDS:g} s: "
+                f"it {_how_it_ended(self._process)}"
+            )
+
+    def _spawn(self) -> None:
+        """Start a worker process, which says it is ready once it has imported the toolkit."""
         ours, theirs = self._context.Pipe()
         # Not a daemon: the analysis forks children of its own (bounded solves), which a
         # daemonic process may not; the server stops it (close), and it ends by itself
@@ -148,16 +175,7 @@ class PageWorker:
         )
         process.start()
         theirs.close()
-        self._process, self._connection = process, ours
-        try:
-            ready = ours.poll(START_SECONDS) and ours.recv() == _READY
-        except (EOFError, OSError):
-            ready = False
-        if not ready:
-            raise _NotStarted(
-                f"the process making the pages did not start within {START_SECONDS:g} s "
-                f"(exit code {process.exitcode})"
-            )
+        self._process, self._connection, self._ready = process, ours, False
 
     def _stop(self) -> None:
         if self._connection is not None:
@@ -167,6 +185,26 @@ class PageWorker:
             self._process.join(timeout=5)
             self._process.close()
         self._process = self._connection = None
+        self._ready = False
+
+
+def _how_it_ended(process) -> str:
+    """How a worker process that stopped answering ended, said after "the process ...".
+
+    Its pipe closes an instant before the process is reaped: waited for briefly, so that
+    a killed worker is reported as killed, not with an exit code not yet known.
+    """
+    process.join(timeout=5)
+    code = process.exitcode
+    if code is None:
+        return "is still running but does not answer"
+    if code < 0:
+        try:
+            name = signal.Signals(-code).name
+        except ValueError:
+            name = f"signal {-code}"
+        return f"was killed ({name})"
+    return f"ended (exit code {code})"
 
 
 def _serve(connection, seconds: float) -> None:
