@@ -68,3 +68,8 @@ assert StateSpace._repr_latex_.__name__ == "_state_space_latex"
 assert Trajectory.plot.__name__ == "_plot"
 """
     _loaded_after(code)  # check=True: an assertion that fails fails the run
+
+
+def test_the_command_line_does_not_load_the_unit_library():
+    """pint is read only for a model with units (issue 31): the start-up stays as it was."""
+    assert "pint" not in _loaded_after("import lagrangian.cli")

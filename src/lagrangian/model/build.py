@@ -49,6 +49,7 @@ from .spec import (
     expression_fields,
 )
 from .system import FunctionDeclaration, Parameter, System
+from .units import dimensioned, has_units, read_units
 from .values import check_masses
 
 __all__ = ["ModelSpec", "build_system"]
@@ -68,6 +69,9 @@ def build_system(spec: ModelSpec) -> System:
     """
     try:
         check_size(spec)
+        given, declared = spec, None
+        if has_units(spec):  # a model without units reads none (and imports no pint)
+            spec, declared = read_units(spec)
         system, undecided = attempt("model", BUILD_SECONDS, _Builder(spec).build)
         if undecided is not None:
             raise ModelError(
@@ -75,7 +79,9 @@ def build_system(spec: ModelSpec) -> System:
                 "too costly to assemble"
             )
         check_masses(system)
-        return system
+        if declared is not None:
+            system = dimensioned(system, spec, declared)
+        return replace(system, spec=given)
     except ModelError as error:
         raise error.located(source=spec.source) from None
 

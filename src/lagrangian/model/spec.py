@@ -23,7 +23,8 @@ class ModelSpec:
 
     ``parameters`` maps a name to its default value (``None`` for none) or to
     ``{"value": v, "sign": "real"}``; a plain sequence of names declares
-    parameters without values; ``None`` takes every undeclared name used in the
+    parameters without values; a value may be text with a unit (``"50 cm"``, see
+    :mod:`.units`; ``units`` maps names to units); ``None`` takes every undeclared name used in the
     expressions as a positive parameter (Python API only; model files must
     declare their parameters).  ``inputs`` maps an input's name to a coordinate
     name or to {coordinate: generalized force} (see :mod:`.inputs`).
@@ -46,6 +47,7 @@ class ModelSpec:
     inputs: Mapping[str, object] = field(default_factory=dict)  # see .inputs
     initial: Mapping[str, float] = field(default_factory=dict)
     simulate: Mapping[str, object] = field(default_factory=dict)
+    units: Mapping[str, str] = field(default_factory=dict)  # see .units
     name: str = ""
     description: str = ""
     source: str | None = None

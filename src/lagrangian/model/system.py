@@ -15,6 +15,8 @@ from .components import ExprLike, Gravity, Particle, RigidBody, RigidBody2D, Spr
 
 if TYPE_CHECKING:
     from .inputs import Input
+    from .spec import ModelSpec
+    from .units import Units
 
 PARAMETER_SIGNS = ("positive", "nonnegative", "real", "negative")
 
@@ -60,6 +62,10 @@ class System:
     ``inputs`` (:mod:`lagrangian.model.inputs`) are named signals whose generalized
     forces are included in ``forces``; each is also a real parameter, default 0.
 
+    ``units`` (:mod:`lagrangian.model.units`) is None for a model without units; for a
+    dimensioned one it holds the dimension of every name (values are in SI base units).
+    ``spec`` is what the model was built from (None when it was made otherwise).
+
     This is the data of the model layer: it derives, analyses and simulates nothing.
     ``lagrangian.System`` (:mod:`lagrangian.facade`, above every layer) is this class
     with the convenient methods ``equations_of_motion``, ``simulate``, ``equilibria``, ...
@@ -86,6 +92,8 @@ class System:
     simulate_settings: Mapping[str, object] = field(default_factory=dict)
     description: str = ""
     source: str | None = None
+    units: Units | None = None
+    spec: ModelSpec | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         for name in ("forces", "initial", "simulate_settings"):

@@ -36,7 +36,7 @@ TOP_LEVEL_KEYS = frozenset(
         "name", "description", "coordinates", "parameters", "lagrangian", "kinetic",
         "potential", "particles", "bodies", "springs", "gravity", "forces",
         "conservative_forces", "dissipation", "constraints", "functions", "initial",
-        "simulate", "inputs",
+        "simulate", "inputs", "units",
     }
 )  # fmt: skip
 SIMULATE_KEYS = frozenset({"t_end", "dt", "rtol", "atol", "method", "steps"})
@@ -173,6 +173,7 @@ def _spec(data: Mapping[str, object], source: str | None) -> ModelSpec:
         inputs=_table(data, "inputs"),
         initial=_table(data, "initial"),
         simulate=simulate,
+        units=_table(data, "units"),
         source=source,
     )
 

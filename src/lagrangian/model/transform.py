@@ -107,6 +107,8 @@ def change_coordinates(
     return replace(
         system,
         name=name or system.name,
+        units=None,  # the new coordinates' units are not known
+        spec=None,
         coordinates=new,
         parameters=parameters,
         lagrangian=move(system.lagrangian),

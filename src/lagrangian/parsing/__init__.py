@@ -9,10 +9,17 @@ bounded by :class:`ParseLimits`, so no input can hang or exhaust the machine.
     Namespace(symbols={name: sympy.Expr}, functions={name: DeclaredFunction})
     parse_expression(text, namespace, limits=DEFAULT_LIMITS) -> sympy.Expr
     referenced_names(text, limits=DEFAULT_LIMITS) -> ReferencedNames
+    syntax_tree(text) -> Node, token_ends(text) -> {start: end}   (the text as written)
     BUILTIN_FUNCTIONS, BUILTIN_CONSTANTS, RESERVED_NAMES, ParseLimits, DEFAULT_LIMITS
 """
 
-from lagrangian.parsing.expression import ReferencedNames, parse_expression, referenced_names
+from lagrangian.parsing.expression import (
+    ReferencedNames,
+    parse_expression,
+    referenced_names,
+    syntax_tree,
+    token_ends,
+)
 from lagrangian.parsing.limits import DEFAULT_LIMITS, ParseLimits
 from lagrangian.parsing.names import (
     BUILTIN_CONSTANTS,
@@ -33,4 +40,6 @@ __all__ = [
     "ReferencedNames",
     "parse_expression",
     "referenced_names",
+    "syntax_tree",
+    "token_ends",
 ]

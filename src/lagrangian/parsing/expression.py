@@ -101,6 +101,19 @@ def referenced_names(text: str, limits: ParseLimits = DEFAULT_LIMITS) -> Referen
     return ReferencedNames(frozenset(symbols), frozenset(functions))
 
 
+def syntax_tree(text: str, limits: ParseLimits = DEFAULT_LIMITS) -> Node:
+    """The syntax tree of ``text`` (plain or LaTeX), for a pass that reads the expression
+    as written (the dimension check names a term as the user wrote it)."""
+    return _parse_tree(text, limits)
+
+
+def token_ends(text: str, limits: ParseLimits = DEFAULT_LIMITS) -> dict[int, int]:
+    """Where each token of ``text`` starts -> where it ends (0-based offsets): with the
+    positions of a :func:`syntax_tree`, the span of text a node was written with."""
+    tokens = tokenize_latex(text, limits) if looks_like_latex(text) else tokenize(text, limits)
+    return {token.position: token.position + len(token.text) for token in tokens}
+
+
 _NON_FINITE = (sympy.zoo, sympy.nan, sympy.oo, -sympy.oo)
 
 
