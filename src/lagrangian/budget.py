@@ -34,6 +34,7 @@ import math
 import numbers
 import os
 import signal
+import sys
 import threading
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
@@ -139,60 +140,107 @@ def _can_arm() -> bool:
     return TIMER is not None and threading.current_thread() is threading.main_thread()
 
 
-@contextlib.contextmanager
-def deadline(seconds: float | None, stage: str) -> Iterator[None]:
+class deadline:  # named as the function it was: ``with deadline(seconds, stage)``
     """Raise :class:`OutOfTime` in the guarded block once it has used ``seconds`` of CPU.
 
-    ``None`` (or a thread other than the main one) arms nothing.
+    ``None`` (or a thread other than the main one) arms nothing.  A class rather than a
+    generator: contextlib's ``__exit__`` runs Python code before the generator's
+    ``finally``, and a signal handled there (the error repeating while a large
+    expression is freed) escaped with the timer and handler left behind: the process
+    was killed by SIGPROF once the interpreter reset the handler, and every later
+    deadline in it saw the stale one.  Here ``__exit__`` is never interrupted by its
+    own deadline, and clears it with the signal held back (:func:`_disarmed`).
     """
-    if seconds is None or not _can_arm():
-        yield
-        return
-    now = cpu_seconds()
-    mine = now + max(float(seconds), 0.0)
-    error = OutOfTime(stage, seconds)
-    previous_handler = signal.getsignal(SIGNAL)
-    previous_delay, previous_interval = signal.getitimer(TIMER)
-    outer = now + previous_delay if previous_delay > 0 else None
-    state = {"armed": True, "handed_on": False}
 
-    def expired(signum, frame):
-        if outer is not None and outer < mine:  # the outer timer is the one due: hand it on
-            if state["armed"]:
-                state["handed_on"] = True
-                signal.signal(SIGNAL, previous_handler)
-                if callable(previous_handler):
-                    previous_handler(signum, frame)
-                else:
-                    signal.raise_signal(SIGNAL)
-            return  # else: leaving the block re-arms the outer timer, due at once
-        if state["armed"]:
-            # Again every REPEAT_SECONDS until the block is left: Python runs the handler at
-            # the next bytecode, which may be a gc callback's or a __del__'s, where the
-            # error is printed as unraisable and lost.
-            signal.setitimer(TIMER, REPEAT_SECONDS)
-            raise error
+    def __init__(self, seconds: float | None, stage: str):
+        self.seconds, self.stage = seconds, stage
+        self.armed = self.entered = False  # raising from its handler; to be cleared
 
-    # Everything from installing the handler on is inside the try: a timer due at once
-    # (a deadline of microseconds, or the outer one) may fire before the first line of the
-    # guarded block, and must still leave through the finally, which undoes all of it.
+    def __enter__(self) -> None:
+        if self.seconds is None or not _can_arm():
+            return
+        now = cpu_seconds()
+        self.end = now + max(float(self.seconds), 0.0)
+        self.error = OutOfTime(self.stage, self.seconds)
+        self.previous_handler = signal.getsignal(SIGNAL)
+        previous_delay, self.previous_interval = signal.getitimer(TIMER)
+        self.outer = now + previous_delay if previous_delay > 0 else None
+        self.armed = self.entered = True
+        # A timer due at once (a deadline of microseconds, or the outer one) may fire
+        # before the guarded block starts, with no __exit__ to follow: undone here.
+        try:
+            signal.signal(SIGNAL, self._expired)
+            _active.append((self.end, self.error))
+            due = self.end if self.outer is None else min(self.end, self.outer)
+            signal.setitimer(TIMER, max(due - now, 1e-6))
+        except BaseException:
+            self._leave()
+            raise
+
+    def __exit__(self, *exception) -> bool:
+        if self.entered:
+            self._leave()
+        return False  # an OutOfTime goes on to attempt() or the caller
+
+    def _expired(self, signum, frame) -> None:
+        if not self.armed:
+            return  # late: the block is being left
+        if self.outer is not None and self.outer < self.end:  # the outer timer is due first
+            self.armed = False  # hand it on; leaving the block re-arms what was there
+            signal.signal(SIGNAL, self.previous_handler)
+            if callable(self.previous_handler):
+                self.previous_handler(signum, frame)
+            else:
+                signal.raise_signal(SIGNAL)
+            return
+        # Again every REPEAT_SECONDS until the block is left: Python runs the handler at
+        # the next bytecode, which may be a gc callback's or a __del__'s, where the error
+        # is printed as unraisable and lost.
+        signal.setitimer(TIMER, REPEAT_SECONDS)
+        if isinstance(sys.exc_info()[1], OutOfTime) or _leaving(frame):
+            return  # already on its way out, or in a clean-up that must run whole
+        raise self.error
+
+    def _leave(self) -> None:
+        """Disarm: no signal of this deadline reaches anyone after this returns."""
+        self.armed = self.entered = False  # first: a signal from here on is ignored
+        with _disarmed(self.previous_handler):
+            if any(error is self.error for _, error in _active):
+                _active.remove(next(a for a in _active if a[1] is self.error))
+            if self.outer is not None:  # re-arm what was armed before
+                delay = max(self.outer - cpu_seconds(), 1e-6)
+                signal.setitimer(TIMER, delay, self.previous_interval)
+
+
+def _leaving(frame) -> bool:
+    """Whether ``frame`` is a context manager's ``__exit__``: an error raised there
+    would skip the clean-up (sympy's ``evaluate`` restoring its global flag)."""
+    return frame is not None and frame.f_code.co_name in ("__exit__", "__aexit__")
+
+
+@contextlib.contextmanager
+def _disarmed(handler) -> Iterator[None]:
+    """The timer stopped with its signal held back, then ``handler`` installed.
+
+    Held back, a signal that came meanwhile is discarded rather than delivered to
+    ``handler`` (the default disposition of SIGPROF ends the process): setting it
+    to be ignored discards one pending, and a Python call lets the interpreter run
+    one it has noted but not yet handled, while our handler is still there."""
+    held = hasattr(signal, "pthread_sigmask")
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {SIGNAL}) if held else None
     try:
-        signal.signal(SIGNAL, expired)
-        _active.append((mine, error))
-        end = mine if outer is None else min(mine, outer)
-        signal.setitimer(TIMER, max(end - now, 1e-6))
+        signal.setitimer(TIMER, 0)
+        _settle()
+        signal.signal(SIGNAL, signal.SIG_IGN)
+        signal.signal(SIGNAL, handler)
         yield
     finally:
-        # First, before any call (where a pending signal could be delivered): a late
-        # signal from here on is ignored rather than raised inside this cleanup.
-        state["armed"] = False
-        signal.setitimer(TIMER, 0)
-        if _active and _active[-1][1] is error:
-            _active.pop()
-        signal.signal(SIGNAL, previous_handler)
-        if outer is not None and not state["handed_on"]:  # re-arm what was armed before
-            delay = max(outer - cpu_seconds(), 1e-6)
-            signal.setitimer(TIMER, delay, previous_interval)
+        if held:
+            signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+
+
+def _settle() -> None:
+    """Nothing: calling a Python function runs a signal handler that is due."""
 
 
 def remaining() -> float | None:
