@@ -29,7 +29,6 @@ values of the moment, by the rules of :mod:`lagrangian.output.solids`.  Nothing 
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -46,7 +45,6 @@ from ..derive import EquationsOfMotion, derive
 from ..errors import ModelError
 from ..model import RigidBody, System
 from ..model.values import check_parameter_values
-from .analysis import latex_analysis
 from .geometry import ROD_TOLERANCE, coordinates_drawn, geometry
 from .large import latex_printer
 from .latex import latex_equations, latex_steps
@@ -59,7 +57,8 @@ from .mechanism import (
     SPRING_COLOR,
     TRAIL_ALPHA,
 )
-from .notation import latex_name, too_long_to_print
+from .notation import latex_name, too_long_to_print, unicode_name
+from .page_results import results_routine, results_section
 from .solids import EQUAL, FLAT, RIM_POINTS
 
 #: Seconds each stage of the analysis may take for a page (the rest is said undecided).
@@ -117,6 +116,8 @@ def page_content(
     analysis = analyze(free, timeout=ANALYSIS_SECONDS, stages=PAGE_STAGES)
     conserved = analysis.conservation.conserved if analysis.conservation is not None else ()
     parameter_names = [q.name for q in code.parameters] if code else _parameters(system)
+    symbols = {p.name: p.symbol for p in system.parameters if p.name in parameter_names}
+    results, expressions = results_section(analysis, latex_printer(system), symbols)
     document = {
         "name": system.name,
         "description": system.description,
@@ -128,13 +129,15 @@ def page_content(
         "labels": {
             name: latex_name(name) for name in (*parameter_names, *system.input_names, *state)
         },
+        # the plots' axes and legends: theta1_dot as θ̇₁
+        "symbols": {name: unicode_name(name) for name in state},
         "t_end": float(system.simulate_settings.get("t_end", DEFAULT_T_END)),
         "constraints": code.constraints if code else 0,
         "conserved": [
             {"name": q.name, "latex": _quantity_latex(q.name), "description": q.description}
             for q in conserved
         ],
-        "sections": _sections(eom, analysis),
+        "sections": _sections(eom, analysis, results),
         "dop853": _dop853(),
     }
     if code is None:  # the solution only: nothing to run without the functions
@@ -146,6 +149,10 @@ def page_content(
         return PageContent(document, None, decided=not analysis.undecided)
     document["scene"] = _scene(system, values)
     script = _script(code, system, conserved)
+    routine = results_routine(code, expressions)
+    if routine is not None:
+        script += "\n".join(JavaScriptTarget().function("results", code, routine, exported=False))
+        script += "\n"
     return PageContent(document, script, decided=not analysis.undecided)
 
 
@@ -195,9 +202,11 @@ def _initial_state(system: System, given: Mapping[str, float] | None) -> dict[st
 # -- the worked solution ---------------------------------------------------------------
 
 
-def _sections(eom: EquationsOfMotion, analysis: Analysis) -> list[dict]:
-    """Titled blocks: each a list of items, ``{"latex": ...}`` (display math) or
-    ``{"text": ...}`` (a sentence, shown as text)."""
+def _sections(eom: EquationsOfMotion, analysis: Analysis, results: dict) -> list[dict]:
+    """Titled blocks: each a list of items, ``{"latex": ...}`` (display math, or inline
+    math that breaks across lines with ``"wrap": true``), ``{"text": ...}`` (a sentence,
+    shown as text) or ``{"equilibrium": ...}`` (:mod:`.page_results`, whose section
+    ``results`` is)."""
     system = eom.system
     show = latex_printer(system)
     sections = [
@@ -225,14 +234,7 @@ def _sections(eom: EquationsOfMotion, analysis: Analysis) -> list[dict]:
         if not items:
             items.append({"text": "No conserved quantity was found."})
     sections.append({"title": "Conserved quantities", "items": items})
-    # the conserved quantities have their section: the equilibria and V_eff here
-    rest = latex_analysis(dataclasses.replace(analysis, conservation=None))
-    sections.append(
-        {
-            "title": "Equilibria and small oscillations",
-            "items": [{"latex": rest}, *_mode_items(analysis, show)],
-        }
-    )
+    sections.append(results)
     notes = [*analysis.notes, *(f"{u.stage}: {u.reason}" for u in analysis.undecided)]
     if notes:
         sections.append({"title": "Notes", "items": [{"text": note} for note in notes]})
@@ -252,25 +254,6 @@ def _matrix_form(eom: EquationsOfMotion, show) -> str:
         rf"\begin{{pmatrix}}{accelerations}\end{{pmatrix}}"
         rf" = \begin{{pmatrix}}{rows_f}\end{{pmatrix}}"
     )
-
-
-def _mode_items(analysis: Analysis, show) -> list[dict]:
-    """The normal modes of every equilibrium that has them: omega^2 and the mode shape."""
-    items = []
-    for e in analysis.equilibria:
-        modes = e.modes
-        if not modes.shapes:
-            continue
-        point = ", ".join(f"{latex_name(k)} = {show(v)}" for k, v in e.point.items())
-        rows = [rf"&\text{{about }} {point}\ \text{{({modes.stability.value})}}"]
-        for w2, shape in zip(modes.omega_squared, modes.shapes, strict=False):
-            vector = r"\\".join(_shown(x, show) for x in shape)
-            shape_latex = rf"\begin{{pmatrix}}{vector}\end{{pmatrix}}"
-            rows.append(rf"\omega^2 = {_shown(w2, show)}:\ &{shape_latex}")
-        items.append({"latex": r"\begin{aligned}" + r"\\".join(rows) + r"\end{aligned}"})
-    if items:
-        items.insert(0, {"text": "Normal modes: squared angular frequency and shape"})
-    return items
 
 
 def _shown(expr: sympy.Expr, show) -> str:

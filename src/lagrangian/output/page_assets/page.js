@@ -17,12 +17,15 @@
 //                         behind), at the page's accuracy; returns state()
 //   energy()              the energy function h = q' dL/dq' - L now
 //   conserved()           {name: value} of the conserved quantities the analysis found
+//   results()             [{verdict, omega_squared}] of each equilibrium at the parameters now
 //   reset(), play(), pause(), stats() -> {fps, frame_ms, steps, steps_per_second, method}
 //   screenPosition(particle) [x, y] of a particle on the mechanism's canvas (CSS pixels)
 // A model that cannot run (unspecified functions) has the solution only, and the hook
 // {unavailable: why}.
 function lagrangianPage(model, code) {
   "use strict";
+  // the equilibria and modes with their numbers at the parameters of the moment (results.js)
+  const results = lagrangianResults(code && code.results, element, typesetMath);
   if (code === null) {
     // a model that cannot run here (unspecified functions): the solution and why
     document.title = model.name;
@@ -30,7 +33,9 @@ function lagrangianPage(model, code) {
     document.getElementById("description").textContent = model.description;
     document.getElementById("live").append(element("p", { class: "error" }, model.unavailable));
     typeset();
-    window.lagrangian = Object.freeze({ unavailable: model.unavailable });
+    results.update(null);
+    results.fit(document.getElementById("solution"));
+    window.lagrangian = Object.freeze({ unavailable: model.unavailable, results: results.now });
     return;
   }
   const n = model.coordinates.length;
@@ -514,11 +519,12 @@ function lagrangianPage(model, code) {
     const window20 = history.filter((s) => s.t >= sim.t - 20);
     const every = Math.ceil(window20.length / PLOT_POINTS);
     const recent = window20.filter((_, i) => i % every === 0 || i === window20.length - 1);
-    lagrangianPlot(ui.phase, [{ color: "#1f77b4", points: recent.map((s) => [s.y[k], s.y[n + k]]) }], [names[k], rates[k]]);
+    const shown = (name) => model.symbols[name] ?? name; // theta1_dot as θ̇₁
+    lagrangianPlot(ui.phase, [{ color: "#1f77b4", points: recent.map((s) => [s.y[k], s.y[n + k]]) }], [shown(names[k]), shown(rates[k])]);
     lagrangianPlot(
       ui.series,
-      names.map((q, i) => ({ label: q, color: scene.palette[i % scene.palette.length], points: recent.map((s) => [s.t, s.y[i]]) })),
-      ["t", names.length === 1 ? names[0] : "q"],
+      names.map((q, i) => ({ label: shown(q), color: scene.palette[i % scene.palette.length], points: recent.map((s) => [s.t, s.y[i]]) })),
+      ["t", names.length === 1 ? shown(names[0]) : "q"],
     );
   }
 
@@ -727,7 +733,7 @@ function lagrangianPage(model, code) {
     const phase = element("canvas", { "aria-label": "phase portrait" });
     const series = element("canvas", { "aria-label": "time series" });
     const phaseChoice = element("select", { "aria-label": "coordinate of the phase portrait" });
-    names.forEach((name, i) => phaseChoice.append(element("option", { value: String(i) }, name)));
+    names.forEach((name, i) => phaseChoice.append(element("option", { value: String(i) }, model.symbols[name] ?? name)));
     const phaseFigure = element("figure");
     const phaseCaption = element("figcaption", {}, "phase portrait of ");
     phaseCaption.append(phaseChoice);
@@ -775,7 +781,8 @@ function lagrangianPage(model, code) {
     }
     const magnitude = Math.abs(value);
     const [low, high] = isParameter && value > 0 ? [0, 3 * value] : [value - Math.max(3, 2 * magnitude), value + Math.max(3, 2 * magnitude)];
-    const slider = element("input", { type: "range", min: String(low), max: String(high), step: String((high - low) / 1000), value: String(value), "aria-label": name });
+    const step = sliderStep(value);
+    const slider = element("input", { type: "range", min: String(low), max: String(high), step: String(step), value: String(value), "aria-label": name });
     const number = element("input", { type: "number", step: "any", value: String(value), "aria-label": `${name} value` });
     const apply = (text) => {
       const x = Number(text);
@@ -786,6 +793,18 @@ function lagrangianPage(model, code) {
     row.append(label, slider, number);
     fields[name] = { slider, number };
     return row;
+  }
+
+  // A step the slider's own value lies on (9.81 -> 0.01, 0.3 -> 0.001, 1.2345 -> 0.0001):
+  // a hundredth of its magnitude, finer where the value has more digits; the ends of the
+  // range (0, 3 value; value -+ max(3, 2 |value|)) lie on it too.  A step of a thousandth
+  // of the range put 9.81 between two grid points, and the slider never came back to it.
+  function sliderStep(value) {
+    if (!(Math.abs(value) > 0)) return 0.01;
+    let step = 10 ** (Math.floor(Math.log10(Math.abs(value))) - 2);
+    const off = (x) => Math.abs(x / step - Math.round(x / step)) > 1e-9 * Math.abs(x / step);
+    for (let finer = 0; finer < 10 && off(value); finer++) step /= 10;
+    return Number(step.toPrecision(1));
   }
 
   function showValues() {
@@ -816,7 +835,13 @@ function lagrangianPage(model, code) {
       box.append(section.folded ? element("summary", {}, section.title) : element("h2", {}, section.title));
       for (const item of section.items) {
         const node = element("div", { class: "item" });
-        if (item.latex) {
+        if (item.equilibrium) {
+          node.append(results.block(item.equilibrium));
+        } else if (item.latex && item.wrap) {
+          const math = element("div", { class: "math wrap" });
+          typesetMath(item.latex, math, false);
+          node.append(math);
+        } else if (item.latex) {
           const math = element("div", { class: "math" });
           if (window.katex) {
             window.katex.render(item.latex, math, { displayMode: true, throwOnError: false, strict: "ignore", trust: false });
@@ -832,6 +857,15 @@ function lagrangianPage(model, code) {
     }
   }
 
+  // display math (or inline, which KaTeX breaks after a top-level + or =) into `node`
+  function typesetMath(latex, node, display) {
+    if (window.katex) {
+      window.katex.render(latex, node, { displayMode: display, throwOnError: false, strict: "ignore", trust: false });
+    } else {
+      node.textContent = latex;
+    }
+  }
+
   // -- the hook -------------------------------------------------------------------------------
   function set(name, value) {
     const x = Number(value);
@@ -843,6 +877,7 @@ function lagrangianPage(model, code) {
     else throw new Error(`'${name}' is neither a parameter nor a coordinate or velocity`);
     restart();
     showValues();
+    results.update(params);
   }
 
   function state() {
@@ -872,6 +907,7 @@ function lagrangianPage(model, code) {
     },
     energy: () => flat(observed()[0])[0],
     conserved: () => Object.fromEntries(flat(observed()[1]).map((v, k) => [model.conserved[k].name, v])),
+    results: results.now,
     reset: restart,
     play: () => setRunning(true),
     pause: () => setRunning(false),
@@ -889,7 +925,15 @@ function lagrangianPage(model, code) {
   });
 
   typeset();
+  results.update(params);
+  const solution = document.getElementById("solution");
+  results.fit(solution);
+  // again once KaTeX's fonts are in: measured with the fallback fonts, formulas are narrower
+  if (document.fonts) document.fonts.ready.then(() => results.fit(solution));
   restart();
-  window.addEventListener("resize", () => layout());
+  window.addEventListener("resize", () => {
+    layout();
+    results.fit(solution);
+  });
   window.requestAnimationFrame(frame);
 }
