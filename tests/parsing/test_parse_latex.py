@@ -38,6 +38,9 @@ def test_pendulum_lagrangian_matches_plain_text(parse):
         (r"x^{-1}", "1/x"),
         (r"x**2 + \pi", "x**2 + pi"),
         (r"[x + y]^{2}", "(x + y)**2"),
+        # a name before a group multiplies it: the exponent is the group's, not the product's
+        (r"\frac{1}{2} k (x - l)^2", "k*(x - l)**2/2"),
+        (r"k \left(x - l\right)^{2}", "k*(x - l)**2"),
         (r"\left[ x + y \right] z", "(x + y)*z"),
         (r"{x + y} z", "(x + y)*z"),
         (r"m(x + y)\,", "m*(x + y)"),

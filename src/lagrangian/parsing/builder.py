@@ -99,6 +99,13 @@ class _Builder:
                 return self.sum(node)
             case Product():
                 return self.product(node)
+            case Power(base=Call(juxtaposed=True) as call) if (
+                call.name not in self.namespace.functions
+            ):  # LaTeX k(r - l)^2 is k (r - l)^2: the exponent binds to the group, not to k
+                raised = self.power(self.build(call.args[0]), self.build(node.exponent),
+                                    node.position)  # fmt: skip
+                left = self.name(call.name, call.position)
+                return self.multiply([left, raised], node.position)
             case Power():
                 base = self.build(node.base)
                 return self.power(base, self.build(node.exponent), node.position)
