@@ -116,6 +116,16 @@ PRINTS = {
         "the Jacobi integral",
     ],
     "lagrangian demo": ["2.397", "5.787"],
+    "lagrangian check simple_pendulum --kinetic m*l^2*theta_dot^2": [
+        "should be l^2*m*theta_dot^2/2"
+    ],
+    "lagrangian check simple_pendulum --equation theta_ddot = -g/l*sin(theta)": [
+        "equivalent",
+        "right up to a factor: the equation of theta times 1/(l^2*m)",
+    ],
+    "lagrangian check simple_pendulum --potential m*g*l*cos(theta)": [
+        "has the wrong sign: it should be -g*l*m*cos(theta)"
+    ],
 }
 
 

@@ -120,6 +120,34 @@ class System(ModelSystem):
 
         return analyze(self._derived(inputs_held=True), timeout=timeout, momenta=momenta)
 
+    def check(
+        self,
+        *,
+        kinetic=None,
+        potential=None,
+        lagrangian=None,
+        equations=(),
+        hamiltonian=None,
+        conserved=(),
+        momenta=None,
+    ):
+        """A student's answers (text in the model's names, plain or LaTeX, or SymPy) against
+        what the toolkit derives: right, equivalent (saying which) or wrong, with the terms
+        at fault -> :class:`~lagrangian.analysis.check.CheckResult` (see
+        :func:`lagrangian.analysis.check.check`)."""
+        from .analysis.check import check
+
+        return check(
+            self._derived(inputs_held=False),
+            kinetic=kinetic,
+            potential=potential,
+            lagrangian=lagrangian,
+            equations=equations,
+            hamiltonian=hamiltonian,
+            conserved=conserved,
+            momenta=momenta,
+        )
+
     # -- motion -----------------------------------------------------------------------
     def simulate(self, **options: object) -> Trajectory:
         """Integrate the equations of motion -> :class:`~lagrangian.trajectory.Trajectory`.

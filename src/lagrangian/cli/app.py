@@ -31,6 +31,13 @@ FLAGS = {
     "n_out": "--samples",
     "dt_out": "--dt-out",
     "allow_remote": "--allow-remote",
+    "kinetic": "--kinetic",
+    "potential": "--potential",
+    "lagrangian": "--lagrangian",
+    "equations": "--equation",
+    "hamiltonian": "--hamiltonian",
+    "conserved": "--conserved",
+    "momenta": "--momentum",
 }
 
 
