@@ -39,7 +39,7 @@ from sympy.core.function import AppliedUndef
 from ..algebra import as_expression
 from ..analysis import Analysis, analyze
 from ..codegen import Program, program
-from ..codegen.definitions import substitute
+from ..codegen.definitions import function_definitions, substitute
 from ..codegen.javascript import JavaScriptTarget
 from ..derive import EquationsOfMotion, derive
 from ..errors import ModelError
@@ -107,6 +107,9 @@ def page_content(
     solution only.  Raises the project's errors for names or values that do not fit."""
     values = _parameter_values(system, parameters)
     state = _initial_state(system, initial)
+    # every definition checked (a declared name, text the parser reads) as simulate checks
+    # it, also where a function left undefined means that the page runs no motion
+    function_definitions(system, definitions)
     eom = derive(system)
     missing = _unspecified(eom, definitions)
     code = None if missing else program(eom, definitions=definitions)

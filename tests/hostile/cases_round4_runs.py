@@ -1,0 +1,44 @@
+"""Runs given what they cannot use (issue 37): definitions a page did not check, transients
+below zero, sections never crossed, states off a holonomic constraint, terms of L in t alone
+that are singular at t = 0, names a file cannot hold."""
+
+from hostile.case import HostileCase
+
+# a potential left unspecified: the page then shows the solution only, and used not to read
+# the definitions it was given at all
+_UNSPECIFIED = """
+name = "unspecified"
+coordinates = ["x"]
+lagrangian = "x_dot^2/2 - V(x) - W(x)"
+[functions]
+V = ["x"]
+W = ["x"]
+"""
+_NO_CACHE = (("LAGRANGIAN_NO_CACHE", "1"),)
+
+CASES = [
+    HostileCase(
+        "page-define-of-an-undeclared-function-refused",
+        ("page", "{dir}/model.toml", "--define", "U=x", "--out", "{dir}/p.html"),
+        error=r"^lagrangian: error: definitions: 'U' is not a declared function "
+        r"\(declared: V, W\)$",
+        model=_UNSPECIFIED,
+        env=_NO_CACHE,
+    ),
+    HostileCase(
+        "page-define-of-a-name-that-is-no-name-refused",
+        ("page", "{dir}/model.toml", "--define", "<b>=x", "--out", "{dir}/p.html"),
+        error=r"definitions: '<b>' is not a declared function",
+        model=_UNSPECIFIED,
+        env=_NO_CACHE,
+    ),
+    HostileCase(
+        # V defined with text the parser refuses, W left out: the page used to show the
+        # solution only, as if no definition had been given
+        "page-define-unreadable-while-another-function-is-unspecified-refused",
+        ("page", "{dir}/model.toml", "--define", "V=x**", "--out", "{dir}/p.html"),
+        error=r"definitions\.V",
+        model=_UNSPECIFIED,
+        env=_NO_CACHE,
+    ),
+]
