@@ -17,6 +17,7 @@ from .budget import RUN_SECONDS
 from .derive import derive
 from .errors import ModelError, setting
 from .integrate import method_class, simulate
+from .integrate.base import transient_setting
 from .integrate.choice import choose_run
 from .integrate.lyapunov import DEFAULT_INTERVAL, LyapunovSpectrum, lyapunov_spectrum
 from .integrate.pace import RunPace, watching
@@ -171,9 +172,10 @@ def lyapunov_of_system(
     keywords of :class:`RunSettings` (rtol, atol, initial, params, assignments, progress,
     definitions, backend, timeout)."""
     run = RunSettings(**settings)
+    transient = transient_setting(transient)  # before the compilation
     initial, params = run.values(system)
     t_end = _model_t_end(system, t_end)
-    compiled, watch = run.compiled(system, float(transient) + t_end)
+    compiled, watch = run.compiled(system, transient + t_end)
     interval = DEFAULT_INTERVAL if interval is None else interval
     return lyapunov_spectrum(
         compiled, t_end=t_end, count=count, initial=initial, params=params,
@@ -208,6 +210,7 @@ def poincare_of_system(
     or, with neither, from the initial state alone.  Each runs to ``t_end`` (default: the
     model's t_end).  ``settings``: the keywords of :class:`RunSettings`."""
     run = RunSettings(**settings)
+    transient = transient_setting(transient)  # before the compilation
     initial, params = run.values(system)
     if energy is not None and spread:
         raise ModelError("give an energy or a spread of start values, not both")

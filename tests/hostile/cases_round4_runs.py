@@ -42,3 +42,20 @@ CASES = [
         env=_NO_CACHE,
     ),
 ]
+
+# --transient: poincare integrated backwards from a negative one and raised ValueError for
+# nan; lyapunov and bifurcation refused both, now all three say the same
+CASES += [
+    HostileCase(
+        f"{command.replace(' ', '-')}-transient-{label}-refused",
+        (command.split()[0], "harmonic_oscillator", *where, f"--transient={value}"),
+        error=rf"^lagrangian: error: the transient must be a time >= 0, not {label}$",
+    )
+    for command, where in (
+        ("poincare section", ("--axes", "x,x_dot", "--section", "x=0")),
+        ("poincare strobe", ("--axes", "x,x_dot", "--strobe", "1")),
+        ("lyapunov", ()),
+        ("bifurcation", ("--vary", "k=1:2:3", "--axis", "x", "--strobe", "1")),
+    )
+    for label, value in (("-100", "-100"), ("nan", "nan"))
+]

@@ -126,3 +126,32 @@ def test_files_hold_the_points(tmp_path):
         assert dataset.attrs["section"] == "x = 0"
     with pytest.raises(ModelError, match=r"\.csv or \.nc"):
         points.save(tmp_path / "points.txt")
+
+
+def test_a_section_keeps_only_the_crossings_after_the_transient():
+    # x = cos t crosses x = 0 upwards at t = 3 pi/2 + 2 pi k; a transient of 5 drops the first
+    system = lg.load("harmonic_oscillator")
+    every = system.poincare(section="x = 0", axes=("x", "x_dot"), t_end=20)
+    later = system.poincare(section="x = 0", axes=("x", "x_dot"), t_end=20, transient=5.0)
+    upward = 1.5 * math.pi + 2 * math.pi * np.arange(3)
+    np.testing.assert_allclose(every.times, upward, rtol=1e-9)
+    np.testing.assert_allclose(later.times, upward[1:], rtol=1e-9)
+    assert later.settings["transient"] == 5.0
+
+
+@pytest.mark.parametrize("transient", [-100.0, math.nan, math.inf])
+@pytest.mark.parametrize("where", ["section", "strobe"])
+def test_a_transient_that_is_no_time_ahead_is_refused(transient, where):
+    # -100 integrated backwards first (meaningless points, exit 0), nan raised ValueError
+    system = lg.load("harmonic_oscillator")
+    place = {"section": "x = 0"} if where == "section" else {"strobe": 1.0}
+    refused = r"^the transient must be a time >= 0, not (-100|nan|inf)$"
+    with pytest.raises(ModelError, match=refused):
+        system.poincare(axes=("x", "x_dot"), t_end=5, transient=transient, **place)
+
+
+def test_a_transient_as_long_as_the_run_is_refused():
+    with pytest.raises(ModelError, match=r"^the transient \(20\) leaves no time before t_end = 20"):
+        lg.load("harmonic_oscillator").poincare(
+            section="x = 0", axes=("x", "x_dot"), t_end=20, transient=20
+        )

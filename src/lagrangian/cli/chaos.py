@@ -155,7 +155,11 @@ def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
 @section_options
 @click.option("--strobe", type=float, metavar="PERIOD", help="A stroboscopic section instead.")
 @click.option(
-    "--transient", type=float, default=0.0, show_default=True, help="Time before the strobe."
+    "--transient",
+    type=float,
+    default=0.0,
+    show_default=True,
+    help="Time before the first point kept (strobe or section).",
 )
 @click.option("--energy", type=float, help="Start the orbits on this energy shell.")
 @click.option("--orbits", type=int, help="How many orbits (default 10 with --energy/--spread).")

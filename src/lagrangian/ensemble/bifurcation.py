@@ -29,7 +29,7 @@ import numpy as np
 
 from ..errors import ModelError
 from ..files import write_csv
-from ..integrate.base import positive_setting
+from ..integrate.base import positive_setting, transient_setting
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -110,9 +110,7 @@ def bifurcation_diagram(
         raise ModelError(f"unknown parameter '{parameter}' (parameters: {known})")
     if (period is None) == (section is None):
         raise ModelError("give a strobe period or a section (one of them)")
-    transient = float(transient)
-    if not (math.isfinite(transient) and transient >= 0):
-        raise ModelError(f"the transient must be a time >= 0, not {transient:g}")
+    transient = transient_setting(transient)
     for name, number in (("samples", samples), ("steps_per_period", steps_per_period)):
         if int(number) != number or number < 1:
             raise ModelError(f"{name} must be a whole number >= 1, not {number!r}")

@@ -197,6 +197,18 @@ def positive_setting(name: str, value: float) -> float:
     return number
 
 
+def transient_setting(value: float) -> float:
+    """The time run before a result is kept (``transient``) as a float, or ModelError when
+    it is not a finite time >= 0: a negative one would integrate backwards first."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ModelError(f"the transient must be a time >= 0, not {value!r}") from None
+    if not (np.isfinite(number) and number >= 0.0):
+        raise ModelError(f"the transient must be a time >= 0, not {number:g}")
+    return number
+
+
 def tolerance_setting(name: str, value: float, *, method: str, floor: float, further: str) -> float:
     """``value`` as a float, or ModelError when it is not finite and > 0 or below ``floor``,
     the smallest tolerance ``method`` can use in double precision (``further``: where to go

@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError, setting
-from .base import check_time_span, positive_setting
+from .base import check_time_span, positive_setting, transient_setting
 from .compiled_dop853 import MIN_FACTOR, TOO_SMALL_STEP, first_step, tangent_loop
 
 if TYPE_CHECKING:
@@ -116,9 +116,7 @@ def lyapunov_spectrum(
             field=setting("count"),
         )
     check_time_span((0.0, t_end))
-    transient = float(transient)
-    if not (np.isfinite(transient) and transient >= 0.0):
-        raise ModelError(f"the transient must be a time >= 0, not {transient:g}")
+    transient = transient_setting(transient)
     interval = positive_setting("interval", interval)
     rtol = DEFAULT_RTOL if rtol is None else positive_setting("rtol", rtol)
     atol = DEFAULT_ATOL if atol is None else positive_setting("atol", atol)

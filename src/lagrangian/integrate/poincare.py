@@ -30,7 +30,7 @@ import numpy as np
 
 from ..errors import ModelError, setting
 from ..files import write_atomically, write_csv
-from .base import Status, check_time_span, positive_setting
+from .base import Status, check_time_span, positive_setting, transient_setting
 from .compiled_sections import crossings, section_loop
 from .events import Event
 from .memory import check_fits, count_text, run_bytes
@@ -127,14 +127,21 @@ def poincare_section(
     """The section's points of the motions from ``starts`` (2n, N): the crossings of
     ``section``, or with ``strobe`` the states every ``strobe`` after ``transient``.
 
-    ``watch`` is told the fraction of the work done (0 to 1) at every step.
+    The crossings before ``transient`` are dropped as well.  ``watch`` is told the
+    fraction of the work done (0 to 1) at every step.
     """
     if (section is None) == (strobe is None):
         raise ModelError("give a section or a strobe period (one of them)")
+    transient = transient_setting(transient)
     axes = tuple(axes)
     if len(axes) != 2:
         raise ModelError(f"give two axes, e.g. 'y,p_y', not {len(axes)}", field="axes")
     t0, t1 = check_time_span((0.0, t_end))
+    if transient >= t1:
+        raise ModelError(
+            f"the transient ({transient:g}) leaves no time before t_end = {t1:g}: give a "
+            f"shorter transient or a longer {setting('t_end')}"
+        )
     p = compiled.parameter_vector(params)
     n = compiled.n
     axis_values(compiled, axes, np.empty(0), np.empty((2 * n, 0)), p)  # an unknown axis: now
@@ -144,13 +151,13 @@ def poincare_section(
     starts = np.asarray(starts, dtype=float).reshape(2 * n, -1)
     if strobe is not None:
         strobe = positive_setting("strobe", strobe)
-        times = max(0.0, (t1 - float(transient)) / strobe)
+        times = max(0.0, (t1 - transient) / strobe)
         check_fits(
             run_bytes(2 * n, 0, min(times, 1e300) * starts.shape[1]),
             f"{count_text(math.floor(min(times, 1e300)))} strobe times per orbit",
             f"give a longer strobe period or a shorter {setting('t_end')}",
         )
-        t_eval = np.arange(float(transient) + strobe, t1 + 1e-12 * strobe, strobe)
+        t_eval = np.arange(transient + strobe, t1 + 1e-12 * strobe, strobe)
         if t_eval.size == 0:
             raise ModelError(f"no strobe time before t_end = {t1:g} (period {strobe:g})")
     else:
@@ -175,6 +182,8 @@ def poincare_section(
             record = result.events[0] if strobe is None else None
             found = (result.t, result.y) if record is None else (record.times, record.states)
         found_t, found_y = found
+        kept = found_t >= transient
+        found_t, found_y = found_t[kept], found_y[:, kept]
         times.append(found_t)
         states.append(found_y)
         orbits.append(np.full(found_t.shape, k))
@@ -190,7 +199,7 @@ def poincare_section(
         "section": None if section is None else section.text,
         "direction": None if section is None else section.direction,
         "strobe": strobe,
-        "transient": float(transient),
+        "transient": transient,
     }
     return PoincareSection(
         variables=(*names, *extra),
