@@ -5,7 +5,7 @@
 simulation of the model (:mod:`lagrangian.output.page_content` makes what the page
 shows and runs; in ``page_assets``, ``integrators.js`` steps the motion, ``plots.js``
 draws the phase portrait and time series, ``results.js`` the equilibria and modes with
-their numbers, ``page.js`` draws the mechanism and wires the controls).
+their numbers, ``share.js`` the share link and embed mode, ``page.js`` draws the mechanism and wires the controls).
 
 It works from the disk, offline, with no server: every script, style and font is
 inline, and its Content-Security-Policy allows nothing else (no network request, no
@@ -103,7 +103,7 @@ def built_page(
 
 #: The page's own script, in the order appended to the generated module: the integrators,
 #: the plots, then the page that uses them.
-_PAGE_SCRIPTS = ("integrators.js", "plots.js", "results.js", "page.js")
+_PAGE_SCRIPTS = ("integrators.js", "plots.js", "results.js", "share.js", "page.js")
 #: Reads the document (data, never code) and starts the page with the generated functions.
 _START = """
 lagrangianPage(JSON.parse(document.getElementById("lagrangian-model").textContent), {code});

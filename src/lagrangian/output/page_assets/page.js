@@ -18,6 +18,7 @@
 //   energy()              the energy function h = q' dL/dq' - L now
 //   conserved()           {name: value} of the conserved quantities the analysis found
 //   results()             [{verdict, omega_squared}] of each equilibrium at the parameters now
+//   link()                the share link of the run now (pauses it; share.js), embedded()
 //   reset(), play(), pause(), stats() -> {fps, frame_ms, steps, steps_per_second, method}
 //   screenPosition(particle) [x, y] of a particle on the mechanism's canvas (CSS pixels)
 // A model that cannot run (unspecified functions) has the solution only, and the hook
@@ -728,7 +729,10 @@ function lagrangianPage(model, code) {
     if (variationalAvailable) methodChoice.append(element("option", { value: "variational" }, "variational midpoint (dt 0.001)"));
     const status = element("div", { class: "error", role: "status" });
     const buttons = element("div", { class: "buttons" });
-    buttons.append(play, reset, element("span", {}, "speed"), speedChoice, methodChoice);
+    const shareButton = element("button", { type: "button", title: "a link to this run: its values, integrator and time" }, "Share link");
+    const embedButton = element("button", { type: "button", title: "HTML for a course page or slides" }, "Embed");
+    buttons.append(play, reset, element("span", {}, "speed"), speedChoice, methodChoice, shareButton, embedButton);
+    const shared = element("input", { type: "text", readonly: "", class: "shared", "aria-label": "link to share", hidden: "" });
     const readoutBox = element("div", { class: "readouts" });
     const phase = element("canvas", { "aria-label": "phase portrait" });
     const series = element("canvas", { "aria-label": "time series" });
@@ -759,7 +763,20 @@ function lagrangianPage(model, code) {
       initialBox.append(field(q, initial[q], fields, false));
       initialBox.append(field(rates[i], initial[rates[i]], fields, false));
     });
-    live.append(mechanism, buttons, status, readoutBox, plots, ...boxes, initialBox);
+    live.append(mechanism, buttons, shared, status, readoutBox, plots, ...boxes, initialBox);
+    const offer = (text) => {
+      shared.hidden = false;
+      shared.value = text;
+      shared.select();
+      // the field, selected, stays for Ctrl+C; the clipboard is tried only at the top (in a
+      // sandboxed frame its mere use is a console error: a permissions policy violation)
+      if (window.self === window.top && navigator.clipboard) navigator.clipboard.writeText(text).catch(() => {});
+    };
+    shareButton.addEventListener("click", () => offer(shareLink()));
+    embedButton.addEventListener("click", () => {
+      const address = shareLink().replace("#", "#embed&");
+      offer(`<iframe sandbox="allow-scripts" src="${address.replace(/&/g, "&amp;").replace(/"/g, "&quot;")}" width="640" height="560" title="${model.name.replace(/[<>&"]/g, "")}"></iframe>`);
+    });
     play.addEventListener("click", () => setRunning(!running));
     reset.addEventListener("click", () => restart());
     speedChoice.addEventListener("change", () => (speed = Number(speedChoice.value)));
@@ -768,7 +785,7 @@ function lagrangianPage(model, code) {
       restart();
     });
     phaseChoice.addEventListener("change", () => drawPlots());
-    return { canvas: mechanism, play, status, readouts: readoutBox, phase, series, phaseChoice, fields };
+    return { canvas: mechanism, play, status, readouts: readoutBox, phase, series, phaseChoice, fields, methodChoice };
   }
 
   function field(name, value, fields, isParameter) {
@@ -866,6 +883,55 @@ function lagrangianPage(model, code) {
     }
   }
 
+  // -- the share link (share.js) ----------------------------------------------------------------
+  const sharing = lagrangianShare();
+
+  // the run as the link has it: paused, and stepped from t = 0 to now in one call, as the
+  // page that opens the link steps it (frame by frame, the steps end at other times)
+  function shareLink() {
+    setRunning(false);
+    const t = sim.t;
+    restart();
+    advance(sim, t);
+    record();
+    const run = {
+      parameters: Object.fromEntries([...parameterNames.map((name, i) => [name, params[i]]), ...inputNames.map((name, i) => [name, inputs[i]])]),
+      initial: Object.fromEntries([...names, ...rates].map((name) => [name, initial[name]])),
+      method: sim.method,
+      t: sim.t,
+    };
+    return sharing.link(run);
+  }
+
+  // the values, integrator and time of the link the page was opened with; what does not
+  // fit the model is said in the status line and left out
+  function openLink(hash) {
+    const asked = sharing.read(hash);
+    const problems = [...asked.problems];
+    for (const [name, value] of Object.entries(asked.parameters)) {
+      if (parameterNames.includes(name)) params[parameterNames.indexOf(name)] = value;
+      else if (inputNames.includes(name)) inputs[inputNames.indexOf(name)] = value;
+      else problems.push(`'${name}' is not a parameter of this model`);
+    }
+    for (const [name, value] of Object.entries(asked.initial)) {
+      if (name in initial) initial[name] = value;
+      else problems.push(`'${name}' is not a coordinate or velocity of this model`);
+    }
+    if (asked.method !== null) {
+      const known = [...ui.methodChoice.options].map((o) => o.value);
+      if (known.includes(asked.method)) {
+        sim.method = asked.method;
+        ui.methodChoice.value = asked.method;
+      } else {
+        problems.push(`'${asked.method}' is not an integrator of this page (${known.join(", ")})`);
+      }
+    }
+    if (asked.t !== null && asked.t < 0) problems.push(`t: must be 0 or later, not ${asked.t}`);
+    if (problems.length) ui.status.textContent = `The link: ${problems.join("; ")} (left out).`;
+    if (asked.embed) document.body.classList.add("embed");
+    return asked.t !== null && asked.t > 0 ? asked.t : 0;
+  }
+
   // -- the hook -------------------------------------------------------------------------------
   function set(name, value) {
     const x = Number(value);
@@ -908,6 +974,8 @@ function lagrangianPage(model, code) {
     energy: () => flat(observed()[0])[0],
     conserved: () => Object.fromEntries(flat(observed()[1]).map((v, k) => [model.conserved[k].name, v])),
     results: results.now,
+    link: shareLink,
+    embedded: () => document.body.classList.contains("embed"),
     reset: restart,
     play: () => setRunning(true),
     pause: () => setRunning(false),
@@ -924,6 +992,8 @@ function lagrangianPage(model, code) {
     },
   });
 
+  const linkedTime = openLink(window.location.hash);
+  showValues();
   typeset();
   results.update(params);
   const solution = document.getElementById("solution");
@@ -931,6 +1001,12 @@ function lagrangianPage(model, code) {
   // again once KaTeX's fonts are in: measured with the fallback fonts, formulas are narrower
   if (document.fonts) document.fonts.ready.then(() => results.fit(solution));
   restart();
+  if (linkedTime > 0) {
+    // the moment of the link, paused there
+    advance(sim, linkedTime);
+    record();
+    setRunning(false);
+  }
   window.addEventListener("resize", () => {
     layout();
     results.fit(solution);
