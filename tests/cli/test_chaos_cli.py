@@ -173,3 +173,48 @@ def test_ensemble_lyapunov_map(capsys, tmp_path):
     assert status == ExitStatus.SUCCESS
     assert "lyapunov: median" in out
     assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.mark.parametrize(
+    ("argv", "warning"),
+    [
+        (
+            ["poincare", "harmonic_oscillator", "--axes", "x,x_dot", "--section", "x = 5"],
+            "the orbit does not cross the section x = 5 (direction +) up to t = 20: no points",
+        ),
+        (
+            ["bifurcation", "harmonic_oscillator", "--vary", "k=1:2:2", "--axis", "x",
+             "--section", "x = 5", "--direction", "both", "--t-end", "5"],
+            "the motion crosses the section x = 5 (direction both) for none of the 2 values of "
+            "k between t = 0 and 5: no points",
+        ),
+    ],
+    ids=["poincare", "bifurcation"],
+)  # fmt: skip
+@pytest.mark.slow
+def test_a_section_never_crossed_is_said_and_not_drawn(capsys, tmp_path, argv, warning):
+    # x = cos(sqrt(k) t) never reaches 5: the command said "0 points", wrote an empty CSV
+    # and an empty picture, and warned of nothing
+    table, picture = tmp_path / "points.csv", tmp_path / "points.png"
+    status, out, err = run(capsys, *argv, "--out", str(table), "--plot", str(picture))
+    assert status == ExitStatus.SUCCESS
+    assert err.splitlines() == [
+        f"lagrangian: warning: {warning}",
+        f"lagrangian: warning: no points to draw: {picture} was not written",
+    ]
+    assert not picture.exists() and f"wrote {picture}" not in out
+    assert len(table.read_text().splitlines()) == 1  # the header: no rows, said above
+
+
+@pytest.mark.slow
+def test_orbits_that_never_cross_are_counted(capsys):
+    # x = x0 cos t from x0 = 0, 0.2 and 0.4 stays below 0.5; from 0.6 to 1 it crosses
+    status, out, err = run(
+        capsys, "poincare", "harmonic_oscillator", "--axes", "x,x_dot", "--section", "x = 0.5",
+        "--spread", "x=0:1", "--orbits", "6",
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS and "(0 to 3 per orbit)" in out
+    assert err == (
+        "lagrangian: warning: 3 of the 6 orbits do not cross the section x = 0.5 "
+        "(direction +) up to t = 20: they have no points\n"
+    )

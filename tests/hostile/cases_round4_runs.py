@@ -59,3 +59,24 @@ CASES += [
     )
     for label, value in (("-100", "-100"), ("nan", "nan"))
 ]
+
+# a section never crossed: "0 points", an empty CSV and an empty picture, and nothing said
+CASES += [
+    HostileCase(
+        "poincare-section-never-crossed-said-and-not-drawn",
+        ("poincare", "harmonic_oscillator", "--axes", "x,x_dot", "--section", "x=5",
+         "--out", "{dir}/s.csv", "--plot", "{dir}/s.png"),
+        exit_code=0,
+        output=r"0 points",
+        warning=r"the orbit does not cross the section x=5 \(direction \+\) up to t = 20: no "
+        r"points\nlagrangian: warning: no points to draw: \S+s\.png was not written",
+    ),
+    HostileCase(
+        "bifurcation-section-never-crossed-said-and-not-drawn",
+        ("bifurcation", "harmonic_oscillator", "--vary", "k=1:2:2", "--axis", "x", "--section",
+         "x=5", "--t-end", "5", "--out", "{dir}/b.csv", "--plot", "{dir}/b.png"),
+        exit_code=0,
+        warning=r"for none of the 2 values of k between t = 0 and 5: no points\n"
+        r"lagrangian: warning: no points to draw: \S+b\.png was not written",
+    ),
+]  # fmt: skip

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import lagrangian as lg
-from lagrangian.errors import ModelError
+from lagrangian.errors import LagrangianWarning, ModelError
 from lagrangian.integrate.section import parse_section
 from lagrangian.numeric import compile_equations
 
@@ -155,3 +155,16 @@ def test_a_transient_as_long_as_the_run_is_refused():
         lg.load("harmonic_oscillator").poincare(
             section="x = 0", axes=("x", "x_dot"), t_end=20, transient=20
         )
+
+
+def test_a_section_never_crossed_is_said():
+    # x = cos t never reaches 2: no points, and a warning rather than a silent empty result
+    with pytest.warns(LagrangianWarning) as caught:
+        points = lg.load("harmonic_oscillator").poincare(
+            section="x = 2", direction="both", axes=("x", "x_dot"), t_end=20, transient=1
+        )
+    assert points.count == 0
+    assert [str(w.message) for w in caught] == [
+        "the orbit does not cross the section x = 2 (direction both) between t = 1 and 20: "
+        "no points"
+    ]

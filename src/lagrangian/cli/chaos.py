@@ -63,6 +63,19 @@ def _wrote(*paths: str | None) -> None:
             click.echo(f"wrote {path}")
 
 
+def _drawn(picture: str | None, points: int) -> str | None:
+    """The picture to draw: none where there are no points (an empty frame is no result;
+    the command's warning says why there are none)."""
+    if picture is None or points:
+        return picture
+    import warnings
+
+    from ..errors import LagrangianWarning
+
+    warnings.warn(LagrangianWarning(f"no points to draw: {picture} was not written"), stacklevel=2)
+    return None
+
+
 def _png(path: str | None, hint: str) -> None:
     """A usage error unless ``path`` (when given) is a PNG file that can be written."""
     if path is None:
@@ -202,6 +215,7 @@ def poincare(
         )  # fmt: skip
     if out is not None:
         points.save(out)
+    picture = _drawn(picture, points.count)
     if picture is not None:
         from ..output.plots import save_figure
         from ..output.sections import plot_section
@@ -286,6 +300,7 @@ def bifurcation(
         )  # fmt: skip
     if out is not None:
         diagram.to_csv(out)
+    picture = _drawn(picture, int(np.isfinite(diagram.points).sum()))
     if picture is not None:
         from ..output.bifurcation import plot_bifurcation
         from ..output.plots import save_figure

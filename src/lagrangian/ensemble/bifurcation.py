@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -27,7 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import LagrangianWarning, ModelError
 from ..files import write_csv
 from ..integrate.base import positive_setting, transient_setting
 
@@ -168,8 +169,27 @@ def _section_diagram(
         "samples": samples,
     }  # fmt: skip
     points = crossings.states[states.index(variable)]
+    _warn_uncrossed(section, parameter, np.isfinite(points).any(axis=1), transient, t_end)
     return _diagram(
         compiled, result, parameter, values, variable, points, crossings.times, settings
+    )
+
+
+def _warn_uncrossed(section, parameter: str, crossed: np.ndarray, transient, t_end) -> None:
+    """Say for how many of the values the motion never crosses the section after the
+    transient: those values have no points (a diagram of none is no result)."""
+    missing = int(np.count_nonzero(~crossed))
+    if not missing:
+        return
+    which = "none" if missing == crossed.size else f"{crossed.size - missing}"
+    warnings.warn(
+        LagrangianWarning(
+            f"the motion crosses the section {section.text} (direction {section.direction_name}) "
+            f"for {which} of the {crossed.size} values of {parameter} between t = "
+            f"{transient:g} and {transient + t_end:g}: "
+            + ("no points" if missing == crossed.size else f"{missing} have no points")
+        ),
+        stacklevel=3,
     )
 
 

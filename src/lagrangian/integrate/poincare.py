@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 import os
+import warnings
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,7 +29,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import ModelError, setting
+from ..errors import LagrangianWarning, ModelError, setting
 from ..files import write_atomically, write_csv
 from .base import Status, check_time_span, positive_setting, transient_setting
 from .compiled_sections import crossings, section_loop
@@ -187,6 +188,8 @@ def poincare_section(
         times.append(found_t)
         states.append(found_y)
         orbits.append(np.full(found_t.shape, k))
+    if section is not None:
+        _warn_uncrossed(section, [found_t.size for found_t in times], transient, t1)
     t = np.concatenate(times)
     y = np.concatenate(states, axis=1) if states else np.empty((2 * n, 0))
     names = state_names(compiled)
@@ -212,6 +215,26 @@ def poincare_section(
         settings=settings,
         name=compiled.equations.system.name if compiled.derived else "",
         system=compiled.equations.system if compiled.derived else None,
+    )
+
+
+def _warn_uncrossed(section: Section, counts: Sequence[int], transient: float, t1: float):
+    """Say when orbits never cross the section: their points (none) are no result."""
+    missing = sum(1 for count in counts if count == 0)
+    if not missing:
+        return
+    span = f"between t = {transient:g} and {t1:g}" if transient else f"up to t = {t1:g}"
+    which = (
+        f"none of the {len(counts)} orbits crosses" if missing == len(counts) and missing > 1
+        else "the orbit does not cross" if len(counts) == 1
+        else f"{missing} of the {len(counts)} orbits do not cross"
+    )  # fmt: skip
+    warnings.warn(
+        LagrangianWarning(
+            f"{which} the section {section.text} (direction {section.direction_name}) {span}"
+            + (": no points" if missing == len(counts) else ": they have no points")
+        ),
+        stacklevel=3,
     )
 
 

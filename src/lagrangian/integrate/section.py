@@ -43,6 +43,11 @@ class Section:
     value: float | None
     function: Callable[[float, np.ndarray, np.ndarray], float]
 
+    @property
+    def direction_name(self) -> str:
+        """The direction as it is given: ``+``, ``-`` or ``both``."""
+        return next(name for name, sign in DIRECTIONS.items() if sign == self.direction)
+
 
 def parse_section(compiled: CompiledSystem, text: str, direction: str = "+") -> Section:
     """The section ``text`` (``left = right``) of ``compiled``'s model; a ModelError names
