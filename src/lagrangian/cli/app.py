@@ -184,8 +184,8 @@ def analyze(
         raise click.UsageError("choose one of --json and --latex")
     if (at or outputs) and not with_state_space:
         raise click.UsageError("--at and --output go with --state-space")
-    system = _load(model, lagrangian_text, coordinates)
-    given = options.assignments(assignments)
+    system, given = options.assignments(assignments, _load(model, lagrangian_text, coordinates))
+    system, point = options.operating_point(options.pairs(at, "--at"), system)
     held = {name: given.pop(name) for name in system.input_names if name in given}
     if given:
         from ..model.values import with_values
@@ -202,7 +202,7 @@ def analyze(
             with deadline(generous(timeout), "state space"):
                 linear = state_space(
                     eom,
-                    options.pairs(at, "--at") or None,
+                    point or None,
                     outputs=options.pairs(outputs, "--output") or None,
                 )
         except OutOfTime as error:
@@ -296,6 +296,7 @@ def simulate(
         from ..files import check_output_path
 
         check_output_path(out)  # before the run: a typo in --out fails at once
+    system, values = options.assignments(assignments, system)
     with options.progress_bar(enabled=not as_json) as progress:
         trajectory = simulate_system(
             system,
@@ -304,7 +305,7 @@ def simulate(
             dt=dt,
             rtol=rtol,
             atol=atol,
-            assignments=options.assignments(assignments),
+            assignments=values,
             progress=progress,
             definitions=options.definitions(definitions),
             backend=backend,

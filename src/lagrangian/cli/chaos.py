@@ -124,11 +124,11 @@ def lyapunov(
     if largest and count not in (None, 1):
         raise click.BadParameter("--largest is --count 1", param_hint="--count")
     _png(picture, "--plot")
-    system = load(model)
+    system, values = options.assignments(assignments, load(model))
     with options.progress_bar(enabled=not as_json) as progress:
         spectrum = lyapunov_of_system(
             system, t_end=t_end, count=1 if largest else count, transient=transient,
-            interval=interval, rtol=rtol, atol=atol, assignments=options.assignments(assignments),
+            interval=interval, rtol=rtol, atol=atol, assignments=values,
             progress=progress, definitions=options.definitions(definitions), backend=backend,
             timeout=timeout,
         )  # fmt: skip
@@ -204,12 +204,12 @@ def poincare(
         raise click.BadParameter("give two names, e.g. y,p_y", param_hint="--axes")
     _one_section(section, strobe)
     _check_outputs(out, (".csv", ".nc"), picture)
-    system = load(model)
+    system, values = options.assignments(assignments, load(model))
     with options.progress_bar(enabled=not as_json) as progress:
         points = poincare_of_system(
             system, axes=names, section=section, direction=direction, strobe=strobe,
             transient=transient, energy=energy, orbits=orbits, spread=_spread(spreads),
-            t_end=t_end, rtol=rtol, atol=atol, assignments=options.assignments(assignments),
+            t_end=t_end, rtol=rtol, atol=atol, assignments=values,
             progress=progress, definitions=options.definitions(definitions), backend=backend,
             timeout=timeout,
         )  # fmt: skip
@@ -286,9 +286,10 @@ def bifurcation(
     if section is not None and steps_per_period is not None:
         raise click.BadParameter("--steps-per-period goes with --strobe", param_hint="--strobe")
     _check_outputs(out, (".csv",), picture)
-    ((parameter, values),) = _grids((vary,)).items()
-    system = load(model)
-    initial, params = split_assignments(system, options.assignments(assignments))
+    system, grid = _grids((vary,), load(model))
+    ((parameter, values),) = grid.items()
+    system, given = options.assignments(assignments, system)
+    initial, params = split_assignments(system, given)
     sampling = {"samples": samples, "steps_per_period": steps_per_period, "t_end": t_end, "dt": dt}
     where = {"period": strobe} if section is None else {"section": section, "direction": direction}
     with options.progress_bar(enabled=not as_json) as progress:

@@ -12,32 +12,43 @@ from .app import MODEL_HELP, app
 
 if TYPE_CHECKING:
     from ..ensemble.members import GridAxis
+    from ..model.system import System
 
 
-def _grids(values: tuple[str, ...]) -> dict[str, GridAxis]:
+def _grids(values: tuple[str, ...], system: System) -> tuple[System, dict[str, GridAxis]]:
     """NAME=LO:HI:N of --grid, each on its own axis (a bad one: usage error); the values are
-    made only once the ensemble is known to fit in memory."""
-    from ..ensemble.members import GridAxis
+    made only once the ensemble is known to fit in memory.
 
-    specs: dict[str, tuple[float, float, int]] = {}
+    LO and HI may carry units (``l=20cm:1m:50``), converted as --set's values are
+    (:func:`.options.given_values`): the system returned is dimensioned if they made it so.
+    """
+    from ..ensemble.members import GridAxis
+    from ..model.quantities import has_unit
+
+    specs: dict[str, tuple[str, str, int]] = {}
     for name, text in options.pairs(values, "--grid", "NAME=LO:HI:N").items():
         parts = text.split(":")
         try:
             if len(parts) != 3:
                 raise ValueError
-            low, high, count = float(parts[0]), float(parts[1]), int(parts[2])
-            if count < 1 or not (np.isfinite(low) and np.isfinite(high)):
+            for part in parts[:2]:
+                if not has_unit(part) and not np.isfinite(float(part)):
+                    raise ValueError
+            count = int(parts[2])
+            if count < 1:
                 raise ValueError
         except ValueError:
             raise click.BadParameter(
                 f"expected NAME=LO:HI:N (N a whole number >= 1), got {f'{name}={text}'!r}",
                 param_hint="--grid",
             ) from None
-        specs[name] = (low, high, count)
+        specs[name] = (parts[0], parts[1], count)
+    system, lows = options.given_values({n: s[0] for n, s in specs.items()}, system, "--grid")
+    system, highs = options.given_values({n: s[1] for n, s in specs.items()}, system, "--grid")
     ndim = len(specs)
-    return {
-        name: GridAxis(low, high, count, axis, ndim)
-        for axis, (name, (low, high, count)) in enumerate(specs.items())
+    return system, {
+        name: GridAxis(lows[name], highs[name], count, axis, ndim)
+        for axis, (name, (_, _, count)) in enumerate(specs.items())
     }
 
 
@@ -101,13 +112,13 @@ def ensemble(
         from ..files import check_output_path
 
         check_output_path(out)  # before the runs: a typo in --out fails at once
-    grid = _grids(grids)
-    fixed = options.assignments(assignments)
-    both = sorted(set(grid) & set(fixed))
+    given = options.pairs(assignments, "--set", "NAME=NUMBER")
+    both = sorted(set(options.pairs(grids, "--grid", "NAME=LO:HI:N")) & set(given))
     if both:  # one would silently win over the other
         raise click.BadParameter(f"'{both[0]}' is given by --grid too", param_hint="--set")
     names = observable_names(observables or ("final_state",))
-    system = load(model)
+    system, grid = _grids(grids, load(model))
+    system, fixed = options.given_values(given, system, "--set")
     initial, params = {}, {}
     for name, values in {**fixed, **grid}.items():
         if name in system.parameter_names:

@@ -12,10 +12,14 @@ import json
 import sys
 import time
 from collections.abc import Callable, Iterable
+from typing import TYPE_CHECKING
 
 import click
 
 from ..budget import RUN_SECONDS, checked_seconds
+
+if TYPE_CHECKING:
+    from ..model.system import System
 
 #: --define NAME=EXPR, read by :func:`definitions` (simulate, ensemble).
 define = click.option(
@@ -233,9 +237,46 @@ def progress_bar(*, enabled: bool):
             state["bar"].__exit__(None, None, None)
 
 
-def assignments(values: tuple[str, ...]) -> dict[str, float]:
-    """NAME=VALUE pairs of --set as numbers (a bad one is a usage error naming it)."""
-    return numbers(pairs(values, "--set", "NAME=NUMBER"), "--set")
+def assignments(values: tuple[str, ...], system: System) -> tuple[System, dict[str, float]]:
+    """NAME=VALUE pairs of --set as numbers in SI units, with the system they are for.
+
+    A value may carry a unit (``l=50cm``, ``g=32.2ft/s^2``): it is converted, and refused
+    unless it has the name's dimension; a bare number is in the unit the model declares
+    for the name (:func:`lagrangian.model.units.values_given`).  A unit given to a model
+    without units makes it dimensioned: the system returned is then that model, checked.
+    A value that is neither is a usage error naming it.
+    """
+    return given_values(pairs(values, "--set", "NAME=NUMBER"), system, "--set")
+
+
+def given_values(
+    texts: dict[str, str], system: System, hint: str
+) -> tuple[System, dict[str, float]]:
+    """NAME=VALUE texts of ``hint`` (--set, --grid) as numbers in SI, as :func:`assignments`."""
+    from ..model.quantities import has_unit
+    from ..model.units import values_given
+
+    numbers({name: text for name, text in texts.items() if not has_unit(text)}, hint)
+    return values_given(system, texts, hint)
+
+
+def operating_point(texts: dict[str, str], system: System) -> tuple[System, dict[str, str]]:
+    """NAME=EXPR of --at with their units: a number with a unit (``theta=90deg``) is
+    converted to SI and a bare number is in the unit declared for the name, as for --set;
+    an expression (``theta=pi``) is read as written, in SI units."""
+    from ..model.quantities import has_unit
+
+    numeric = {}
+    for name, text in texts.items():
+        with contextlib.suppress(ValueError):
+            float(text)
+            numeric[name] = text
+        if has_unit(text):
+            numeric[name] = text
+    from ..model.units import exact_text
+
+    system, _ = given_values(numeric, system, "--at")  # checked against the model's units
+    return system, {**texts, **{name: exact_text(system, name, numeric[name]) for name in numeric}}
 
 
 def definitions(values: tuple[str, ...]) -> dict[str, str]:

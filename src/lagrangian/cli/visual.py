@@ -102,7 +102,7 @@ def plot(source, kind, out, t_end, method, assignments, definitions, timeout) ->
         settings = {
             "t_end": t_end,
             "method": method,
-            "assignments": options.assignments(assignments),
+            "assignments": assignments,
             "definitions": options.definitions(definitions),
             "timeout": timeout,
         }
@@ -115,8 +115,8 @@ def _model_figure(model: str, kind: str, settings: dict):
     from ..facade import load
     from ..output.plots import PLOTS
 
-    system = load(model)
-    values = settings["assignments"]
+    system, values = options.assignments(settings["assignments"], load(model))
+    settings = {**settings, "assignments": values}
     if kind == "modes":
         from ..output.mode_shapes import plot_normal_modes
 
@@ -162,13 +162,14 @@ def animate(model, out, t_end, method, assignments, definitions, timeout, fps, m
     out = out or f"{_stem(model)}.gif"
     check_animation_path(out)
     check_output_path(out)
-    system = load(model)  # without particles or bodies: the coordinates are drawn
+    # without particles or bodies: the coordinates are drawn
+    system, values = options.assignments(assignments, load(model))
     _headless()
     run = _simulate(
         system,
         t_end=t_end,
         method=method,
-        assignments=options.assignments(assignments),
+        assignments=values,
         definitions=options.definitions(definitions),
         timeout=timeout,
     )
@@ -210,8 +211,7 @@ def page(model, out, assignments, definitions, no_cache: bool) -> None:
     check_output_path(out)  # before the work: a typo in --out fails at once
 
     def build():
-        system = load(model)
-        values = options.assignments(assignments)
+        system, values = options.assignments(assignments, load(model))
         states = {n for c in system.coordinates for n in (c.name, c.q_dot.name)}
         for name in values:
             if name not in states and name not in system.parameter_names:

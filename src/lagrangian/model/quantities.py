@@ -19,6 +19,7 @@ import functools
 import math
 import re
 from dataclasses import dataclass
+from fractions import Fraction
 
 from ..errors import ModelError
 from .dimensions import Dimension, from_pint
@@ -42,10 +43,12 @@ class Unit:
 
 @dataclass(frozen=True)
 class Quantity:
-    """A value given with a unit: its magnitude in SI base units, and the unit."""
+    """A value given with a unit: its magnitude in SI base units, the unit, and the number
+    as written (exact: ``90`` of ``90 deg``)."""
 
     value: float
     unit: Unit
+    number: Fraction
 
 
 @functools.cache
@@ -58,7 +61,7 @@ def _registry():
 def has_unit(text: str) -> bool:
     """Whether ``text`` (a value as given: ``"0.5"``, ``"50cm"``) carries a unit."""
     match = _NUMBER.fullmatch(text)
-    return match is None or bool(match[2].strip())
+    return match is not None and bool(match[2].strip())
 
 
 def read_quantity(text: str, where: str) -> Quantity:
@@ -77,7 +80,7 @@ def read_quantity(text: str, where: str) -> Quantity:
     value = number * unit.factor
     if not math.isfinite(value):
         raise ModelError(f"{text!r} is beyond double precision", field=where)
-    return Quantity(value, unit)
+    return Quantity(value, unit, Fraction(match[1]))
 
 
 def read_unit(text: str, where: str, *, quoted: str | None = None) -> Unit:

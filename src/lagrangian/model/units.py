@@ -20,8 +20,10 @@ dimension (:func:`values_given`).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from fractions import Fraction
 from types import MappingProxyType
 from typing import TYPE_CHECKING
 
@@ -204,7 +206,11 @@ def values_given(
         if has_unit(text):
             quantities[name] = read_quantity(text.strip(), f"{where} {name}={text}")
     if quantities and system.units is None:
-        system = redimensioned(system, {n: q.unit.dimension for n, q in quantities.items()})
+        try:
+            system = redimensioned(system, {n: q.unit.dimension for n, q in quantities.items()})
+        except ModelError as error:
+            given = ", ".join(f"{n}={texts[n].strip()}" for n in quantities)
+            raise ModelError(f"{where} {given} gives the model units, and then: {error}") from None
     values = {}
     for name, text in texts.items():
         if name not in quantities:
@@ -223,6 +229,22 @@ def values_given(
             )
         values[name] = quantity.value
     return system, values
+
+
+def exact_text(system: System, name: str, text: str) -> str:
+    """The SI value of ``text`` (given for ``name`` as :func:`values_given` reads it) as an
+    expression: exact where the unit is a rational multiple of pi (``180deg`` is ``pi``,
+    so that an operating point at an equilibrium is exactly one), else the float."""
+    if has_unit(text):
+        quantity = read_quantity(text.strip(), name)
+        number, factor = quantity.number, quantity.unit.factor
+    else:
+        unit = system.units.declared.get(name) if system.units is not None else None
+        number, factor = Fraction(text.strip()), unit.factor if unit else 1.0
+    turns = Fraction(factor / math.pi).limit_denominator(100_000)
+    if factor and abs(float(turns) * math.pi - factor) <= 1e-15 * abs(factor):
+        return f"({number * turns})*pi"
+    return repr(float(number) * factor)
 
 
 def redimensioned(system: System, dimensions: Mapping[str, Dimension]) -> System:
