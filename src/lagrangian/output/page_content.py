@@ -120,12 +120,17 @@ def page_content(
     conserved = analysis.conservation.conserved if analysis.conservation is not None else ()
     parameter_names = [q.name for q in code.parameters] if code else _parameters(system)
     symbols = {p.name: p.symbol for p in system.parameters if p.name in parameter_names}
+    signs = {p.name: p.sign for p in system.parameters}
     results, expressions = results_section(analysis, latex_printer(system), symbols)
     document = {
         "name": system.name,
         "description": system.description,
         "coordinates": [{"name": c.name, "velocity": c.q_dot.name} for c in system.coordinates],
-        "parameters": [{"name": name, "value": values[name]} for name in parameter_names],
+        # each with its assumed sign: the page refuses a value that breaks it, as --set does
+        "parameters": [
+            {"name": name, "value": values[name], "sign": signs.get(name, "real")}
+            for name in parameter_names
+        ],
         "inputs": [{"name": name, "value": values.get(name, 0.0)} for name in system.input_names],
         "initial": state,
         # the controls' labels typeset: theta1_dot as \dot{\theta}_{1}

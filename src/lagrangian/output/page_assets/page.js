@@ -127,6 +127,17 @@ function lagrangianPage(model, code) {
     record();
     fitView();
     layout();
+    ui.hint.hidden = !atRest();
+  }
+
+  // whether the run starts at rest in an equilibrium (y' = 0): a model typed with no
+  // initial state (m*x_dot**2/2 - k*x**2/2) stood still with no word of why
+  function atRest() {
+    try {
+      return derivative(0, initialState()).every((x) => Math.abs(x) <= 1e-12);
+    } catch (error) {
+      return false;
+    }
   }
 
   function record() {
@@ -530,6 +541,12 @@ function lagrangianPage(model, code) {
   }
 
   // -- readouts ----------------------------------------------------------------------------
+  // A quantity that starts at 0 (a momentum from rest) drifts by its change itself:
+  // divided by a start of 0 (or 1e-300 in its place) it read -4.72e+284.
+  const STARTS_AT_ZERO = 1e-12;
+  const relative = (value, start) => ((value - start) / Math.abs(start)).toExponential(2);
+  const absolute = (value, start) => (value - start).toExponential(2);
+
   function readouts() {
     let E;
     let I;
@@ -540,17 +557,19 @@ function lagrangianPage(model, code) {
       return;
     }
     const energy = flat(E)[0];
-    const drift = (value, start) => (value - start) / Math.max(Math.abs(start), 1e-300);
     const lines = [
       `t = ${sim.t.toFixed(3)}`,
       `energy h = ${energy.toPrecision(10)}`,
-      `drift (h - h0)/|h0| = ${drift(energy, energy0).toExponential(2)}`,
+      Math.abs(energy0) > STARTS_AT_ZERO ? `drift (h - h0)/|h0| = ${relative(energy, energy0)}` : `drift h - h0 = ${absolute(energy, energy0)}`,
       `steps: ${sim.steps} (${sim.t > 0 ? (sim.steps / sim.t).toFixed(0) : 0} per s)`,
       `frames per second: ${fps.toFixed(0)}`,
     ];
     flat(I).forEach((value, k) => {
       const quantity = model.conserved[k];
-      if (quantity.name !== "energy") lines.push(`${quantity.name} = ${value.toPrecision(10)} (drift ${drift(value, invariants0[k]).toExponential(2)})`);
+      if (quantity.name === "energy") return;
+      const start = invariants0[k];
+      const change = Math.abs(start) > STARTS_AT_ZERO ? `drift ${relative(value, start)}` : `absolute drift ${absolute(value, start)}`;
+      lines.push(`${quantity.name} = ${value.toPrecision(10)} (${change})`);
     });
     if (sim.error) lines.push(`stopped: ${sim.error}`);
     const rows = ui.readouts.children;
@@ -732,6 +751,12 @@ function lagrangianPage(model, code) {
     const shareButton = element("button", { type: "button", title: "a link to this run: its values, integrator and time" }, "Share link");
     const embedButton = element("button", { type: "button", title: "HTML for a course page or slides" }, "Embed");
     buttons.append(play, reset, element("span", {}, "speed"), speedChoice, methodChoice, shareButton, embedButton);
+    const first = names[0];
+    const hint = element(
+      "p",
+      { class: "hint", role: "note", hidden: "" },
+      `At rest in an equilibrium, so nothing moves: drag a mass, or give an initial value (${first} or ${rates[0]} below), to start the motion.`,
+    );
     const shared = element("input", { type: "text", readonly: "", class: "shared", "aria-label": "link to share", hidden: "" });
     const readoutBox = element("div", { class: "readouts" });
     const phase = element("canvas", { "aria-label": "phase portrait" });
@@ -763,7 +788,7 @@ function lagrangianPage(model, code) {
       initialBox.append(field(q, initial[q], fields, false));
       initialBox.append(field(rates[i], initial[rates[i]], fields, false));
     });
-    live.append(mechanism, buttons, shared, status, readoutBox, plots, ...boxes, initialBox);
+    live.append(mechanism, buttons, hint, shared, status, readoutBox, plots, ...boxes, initialBox);
     const offer = (text) => {
       shared.hidden = false;
       shared.value = text;
@@ -785,7 +810,7 @@ function lagrangianPage(model, code) {
       restart();
     });
     phaseChoice.addEventListener("change", () => drawPlots());
-    return { canvas: mechanism, play, status, readouts: readoutBox, phase, series, phaseChoice, fields, methodChoice };
+    return { canvas: mechanism, hint, play, status, readouts: readoutBox, phase, series, phaseChoice, fields, methodChoice };
   }
 
   function field(name, value, fields, isParameter) {
@@ -803,7 +828,15 @@ function lagrangianPage(model, code) {
     const number = element("input", { type: "number", step: "any", value: String(value), "aria-label": `${name} value` });
     const apply = (text) => {
       const x = Number(text);
-      if (Number.isFinite(x)) set(name, x);
+      if (!Number.isFinite(x)) return;
+      try {
+        set(name, x);
+        ui.status.textContent = "";
+      } catch (error) {
+        // refused (a mass of -1): said as the command line says it, the value kept
+        ui.status.textContent = error.message;
+        showValues();
+      }
     };
     slider.addEventListener("input", () => apply(slider.value));
     number.addEventListener("change", () => apply(number.value));
@@ -909,7 +942,8 @@ function lagrangianPage(model, code) {
     const asked = sharing.read(hash);
     const problems = [...asked.problems];
     for (const [name, value] of Object.entries(asked.parameters)) {
-      if (parameterNames.includes(name)) params[parameterNames.indexOf(name)] = value;
+      if (refused(name, value)) problems.push(refused(name, value));
+      else if (parameterNames.includes(name)) params[parameterNames.indexOf(name)] = value;
       else if (inputNames.includes(name)) inputs[inputNames.indexOf(name)] = value;
       else problems.push(`'${name}' is not a parameter of this model`);
     }
@@ -933,9 +967,39 @@ function lagrangianPage(model, code) {
   }
 
   // -- the hook -------------------------------------------------------------------------------
+  // lagrangian.model.values.check_parameter_value: the same rule and words as --set
+  const SIGN_BREAKS = { positive: (x) => x <= 0, nonnegative: (x) => x < 0, negative: (x) => x >= 0 };
+  const SIGN_RANGE = { positive: "> 0", nonnegative: ">= 0", negative: "< 0" };
+
+  function refused(name, x) {
+    const parameter = model.parameters.find((p) => p.name === name);
+    const breaks = parameter && SIGN_BREAKS[parameter.sign];
+    if (!breaks || !breaks(x)) return null;
+    const sign = parameter.sign;
+    return (
+      `parameter ${name} = ${pythonG(x)} breaks the model's assumption that ${name} is ${sign} (the equations were derived with it): ` +
+      `give a value ${SIGN_RANGE[sign]}, or declare ${name} = {value = ..., sign = "real"} in the model`
+    );
+  }
+
+  // Python's format(x, "g"): 6 significant digits, no trailing zeros, an exponent of two
+  // digits or more below 1e-4 and from 1e6
+  function pythonG(x) {
+    if (x === 0) return "0";
+    const [mantissa, power] = x.toExponential(5).split("e");
+    const exponent = Number(power);
+    if (exponent < -4 || exponent >= 6) {
+      const digits = String(Math.abs(exponent)).padStart(2, "0");
+      return `${mantissa.replace(/\.?0+$/, "")}e${exponent < 0 ? "-" : "+"}${digits}`;
+    }
+    return String(Number(x.toPrecision(6)));
+  }
+
   function set(name, value) {
     const x = Number(value);
     if (!Number.isFinite(x)) throw new Error(`${name}: not a finite number: ${value}`);
+    const refusal = refused(name, x);
+    if (refusal) throw new Error(refusal);
     const index = parameterNames.indexOf(name);
     if (index >= 0) params[index] = x;
     else if (inputNames.includes(name)) inputs[inputNames.indexOf(name)] = x;
