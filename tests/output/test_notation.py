@@ -68,3 +68,28 @@ def test_closed_forms_too_long_to_read_are_named_not_printed():
     assert r"\ddot{\theta}_{1} &: \text{too long to print" in latex
     document = json.loads(json.dumps(derive_document(eom)))
     assert set(document["accelerations"]) == {f"theta{i}" for i in range(1, 6)}
+
+
+@pytest.mark.parametrize(
+    "name, latex",
+    [
+        ("mechanical_energy", r"\mathrm{mechanical\_energy}"),  # was \mathcal{mechani}_{energy}
+        ("angular_momentum", r"\mathrm{angular\_momentum}"),
+        ("lam", r"\mathrm{lam}"),
+        ("lambda1", r"\lambda_{1}"),  # a Greek letter stays one
+        ("k_spring", "k_{spring}"),  # a letter with a subscript stays one
+    ],
+)
+def test_a_name_that_begins_with_a_word_is_written_upright(name, latex):
+    assert latex_name(name) == latex
+
+
+def test_every_quantity_name_is_typeset_by_the_one_rule():
+    from lagrangian.output.page_content import page_content
+
+    # a bead on a turning wire: its mechanical energy is not conserved, h is
+    document = page_content(lg.load("rotating_wire_bead")).document
+    (section,) = [s for s in document["sections"] if s["title"] == "Conserved quantities"]
+    latex = " ".join(item.get("latex", "") for item in section["items"])
+    assert r"\mathrm{mechanical\_energy} = " in latex
+    assert r"\mathcal" not in latex

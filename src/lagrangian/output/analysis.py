@@ -340,4 +340,4 @@ def _name(name: str) -> str:
 def _latex_quantity(name: str) -> str:
     if name.startswith("p_"):
         return f"p_{{{latex_name(name[2:])}}}"
-    return {"energy": "h"}.get(name, rf"\mathrm{{{name}}}")
+    return {"energy": "h"}.get(name, latex_name(name))  # one naming rule for every name

@@ -15,7 +15,7 @@ from collections.abc import Callable, Iterable
 
 import sympy
 from sympy.core.function import AppliedUndef
-from sympy.printing.latex import LatexPrinter
+from sympy.printing.latex import LatexPrinter, greek_letters_set
 from sympy.printing.pretty.pretty_symbology import pretty_symbol
 from sympy.printing.str import StrPrinter
 
@@ -55,14 +55,28 @@ def unicode_name(name: str) -> str:
 
 @functools.lru_cache(maxsize=4096)  # a page names each symbol hundreds of times
 def latex_name(name: str) -> str:
-    """\\dot{\\theta}_{1} for 'theta1_dot'."""
+    """\\dot{\\theta}_{1} for 'theta1_dot'; a name that begins with a word (three
+    letters or more, not a Greek letter) upright as it is written:
+    \\mathrm{mechanical\\_energy} (SymPy's rule read 'mechanical' as a calligraphic
+    'mechani' and the rest as a subscript)."""
     base, dots = _split_dots(name)
-    shown = sympy.latex(sympy.Symbol(base))
+    shown = _word(base) or sympy.latex(sympy.Symbol(base))
     if dots == 0:
         return shown
     command = r"\dot" if dots == 1 else r"\ddot"
     head, sep, subscript = shown.partition("_")
     return f"{command}{{{head}}}{sep}{subscript}"
+
+
+def _word(base: str) -> str | None:
+    """``\\mathrm{...}`` of a name whose first part is a word, else None (SymPy's rule)."""
+    head = base.partition("_")[0].rstrip("0123456789")
+    if len(head) < 3 or not head.isalpha() or head.lower() in _GREEK:
+        return None
+    return r"\mathrm{" + base.replace("_", r"\_") + "}"
+
+
+_GREEK = frozenset({*greek_letters_set, "lamda", "lambda"})
 
 
 def _dot_rank(term: sympy.Expr) -> int:

@@ -271,7 +271,7 @@ def _shown(expr: sympy.Expr, show) -> str:
 def _quantity_latex(name: str) -> str:
     if name.startswith("p_"):
         return f"p_{{{latex_name(name[2:])}}}"
-    return {"energy": "h"}.get(name, rf"\mathrm{{{latex_name(name)}}}")
+    return {"energy": "h"}.get(name, latex_name(name))  # one naming rule for every name
 
 
 # -- the drawing -----------------------------------------------------------------------
