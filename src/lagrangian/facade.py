@@ -218,14 +218,16 @@ class System(ModelSystem):
         *,
         parameters: Mapping[str, float] | None = None,
         initial: Mapping[str, float] | None = None,
+        exercise=None,
     ):
         """The model's interactive page (worked solution, live simulation): shown inline
         in Jupyter in a sandboxed frame, ``.html`` its text, ``.save(path)`` a file
-        (see :func:`lagrangian.output.page.page_html`)."""
+        (see :func:`lagrangian.output.page.page_html`; ``exercise``: the steps asked, e.g.
+        ``("kinetic", "equations")``, the worked solution hidden)."""
         from .output.display import ModelPage
         from .output.page import page_html
 
-        return ModelPage(page_html(self, parameters=parameters, initial=initial))
+        return ModelPage(page_html(self, parameters=parameters, initial=initial, exercise=exercise))
 
     def _repr_latex_(self) -> str:
         from .output.latex import latex_expression

@@ -38,6 +38,7 @@ FLAGS = {
     "hamiltonian": "--hamiltonian",
     "conserved": "--conserved",
     "momenta": "--momentum",
+    "exercise": "--exercise",
 }
 
 

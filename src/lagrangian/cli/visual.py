@@ -190,7 +190,17 @@ def animate(model, out, t_end, method, assignments, definitions, timeout, fps, m
     help="Make the page anew, neither reading nor keeping it in the cache of pages "
     "(also LAGRANGIAN_NO_CACHE=1).",
 )
-def page(model, out, assignments, definitions, no_cache: bool) -> None:
+@click.option(
+    "--exercise",
+    is_flag=False,
+    flag_value="all",
+    default=None,
+    metavar="[STEPS]",
+    help="An exercise: the worked solution hidden, the student asked for these steps "
+    "(kinetic, potential, lagrangian, equations, separated by commas; alone: all), each "
+    "answer checked in the page as 'lagrangian check' does.",
+)
+def page(model, out, assignments, definitions, no_cache: bool, exercise: str | None) -> None:
     """Write the page of MODEL: one HTML file, for any browser, offline.
 
     The worked solution typeset (L, Lagrange's equations, M and f, conserved
@@ -202,6 +212,7 @@ def page(model, out, assignments, definitions, no_cache: bool) -> None:
     from ..facade import load
     from ..files import write_atomically
     from ..model.toml_io import model_bytes
+    from ..output.exercise import exercise_steps
     from ..output.page import built_page
     from ..output.page_cache import cache_enabled, cached_page
 
@@ -221,8 +232,11 @@ def page(model, out, assignments, definitions, no_cache: bool) -> None:
             parameters={k: v for k, v in values.items() if k in system.parameter_names},
             initial={k: v for k, v in values.items() if k in states},
             definitions=options.definitions(definitions),
+            exercise=exercise_steps(exercise) if exercise is not None else None,
         )
 
+    if exercise is not None:
+        exercise_steps(exercise)  # before the work: a misspelt step fails at once
     source = None
     if cache_enabled() and not no_cache:
         with contextlib.suppress(OSError, LagrangianError):  # loading says what is wrong
@@ -230,7 +244,7 @@ def page(model, out, assignments, definitions, no_cache: bool) -> None:
     if source is None:
         text = build().html
     else:
-        given = {"set": list(assignments), "define": list(definitions)}
+        given = {"set": list(assignments), "define": list(definitions), "exercise": exercise}
         text = cached_page(source, given, build)
     write_atomically(out, lambda temporary: temporary.write_text(text, encoding="utf-8"))
     click.echo(f"wrote {out}: open it in a browser (it needs no server and no network)")

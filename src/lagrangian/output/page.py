@@ -5,7 +5,9 @@
 simulation of the model (:mod:`lagrangian.output.page_content` makes what the page
 shows and runs; in ``page_assets``, ``integrators.js`` steps the motion, ``plots.js``
 draws the phase portrait and time series, ``results.js`` the equilibria and modes with
-their numbers, ``share.js`` the share link and embed mode, ``page.js`` draws the mechanism and wires the controls).
+their numbers, ``share.js`` the share link and embed mode, ``page.js`` draws the
+mechanism and wires the controls; with an exercise, ``expressions.js``, ``check.js`` and
+``exercise.js`` check the student's answers).
 
 It works from the disk, offline, with no server: every script, style and font is
 inline, and its Content-Security-Policy allows nothing else (no network request, no
@@ -27,7 +29,7 @@ import hashlib
 import html
 import json
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cache
 from importlib import resources
@@ -51,16 +53,21 @@ def page_html(
     parameters: Mapping[str, float] | None = None,
     initial: Mapping[str, float] | None = None,
     definitions: Mapping[str, str] | None = None,
+    exercise: Sequence[str] | None = None,
 ) -> str:
     """The page of ``system`` (a whole HTML document) at ``parameters`` and ``initial``
     values (defaults: the model's; both can be changed in the page); ``definitions``
     ({NAME: EXPR}) give the model's unspecified functions, without which the page shows
-    the solution only.
+    the solution only.  ``exercise`` (steps of :data:`~lagrangian.output.exercise.STEPS`)
+    hides the worked solution and asks the student for those steps, each answer checked
+    in the page (:mod:`lagrangian.output.exercise`).
 
     Raises :class:`~lagrangian.errors.ModelError` (and the other errors of deriving a
     model) for names or values that do not fit it.
     """
-    return built_page(system, parameters=parameters, initial=initial, definitions=definitions).html
+    return built_page(
+        system, parameters=parameters, initial=initial, definitions=definitions, exercise=exercise
+    ).html
 
 
 @dataclass(frozen=True)
@@ -78,9 +85,12 @@ def built_page(
     parameters: Mapping[str, float] | None = None,
     initial: Mapping[str, float] | None = None,
     definitions: Mapping[str, str] | None = None,
+    exercise: Sequence[str] | None = None,
 ) -> Page:
     """The :class:`Page` of ``system`` (the arguments as for :func:`page_html`)."""
-    content = page_content(system, parameters=parameters, initial=initial, definitions=definitions)
+    content = page_content(
+        system, parameters=parameters, initial=initial, definitions=definitions, exercise=exercise
+    )
     page_script = "\n".join(_asset(name) for name in _PAGE_SCRIPTS)
     if content.script is None:
         code = _inside_script(page_script + _START.format(code="null"))
@@ -92,7 +102,7 @@ def built_page(
         "CSP": _CSP.format(scripts=hashes),
         "TITLE": html.escape(system.name or "model"),
         "KATEX_CSS": _katex_css(),
-        "PAGE_CSS": _asset("page.css"),
+        "PAGE_CSS": _asset("page.css") + _asset("exercise.css"),
         "MODEL": json_for_html(content.document),
         "KATEX_JS": katex,
         "CODE": code,
@@ -103,10 +113,23 @@ def built_page(
 
 #: The page's own script, in the order appended to the generated module: the integrators,
 #: the plots, then the page that uses them.
-_PAGE_SCRIPTS = ("integrators.js", "plots.js", "results.js", "share.js", "page.js")
+_PAGE_SCRIPTS = (
+    "integrators.js",
+    "plots.js",
+    "results.js",
+    "share.js",
+    "page.js",
+    "expressions.js",
+    "check.js",
+    "exercise.js",
+)
 #: Reads the document (data, never code) and starts the page with the generated functions.
 _START = """
-lagrangianPage(JSON.parse(document.getElementById("lagrangian-model").textContent), {code});
+const lagrangianModel = JSON.parse(document.getElementById("lagrangian-model").textContent);
+lagrangianPage(lagrangianModel, {code});
+if (lagrangianModel.exercise) {{
+  lagrangianExercise(lagrangianModel.exercise, document.getElementById("solution"));
+}}
 """
 #: The generated functions the page calls (``null`` where the model cannot run).
 _CODE = (

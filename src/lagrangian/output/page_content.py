@@ -29,7 +29,7 @@ values of the moment, by the rules of :mod:`lagrangian.output.solids`.  Nothing 
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -45,6 +45,7 @@ from ..derive import EquationsOfMotion, derive
 from ..errors import ModelError
 from ..model import RigidBody, System
 from ..model.values import check_parameter_values
+from .exercise import exercise_document, exercise_steps
 from .geometry import ROD_TOLERANCE, coordinates_drawn, geometry
 from .large import latex_printer
 from .latex import latex_equations, latex_steps
@@ -100,11 +101,14 @@ def page_content(
     parameters: Mapping[str, float] | None = None,
     initial: Mapping[str, float] | None = None,
     definitions: Mapping[str, str] | None = None,
+    exercise: Sequence[str] | None = None,
 ) -> PageContent:
     """The :class:`PageContent` of ``system`` at ``parameters`` and ``initial`` values
     (defaults: the model's); ``definitions`` give its unspecified functions (as for
     :func:`~lagrangian.numeric.compile_equations`), without them the page shows the
-    solution only.  Raises the project's errors for names or values that do not fit."""
+    solution only; ``exercise`` adds the exercise of those steps
+    (:func:`~lagrangian.output.exercise.exercise_document`).  Raises the project's errors
+    for names or values that do not fit."""
     values = _parameter_values(system, parameters)
     state = _initial_state(system, initial)
     # every definition checked (a declared name, text the parser reads) as simulate checks
@@ -148,6 +152,8 @@ def page_content(
         "sections": _sections(eom, analysis, results),
         "dop853": _dop853(),
     }
+    if exercise:
+        document["exercise"] = exercise_document(eom, exercise_steps(exercise))
     if code is None:  # the solution only: nothing to run without the functions
         functions = ", ".join(missing)
         document["unavailable"] = (

@@ -23,10 +23,22 @@ from ...derive import EquationsOfMotion
 from ...errors import ModelError, ParseError, setting
 from ...parsing import Namespace, parse_expression
 from . import answers
+from .reference import raw_equations, right_kinetic, right_potential, state_symbols
 from .result import PROBLEMS, VERDICTS, AnswerCheck, CheckResult, TermProblem
 from .sampling import points
 
-__all__ = ["PROBLEMS", "VERDICTS", "AnswerCheck", "CheckResult", "TermProblem", "check"]
+__all__ = [
+    "PROBLEMS",
+    "VERDICTS",
+    "AnswerCheck",
+    "CheckResult",
+    "TermProblem",
+    "check",
+    "raw_equations",
+    "right_kinetic",
+    "right_potential",
+    "state_symbols",
+]
 
 
 def check(
@@ -51,22 +63,17 @@ def check(
         raise ModelError("check evaluates expressions at points: the model's unspecified "
                          "functions have no values", field="functions")  # fmt: skip
     symbols = dict(system.symbols)
-    velocity_free = {c.q_dot: 0 for c in system.coordinates}
-    lagrangian_at_rest = system.lagrangian.xreplace(velocity_free)
-    moving = [c.q for c in system.coordinates] + [system.time]
-    state = frozenset(
-        [*moving, *(c.q_dot for c in system.coordinates), *(c.q_ddot for c in system.coordinates)]
-    )
+    state = state_symbols(eom)
     parameters = [p.symbol for p in system.parameters]
     at = points(state, parameters)
     namespace = Namespace(symbols=symbols)
     results = []
     if kinetic is not None:
-        right = system.kinetic if system.kinetic is not None else _quadratic_part(eom)
+        right = right_kinetic(eom)
         given = _parsed(kinetic, namespace, setting("kinetic"))
         results.append(answers.by_terms("kinetic", _text(kinetic), given, right, state, at))
     if potential is not None:
-        right = system.potential if system.potential is not None else -lagrangian_at_rest
+        right = right_potential(eom)
         given = _parsed(potential, namespace, setting("potential"))
         results.append(answers.by_terms("potential", _text(potential), given, right, state, at,
                                         up_to_constant=True))  # fmt: skip
@@ -100,13 +107,6 @@ def check(
         raise ModelError("nothing to check: give an answer (kinetic, potential, lagrangian, "
                          "equations, hamiltonian, conserved or momenta)")  # fmt: skip
     return CheckResult(tuple(results))
-
-
-def _quadratic_part(eom: EquationsOfMotion) -> sympy.Expr:
-    """T of a model given by L alone: its part of second degree in the velocities,
-    q'^T M q' / 2 (the part of first degree is a velocity-dependent potential's)."""
-    velocities = sympy.Matrix([c.q_dot for c in eom.coordinates])
-    return sympy.expand((velocities.T * eom.mass_matrix * velocities)[0, 0] / 2)
 
 
 def _hamiltonian(text, eom: EquationsOfMotion, parameters) -> AnswerCheck:

@@ -16,6 +16,7 @@ import numpy as np
 import sympy
 
 from ...derive import EquationsOfMotion
+from .reference import raw_equations
 from .result import AnswerCheck, readable
 from .sampling import PARAMETER_SETS, STATES, Points, close, per_set, state_free
 from .terms import compare, groups, total_scale
@@ -144,7 +145,7 @@ def equation(
 ) -> AnswerCheck:
     """One equation (expr = 0) against the Euler-Lagrange equations M q'' - f = 0."""
     coordinates = eom.coordinates
-    raw = list(eom.mass_matrix * sympy.Matrix([c.q_ddot for c in coordinates]) - eom.forcing)
+    raw = raw_equations(eom)
     shown = [step.equation for step in eom.steps]
     value = at.evaluate(given)
     for i, c in enumerate(coordinates):

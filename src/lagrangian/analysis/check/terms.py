@@ -155,7 +155,7 @@ def _matched(
     problems, ok = [], 0
     for student, expected, mine in pairs:
         theirs = expected.coefficient_values
-        wanted = _printed(expected.term * symbolic)
+        wanted = printed_term(expected.term * symbolic)
         if close(mine, theirs):
             ok += 1
         elif close(mine, -theirs):
@@ -163,14 +163,15 @@ def _matched(
         else:
             problems.append(TermProblem(str(student.term), "factor", wanted))
     for group in unmatched_right:
-        wanted = _printed(group.term * symbolic)
+        wanted = printed_term(group.term * symbolic)
         problems.append(TermProblem(wanted, "missing", wanted))
     for group in extra:
         problems.append(TermProblem(str(group.term), "extra", None))
     return Comparison(tuple(problems), ok, symbolic)
 
 
-def _printed(expr: sympy.Expr) -> str:
+def printed_term(expr: sympy.Expr) -> str:
+    """A term as the diagnosis prints it (SymPy syntax, common factors taken out)."""
     return str(sympy.factor_terms(sympy.cancel(expr)))
 
 

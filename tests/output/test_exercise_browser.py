@@ -1,0 +1,116 @@
+"""The exercise page in Chromium: its checker agrees with ``lagrangian check`` on every
+held-out answer of tests/analysis/test_check.py that a page asks (T, V, L, equations, as
+plain text), and a student's typing, checking and revealing works with no console error.
+"""
+
+from __future__ import annotations
+
+import pytest
+import sympy
+
+import lagrangian as lg
+from analysis.test_check import CASES, MODELS
+from lagrangian.output.exercise import STEPS
+from lagrangian.output.page import page_html
+from output.browser import chromium, open_page
+
+pytestmark = pytest.mark.slow
+
+#: The cases a page asks: one answer of a page's step, written as plain text.
+PAGE_CASES = [
+    (name, step, answer[0] if step == "equations" else answer, verdict)
+    for name, answers, verdict, _, _ in CASES
+    for step, answer in answers.items()
+    if step in STEPS and "\\" not in str(answer)
+]
+
+
+@pytest.fixture(scope="module")
+def browser():
+    with chromium() as browser:
+        yield browser
+
+
+@pytest.fixture(scope="module")
+def pages(browser, tmp_path_factory):
+    """model name -> its exercise page, opened once."""
+    folder = tmp_path_factory.mktemp("exercise")
+    opened = {}
+
+    def page_of(name: str):
+        if name not in opened:
+            path = folder / f"{name}.html"
+            path.write_text(page_html(lg.load(MODELS / f"{name}.toml"), exercise=STEPS), "utf-8")
+            opened[name] = open_page(browser, path)
+            opened[name].page.wait_for_function("() => window.lagrangianCheck !== undefined")
+        return opened[name]
+
+    yield page_of
+    for page in opened.values():
+        page.page.close()
+
+
+def test_the_cases_cover_every_step_and_verdict():
+    assert {step for _, step, _, _ in PAGE_CASES} == set(STEPS)
+    assert {verdict for *_, verdict in PAGE_CASES} == {"right", "equivalent", "wrong"}
+
+
+@pytest.mark.parametrize(("name", "step", "answer", "verdict"), PAGE_CASES)
+def test_the_page_agrees_with_check(pages, name, step, answer, verdict):
+    opened = pages(name)
+    found = opened.page.evaluate("([s, t]) => window.lagrangianCheck(s, t)", [step, answer])
+    keyword = {"equations": "equations"}.get(step, step)
+    expected = lg.load(MODELS / f"{name}.toml").check(
+        **{keyword: [answer] if step == "equations" else answer}
+    )
+    assert found["verdict"] == expected.verdict == verdict
+    if verdict == "right":
+        assert found["reason"] == expected.reason
+    names = dict(lg.load(MODELS / f"{name}.toml").symbols)
+
+    def read(text):  # each term's expression, to compare whatever its printing
+        if text is None:
+            return None
+        return sympy.parse_expr(text.replace("^", "**"), local_dict=names)
+
+    mine = [(t["problem"], read(t["term"]), read(t["expected"])) for t in found["terms"]]
+    theirs = [(t.problem, read(t.term), read(t.expected)) for t in expected.terms]
+    assert len(mine) == len(theirs)
+    for problem, term, right in theirs:  # the same terms at fault and the same right terms
+        assert any(
+            problem == p
+            and sympy.simplify(term - t) == 0
+            and (right is None if r is None else sympy.simplify(right - r) == 0)
+            for p, t, r in mine
+        ), (problem, term, right, mine)
+    assert opened.errors == []
+
+
+def test_a_student_types_checks_and_sees_the_solution(pages):
+    opened = pages("atwood")
+    page = opened.page
+    solution = page.locator("#solution > :not(#exercise)")
+    assert solution.count() > 0
+    assert all(not solution.nth(k).is_visible() for k in range(solution.count()))
+
+    def answer(field: str, text: str) -> str:
+        page.fill(f"#exercise-{field}", text)
+        page.locator(f"#exercise-{field}").press("Enter")
+        verdict = page.locator(f"#exercise-{field} ~ .exercise-verdict")
+        return verdict.get_attribute("data-verdict") + ": " + verdict.inner_text()
+
+    assert answer("kinetic", "m1*x_dot^2/2") == (
+        "wrong: Wrong: the term m1*x_dot^2/2 should be x_dot^2*(m1 + m2)/2"
+    )
+    assert answer("kinetic", "(m1 + m2)*x_dot^2/2") == "right: Right: right"
+    assert answer("potential", "m1*g*(x") == "error: Cannot read this: expected ')' at position 8"
+    assert answer("potential", "(m2 - m1)*g*x + 4") == (
+        "equivalent: Right, equivalently: right up to a constant, which changes no motion"
+    )
+    assert answer("lagrangian", "(m1 + m2)*x_dot^2/2 + (m1 - m2)*g*x") == "right: Right: right"
+    assert not solution.first.is_visible()  # one step is left
+    assert answer("equations-0", "x_ddot = (m1 - m2)*g/(m1 + m2)").startswith("equivalent: ")
+    assert all(solution.nth(k).is_visible() for k in range(solution.count()))
+    page.locator("#exercise-equations-0 ~ .exercise-show").click()
+    assert page.locator("#exercise-equations-0 ~ .exercise-answer .katex").count() == 1
+    assert opened.errors == []
