@@ -4,6 +4,7 @@ file names that a language would misread are refused, the Baumgarte rate is boun
 
 from __future__ import annotations
 
+import copy
 import functools
 import math
 import re
@@ -47,9 +48,13 @@ COMMENT_MARK = {"numpy": "#", "julia": "#", "matlab": "%"}
 
 
 def oscillator(name: str = "benign", description: str = "") -> lg.System:
-    return lg.System.from_lagrangian(
-        "m*x_dot**2/2 - k*x**2/2", coordinates=["x"], name=name, description=description
-    )
+    """The oscillator with this name and description put in past the model's own check:
+    a System refuses control characters as a model file does (tests/model/test_plain_text.py),
+    and the export's comments are the second line of defence, tested here on their own."""
+    system = copy.copy(lg.System.from_lagrangian("m*x_dot**2/2 - k*x**2/2", coordinates=["x"]))
+    object.__setattr__(system, "name", name)
+    object.__setattr__(system, "description", description)
+    return system
 
 
 def code_part(text: str, language: str) -> str:

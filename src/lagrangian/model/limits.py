@@ -22,6 +22,7 @@ example has 3 coordinates) and keep a hostile file to a second or two of work:
 from __future__ import annotations
 
 import re
+import unicodedata
 from collections.abc import Iterable, Mapping
 from types import MappingProxyType
 
@@ -124,3 +125,32 @@ def check_kinetic_work(moving_with: Iterable[int]) -> None:
             "move with fewer coordinates",
             field="particles",
         )
+
+
+#: Unicode categories refused in plain text (a name, a description): controls (NUL, CR, ...),
+#: format characters (bidirectional overrides, ...), the line and paragraph separators, and
+#: lone surrogates (Python strings may hold them, UTF-8 files and pages cannot).
+_REFUSED_CATEGORIES = frozenset({"Cc", "Cf", "Zl", "Zp", "Cs"})
+
+
+def check_plain_text(value: object, field: str, *, breaks: str = "") -> str:
+    """``value`` if it is text a model file could hold: no control character (but those in
+    ``breaks``) and no lone surrogate, which every file and page it reaches would refuse
+    to encode; ModelError naming ``field`` and the character otherwise.
+
+    >>> check_plain_text("Pendulum", "name")
+    'Pendulum'
+    >>> check_plain_text("a\\rb", "name")
+    Traceback (most recent call last):
+    ...
+    lagrangian.errors.ModelError: name: control character U+000D not allowed in text
+    """
+    if not isinstance(value, str):
+        raise ModelError(f"expected text, got {type(value).__name__}", field=field)
+    for character in value:
+        category = unicodedata.category(character)
+        if category in _REFUSED_CATEGORIES and character not in breaks:
+            what = "lone surrogate" if category == "Cs" else "control character"
+            why = " (it has no UTF-8 form)" if category == "Cs" else ""
+            raise ModelError(f"{what} U+{ord(character):04X} not allowed in text{why}", field=field)
+    return value

@@ -12,6 +12,7 @@ import sympy
 from ..errors import ModelError
 from ..symbols import Coordinate, time_symbol
 from .components import ExprLike, Gravity, Particle, RigidBody, RigidBody2D, Spring
+from .limits import check_plain_text
 
 if TYPE_CHECKING:
     from .inputs import Input
@@ -98,6 +99,13 @@ class System:
     def __post_init__(self) -> None:
         for name in ("forces", "initial", "simulate_settings"):
             object.__setattr__(self, name, _frozen(getattr(self, name)))
+        # what the model file refuses, refused however the system is made: the name and
+        # the description reach pages, exported code and CSV headers, which must encode
+        check_plain_text(self.name, "name")
+        check_plain_text(self.description, "description", breaks="\n\t")
+        for kind in ("particles", "bodies", "springs"):
+            for i, component in enumerate(getattr(self, kind)):
+                check_plain_text(component.name, f"{kind}[{i}].name")
 
     def __repr__(self) -> str:  # the REPL shows the model, not every field of it
         values = ", ".join(

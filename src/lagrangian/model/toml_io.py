@@ -13,14 +13,19 @@ import math
 import os
 import stat
 import tomllib
-import unicodedata
 from collections.abc import Mapping
 from pathlib import Path
 
 from ..errors import ModelError
 from .build import ModelSpec, build_system
 from .components import Gravity, Particle, RigidBody, RigidBody2D, Spring
-from .limits import MAX_FILE_BYTES, check_counts, check_toml_keys, file_size_problem
+from .limits import (
+    MAX_FILE_BYTES,
+    check_counts,
+    check_plain_text,
+    check_toml_keys,
+    file_size_problem,
+)
 from .system import System
 
 _KINDS = {
@@ -181,20 +186,7 @@ def _spec(data: Mapping[str, object], source: str | None) -> ModelSpec:
 def _string(data, key, default, breaks=""):
     """Text without control characters (but those in ``breaks``): a name is one line of
     plain text, and what ends a line or hides text does not belong in the files it reaches."""
-    value = data.get(key, default)
-    if not isinstance(value, str):
-        raise ModelError(f"expected text, got {type(value).__name__}", field=key)
-    for character in value:
-        if unicodedata.category(character) in _CONTROLS and character not in breaks:
-            raise ModelError(
-                f"control character U+{ord(character):04X} not allowed in text", field=key
-            )
-    return value
-
-
-#: Unicode categories refused in text: controls (NUL, CR, ...), format characters
-#: (bidirectional overrides, ...) and the line and paragraph separators.
-_CONTROLS = frozenset({"Cc", "Cf", "Zl", "Zp"})
+    return check_plain_text(data.get(key, default), key, breaks=breaks)
 
 
 def _scalar(data, key, where=None):
