@@ -289,6 +289,55 @@ def double_pendulum_page() -> None:
         raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
 
 
+def double_pendulum_report() -> None:
+    """Two pages of ``lagrangian report double_pendulum --to tex`` as pdflatex sets them
+    (the derivation, and the normal modes with their numbers), rendered by pdftoppm or
+    mutool, whichever is installed."""
+    import shutil
+    import subprocess
+    import tempfile
+
+    from lagrangian.output.worked_solution import worked_solution, write_report
+
+    pdflatex = shutil.which("pdflatex")
+    renderer = shutil.which("pdftoppm") or shutil.which("mutool")
+    if pdflatex is None or renderer is None:
+        raise SystemExit("the report's pictures need pdflatex and pdftoppm (or mutool)")
+    with tempfile.TemporaryDirectory() as folder:
+        write_report(worked_solution(lg.load("double_pendulum")), Path(folder) / "report.tex")
+        for _ in range(2):  # the second run settles the floats
+            subprocess.run(
+                [pdflatex, "-interaction=nonstopmode", "-halt-on-error", "report.tex"],
+                cwd=folder,
+                check=True,
+                capture_output=True,
+            )
+        for page, name in (
+            (2, "report_double_pendulum_steps.png"),
+            (3, "report_double_pendulum_modes.png"),
+        ):
+            target = IMAGES / name
+            if Path(renderer).name == "pdftoppm":
+                command = [renderer, "-png", "-r", str(DPI), "-f", str(page), "-l", str(page),
+                           "-singlefile", "report.pdf", str(target.with_suffix(""))]  # fmt: skip
+            else:
+                command = [
+                    renderer,
+                    "draw",
+                    "-r",
+                    str(DPI),
+                    "-o",
+                    str(target),
+                    "report.pdf",
+                    str(page),
+                ]
+            subprocess.run(command, cwd=folder, check=True, capture_output=True)
+            size = target.stat().st_size
+            print(f"  {name:34s} {size / 1000:6.1f} kB")
+            if size > LIMIT:
+                raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+
+
 def serve_editor() -> None:
     """A screenshot of `lagrangian serve`: the editor beside the double pendulum's page,
     taken by Debian's Chromium through Playwright (pip install playwright)."""
@@ -383,6 +432,7 @@ PICTURES = (
     double_pendulum,
     double_pendulum_flip_map,
     double_pendulum_page,
+    double_pendulum_report,
     vertical_spring,
     free_particle_spherical,
     planar_particle_forces,

@@ -39,6 +39,8 @@ SKIPPED = {
     "--backend cuda": "needs an NVIDIA GPU",
     "--scheduler tcp://": "needs a Dask cluster",
     "lagrangian serve": "serves until stopped (tests/serve/test_editor_browser.py runs it)",
+    "pdflatex ": "LaTeX, not this toolkit (tests/output/test_worked_solution_pdf.py compiles "
+    "the report of every example)",
 }
 #: Synopsis lines (placeholders in capitals, alternatives with |, options in [...]).
 SYNOPSIS = re.compile(r"\b(MODEL|TRAJECTORY)\b|\[--")
@@ -88,7 +90,16 @@ SMALLER = (
 ANIMATION_FRAMES = 50
 #: The commands whose lines are in the slow tier (``pytest --slow``): films, pages and many
 #: motions, seconds each.  Every Python block is too (a fresh interpreter each).
-SLOW_COMMANDS = ("demo", "animate", "page", "ensemble", "bifurcation", "lyapunov", "poincare")
+SLOW_COMMANDS = (
+    "demo",
+    "animate",
+    "page",
+    "report",
+    "ensemble",
+    "bifurcation",
+    "lyapunov",
+    "poincare",
+)
 #: ``python docs/make_images.py [FILTER]`` remakes the pictures (every one: about a
 #: minute; the double pendulum's: half a minute): the test runs it, into a temporary
 #: folder, with this filter instead (the pictures whose name contains it).
@@ -125,6 +136,9 @@ PRINTS = {
     ],
     "lagrangian check simple_pendulum --potential m*g*l*cos(theta)": [
         "has the wrong sign: it should be -g*l*m*cos(theta)"
+    ],
+    "lagrangian report double_pendulum --to tex": [
+        "wrote double_pendulum.tex (pictures: double_pendulum-modes.pdf, double_pendulum-phase.pdf)"
     ],
 }
 

@@ -174,3 +174,9 @@ def _katex_css() -> str:
 
     css = _asset("katex/katex.min.css")
     return re.sub(r"src:url\(fonts/([\w-]+)\.woff2\) format\(\"woff2\"\)[^;}]*", embedded, css)
+
+
+def katex_assets() -> tuple[str, str]:
+    """KaTeX's style sheet (fonts embedded) and script, as the page has them: for other
+    documents that typeset offline (the worked solution's HTML, ``lagrangian report``)."""
+    return _katex_css(), _asset("katex/katex.min.js")
