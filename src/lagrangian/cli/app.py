@@ -221,13 +221,13 @@ def analyze(
             document["state_space"] = state_space_document(linear)
         click.echo(json.dumps(document, indent=2, ensure_ascii=False))
     elif as_latex:
-        click.echo(latex_analysis(analysis))
+        click.echo(latex_analysis(analysis, values_given=bool(given or held)))
         if linear is not None:
             from ..output.state_space import latex_state_space
 
             click.echo(latex_state_space(linear))
     else:
-        click.echo(format_analysis(analysis, spelling=FLAGS))
+        click.echo(format_analysis(analysis, spelling=FLAGS, values_given=bool(given or held)))
         if linear is not None:
             from ..output.state_space import format_state_space
 

@@ -102,8 +102,21 @@ def _equilibrium_document(e, text, system) -> dict:
     return document
 
 
-def format_analysis(analysis: Analysis, *, spelling: Mapping[str, str] = PYTHON_SPELLING) -> str:
-    """The analysis as readable Unicode text."""
+#: Where a numerical result holds: at the model's defaults, or at values given in their
+#: place (``analyze --set``), which the text must not call the defaults.
+AT_DEFAULTS = "at the default parameter values"
+AT_GIVEN = "at the given values"
+
+
+def format_analysis(
+    analysis: Analysis,
+    *,
+    spelling: Mapping[str, str] = PYTHON_SPELLING,
+    values_given: bool = False,
+) -> str:
+    """The analysis as readable Unicode text; ``values_given``: some parameter values were
+    given in place of the defaults (the numerical results are said to hold at them)."""
+    at = AT_GIVEN if values_given else AT_DEFAULTS
     system = analysis.equations.system
     show = _readable(unicode_printer(system))
     conservation = analysis.conservation
@@ -136,7 +149,7 @@ def format_analysis(analysis: Analysis, *, spelling: Mapping[str, str] = PYTHON_
     elif not analysis.equilibria and not_applied:  # not searched is not "none found"
         lines.append(f"  not computed: {not_applied[0].removeprefix('equilibria: ')}")
     else:
-        lines += _equilibrium_lines(analysis.equilibria, show, system)
+        lines += _equilibrium_lines(analysis.equilibria, show, system, at)
     if analysis.reduction is not None:
         reduction = analysis.reduction
         lines += ["", f"Routh reduction of {', '.join(map(unicode_name, reduction.cyclic))}:"]
@@ -146,7 +159,7 @@ def format_analysis(analysis: Analysis, *, spelling: Mapping[str, str] = PYTHON_
         if "steady motions" in missing:
             lines.append(f"  {missing['steady motions']}")
         else:
-            lines += _equilibrium_lines(analysis.steady_motions, show, system)
+            lines += _equilibrium_lines(analysis.steady_motions, show, system, at)
     if analysis.notes:
         lines += ["", "Notes:"] + [f"  {note}" for note in analysis.notes]
     if analysis.undecided:
@@ -166,14 +179,17 @@ def _more_time(undecided) -> str:
     )
 
 
-def _equilibrium_lines(points, show, system) -> list[str]:
+def _equilibrium_lines(points, show, system, at: str = AT_DEFAULTS) -> list[str]:
+    # a parameter written ω (omega, a turning wire's rate) and the modes' ω in one line
+    # read as one quantity ("at ω = 1: ω² = -1"): the modes' are then said in words
+    words = any(unicode_name(p.name) == "ω" for p in system.parameters)
     lines = []
     for e in points:
         point = ", ".join(f"{unicode_name(k)} = {show(v)}" for k, v in e.point.items()) or (
             "every configuration"
         )
-        numeric = "  [numeric, at the default parameter values]" if e.numeric else ""
-        lines.append(f"  {point}: {_verdict(e, show)}{numeric}")
+        numeric = f"  [numeric, {at}]" if e.numeric else ""
+        lines.append(f"  {point}: {_verdict(e, show, at)}{numeric}")
         free = getattr(e, "free", ())
         if free:
             member = ", ".join(
@@ -208,11 +224,12 @@ def _equilibrium_lines(points, show, system) -> list[str]:
             lines.append("    periods: " + ", ".join(show(p) for p in periods))
         numbers = modes_at_values(e.modes, system)
         if numbers is not None:
-            lines += _number_lines(numbers)
+            lines += _number_lines(numbers, words)
         zero_modes = list(getattr(e, "zero_modes", ()))
         for name in dict.fromkeys(zero_modes):  # each kind once, with its count
             count = zero_modes.count(name)
-            lines.append(f"    ω² = 0{f' (×{count})' if count > 1 else ''}: {name}")
+            zero = "a zero frequency" if words else "ω² = 0"
+            lines.append(f"    {zero}{f' (×{count})' if count > 1 else ''}: {name}")
         if e.modes.note:
             lines.append(f"    ({e.modes.note})")
     return lines or ["  none found"]
@@ -259,15 +276,18 @@ def modes_at_values(modes, system) -> dict | None:
     return document
 
 
-def _number_lines(numbers: dict) -> list[str]:
-    """The lines of :func:`modes_at_values`: ω, periods and shapes at the values."""
+def _number_lines(numbers: dict, words: bool = False) -> list[str]:
+    """The lines of :func:`modes_at_values`: ω, periods and shapes at the values (``words``:
+    ω² and ω named in words, where a parameter is written ω)."""
     at = ", ".join(f"{unicode_name(n)} = {v:g}" for n, v in numbers["parameters"].items())
     squares = ", ".join(f"{w2:.6g}" for w2 in numbers["omega_squared"])
-    lines = [f"    at {at}: ω² = {squares}"]
+    lines = [f"    at {at}: {'squared angular frequencies' if words else 'ω² ='} {squares}"]
     if any(w is not None for w in numbers["omega"]):
         omega = ", ".join("-" if w is None else f"{w:.6g}" for w in numbers["omega"])
         periods = ", ".join("-" if p is None else f"{p:.6g}" for p in numbers["periods"])
-        lines.append(f"      ω = {omega};  periods {periods}")
+        lines.append(
+            f"      {'angular frequencies' if words else 'ω ='} {omega};  periods {periods}"
+        )
     if numbers.get("mode_shapes"):
         shapes = ", ".join(
             "(" + ", ".join(f"{x:.4g}" for x in shape) + ")" for shape in numbers["mode_shapes"]
@@ -276,11 +296,11 @@ def _number_lines(numbers: dict) -> list[str]:
     return lines
 
 
-def _verdict(e, show) -> str:
+def _verdict(e, show, at: str = AT_DEFAULTS) -> str:
     """'stable', or 'stable at the default parameter values; stable iff 2 a g > ω²'."""
     verdict = e.modes.stability.value
     if getattr(e, "at_defaults", False):
-        verdict += " at the default parameter values"
+        verdict += f" {at}"
         condition = getattr(e, "stability_condition", None)
         if condition is not None:
             verdict += "; stable iff " + _relation(condition, show)
@@ -296,8 +316,10 @@ def _relation(condition, show, latex: bool = False) -> str:
     return joiner.join(f"{show(p.lhs)} > {show(p.rhs)}" for p in parts)
 
 
-def latex_analysis(analysis: Analysis) -> str:
-    """The conserved quantities, H, equilibria and V_eff as one ``align*`` block."""
+def latex_analysis(analysis: Analysis, *, values_given: bool = False) -> str:
+    """The conserved quantities, H, equilibria and V_eff as one ``align*`` block
+    (``values_given`` as for :func:`format_analysis`)."""
+    at = AT_GIVEN if values_given else AT_DEFAULTS
     system = analysis.equations.system
     show = _readable(latex_printer(system))
     conserved = analysis.conservation.conserved if analysis.conservation is not None else ()
@@ -321,7 +343,7 @@ def latex_analysis(analysis: Analysis) -> str:
             + remark
         )
         if getattr(e, "at_defaults", False):
-            row = r"&\quad\text{stability at the default parameter values}"
+            row = rf"&\quad\text{{stability {at}}}"
             if e.stability_condition is not None:
                 condition = _relation(e.stability_condition, show, latex=True)
                 row += rf"\text{{; stable iff }} {condition}"
