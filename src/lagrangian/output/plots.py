@@ -53,11 +53,13 @@ def new_figure(
     height: float | None = None,
     sharex: bool = False,
 ):
-    """A Figure on the Agg canvas and its axes (a 2-D array ``rows`` x ``columns``)."""
+    """A Figure on the Agg canvas and its axes (a 2-D array ``rows`` x ``columns``); it
+    shows itself in Jupyter (:mod:`.shown_figure`)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
 
-    figure = Figure(figsize=(width, height or 1.2 + ROW_HEIGHT * rows), layout="constrained")
+    from .shown_figure import ShownFigure
+
+    figure = ShownFigure(figsize=(width, height or 1.2 + ROW_HEIGHT * rows), layout="constrained")
     FigureCanvasAgg(figure)
     axes = figure.subplots(rows, columns, sharex=sharex, squeeze=False)
     return figure, axes
