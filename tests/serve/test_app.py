@@ -40,12 +40,14 @@ class Recorder:
 
     def __init__(self):
         self.texts: list[str] = []
+        self.exercises: list[bool] = []
 
     def start(self) -> None:
         pass
 
-    def render(self, text: str) -> Rendered:
+    def render(self, text: str, exercise: bool = False) -> Rendered:
         self.texts.append(text)
+        self.exercises.append(exercise)
         return Rendered(page="<!doctype html><p>page</p>")
 
     def close(self) -> None:
@@ -170,6 +172,12 @@ def test_the_examples_are_every_built_in_model(client):
 
 
 # -- bodies ------------------------------------------------------------------------------
+def test_the_exercise_toggle_asks_for_the_exercise_page(client, recorder):
+    for address in ("/page", "/page?exercise=1", "/page?exercise=0"):
+        assert client.post(address, content=OSCILLATOR, headers=SAME_ORIGIN).status_code == 200
+    assert recorder.exercises == [False, True, False]
+
+
 def test_a_body_of_one_megabyte_is_read(client, recorder):
     response = client.post("/page", content=b"x" * MAX_BODY_BYTES, headers=SAME_ORIGIN)
     assert response.status_code == 200

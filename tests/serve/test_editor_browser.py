@@ -112,3 +112,25 @@ def frame_shows(page, expression: str, expected: object) -> None:
             pass
         page.wait_for_timeout(100)
     raise AssertionError(f"the frame never showed {expected!r} as {expression}")
+
+
+@pytest.mark.slow
+def test_the_exercise_toggle_makes_the_page_an_exercise(browser, editor_url):
+    page = browser.new_page()
+    problems: list[str] = []
+    page.on("console", lambda m: problems.append(m.text) if m.type == "error" else None)
+    page.on("pageerror", lambda error: problems.append(str(error)))
+    page.set_default_timeout(SHOW_SECONDS * 1000)
+    page.goto(editor_url)
+    page.frame_locator("#page").locator("body").wait_for()
+    page.locator("#model").fill("m*x_dot**2/2 - k*x**2/2")
+    frame_shows(page, "window.lagrangian?.parameters", {"k": 1, "m": 1})
+    assert page.frames[1].evaluate("typeof window.lagrangianCheck") == "undefined"
+    page.locator("#exercise").check()
+    frame_shows(page, "typeof window.lagrangianCheck", "function")
+    # the exercise of the typed model, checked in the frame
+    frame_shows(page, "window.lagrangianCheck('kinetic', 'm*x_dot^2/2').verdict", "right")
+    page.locator("#exercise").uncheck()
+    frame_shows(page, "typeof window.lagrangianCheck", "undefined")
+    assert problems == []
+    page.close()

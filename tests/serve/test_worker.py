@@ -35,6 +35,14 @@ def test_render_gives_the_page_or_the_error_line():
     assert bad.error == "editor: lagrangian: unexpected ')' at position 12 in 'x_dot**2 + )'"
 
 
+def test_render_makes_the_exercise_page_on_request():
+    def asked(page: str) -> bool:
+        return '"exercise": {' in page
+
+    assert not asked(render(OSCILLATOR).page)
+    assert asked(render(OSCILLATOR, exercise=True).page)
+
+
 def test_render_stops_a_model_out_of_time():
     rendered = render(OSCILLATOR, seconds=1e-6)
     assert rendered.page is None

@@ -7,7 +7,8 @@ Routes:
     POST /page        the model text (UTF-8, at most 1 MB) -> {"page": HTML} or
                       {"error": the model's one-line message}, both with status 200: the
                       request was fine, the model is the user's (and a browser's console
-                      then logs no failed request at each typo)
+                      then logs no failed request at each typo); ?exercise=1 asks
+                      for the exercise page (the editor's Exercise toggle)
 
 Only the server's own origin may use it: a request must name one of ``hosts`` in its
 Host header (a page of another site that re-points its name at 127.0.0.1, DNS
@@ -87,7 +88,10 @@ def create_app(renderer: Renderer, *, hosts: Collection[str] | None) -> ASGIApp:
         async with one_at_a_time:
             if await request.is_disconnected():
                 return Response(status_code=204)
-            rendered = await run_in_threadpool(renderer.render, text)
+            if request.query_params.get("exercise") == "1":  # the editor's Exercise toggle
+                rendered = await run_in_threadpool(renderer.render, text, True)
+            else:
+                rendered = await run_in_threadpool(renderer.render, text)
         answer = {"page": rendered.page} if rendered.error is None else {"error": rendered.error}
         return _json(answer, 200)
 

@@ -58,19 +58,21 @@ class Renderer(Protocol):
     """What the server needs of a page maker (:class:`PageWorker`, or a test's stand-in)."""
 
     def start(self) -> None: ...
-    def render(self, text: str) -> Rendered: ...
+    def render(self, text: str, exercise: bool = False) -> Rendered: ...
     def close(self) -> None: ...
 
 
-def render(text: str, *, seconds: float = PAGE_SECONDS) -> Rendered:
+def render(text: str, *, seconds: float = PAGE_SECONDS, exercise: bool = False) -> Rendered:
     """The page of the model ``text`` (see :mod:`lagrangian.serve.models`), made within
-    ``seconds``; an error the user caused comes back as its line, as the CLI prints it."""
+    ``seconds`` (with ``exercise``: the exercise page of every step); an error the user
+    caused comes back as its line, as the CLI prints it."""
+    from ..output.exercise import STEPS
     from ..output.page import built_page
     from .models import model_from_text
 
     try:
         with deadline(seconds, "page"):
-            made = built_page(model_from_text(text))
+            made = built_page(model_from_text(text), exercise=STEPS if exercise else None)
         return Rendered(page=made.html, timed_out=not made.decided)
     except LagrangianError as error:
         return Rendered(error=_line(str(error)))
@@ -100,7 +102,7 @@ class PageWorker:
         self._process = None
         self._connection = None
         self._ready = False
-        self._pages: OrderedDict[str, str] = OrderedDict()
+        self._pages: OrderedDict[tuple[str, bool], str] = OrderedDict()
 
     def start(self) -> None:
         """Start the worker now (else the first :meth:`render` does), so that the first
@@ -112,18 +114,20 @@ class PageWorker:
             except _NotStarted:
                 self._stop()
 
-    def render(self, text: str) -> Rendered:
-        """The page of ``text``, or its error line (one for a model out of time too)."""
+    def render(self, text: str, exercise: bool = False) -> Rendered:
+        """The page of ``text`` (its exercise page with ``exercise``), or its error line
+        (one for a model out of time too)."""
+        key = (text, exercise)
         with self._lock:
-            if text in self._pages:
-                self._pages.move_to_end(text)
-                return Rendered(page=self._pages[text])
+            if key in self._pages:
+                self._pages.move_to_end(key)
+                return Rendered(page=self._pages[key])
             try:
                 self._ensure_started()
-                self._connection.send(text)
+                self._connection.send(key)
                 waited = WALL_FACTOR * self.seconds + self.grace
                 if self._connection.poll(waited):
-                    return self._kept(text, self._connection.recv())
+                    return self._kept(key, self._connection.recv())
                 error = f"page: not made within {waited:g} s; stopped"
             except (EOFError, OSError):
                 ended = _how_it_ended(self._process)
@@ -133,12 +137,12 @@ class PageWorker:
             self._stop()
             return Rendered(error=error)
 
-    def _kept(self, text: str, rendered: Rendered) -> Rendered:
+    def _kept(self, key: tuple[str, bool], rendered: Rendered) -> Rendered:
         if rendered.timed_out:  # a deadline's signal and timer state is not trusted again
             self._stop()
             self._spawn()
         elif rendered.page is not None:
-            self._pages[text] = rendered.page
+            self._pages[key] = rendered.page
             while len(self._pages) > PAGES_KEPT:
                 self._pages.popitem(last=False)
         return rendered
@@ -208,7 +212,8 @@ def _how_it_ended(process) -> str:
 
 
 def _serve(connection, seconds: float) -> None:
-    """The worker's loop: a text in, a :class:`Rendered` out, until the pipe closes."""
+    """The worker's loop: (text, exercise) in, a :class:`Rendered` out, until the pipe
+    closes."""
     # Ctrl-C in the terminal reaches the whole process group: the server stops the worker.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     # Imported before the first page, so that their import is not counted in its time.
@@ -218,10 +223,10 @@ def _serve(connection, seconds: float) -> None:
     connection.send(_READY)
     while True:
         try:
-            text = connection.recv()
+            text, exercise = connection.recv()
         except (EOFError, OSError):
             return
-        connection.send(render(text, seconds=seconds))
+        connection.send(render(text, seconds=seconds, exercise=exercise))
 
 
 class _NotStarted(Exception):

@@ -11,6 +11,7 @@ const menu = document.getElementById("examples");
 const frame = document.getElementById("page");
 const statusLine = document.getElementById("status");
 const errorLine = document.getElementById("error");
+const exerciseBox = document.getElementById("exercise");
 
 let examples = [];
 let timer = null;
@@ -35,7 +36,7 @@ async function derive() {
   statusLine.textContent = "deriving\u2026";
   let answer;
   try {
-    const response = await fetch("/page", {
+    const response = await fetch(exerciseBox.checked ? "/page?exercise=1" : "/page", {
       method: "POST",
       headers: {"Content-Type": "text/plain; charset=utf-8"},
       body: editor.value,
@@ -89,6 +90,7 @@ editor.addEventListener("input", () => {
   scheduleDerive();
 });
 menu.addEventListener("change", () => chooseExample(menu.value));
+exerciseBox.addEventListener("change", derive);
 
 loadExamples().then(
   () => chooseExample(FIRST_EXAMPLE),
