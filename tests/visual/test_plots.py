@@ -155,6 +155,29 @@ def test_normal_modes_of_the_double_pendulum():
     not_blank(pixels(figure))
 
 
+@pytest.mark.slow
+def test_normal_modes_about_an_equilibrium_stable_apart_from_a_free_translation(tmp_path):
+    """The hanging cart-pole: no equilibrium is stable (the cart's translation is free),
+    and plot --kind modes refused ('no stable equilibrium'); drawn about theta = pi, the
+    translation named, the pendulum's mode at omega^2 = g (M + m) / (M l)."""
+    from lagrangian.cli import ExitStatus, main
+
+    system = lg.load("cart_pole")
+    figure = plot_normal_modes(system)
+    assert "$\\theta$ = 3.14 (stable apart from its free motion)" in figure.get_suptitle()
+    free, swing = (ax.get_title() for ax in figure.axes)
+    assert free == (
+        "mode 1: $\\omega^2$ = 0, free motion:\n"
+        "translation of all particles along x (L is invariant)"
+    )
+    values = system.parameter_values
+    omega = np.sqrt(G * (values["M"] + values["m"]) / (values["M"] * values["l"]))
+    assert f"$\\omega$ = {omega:.4g}" in swing
+    out = tmp_path / "modes.png"
+    assert main(["plot", "cart_pole", "--kind", "modes", "--out", str(out)]) == ExitStatus.SUCCESS
+    assert out.read_bytes().startswith(b"\x89PNG")
+
+
 def test_normal_modes_without_geometry_are_bars():
     figure = plot_normal_modes(lg.load("harmonic_oscillator"), {"x": 0})
     (ax,) = figure.axes

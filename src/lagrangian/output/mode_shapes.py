@@ -49,15 +49,13 @@ def mode_numbers(
     values.update(parameters or {})
     substitution = {p.symbol: values[p.name] for p in system.parameters if p.name in values}
     if at is None:
-        stable = [e for e in rest_points(derive(system.without_inputs())) if e.stable]
-        if not stable:
-            raise ModelError("the model has no stable equilibrium to show normal modes about")
+        chosen = equilibrium_for_modes(system, substitution)
         # the equilibrium's own modes: a family's are those at its representative member,
         # a singular point's those of its regular directions (linearize alone has neither)
-        at = dict(getattr(stable[0], "representative", None) or stable[0].point)
-        shapes = stable[0].modes.shapes
+        at = dict(getattr(chosen, "representative", None) or chosen.point)
+        shapes = chosen.modes.shapes
         if modes is None and shapes and len(shapes[0]) == len(system.coordinates):
-            modes = stable[0].modes
+            modes = chosen.modes
     if modes is None:
         modes = linearize(derive(system.without_inputs()), at).normal_modes()
     if not modes.shapes:
@@ -77,13 +75,38 @@ def mode_numbers(
     return point, omega_squared[: len(shapes)], shapes
 
 
-def _mode_title(i: int, omega_squared: float, shape: np.ndarray) -> str:
+def equilibrium_for_modes(system: System, substitution: Mapping) -> object:
+    """The equilibrium whose modes are drawn: the first stable one, else the first that is
+    stable apart from free motions (the sliding pendulum, the hanging cart-pole: marginal,
+    each ω² = 0 a translation or rotation that leaves L unchanged, named in ``zero_modes``,
+    and every other ω² > 0 at the values ``substitution``)."""
+    points = rest_points(derive(system.without_inputs()))
+    stable = [e for e in points if e.stable]
+    free = [e for e in points if _stable_but_free(e, substitution)]
+    if not stable and not free:
+        raise ModelError("the model has no stable equilibrium to show normal modes about")
+    return (stable or free)[0]
+
+
+def _stable_but_free(e, substitution: Mapping) -> bool:
+    zero_modes = getattr(e, "zero_modes", ())
+    if not zero_modes or not e.modes.shapes:
+        return False
+    squares = [as_expression(w) for w in e.modes.omega_squared]
+    zeros = [w for w in squares if w.is_zero]
+    others = [complex(w.subs(substitution)) for w in squares if not w.is_zero]
+    return len(zeros) == len(zero_modes) and all(w.real > 0 and w.imag == 0 for w in others)
+
+
+def _mode_title(i: int, omega_squared: float, shape: np.ndarray, free: str = "") -> str:
     vector = "(" + ", ".join(f"{x:.3g}" for x in shape) + ")"
     if omega_squared > 0:
         omega = np.sqrt(omega_squared)
         return (
             f"mode {i + 1}: $\\omega$ = {omega:.4g}, $T$ = {2 * np.pi / omega:.4g}\nshape {vector}"
         )
+    if omega_squared == 0 and free:
+        return f"mode {i + 1}: $\\omega^2$ = 0, free motion:\n{free}"
     kind = "neutral" if omega_squared == 0 else "unstable"
     return f"mode {i + 1}: $\\omega^2$ = {omega_squared:.4g} ({kind})\nshape {vector}"
 
@@ -95,12 +118,28 @@ def plot_normal_modes(
     parameters=None,
     modes: NormalModes | None = None,
 ) -> Figure:
-    """One panel per normal mode about ``at`` (see the module docstring, :func:`mode_numbers`)."""
+    """One panel per normal mode about ``at`` (see the module docstring, :func:`mode_numbers`);
+    ``at`` None: about :func:`equilibrium_for_modes`, its free motions named."""
+    free: list[str] = []
+    if at is None:
+        values = {**system.parameter_values, **(parameters or {})}
+        substitution = {p.symbol: values[p.name] for p in system.parameters if p.name in values}
+        chosen = equilibrium_for_modes(system, substitution)
+        free = list(getattr(chosen, "zero_modes", ()))
+        at = dict(getattr(chosen, "representative", None) or chosen.point)
+        shapes = chosen.modes.shapes
+        if modes is None and shapes and len(shapes[0]) == len(system.coordinates):
+            modes = chosen.modes
     point, omega_squared, shapes = mode_numbers(system, at, parameters, modes)
+    # the free motions, in the order of the zero ω² they explain
+    names_of = iter(free)
+    frees = [next(names_of, "") if w == 0 else "" for w in omega_squared]
     names = system.coordinate_names
     where = ", ".join(f"{math(n)} = {v:.3g}" for n, v in point.items())
+    if free:
+        where += " (stable apart from its free motion)"
     if system.particles:
-        figure = _strobe(system, point, omega_squared, shapes, parameters)
+        figure = _strobe(system, point, omega_squared, shapes, parameters, frees)
     else:
         figure, axes = new_figure(1, len(shapes), height=3.6)
         for i, (ax, shape) in enumerate(zip(axes[0], shapes, strict=True)):
@@ -108,12 +147,12 @@ def plot_normal_modes(
             ax.set_xticks(range(len(names)), [math(n) for n in names])
             ax.axhline(0, color="0.3", lw=0.8)
             ax.set_ylabel("relative amplitude")
-            ax.set_title(_mode_title(i, omega_squared[i], shape), fontsize=9)
+            ax.set_title(_mode_title(i, omega_squared[i], shape, frees[i]), fontsize=9)
     figure.suptitle(f"{system.name}: normal modes about {where}")
     return figure
 
 
-def _strobe(system, point, omega_squared, shapes, parameters) -> Figure:
+def _strobe(system, point, omega_squared, shapes, parameters, frees) -> Figure:
     scene = geometry(system, parameters)
     q0 = np.array([point[n] for n in system.coordinate_names])
     rest = scene.at(np.zeros(1), q0[:, None])
@@ -141,7 +180,7 @@ def _strobe(system, point, omega_squared, shapes, parameters) -> Figure:
         ax.set_xlabel(f"${'xyz'[a]}$")
         ax.set_ylabel(f"${'xyz'[b]}$")
         ax.grid(True, alpha=0.3)
-        ax.set_title(_mode_title(i, omega_squared[i], shape), fontsize=9)
+        ax.set_title(_mode_title(i, omega_squared[i], shape, frees[i]), fontsize=9)
     return figure
 
 
