@@ -80,3 +80,26 @@ CASES += [
         r"lagrangian: warning: no points to draw: \S+b\.png was not written",
     ),
 ]  # fmt: skip
+
+# terms of L in t alone that are singular at t = 0: exit 1 (ZeroDivisionError) for 1/t, the
+# energy "changed by nan" for log(t); they move nothing, so the run and its energy ignore them
+CASES += [
+    HostileCase(
+        f"simulate-time-only-term-{label}-{method}-ignored",
+        ("simulate", "--lagrangian", f"x_dot^2/2 + {term}", "--coordinates", "x",
+         "--set", "x_dot=1", "--t-end", "1", "--method", method),
+        exit_code=0,
+        output=r"drift along the run[^\n]*\n  energy: 0\.000e\+00",
+    )
+    for label, term in (("1-over-t", "1/t"), ("log-t", "log(t)"))
+    for method in ("dop853", "rk4")
+] + [
+    HostileCase(
+        # x/t reaches the equations (x'' = 1/t): a failed run, not ZeroDivisionError (exit 1)
+        f"simulate-singular-term-in-the-equations-at-t0-{method}",
+        ("simulate", "--lagrangian", "x_dot^2/2 + x/t", "--coordinates", "x", "--t-end", "1",
+         "--method", method),
+        error=r"the right-hand side is not finite at t = 0 \(x = 0, x_dot = 0\)",
+    )
+    for method in ("dop853", "rk4")
+]  # fmt: skip

@@ -8,7 +8,10 @@ With p_i = dL/dq_i' and Lagrange's equations d/dt p_i = dL/dq_i + Q_i - dF/dq_i'
   explicit t and neither the forces nor dissipation do work.  h = T + V when T is
   a quadratic form in the velocities and V is velocity-free; otherwise (moving
   constraints, as the bead on a rotating wire) h is only the Jacobi integral and
-  T + V is not conserved.
+  T + V is not conserved.  Terms of L in t alone (and the parameters), f(t) =
+  dF/dt, change no equation of motion; h is that of L - f(t) (else ``x_dot^2/2 + 1/t``
+  would have an energy that is infinite at t = 0 and never conserved, for a free
+  particle).
 - Noether: if L is invariant under q -> q + eps xi(q, t) (dL = 0 to first order),
   then sum_i p_i xi_i is conserved.  Such symmetries (translations, rotations,
   any linear combination of coordinates, Galilean boosts) are searched for
@@ -170,6 +173,9 @@ def conserved_quantities(
             description = "the Jacobi integral h = Σ q̇ ∂L/∂q̇ - L, not T + V"
         else:
             description = "the energy function h = Σ q̇ ∂L/∂q̇ - L (T + V when L = T - V)"
+        gauge = time_only_terms(system)
+        if gauge != 0:
+            description += f"; the terms of L in t alone ({gauge}) left out: they move nothing"
         conserved.append(ConservedQuantity("energy", tidy(energy, state), description))
     if kinetic_plus_potential is not None and not equals_t_plus_v:
         not_conserved.append(
@@ -205,9 +211,32 @@ def conserved_quantities(
     return Conservation(tuple(cyclic), tuple(conserved), tuple(not_conserved), tuple(notes))
 
 
+def time_only_terms(system: System) -> sympy.Expr:
+    """The terms of L in t alone (and the parameters): f(t), a total derivative dF/dt that
+    changes no equation of motion (0 when there are none).
+
+    >>> time_only_terms(System.from_lagrangian("x_dot**2/2 + log(t) - k*x**2", ["x"]))
+    log(t)
+    """
+    state = [symbol for c in system.coordinates for symbol in (c.q, c.q_dot)]
+    return sympy.Add(
+        *(
+            term
+            for term in sympy.Add.make_args(system.lagrangian)
+            if term.has(system.time) and not term.has(*state)
+        )
+    )
+
+
+def motion_lagrangian(system: System) -> sympy.Expr:
+    """L without :func:`time_only_terms`: the same motion, and the energy function h of
+    ``x_dot**2/2 + 1/t`` is the free particle's (finite at t = 0, and conserved)."""
+    return system.lagrangian - time_only_terms(system)
+
+
 def energy_function(system: System) -> sympy.Expr:
-    """h = sum_i q_i' dL/dq_i' - L."""
-    lagrangian = system.lagrangian
+    """h = sum_i q_i' dL/dq_i' - L, of L without its terms in t alone (see the module)."""
+    lagrangian = motion_lagrangian(system)
     return tidy(
         sum((c.q_dot * sympy.diff(lagrangian, c.q_dot) for c in system.coordinates), -lagrangian),
         system.state_symbols,
@@ -217,7 +246,7 @@ def energy_function(system: System) -> sympy.Expr:
 def _energy_leaks(system: System) -> list[tuple[str, sympy.Expr]]:
     """Why h is not conserved (empty when it is): the terms of dh/dt, each with its cause."""
     leaks = []
-    explicit = sympy.diff(system.lagrangian, system.time)
+    explicit = sympy.diff(motion_lagrangian(system), system.time)
     if not is_zero(explicit):
         leaks.append(("L depends on t", -explicit))
     power = sum(

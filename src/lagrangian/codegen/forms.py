@@ -20,7 +20,12 @@ import sympy
 from sympy.core.function import AppliedUndef
 
 from ..algebra import is_zero
-from ..analysis.conserved import SYMMETRY_SECONDS, Conservation, conserved_quantities
+from ..analysis.conserved import (
+    SYMMETRY_SECONDS,
+    Conservation,
+    conserved_quantities,
+    motion_lagrangian,
+)
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from .definitions import (
@@ -220,7 +225,7 @@ def symbolic_forms(eom: EquationsOfMotion, definitions: Definitions) -> Symbolic
 
     coordinates = tuple(c.q for c in system.coordinates)
     velocities = tuple(c.q_dot for c in system.coordinates)
-    lagrangian = sub(system.lagrangian)
+    lagrangian = sub(motion_lagrangian(system))  # its energy is the analysis's h
     momenta = sympy.ImmutableMatrix([sub(step.momentum) for step in eom.steps])
     nonconservative = sympy.ImmutableMatrix(
         [

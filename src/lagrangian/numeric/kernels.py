@@ -113,6 +113,10 @@ class Kernel:
     def _values(self, t: Any, parts: Sequence[Array], params: Array):
         """(batch shape, the entries as lambdify returns them, the block shapes)."""
         function, shapes = self._compiled or self._compile()
+        if isinstance(t, int | float) and self._backend.eager:
+            # NumPy's float: 1/t at t = 0 is inf (and reported as not finite where it
+            # matters), where Python's float raised ZeroDivisionError from the generated code
+            t = np.float64(t)
         if len(parts) == 1:
             values = function(t, *parts[0], *params)
         else:
