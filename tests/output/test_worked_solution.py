@@ -234,6 +234,7 @@ def test_the_markdown_keeps_its_mathematics_balanced(pendulum):
         if "$$" not in line:
             assert line.count("$") % 2 == 0, line
     assert "$$\n\\begin{aligned}\nT &= \\frac{l^{2} m \\dot{\\theta}^{2}}{2}" in text
+    assert r"at rest ($\dot{q} = 0$ and $\ddot{q} = 0$)" in text  # the spaces kept
 
 
 def test_a_hostile_model_is_text_in_every_format(tmp_path):

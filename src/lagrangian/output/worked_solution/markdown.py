@@ -24,7 +24,8 @@ def markdown_document(solution: WorkedSolution, figure_files: dict[str, str]) ->
 
 
 def _text(text: str) -> str:
-    return _MARKUP.sub(r"\\\1", " ".join(text.split()))
+    # one line (a newline would end a table row), the spaces around math kept
+    return _MARKUP.sub(r"\\\1", re.sub(r"\s+", " ", text))
 
 
 def _inline(items) -> str:
