@@ -78,6 +78,11 @@ def test_closed_forms_too_long_to_read_are_named_not_printed():
         ("lam", r"\mathrm{lam}"),
         ("lambda1", r"\lambda_{1}"),  # a Greek letter stays one
         ("k_spring", "k_{spring}"),  # a letter with a subscript stays one
+        ("p_theta2", r"p_{\theta_{2}}"),  # the momentum of theta2: was p_{theta2}
+        ("p_phi1", r"p_{\phi_{1}}"),
+        ("p_theta", r"p_{\theta}"),
+        ("p_x", "p_{x}"),
+        ("k_12", "k_{12}"),
     ],
 )
 def test_a_name_that_begins_with_a_word_is_written_upright(name, latex):

@@ -60,7 +60,7 @@ def latex_name(name: str) -> str:
     \\mathrm{mechanical\\_energy} (SymPy's rule read 'mechanical' as a calligraphic
     'mechani' and the rest as a subscript)."""
     base, dots = _split_dots(name)
-    shown = _word(base) or sympy.latex(sympy.Symbol(base))
+    shown = _word(base) or _subscripted(base) or sympy.latex(sympy.Symbol(base))
     if dots == 0:
         return shown
     command = r"\dot" if dots == 1 else r"\ddot"
@@ -74,6 +74,15 @@ def _word(base: str) -> str | None:
     if len(head) < 3 or not head.isalpha() or head.lower() in _GREEK:
         return None
     return r"\mathrm{" + base.replace("_", r"\_") + "}"
+
+
+def _subscripted(base: str) -> str | None:
+    """``p_{\\theta_{2}}`` for 'p_theta2': a subscript that is a name is typeset as that
+    name (the momentum of theta2; SymPy's rule wrote p_{theta2}), else None."""
+    head, sep, tail = base.partition("_")
+    if not (sep and head and tail.isalnum()) or tail.isdigit():
+        return None
+    return f"{sympy.latex(sympy.Symbol(head))}_{{{sympy.latex(sympy.Symbol(tail))}}}"
 
 
 _GREEK = frozenset({*greek_letters_set, "lamda", "lambda"})
