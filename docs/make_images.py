@@ -289,6 +289,48 @@ def double_pendulum_page() -> None:
         raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
 
 
+def exercise_page() -> None:
+    """The exercise page of the simple pendulum (``lagrangian page simple_pendulum
+    --exercise``) in headless Chromium, a student's answers typed and checked: a T with a
+    wrong factor, V up to a constant, the equation divided through."""
+    import shutil
+    import tempfile
+
+    from playwright.sync_api import sync_playwright
+
+    from lagrangian.output.exercise import STEPS
+    from lagrangian.output.page import page_html
+
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    if chromium is None:
+        raise SystemExit("the page's screenshot needs chromium on the PATH")
+    name = "exercise_page.png"
+    answers = {
+        "kinetic": "m*l^2*theta_dot^2",
+        "potential": "-m*g*l*cos(theta)",
+        "lagrangian": "m*l^2*theta_dot^2/2 - m*g*l*cos(theta)",
+        "equations-0": "theta_ddot = -g/l*sin(theta)",
+    }
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "simple_pendulum.html"
+        path.write_text(page_html(lg.load("simple_pendulum"), exercise=STEPS), encoding="utf-8")
+        with sync_playwright() as playwright:
+            browser = playwright.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
+            tab = browser.new_page(viewport={"width": 1280, "height": 900})
+            tab.goto(path.as_uri())
+            tab.wait_for_function("() => window.lagrangianCheck !== undefined")
+            tab.evaluate("() => lagrangian.pause()")
+            for field, text in answers.items():
+                tab.fill(f"#exercise-{field}", text)
+                tab.locator(f"#exercise-{field}").press("Enter")
+            tab.locator("#exercise").screenshot(path=str(IMAGES / name))
+            browser.close()
+    size = (IMAGES / name).stat().st_size
+    print(f"  {name:34s} {size / 1000:6.1f} kB")
+    if size > LIMIT:
+        raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+
+
 def double_pendulum_report() -> None:
     """Two pages of ``lagrangian report double_pendulum --to tex`` as pdflatex sets them
     (the derivation, and the normal modes with their numbers), rendered by pdftoppm or
@@ -433,6 +475,7 @@ PICTURES = (
     double_pendulum_flip_map,
     double_pendulum_page,
     double_pendulum_report,
+    exercise_page,
     vertical_spring,
     free_particle_spherical,
     planar_particle_forces,

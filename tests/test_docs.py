@@ -134,6 +134,15 @@ PRINTS = {
         "equivalent",
         "right up to a factor: the equation of theta times 1/(l^2*m)",
     ],
+    "lagrangian check simple_pendulum --kinetic m*l^2*theta_dot^2 --potential -m*g*l*cos(theta)": [
+        "the term l^2*m*theta_dot^2 should be l^2*m*theta_dot^2/2",
+        "potential -m*g*l*cos(theta): equivalent",
+        "right up to a constant",
+    ],
+    "lagrangian check simple_pendulum --equation m*l^2*theta_ddot = m*g*l*sin(theta)": [
+        "the equation of theta with errors",
+        "has the wrong sign: it should be g*l*m*sin(theta)",
+    ],
     "lagrangian check simple_pendulum --potential m*g*l*cos(theta)": [
         "has the wrong sign: it should be -g*l*m*cos(theta)"
     ],

@@ -79,6 +79,7 @@ def exercise_document(eom: EquationsOfMotion, steps: Sequence[str]) -> dict:
                     "key": tree(g.key),
                     "value": tree(g.term),
                     "printed": printed_term(g.term),
+                    "coefficient": printed_term(g.term / g.key),
                     "monomial": monomial(g.term),
                 }
                 for g in found

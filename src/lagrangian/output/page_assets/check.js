@@ -90,7 +90,8 @@ function exerciseChecker(data) {
       const keyTree = ["*", ["n", 1], ...keyFactors.map(power)];
       const coefficientTree = ["*", ["n", term.c], ...coefficientFactors.map(power)];
       const text = exercisePrinted(term.c, factors);
-      add(found, keyTree, at(keyTree), exPerSet(at(coefficientTree)), text, keyFactors, { c: term.c, factors });
+      const monomial = { c: term.c, factors, coefficient: exercisePrinted(term.c, coefficientFactors) };
+      add(found, keyTree, at(keyTree), exPerSet(at(coefficientTree)), text, keyFactors, monomial);
     }
     return finish(found);
   }
@@ -122,7 +123,7 @@ function exerciseChecker(data) {
       const keyValues = at(g.key);
       const value = at(g.value);
       return {
-        key: g.key, keyValues, printed: g.printed.replace(/\*\*/g, "^"), python: g.printed,
+        key: g.key, keyValues, printed: g.printed.replace(/\*\*/g, "^"), coefficient: g.coefficient.replace(/\*\*/g, "^"),
         coefficientValues: exPerSet(exMap(value, keyValues, (v, k) => v / k)),
         scale: exAbs(value), symbols: exerciseSymbols(g.key), monomial: g.monomial,
       };
@@ -271,7 +272,7 @@ function exerciseChecker(data) {
       }
     }
     const used = combination(tree, value);
-    if (used.length === 1) return equivalent(`right up to a factor: the equation of ${coordinates[used[0]].name} times a factor`);
+    if (used.length === 1) return equivalent(`right up to a factor: the equation of ${coordinates[used[0]].name} times ${equationFactor(tree, used[0])}`);
     if (used.length > 1) return equivalent(`right: a combination of the equations of ${used.map((i) => coordinates[i].name).join(" and ")}`);
     const mine = studentGroups(tree);
     let best = null;
@@ -284,6 +285,24 @@ function exerciseChecker(data) {
       return { verdict: "wrong", reason: `not related to the equations of motion (of ${coordinates.map((c) => c.name).join(", ")})`, terms: [] };
     }
     return wrong(best.comparison.problems, `the equation of ${coordinates[best.i].name} with errors (all terms on the left): `);
+  }
+
+  // the factor of an equation that is the right one times it: the ratio of the two
+  // acceleration terms, printed where both are products
+  function equationFactor(tree, index) {
+    const leading = (g) => [...g.symbols].filter((n) => accelerations.has(n)).sort().join(",");
+    const one = { monomial: { c: 1, factors: [] }, printed: "1" };
+    for (const mine of studentGroups(tree).filter(leading)) {
+      for (const theirs of rightGroups(data.equations[index])) {
+        if (leading(theirs) !== leading(mine) || !mine.monomial) continue;
+        if (theirs.monomial) return exerciseScaled(one, mine, theirs);
+        // the same key: the ratio of the coefficients, written out
+        if (exerciseClose(exMap(mine.keyValues, theirs.keyValues, (x, y) => x / y), 1)) {
+          return `${mine.monomial.coefficient}/(${theirs.coefficient})`;
+        }
+      }
+    }
+    return "a factor";
   }
 
   function combination(tree, value) {
