@@ -20,7 +20,7 @@ from collections.abc import Iterable
 import sympy
 from sympy.core.function import AppliedUndef
 
-from .budget import exceeds, ops_exceed
+from .budget import MAX_EXPANDED_TERMS, exceeds, expanded_terms, ops_exceed
 
 #: Largest operation count handed to ``trigsimp`` (tens of milliseconds at this size).
 TRIGSIMP_MAX_OPS = 120
@@ -40,6 +40,8 @@ def expand_products(expr: sympy.Expr) -> sympy.Expr:
     """Distribute products over sums, but never expand ``(a + b)**n``."""
     if ops_exceed(expr, EXPAND_MAX_OPS):
         return expr
+    if expanded_terms(expr, TIDY_MAX_NODES, powers=False) > TIDY_MAX_NODES:
+        return expr  # a product of many sums: past readable long before it is made
     return sympy.expand(
         expr, deep=True, mul=True, multinomial=False, power_exp=False, power_base=False, log=False
     )
@@ -90,6 +92,8 @@ def _angle_sums_combined(expr: sympy.Expr) -> sympy.Expr:
     The one rule behind most of what ``trigsimp`` finds in mechanics (a chain's
     mass matrix), linear in the number of terms; kept only when it is shorter.
     """
+    if expanded_terms(expr, TIDY_MAX_NODES) > TIDY_MAX_NODES:
+        return expr  # the rule needs the full expansion: too long to read, let alone make
     converted = to_symengine(expr)
     if converted is None:
         return expr
@@ -459,6 +463,8 @@ def combine_angles(expr):
     """
     import symengine as se
 
+    if expanded_terms(expr) > MAX_EXPANDED_TERMS:
+        return expr  # SymEngine's expand, in C++, is out of reach of deadlines and memory limits
     pairs: dict[tuple, dict[type, object]] = {}
     kept = []
     for term in _args(se.expand(expr), se.Add):

@@ -38,6 +38,7 @@ import sys
 import threading
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from fractions import Fraction
 from typing import TypeVar
 
 import sympy
@@ -315,3 +316,64 @@ def ops_exceed(expr: sympy.Basic, max_ops: int) -> bool:
     if exceeds(expr, 4 * max_ops + 4):
         return True
     return sympy.count_ops(expr) > max_ops
+
+
+#: Most terms that the expansions of one derivation may make together.  SymEngine's
+#: expand runs in C++, where no deadline reaches, at about 1 KB and 10 microseconds a
+#: term: (q0' + ... + q19')^20 would make C(39, 20) = 6.9e10 of them (hours, and memory
+#: without end).  The 100-link chain makes fewer than 100,000.
+MAX_EXPANDED_TERMS = 2_000_000
+
+
+def expanded_terms(expr, limit: int = MAX_EXPANDED_TERMS, *, powers: bool = True) -> int:
+    """An upper bound of how many terms the full expansion of ``expr`` makes, counting
+    every sum expanded on the way (a power of a sum inside a function, a denominator);
+    any number above ``limit`` once it is clearly over.  SymPy or SymEngine alike.
+    Without ``powers``, for an expansion of products alone: (a + b)^k stays one term.
+
+    A sum of terms adds their counts, a product multiplies them, and a power of a sum
+    of n terms to the k has C(n + k - 1, k) (the multinomial's); shared subtrees are
+    counted once, so the answer costs a walk of the distinct nodes, not the expansion.
+    """
+    over = limit + 1
+    counts: dict = {}  # node -> terms of its own expansion
+    worst = 0  # the largest expansion made on the way, of any node
+    pending = [(expr, False)]
+    while pending:
+        node, ready = pending.pop()
+        if node in counts:
+            continue
+        if not ready:
+            pending.append((node, True))
+            pending.extend((arg, False) for arg in node.args if arg not in counts)
+            continue
+        if node.is_Add:
+            terms = min(sum(counts[arg] for arg in node.args), over)
+        elif node.is_Mul:
+            terms = 1
+            for arg in node.args:
+                terms = min(terms * counts[arg], over)
+        elif powers and node.is_Pow and node.args[1].is_Rational:  # SymPy expands (a + b)^(5/2) too
+            exponent = Fraction(str(node.args[1]))
+            expanded = _multinomial_terms(counts[node.args[0]], abs(math.trunc(exponent)), over)
+            worst = max(worst, expanded)  # a denominator is expanded, but is one term
+            terms = expanded if exponent > 0 else 1
+        else:  # a symbol, a number, a function: one term (its arguments counted in worst)
+            terms = 1
+        counts[node] = terms
+        worst = max(worst, terms)
+        if worst > limit:
+            return over
+    return worst
+
+
+def _multinomial_terms(n: int, k: int, over: int) -> int:
+    """C(n + k - 1, k), the terms of (a sum of n terms)^k, or ``over`` once it passes."""
+    if n <= 1 or k <= 1:
+        return n if k == 1 else 1
+    count = 1
+    for j in range(1, min(k, n - 1) + 1):  # C(N, j) from C(N, j - 1), N = n + k - 1
+        count = count * (n + k - j) // j
+        if count >= over:
+            return over
+    return count

@@ -13,6 +13,27 @@ LARGE_DERIVATION = f"""coordinates = ["x", "y"]
 lagrangian = "(x_dot+y_dot)^2/2 + (x_dot*y_dot)^2*({SINES})^8"
 """
 
+# Expansions too large to make (item 2): SymEngine's expand runs in C++, out of reach of
+# every deadline (the issue's power ran 200 s to 6.8 GB and on); the terms are counted first.
+VELOCITIES = " + ".join(f"q{i}_dot" for i in range(20))
+COORDINATES = ",".join(f"q{i}" for i in range(20))
+COORDINATE_LIST = ", ".join(f'"q{i}"' for i in range(20))
+POWER_OF_A_SUM = f"""coordinates = [{COORDINATE_LIST}]
+lagrangian = "({VELOCITIES})^20/2"
+"""
+PRODUCT_OF_SUMS = "*".join(
+    f"(q{i}_dot + q{(i + 1) % 20}_dot + q{(i + 2) % 20}_dot)" for i in range(20)
+)
+NESTED_POWERS = f"(({' + '.join(f'q{i}_dot' for i in range(10))})^4 + 1)^5"
+POSITION_POWER = f"""coordinates = [{COORDINATE_LIST}]
+
+[[particles]]
+name = "bead"
+mass = "1"
+position = ["({" + ".join(f"q{i}" for i in range(20))})^20", "0"]
+"""
+TOO_LARGE = r"lagrangian: expanded, it makes more than 2,000,000 terms .*too large to derive"
+
 CASES = [
     HostileCase(
         "derive-time-out-inside-a-large-derivation-is-cleared",
@@ -21,5 +42,40 @@ CASES = [
         output=r"Accelerations:",
         model=LARGE_DERIVATION,
         slow=True,
+    ),
+    HostileCase(
+        "derive-power-of-a-sum-too-large-to-expand",
+        ("derive", "--lagrangian", f"({VELOCITIES})^20/2", "--coordinates", COORDINATES),
+        error=TOO_LARGE,
+    ),
+    *(
+        HostileCase(
+            f"{command}-power-of-a-sum-too-large-to-expand",
+            (command, "{dir}/model.toml", *extra),
+            error=TOO_LARGE,
+            model=POWER_OF_A_SUM,
+        )
+        for command, extra in [
+            ("analyze", ()),
+            ("simulate", ("--t-end", "1")),
+            ("page", ("--out", "{dir}/page.html", "--no-cache")),
+            ("export", ("--to", "c")),
+        ]
+    ),
+    HostileCase(
+        "derive-product-of-sums-too-large-to-expand",
+        ("derive", "--lagrangian", PRODUCT_OF_SUMS, "--coordinates", COORDINATES),
+        error=TOO_LARGE,
+    ),
+    HostileCase(
+        "derive-nested-powers-too-large-to-expand",
+        ("derive", "--lagrangian", NESTED_POWERS, "--coordinates", COORDINATES),
+        error=TOO_LARGE,
+    ),
+    HostileCase(
+        "derive-particle-position-too-large-to-expand",
+        ("derive", "{dir}/model.toml"),
+        error=TOO_LARGE,
+        model=POSITION_POWER,
     ),
 ]

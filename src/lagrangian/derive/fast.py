@@ -29,6 +29,8 @@ import numpy as np
 import sympy
 
 from ..algebra import factor_common, holds_derivative, to_symengine, to_sympy
+from ..budget import MAX_EXPANDED_TERMS, expanded_terms
+from ..errors import ModelError
 from ..model import System
 from .constraints import ConstraintForms
 from .equations import CoordinateDerivation, Deferred, EquationsOfMotion, SymEngineForms
@@ -47,6 +49,7 @@ class _Tables:
         self.nonsmooth = nonsmooth  # whether an |u| or sign(u) may be differentiated
         self.absolute: set = set()  # the monomials that hold an |u|
         self._depends: dict = {}  # factor -> whether it holds a state symbol
+        self.made = 0  # terms split so far: all the tables' terms are bounded together
 
     def depends(self, factor) -> bool:
         """Whether ``factor`` holds a state symbol (cached: the same factors recur)."""
@@ -59,12 +62,14 @@ class _Tables:
         """Add ``scale * expr`` term by term to ``into`` ({monomial: [coefficients]})."""
         se = self.se
         into = defaultdict(list) if into is None else into
+        added = 0
         one = se.Integer(1) if scale is None else scale
         depends = self.depends
         for term in _args(expr, se.Add):
             coefficient, dependent = [one], []
             for factor in _args(term, se.Mul):
                 (dependent if depends(factor) else coefficient).append(factor)
+            added += 1
             if not dependent:
                 into[se.Integer(1)].append(one * term)
                 continue
@@ -72,11 +77,21 @@ class _Tables:
             if not any(_has_sum(factor) for factor in dependent):
                 into[se.Mul(*dependent)].append(outer)
                 continue
-            for part in _args(se.expand(se.Mul(*dependent)), se.Add):
+            # SymEngine's expand runs in C++, out of reach of the deadline and of memory's
+            # limits: the terms it would make are counted first, all tables' together
+            product = se.Mul(*dependent)
+            left = MAX_EXPANDED_TERMS - self.made - added
+            if expanded_terms(product, left) > left:
+                raise too_many_terms()
+            for part in _args(se.expand(product), se.Add):
+                added += 1
                 inner, monomial = [outer], []
                 for factor in _args(part, se.Mul):
                     (monomial if depends(factor) else inner).append(factor)
                 into[se.Mul(*monomial)].append(se.Mul(*inner))
+        self.made += added
+        if self.made > MAX_EXPANDED_TERMS:
+            raise too_many_terms()
         return into
 
     def table(self, lists: dict) -> dict:
@@ -144,6 +159,10 @@ def derive_large(
     forces = {name: to_symengine(q, cache) for name, q in system.forces.items()}
     if any(x is None for x in (*converted.values(), *forces.values())):
         return None
+    given = {**converted, **{f"forces.{name}": x for name, x in forces.items()}}
+    for field, expr in given.items():
+        if expanded_terms(expr) > MAX_EXPANDED_TERMS:
+            raise too_many_terms(field)
     import symengine as se
 
     q = [to_symengine(c.q, cache) for c in coordinates]
@@ -272,6 +291,15 @@ def derive_large(
             mass_matrix=tuple(tuple(row) for row in numeric_rows),
             forcing=tuple(rest_terms),
         ),
+    )
+
+
+def too_many_terms(field: str | None = None) -> ModelError:
+    """The one-line refusal of a model whose expansion is too large to derive."""
+    return ModelError(
+        f"expanded, it makes more than {MAX_EXPANDED_TERMS:,} terms (a power of a sum of "
+        "n terms to the k makes C(n + k - 1, k)): the model is too large to derive",
+        field=field,
     )
 
 
