@@ -70,6 +70,11 @@ _DIMENSIONLESS_ARGUMENTS = frozenset(
      "tanh", "exp", "log", "sign"}
 )  # fmt: skip
 _OPENERS, _CLOSERS = "([{", ")]}"
+#: A velocity's dimension is its coordinate's per time, an acceleration's per time squared.
+_DERIVATIVES = (
+    (ACCELERATION_SUFFIX, known(tuple(-2 * x for x in TIME))),
+    (VELOCITY_SUFFIX, known(tuple(-x for x in TIME))),
+)
 
 
 @dataclass(frozen=True)
@@ -130,6 +135,7 @@ class _Check:
         self.functions = frozenset(names.functions)
         self.solver = Solver()
         self.pending: list[_Requirement] = []
+        self.seen: set[tuple] = set()
 
     # -- fields --------------------------------------------------------------
     def field(self, field: str, value: object) -> None:
@@ -164,7 +170,10 @@ class _Check:
         """Check at once between known dimensions; otherwise solve with the others, later
         (so that the known ones are refused first, whatever the order of the fields)."""
         if requirement.term[0] or requirement.expected[0]:
-            self.pending.append(requirement)
+            key = (*_key(requirement.term), *_key(requirement.expected))
+            if key not in self.seen:  # a chain's sin(theta1) is in every later position
+                self.seen.add(key)
+                self.pending.append(requirement)
         elif requirement.term[1] != requirement.expected[1]:
             self.refuse(requirement)
 
@@ -224,10 +233,10 @@ class _Check:
             return known(TIME)
         if name in BUILTIN_CONSTANTS:
             return known(DIMENSIONLESS)
-        for suffix, order in ((ACCELERATION_SUFFIX, 2), (VELOCITY_SUFFIX, 1)):
+        for suffix, per_time in _DERIVATIVES:
             base = name.removesuffix(suffix)
             if base != name and base in self.coordinates:
-                return combine(self.name(base), known(tuple(-order * x for x in TIME)))
+                return combine(self.name(base), per_time)
         if name in self.names.known:
             return known(self.names.known[name])
         return unknown(name)
@@ -287,6 +296,10 @@ class _Check:
         return unknown(name)
 
 
+def _key(form: Form) -> tuple:
+    return tuple(sorted(form[0].items())), form[1]
+
+
 def _terms(node: Node) -> list[Node]:
     """The terms of the sum ``node`` is (sums inside sums and signs opened), or [node]."""
     match node:
@@ -301,7 +314,7 @@ def _constant(node: Node) -> Fraction | None:
     """The rational number ``node`` is, or None (it has a name, or is irrational)."""
     match node:
         case Number(value=value):
-            return Fraction(int(value.p), int(value.q))
+            return int(value.p) if value.q == 1 else Fraction(int(value.p), int(value.q))
         case Negate(operand=operand):
             value = _constant(operand)
             return None if value is None else -value

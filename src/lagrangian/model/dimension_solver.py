@@ -16,8 +16,9 @@ from fractions import Fraction
 
 from .dimensions import DIMENSIONLESS, Dimension
 
-#: (coefficients {name: c}, known part): the dimension sum_s c * D_s + known.
-Form = tuple[dict[str, Fraction], Dimension]
+#: (coefficients {name: c}, known part): the dimension sum_s c * D_s + known; the
+#: coefficients and exponents are ints where whole (faster than Fractions), else Fractions.
+Form = tuple[dict[str, int | Fraction], Dimension]
 
 
 def known(value: Dimension) -> Form:
@@ -25,7 +26,7 @@ def known(value: Dimension) -> Form:
 
 
 def unknown(name: str, offset: Dimension = DIMENSIONLESS) -> Form:
-    return {name: Fraction(1)}, offset
+    return {name: 1}, offset
 
 
 def combine(a: Form, b: Form, sign: int = 1) -> Form:
@@ -42,6 +43,8 @@ def combine(a: Form, b: Form, sign: int = 1) -> Form:
 
 def scale(a: Form, factor: Fraction) -> Form:
     """``factor * a``: the form of a power."""
+    if factor == 1:
+        return a
     if factor == 0:
         return {}, DIMENSIONLESS
     return {n: c * factor for n, c in a[0].items()}, tuple(_tidy(x * factor) for x in a[1])

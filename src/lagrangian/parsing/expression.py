@@ -9,6 +9,7 @@ by calling ``Add``, ``Mul``, ``Pow`` and the function classes directly.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import sympy
@@ -136,6 +137,13 @@ def _parse_tree(text: str, limits: ParseLimits) -> Node:
         raise TypeError(f"expression text must be a str, not {type(text).__name__}")
     if not isinstance(limits, ParseLimits):
         raise TypeError(f"limits must be ParseLimits, not {type(limits).__name__}")
+    return _tree(text, limits)
+
+
+@functools.lru_cache(maxsize=512)
+def _tree(text: str, limits: ParseLimits) -> Node:
+    """The tree of ``text``, kept for the next pass that reads the same text (the tree is
+    immutable): a dimensioned model's check reads each field again right after its build."""
     if len(text) > limits.max_length:
         raise ParseError(
             f"expression too long ({len(text)} characters, limit {limits.max_length})", text, None
