@@ -248,3 +248,37 @@ def test_the_singular_points_of_a_top_that_are_at_rest_stay_equilibria():
     assert top.modes.stability.value == "unstable"
     assert hanging.modes.stability.value == "marginal"  # the turn about the vertical: 0
     assert set(hanging.degenerate) == {"phi", "psi"}
+
+
+def atwood(m1: float, m2: float):
+    """The Atwood machine: x the height the lighter side rises, V = (m2 - m1) g x."""
+    return lg.System.from_energies(
+        "(m1 + m2)*x_dot**2/2",
+        "(m2 - m1)*g*x",
+        ["x"],
+        parameters={"m1": m1, "m2": m2, "g": 9.81},
+    )
+
+
+@pytest.mark.slow  # an analysis and the CLI
+def test_a_balanced_atwood_machine_is_at_rest_everywhere_at_its_values(tmp_path, capsys):
+    from lagrangian.cli import ExitStatus, main
+    from lagrangian.model.values import with_values
+
+    assert atwood(2.0, 1.0).equilibria() == ()  # (m1 - m2) g never vanishes: none
+    balanced = with_values(atwood(2.0, 1.0), {"m1": 1.0, "m2": 1.0})  # as --set gives it
+    (line,) = balanced.equilibria()
+    # every x, neutral: was 'none found' (the force at rest was judged for generic values)
+    assert dict(line.point) == {} and line.numeric
+    assert line.modes.stability.value == "marginal" and line.modes.omega_squared == (0,)
+    model = tmp_path / "atwood.toml"
+    model.write_text(
+        'coordinates = ["x"]\nkinetic = "(m1 + m2)*x_dot^2/2"\npotential = "(m2 - m1)*g*x"\n'
+        "[parameters]\nm1 = 2\nm2 = 1\ng = 9.81\n",
+        encoding="utf-8",
+    )
+    argv = ["analyze", str(model), "--set", "m1=1", "--set", "m2=1"]
+    assert main(argv) == ExitStatus.SUCCESS
+    text = capsys.readouterr().out
+    assert "  every configuration: marginal  [numeric, at the given values]\n" in text
+    assert "ω² = 0: every direction: every configuration is at rest" in text

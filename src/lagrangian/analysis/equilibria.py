@@ -160,7 +160,8 @@ def with_modes(eom: EquationsOfMotion, rest: RestPoint) -> Equilibrium:
     """
     if rest.everywhere:
         modes = _modes_everywhere(eom)
-        return Equilibrium({}, False, modes, zero_modes=_everywhere_names(eom, modes))
+        names = _everywhere_names(eom, modes)
+        return Equilibrium({}, rest.numeric, modes, zero_modes=names)
     free = free_coordinates(eom, rest.point)
     member = representative(eom, rest.point, free) if free else dict(rest.point)
     modes, degenerate, linear, singularity = _modes(eom, member, rest.numeric)
@@ -219,18 +220,44 @@ def rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> tuple[RestP
     equations = [g for g in forces if not is_zero(g)]
     if not equations:
         return (RestPoint({}, False, everywhere=True),)
+    equations, at_values = _balanced(system, equations)
+    if equations is None:
+        return ()  # a force at rest that no configuration cancels
+    if not equations:  # balanced at the values: every configuration (Atwood, m1 = m2)
+        return (RestPoint({}, True, everywhere=True),)
     symbols = set().union(*(g.free_symbols for g in equations))
     unknowns = [c for c in system.coordinates if c.q in symbols]
-    if not unknowns:
-        return ()  # the forces at rest never vanish (for generic parameter values)
     search = RootSearch(system, equations, unknowns)
     left = remaining()  # SymPy gets a share of a stage's time: the numerical route the rest
     points = search.symbolic(timeout if left is None else min(timeout, SYMBOLIC_SHARE * left))
     numeric = points is None or not search.confirms(points)
     if not numeric:
-        return tuple(RestPoint(p, False) for p in points)
+        return tuple(RestPoint(p, at_values) for p in points)
     members = grouped(system, equations, unknowns, search.numeric())
     return tuple(RestPoint(m.point, True, dimension=m.dimension, found=m.found) for m in members)
+
+
+def _balanced(system: System, equations: list) -> tuple[list | None, bool]:
+    """The equations that depend on the configuration, and whether some were dropped as
+    zero at the parameter values; None where a force at rest depends on no coordinate and
+    is not zero there.
+
+    A generalized force at rest that no coordinate enters, (m1 - m2) g for the Atwood
+    machine, never vanishes for generic values: no equilibrium.  At values that balance
+    it (--set m1=1 --set m2=1) it is 0 for every configuration, and the equilibria are
+    those of the other equations there (for the Atwood machine, its whole line: 'none
+    found' said the opposite)."""
+    coordinates = {c.q for c in system.coordinates}
+    constant = [g for g in equations if not g.free_symbols & coordinates]
+    if not constant:
+        return equations, False
+    values = system.parameter_values
+    at = {p.symbol: sympy.Float(values[p.name]) for p in system.parameters if p.name in values}
+    for g in constant:
+        number = g.xreplace(at)
+        if not number.is_number or abs(complex(number)) > 0:
+            return None, False
+    return [g for g in equations if g.free_symbols & coordinates], True
 
 
 def _flat(system: System, rest: Mapping) -> bool:
