@@ -34,6 +34,10 @@ PYTHON_SPELLING: Mapping[str, str] = {
     "path": "path",
     "n_out": "n_out",
     "dt_out": "dt_out",
+    "save_every": "save_every",
+    "vary": "vary",
+    "samples": "samples",
+    "transient": "transient",
     "allow_remote": "allow_remote=True",
 }
 _SETTING = re.compile(r"\u27e6([a-z_=]+)\u27e7")

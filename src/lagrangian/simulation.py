@@ -247,5 +247,12 @@ def _spread_starts(compiled, initial, spread: Mapping[str, tuple[float, float]],
     for name, (low, high) in spread.items():
         if name not in names:
             raise ModelError(f"'{name}' is not a coordinate or velocity", field="spread")
-        starts[names.index(name)] = np.linspace(float(low), float(high), count)
+        values = np.linspace(float(low), float(high), count)
+        if not np.all(np.isfinite(values)):  # HI - LO overflows: +-1e308 gives nan starts
+            raise ModelError(
+                f"'{name}' from {float(low):g} to {float(high):g}: the spread is not a range "
+                "of finite numbers (its width overflows)",
+                field="spread",
+            )
+        starts[names.index(name)] = values
     return starts

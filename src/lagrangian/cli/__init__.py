@@ -40,25 +40,24 @@ def main(argv: Sequence[str] | None = None) -> ExitStatus:
     and other libraries' (NumPy's RuntimeWarning, xarray's, matplotlib's) only
     with ``LAGRANGIAN_DEBUG=1``; on failure only the error line is printed.
     """
+    args = list(sys.argv[1:] if argv is None else argv)
+    command = _command(args)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("default")  # each distinct warning once, ours included
-        status = _run(argv)
+        status = _run(args, command)
     if status == ExitStatus.SUCCESS:
-        _show_warnings(caught, debug=bool(os.environ.get("LAGRANGIAN_DEBUG")))
+        spelling = command_flags(command)
+        _show_warnings(caught, spelling, debug=bool(os.environ.get("LAGRANGIAN_DEBUG")))
     return status
 
 
-def _run(argv: Sequence[str] | None) -> ExitStatus:
+def _run(args: list[str], command: click.Command | None) -> ExitStatus:
     try:
-        result = app.main(
-            args=list(sys.argv[1:] if argv is None else argv),
-            prog_name="lagrangian",
-            standalone_mode=False,
-        )
+        result = app.main(args=args, prog_name="lagrangian", standalone_mode=False)
     except LagrangianError as error:
-        return _fail(ExitStatus.BAD_INPUT, error.spelled(FLAGS))
+        return _fail(ExitStatus.BAD_INPUT, error.spelled(command_flags(command)))
     except OutOfTime as error:  # a BaseException: a deadline no stage caught is the user's budget
-        return _fail(ExitStatus.BAD_INPUT, f"{error} (allow more time with --timeout SECONDS)")
+        return _fail(ExitStatus.BAD_INPUT, f"{error} ({_more_time(command)})")
     except click.ClickException as error:
         return _fail(ExitStatus.BAD_INPUT, error.format_message())
     except click.Abort:
@@ -77,7 +76,32 @@ def _run(argv: Sequence[str] | None) -> ExitStatus:
     )
 
 
-def _show_warnings(caught: list[warnings.WarningMessage], *, debug: bool) -> None:
+def _command(args: Sequence[str]) -> click.Command | None:
+    """The command ``args`` run (the group's own options come before it and take no value)."""
+    name = next((arg for arg in args if not arg.startswith("-")), None)
+    return app.commands.get(name) if name is not None else None
+
+
+def command_flags(command: click.Command | None) -> dict[str, str]:
+    """How ``command`` spells the library's settings: the entries of :data:`FLAGS` whose
+    option it has.  A setting it has no option for keeps its Python name, so that no
+    message suggests an option the command does not have (``derive --timeout``)."""
+    if command is None:
+        return dict(FLAGS)
+    options = {name for parameter in command.params for name in parameter.opts}
+    return {key: flag for key, flag in FLAGS.items() if flag.split()[0] in options}
+
+
+def _more_time(command: click.Command | None) -> str:
+    if command is not None and "timeout" in command_flags(command):
+        return "allow more time with --timeout SECONDS"
+    name = f"lagrangian {command.name}" if command is not None else "this command"
+    return f"{name} has no --timeout: the budgets of its stages are fixed"
+
+
+def _show_warnings(
+    caught: list[warnings.WarningMessage], spelling: dict[str, str], *, debug: bool
+) -> None:
     """Ours as ``lagrangian: warning: ...`` (each text once); the rest only when debugging."""
     shown = set()
     for record in caught:
@@ -85,7 +109,7 @@ def _show_warnings(caught: list[warnings.WarningMessage], *, debug: bool) -> Non
         if not (ours or debug):
             continue
         message = record.message
-        text = message.spelled(FLAGS) if isinstance(message, Spelled) else str(message)
+        text = message.spelled(spelling) if isinstance(message, Spelled) else str(message)
         line = " ".join(text.split())
         if not ours:
             line = f"{record.category.__name__}: {line} ({record.filename}:{record.lineno})"

@@ -152,10 +152,18 @@ def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
     for name, text in options.pairs(values, "--spread", "NAME=LO:HI").items():
         try:
             low, high = (float(part) for part in text.split(":"))
+            if not (np.isfinite(low) and np.isfinite(high)):
+                raise ValueError
         except ValueError:
             raise click.BadParameter(
-                f"expected NAME=LO:HI, got {f'{name}={text}'!r}", param_hint="--spread"
+                f"expected NAME=LO:HI (LO and HI finite numbers), got {f'{name}={text}'!r}",
+                param_hint="--spread",
             ) from None
+        if not np.isfinite(high - low):  # +-1e308: the starts between would be nan
+            raise click.BadParameter(
+                f"'{name}' from {low:g} to {high:g}: the range's width overflows",
+                param_hint="--spread",
+            )
         spread[name] = (low, high)
     return spread
 
@@ -286,7 +294,7 @@ def bifurcation(
     if section is not None and steps_per_period is not None:
         raise click.BadParameter("--steps-per-period goes with --strobe", param_hint="--strobe")
     _check_outputs(out, (".csv",), picture)
-    system, grid = _grids((vary,), load(model))
+    system, grid = _grids((vary,), load(model), "--vary")
     ((parameter, values),) = grid.items()
     system, given = options.assignments(assignments, system)
     initial, params = split_assignments(system, given)

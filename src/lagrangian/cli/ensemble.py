@@ -15,9 +15,12 @@ if TYPE_CHECKING:
     from ..model.system import System
 
 
-def _grids(values: tuple[str, ...], system: System) -> tuple[System, dict[str, GridAxis]]:
-    """NAME=LO:HI:N of --grid, each on its own axis (a bad one: usage error); the values are
-    made only once the ensemble is known to fit in memory.
+def _grids(
+    values: tuple[str, ...], system: System, option: str = "--grid"
+) -> tuple[System, dict[str, GridAxis]]:
+    """NAME=LO:HI:N of --grid, each on its own axis (a bad one: a usage error naming
+    ``option``, the one the user typed: bifurcation's --vary too); the values are made
+    only once the ensemble is known to fit in memory.
 
     LO and HI may carry units (``l=20cm:1m:50``), converted as --set's values are
     (:func:`.options.given_values`): the system returned is dimensioned if they made it so.
@@ -26,7 +29,7 @@ def _grids(values: tuple[str, ...], system: System) -> tuple[System, dict[str, G
     from ..model.quantities import has_unit
 
     specs: dict[str, tuple[str, str, int]] = {}
-    for name, text in options.pairs(values, "--grid", "NAME=LO:HI:N").items():
+    for name, text in options.pairs(values, option, "NAME=LO:HI:N").items():
         parts = text.split(":")
         try:
             if len(parts) != 3:
@@ -40,11 +43,18 @@ def _grids(values: tuple[str, ...], system: System) -> tuple[System, dict[str, G
         except ValueError:
             raise click.BadParameter(
                 f"expected NAME=LO:HI:N (N a whole number >= 1), got {f'{name}={text}'!r}",
-                param_hint="--grid",
+                param_hint=option,
             ) from None
         specs[name] = (parts[0], parts[1], count)
-    system, lows = options.given_values({n: s[0] for n, s in specs.items()}, system, "--grid")
-    system, highs = options.given_values({n: s[1] for n, s in specs.items()}, system, "--grid")
+    system, lows = options.given_values({n: s[0] for n, s in specs.items()}, system, option)
+    system, highs = options.given_values({n: s[1] for n, s in specs.items()}, system, option)
+    for name in specs:
+        low, high = float(lows[name]), float(highs[name])
+        if not np.isfinite(high - low):  # +-1e308: every value between would be nan
+            raise click.BadParameter(
+                f"'{name}' from {low:g} to {high:g}: the range's width overflows",
+                param_hint=option,
+            )
     ndim = len(specs)
     return system, {
         name: GridAxis(lows[name], highs[name], count, axis, ndim)

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import LagrangianWarning, ModelError
+from ..errors import LagrangianWarning, ModelError, setting
 from ..files import write_csv
 from ..integrate.base import positive_setting, transient_setting
 
@@ -129,6 +129,10 @@ def bifurcation_diagram(
     result = run_ensemble(
         compiled, t_end=(dropped + int(samples)) * period, dt=period / int(steps_per_period),
         save_every=int(steps_per_period), **run,
+        memory_advice=(
+            f"use fewer values of {setting('vary')}, fewer {setting('samples')} or a shorter "
+            f"{setting('transient')}"
+        ),
     )  # fmt: skip
     dataset = result.dataset
     path = dataset[f"path_{variable}"].values.reshape(-1, dataset.sizes["t"])
@@ -153,7 +157,13 @@ def _section_diagram(
         raise ModelError("a diagram from a section needs t_end, the time after the transient")
     t_end = positive_setting("t_end", t_end)
     section = parse_section(compiled, text, direction)
-    result = run_ensemble(compiled, t_end=transient + t_end, dt=dt, save_every=1, **run)
+    advice = (
+        f"use fewer values of {setting('vary')}, a shorter {setting('transient')} or "
+        f"{setting('t_end')}, or a larger {setting('dt')}"
+    )
+    result = run_ensemble(
+        compiled, t_end=transient + t_end, dt=dt, save_every=1, **run, memory_advice=advice
+    )
     dataset = result.dataset
     states = [*compiled.coordinate_names, *(f"{q}_dot" for q in compiled.coordinate_names)]
     paths = np.stack(

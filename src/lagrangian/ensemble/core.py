@@ -95,6 +95,7 @@ def run_ensemble(
     scheduler: str | None = None,
     progress: Callable[[float], None] | None = None,
     chunk_seconds: float | None = None,
+    memory_advice: str | None = None,
 ) -> EnsembleTrajectory:
     """Integrate every member from t = 0 to ``t_end``; see the module docstring.
 
@@ -106,6 +107,9 @@ def run_ensemble(
     65,536; 2^20 on the GPU backends).  ``progress`` is called with the fraction done.
     ``chunk_seconds``: seconds a chunk should take on :func:`budget_clock` (chunks sized
     by measured time, at most ``chunk_size``; not jax; a budget gives 1.5 % of itself).
+    ``memory_advice``: what to change when the ensemble would not fit in memory, in the
+    settings of a caller that chose these for its user (a bifurcation diagram's values,
+    samples and transient); by default the ensemble's own (members, dt, save_every).
     """
     t0, t1 = check_time_span((0.0, t_end))
     if method not in METHODS:
@@ -144,8 +148,10 @@ def run_ensemble(
         check_fits(
             ensemble_bytes(compiled, count, steps, names, save_every, int(chunk_size)),
             f"an ensemble of {count_text(count)} members{kept} ({count_text(steps)} steps)",
-            f"use fewer members (fewer points per {setting('grid')}), or fewer steps "
-            f"(a larger {setting('dt')})" + (" or a larger save_every" if save_every else ""),
+            memory_advice
+            or f"use fewer members (fewer points per {setting('grid')}), or fewer steps "
+            f"(a larger {setting('dt')})"
+            + (f" or fewer states kept (a larger {setting('save_every')})" if save_every else ""),
         )
 
     batch = members(compiled, initial, params, before_allocating=fits)
