@@ -39,6 +39,7 @@ PYTHON_SPELLING: Mapping[str, str] = {
     "samples": "samples",
     "transient": "transient",
     "allow_remote": "allow_remote=True",
+    "allow_host": "allowed_hosts",
 }
 _SETTING = re.compile(r"\u27e6([a-z_=]+)\u27e7")
 

@@ -42,6 +42,7 @@ FLAGS = {
     "conserved": "--conserved",
     "momenta": "--momentum",
     "exercise": "--exercise",
+    "allow_host": "--allow-host",
 }
 
 

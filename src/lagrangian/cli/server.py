@@ -31,9 +31,24 @@ from .app import app
     "--allow-remote",
     is_flag=True,
     help="Listen on an address other machines can reach (anyone who reaches it can make "
-    "this machine derive models).",
+    "this machine derive models; a warning says so).",
 )
-def serve(host: str, port: int, allow_remote: bool) -> None:
+@click.option(
+    "--allow-host",
+    "allowed_hosts",
+    multiple=True,
+    metavar="NAME",
+    help="Also answer requests addressed to NAME (a DNS name of this machine, a proxy's); "
+    "repeatable.  Others are refused, as a page that re-points its own name here sends.",
+)
+def serve(host: str, port: int, allow_remote: bool, allowed_hosts: tuple[str, ...]) -> None:
     """Serve the model editor until Ctrl-C: in a browser, edit a model (TOML or a
     Lagrangian) and see its page, derived on this machine, beside the editor."""
-    run_server(host, port, allow_remote=allow_remote, announce=click.echo)
+    run_server(
+        host,
+        port,
+        allow_remote=allow_remote,
+        allowed_hosts=allowed_hosts,
+        announce=click.echo,
+        warn=lambda line: click.echo(f"lagrangian: warning: {line}", err=True),
+    )

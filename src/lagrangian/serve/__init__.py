@@ -11,47 +11,31 @@ The layers: a thin shell like the CLI, above the facade and below the CLI, with 
 physics of its own.  Starlette and uvicorn (the optional extra ``serve``) are
 imported only here, when a server is made.
 
-    serve(host="127.0.0.1", port=8765, *, allow_remote=False, announce=print)
+    serve(host="127.0.0.1", port=8765, *, allow_remote=False, allowed_hosts=(),
+          announce=print, warn=...)
     create_app(renderer, hosts=...)            the ASGI application (:mod:`.app`)
     check_host(host, allow_remote=False)       loopback only, unless told otherwise
+    served_hosts(host, port, allowed=())       the Host headers answered (:mod:`.hosts`)
 """
 
 from __future__ import annotations
 
 import contextlib
-import ipaddress
 import socket
-from collections.abc import Callable
+import sys
+from collections.abc import Callable, Iterable
 
-from ..errors import LagrangianError, MissingDependencyError, ModelError, setting
+from ..errors import LagrangianError, MissingDependencyError
+from .hosts import bare, check_host, in_url, is_loopback, is_wildcard, served_hosts
 
 #: The address the server listens on unless told otherwise: this machine only.
 DEFAULT_HOST = "127.0.0.1"
 #: The port the server listens on unless told otherwise (0: any free port).
 DEFAULT_PORT = 8765
 
-_LOOPBACK_NAMES = ("localhost", "127.0.0.1", "[::1]")
 
-
-def check_host(host: str, *, allow_remote: bool = False) -> str:
-    """``host`` if the server may listen there: a loopback address (``127.0.0.1``,
-    ``::1``, ``localhost``), or any address when ``allow_remote`` says so."""
-    if allow_remote or is_loopback(host):
-        return host
-    raise ModelError(
-        f"{host} is not a loopback address: other machines could reach the editor and make "
-        f"this machine derive their models (allow it with {setting('allow_remote')})"
-    )
-
-
-def is_loopback(host: str) -> bool:
-    """Whether ``host`` names this machine only (a name other than localhost may not)."""
-    if host.lower() == "localhost":
-        return True
-    try:
-        return ipaddress.ip_address(host.strip("[]")).is_loopback
-    except ValueError:
-        return False
+def _warn_on_stderr(line: str) -> None:
+    print(f"lagrangian: warning: {line}", file=sys.stderr, flush=True)
 
 
 def serve(
@@ -59,57 +43,57 @@ def serve(
     port: int = DEFAULT_PORT,
     *,
     allow_remote: bool = False,
+    allowed_hosts: Iterable[str] = (),
     announce: Callable[[str], object] = print,
+    warn: Callable[[str], object] = _warn_on_stderr,
 ) -> None:
     """Serve the editor at http://host:port until interrupted (Ctrl-C).
 
     ``announce`` receives the line that gives the address (with the port chosen, for
-    port 0) once the server listens.
+    port 0) once the server listens; ``warn`` a line first when other machines can
+    reach it.  ``allowed_hosts``: more names the server answers for (a proxy's, a DNS
+    name of this machine); see :mod:`.hosts`.
     """
     check_host(host, allow_remote=allow_remote)
+    allowed = tuple(allowed_hosts)
+    served_hosts(host, 0, allowed=allowed)  # a bad name fails before anything listens
     try:
         import uvicorn
 
         from .app import create_app
+        from .connections import BACKLOG, bounded_config
     except ImportError as error:
         raise MissingDependencyError(
             "lagrangian serve", error.name or "starlette", "serve"
         ) from None
     from .worker import PageWorker
 
-    listening = _listen(host, port)
+    listening = _listen(host, port, BACKLOG)
     port = listening.getsockname()[1]
-    hosts = None if _is_wildcard(host) else served_hosts(host, port)
+    hosts = served_hosts(host, port, allowed=allowed)
     app = create_app(PageWorker(), hosts=hosts)
-    config = uvicorn.Config(app, log_level="warning", access_log=False, lifespan="on")
-    shown = f"[{host}]" if ":" in host else host
-    announce(f"the model editor is at http://{shown}:{port}/ (Ctrl-C stops it)")
+    if not is_loopback(host):
+        warn(remote_warning(host, hosts.any_own_address))
+    announce(f"the model editor is at http://{in_url(host)}:{port}/ (Ctrl-C stops it)")
     with contextlib.suppress(KeyboardInterrupt), listening:
-        uvicorn.Server(config).run(sockets=[listening])
+        uvicorn.Server(bounded_config(app)).run(sockets=[listening])
 
 
-def served_hosts(host: str, port: int) -> frozenset[str]:
-    """The Host header values a browser sends to this server: its own address and, for a
-    loopback one, the other names of this machine (with the port; without it for 80)."""
-    names = {f"[{host}]" if ":" in host else host}
-    if is_loopback(host):
-        names.update(_LOOPBACK_NAMES)
-    with_port = {f"{name}:{port}" for name in names}
-    return frozenset(with_port | names if port == 80 else with_port)
+def remote_warning(host: str, every_address: bool) -> str:
+    """The line that says who can reach a server listening on ``host`` (not loopback)."""
+    where = "every address of this machine" if every_address else in_url(host)
+    return (
+        f"the editor listens on {where}: any machine that reaches it can make this machine "
+        "derive models (it answers only requests that name this machine: its names and "
+        "addresses, and the names allowed)"
+    )
 
 
-def _is_wildcard(host: str) -> bool:
-    try:
-        return ipaddress.ip_address(host.strip("[]")).is_unspecified
-    except ValueError:
-        return False
-
-
-def _listen(host: str, port: int) -> socket.socket:
+def _listen(host: str, port: int, backlog: int) -> socket.socket:
     """A socket listening on host:port, or one line saying why there is none."""
     try:
         family, kind, protocol, _, address = socket.getaddrinfo(
-            host.strip("[]"), port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE
+            bare(host), port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE
         )[0]
         listening = socket.socket(family, kind, protocol)
     except (OSError, UnicodeError) as error:
@@ -117,7 +101,7 @@ def _listen(host: str, port: int) -> socket.socket:
     try:
         listening.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
         listening.bind(address)
-        listening.listen(128)
+        listening.listen(backlog)
     except OSError as error:
         listening.close()
         raise LagrangianError(f"cannot listen on {host}:{port}: {_reason(error)}") from None
@@ -128,4 +112,13 @@ def _reason(error: Exception) -> str:
     return getattr(error, "strerror", None) or str(error)
 
 
-__all__ = ["DEFAULT_HOST", "DEFAULT_PORT", "check_host", "is_loopback", "serve", "served_hosts"]
+__all__ = [
+    "DEFAULT_HOST",
+    "DEFAULT_PORT",
+    "check_host",
+    "is_loopback",
+    "is_wildcard",
+    "remote_warning",
+    "serve",
+    "served_hosts",
+]

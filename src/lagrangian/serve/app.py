@@ -28,12 +28,13 @@ from importlib import resources
 import anyio
 from starlette.applications import Starlette
 from starlette.concurrency import run_in_threadpool
-from starlette.requests import Request
+from starlette.requests import ClientDisconnect, Request
 from starlette.responses import Response
 from starlette.routing import Route
 from starlette.types import ASGIApp, Receive, Scope, Send
 
 from ..examples import example_names, example_path, example_title
+from .hosts import ServedHosts
 from .worker import Renderer
 
 #: The largest model text accepted (the model loader's own limit is the same 1 MiB).
@@ -60,10 +61,11 @@ _ASSETS = {
 }
 
 
-def create_app(renderer: Renderer, *, hosts: Collection[str] | None) -> ASGIApp:
+def create_app(renderer: Renderer, *, hosts: ServedHosts | Collection[str] | None) -> ASGIApp:
     """The application; ``renderer`` makes the pages (started with the application and
     closed with it; its blocking ``render`` runs in a thread); ``hosts``: the Host header
-    values of this server (None: any, for a server that listens on every address)."""
+    values of this server (:func:`~lagrangian.serve.hosts.served_hosts`; a collection of
+    them; None: any, for a test's application)."""
 
     @contextlib.asynccontextmanager
     async def lifespan(app: Starlette) -> AsyncIterator[None]:
@@ -109,9 +111,13 @@ def create_app(renderer: Renderer, *, hosts: Collection[str] | None) -> ASGIApp:
 class SameOriginOnly:
     """ASGI middleware: refuses (403) a request for another host or from another origin."""
 
-    def __init__(self, app: ASGIApp, *, hosts: Collection[str] | None):
+    def __init__(self, app: ASGIApp, *, hosts: ServedHosts | Collection[str] | None):
         self.app = app
-        self.hosts = None if hosts is None else frozenset(host.lower() for host in hosts)
+        self.hosts: ServedHosts | frozenset[str] | None = (
+            hosts
+            if hosts is None or isinstance(hosts, ServedHosts)
+            else frozenset(host.lower() for host in hosts)
+        )
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] == "http":
@@ -143,17 +149,22 @@ class SameOriginOnly:
 
 
 async def _bounded_body(request: Request) -> bytes | Response:
-    """The request's body, or a 413 response once it is known to exceed the limit."""
+    """The request's body, or a 413 response once it is known to exceed the limit (a
+    204 for a client gone before its body arrived: closed for being too slow, or its
+    editor gave the edit up; nothing to log, nor to derive)."""
     too_large = _json({"error": f"the model text is larger than {MAX_BODY_BYTES} bytes"}, 413)
     declared = request.headers.get("content-length")
     if declared is not None and (not declared.isdigit() or int(declared) > MAX_BODY_BYTES):
         return too_large
     chunks, size = [], 0
-    async for chunk in request.stream():
-        size += len(chunk)
-        if size > MAX_BODY_BYTES:
-            return too_large
-        chunks.append(chunk)
+    try:
+        async for chunk in request.stream():
+            size += len(chunk)
+            if size > MAX_BODY_BYTES:
+                return too_large
+            chunks.append(chunk)
+    except ClientDisconnect:
+        return Response(status_code=204)
     return b"".join(chunks)
 
 
