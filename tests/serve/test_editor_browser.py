@@ -101,6 +101,42 @@ def test_the_editor_shows_the_error_line_then_the_page(browser, editor_url):
     page.close()
 
 
+RESTORED_NAME = "A model typed before the reload"
+RESTORED_MODEL = f"""name = "{RESTORED_NAME}"
+coordinates = ["x"]
+lagrangian = "m*x_dot**2/2 - k*x**4/4"
+
+[parameters]
+m = 1.0
+k = 2.0
+"""
+
+
+@pytest.mark.slow
+def test_a_reload_restores_the_users_model_not_the_first_example(browser, editor_url):
+    # issue 37 item 12: after a server crash, reloading the editor replaced the user's
+    # model with the first example
+    page = browser.new_page()
+    page.set_default_timeout(SHOW_SECONDS * 1000)
+    page.goto(editor_url)
+    page.frame_locator("#page").locator("body").wait_for()  # the first example's page
+    editor = page.locator("#model")
+    editor.fill(RESTORED_MODEL)
+    frame_shows(page, "document.getElementById('title')?.textContent", RESTORED_NAME)
+
+    page.reload()
+    page.locator("#examples option").nth(1).wait_for(state="attached")  # examples loaded
+    assert editor.input_value() == RESTORED_MODEL
+    assert page.locator("#examples").input_value() == ""  # not an example's text
+    frame_shows(page, "document.getElementById('title')?.textContent", RESTORED_NAME)
+
+    page.select_option("#examples", "harmonic_oscillator")  # an example chosen is kept too
+    page.reload()
+    page.locator("#examples option").nth(1).wait_for(state="attached")
+    assert page.locator("#examples").input_value() == "harmonic_oscillator"
+    page.close()
+
+
 def frame_shows(page, expression: str, expected: object) -> None:
     """Wait (bounded) until ``expression`` in the page's frame is ``expected``: the frame
     shows the new document some time after the editor received it."""

@@ -1,10 +1,14 @@
 // The model editor: each edit (debounced) is POSTed to /page; the answer is the model's
 // page, shown in the sandboxed frame, or its one-line error, shown beside the editor while
 // the last good page stays.  Every text is shown by value or textContent, never as markup.
+// The text is kept in the browser's storage at each edit and restored first on loading,
+// so that a reload (after the server crashed, or was restarted) gives the user's model
+// back, not the first example.
 "use strict";
 
 const DEBOUNCE_MS = 400;
 const FIRST_EXAMPLE = "double_pendulum";
+const STORED_TEXT = "lagrangian.editor.text";
 
 const editor = document.getElementById("model");
 const menu = document.getElementById("examples");
@@ -61,6 +65,24 @@ async function derive() {
   }
 }
 
+// Storage may be refused (a private window, a full quota, a policy): the editor then
+// works as without it.
+function storedText() {
+  try {
+    return window.localStorage.getItem(STORED_TEXT);
+  } catch (error) {
+    return null;
+  }
+}
+
+function keepText() {
+  try {
+    window.localStorage.setItem(STORED_TEXT, editor.value);
+  } catch (error) {
+    // not kept: a reload shows the first example
+  }
+}
+
 function scheduleDerive() {
   clearTimeout(timer);
   timer = setTimeout(derive, DEBOUNCE_MS);
@@ -71,6 +93,7 @@ function chooseExample(name) {
   if (!example) return;
   menu.value = name;
   editor.value = example.text;
+  keepText();
   derive();
 }
 
@@ -87,12 +110,27 @@ async function loadExamples() {
 
 editor.addEventListener("input", () => {
   menu.value = "";
+  keepText();
   scheduleDerive();
 });
 menu.addEventListener("change", () => chooseExample(menu.value));
 exerciseBox.addEventListener("change", derive);
 
+// The user's text first, derived at once (the examples may be slow or fail); the first
+// example only for an editor never used here.
+const restored = storedText();
+if (restored !== null) {
+  editor.value = restored;
+  derive();
+}
 loadExamples().then(
-  () => chooseExample(FIRST_EXAMPLE),
+  () => {
+    if (restored === null) {
+      chooseExample(FIRST_EXAMPLE);
+    } else {
+      const same = examples.find((entry) => entry.text === editor.value);
+      menu.value = same ? same.name : "";
+    }
+  },
   (error) => showError("the examples could not be loaded: " + error.message),
 );
