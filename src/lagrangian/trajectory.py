@@ -125,7 +125,14 @@ class Trajectory:
             "events": ",".join(record.name for record in events),
         }
         meta.update(_netcdf_attrs(attrs or {}))
-        return cls(xr.Dataset(data_vars, coords=coords, attrs=meta), system)
+        dataset = xr.Dataset(data_vars, coords=coords, attrs=meta)
+        units = system.units if system is not None else None
+        if units is not None:  # CF conventions: a units attribute on each variable
+            for name in ["t", *columns]:
+                unit = units.column_unit(name)
+                if unit is not None:
+                    dataset[name].attrs["units"] = unit
+        return cls(dataset, system)
 
     # -- reading ----------------------------------------------------------------
     @property
@@ -227,6 +234,13 @@ class Trajectory:
             document["conserved_in_this_run"] = {
                 name: {"reason_in_general": reason} for name, reason in self.conserved_here.items()
             }
+        units = {
+            name: str(self.dataset[name].attrs["units"])
+            for name in ["t", *self.final_state, *self.drifts()]
+            if "units" in self.dataset[name].attrs
+        }
+        if units:  # additive: a dimensioned model's units (issue 31)
+            document["units"] = units
         document["method"] = attrs.get("method")
         for key in ("backend", "choice"):  # which code ran and why (integrate.choice)
             if key in attrs:
@@ -255,10 +269,15 @@ class Trajectory:
         ]
 
     def to_csv(self, path: str | os.PathLike) -> Path:
-        """Write the time series as CSV (full float precision), atomically."""
+        """Write the time series as CSV (full float precision), atomically; a column with
+        a unit (a dimensioned model's) is headed ``name [unit]``: ``theta [rad]``."""
         names = self.columns()
         table = np.column_stack([self.t, *(self[name] for name in names)])
-        return write_csv(path, table, ["t", *names])
+        headers = []
+        for name in ["t", *names]:
+            unit = self.dataset[name].attrs.get("units")
+            headers.append(f"{name} [{unit}]" if unit else name)
+        return write_csv(path, table, headers)
 
     def to_netcdf(self, path: str | os.PathLike) -> Path:
         """Write the dataset as netCDF-3 (``engine="scipy"``), atomically."""

@@ -67,7 +67,7 @@ def read_csv(path: str | os.PathLike) -> xarray.Dataset:
     check_input_file(path, what="a trajectory file", max_bytes=MAX_TRAJECTORY_BYTES)
     try:
         with open(path, newline="", encoding="utf-8") as stream:
-            header = [name.strip() for name in next(csv.reader(stream), [])]
+            header, units = _names_and_units(next(csv.reader(stream), []))
             _check_header(path, header)
             table = _table(path, stream, len(header))
     except UnicodeDecodeError:
@@ -81,7 +81,21 @@ def read_csv(path: str | os.PathLike) -> xarray.Dataset:
     extra = [name for name in names if name not in known]
     data_vars = {name: ("t", table[:, i + 1]) for i, name in enumerate(names)}
     attrs = {"coordinate_names": ",".join(coordinates), "invariants": ",".join(extra), "events": ""}
-    return xr.Dataset(data_vars, coords={"t": table[:, 0]}, attrs=attrs)
+    dataset = xr.Dataset(data_vars, coords={"t": table[:, 0]}, attrs=attrs)
+    for name, unit in units.items():
+        dataset[name].attrs["units"] = unit
+    return dataset
+
+
+def _names_and_units(cells: list[str]) -> tuple[list[str], dict[str, str]]:
+    """The column names of a header and the units some carry (``theta [rad]``)."""
+    names, units = [], {}
+    for cell in cells:
+        name, bracket, unit = cell.strip().partition(" [")
+        names.append(name.strip())
+        if bracket and unit.endswith("]") and unit[:-1].strip():
+            units[name.strip()] = unit[:-1].strip()
+    return names, units
 
 
 # -- CSV -------------------------------------------------------------------------------

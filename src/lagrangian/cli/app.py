@@ -335,8 +335,9 @@ def simulate(
     if "choice" in summary:
         click.echo(f"method: {summary['choice']}")
     click.echo("final state:")
+    units = summary.get("units", {})
     for name, value in summary["final_state"].items():
-        click.echo(f"  {name} = {value:.12g}")
+        click.echo(f"  {name} = {value:.12g}" + (f" {units[name]}" if name in units else ""))
     if summary["invariants"]:
         click.echo("drift along the run (max |X(t) - X(0)|, relative where X(0) != 0):")
     for name, value in summary["invariants"].items():

@@ -157,7 +157,7 @@ _ANY = object()  # the dimension of 0: any
 def _dimension_of(expr, dimensions, memo):
     if expr in memo:
         return memo[expr]
-    if expr.is_Symbol:
+    if expr.is_Symbol or expr in dimensions:  # a name, or a declared function applied
         result = dimensions.get(expr)
     elif expr.is_Number:
         result = _ANY if expr == 0 else DIMENSIONLESS

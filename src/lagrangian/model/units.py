@@ -31,7 +31,7 @@ import sympy
 
 from ..errors import ModelError
 from ..symbols import ACCELERATION_SUFFIX, TIME_NAME, VELOCITY_SUFFIX
-from .dimensions import DIMENSIONLESS, TIME, Dimension, describe, over, unit_text
+from .dimensions import DIMENSIONLESS, ENERGY, TIME, Dimension, describe, over, unit_text
 from .inputs import input_entries
 from .quantities import Unit, has_unit, read_quantity, read_unit
 
@@ -77,6 +77,23 @@ class Units:
         if value is None:
             raise ModelError(f"unknown name '{name}'")
         return unit_text(value, angle=self._angular(name))
+
+    def momentum(self, name: str) -> Dimension | None:
+        """The dimension of ``p_q``, the momentum dL/dq_dot of a coordinate q, or None."""
+        if not (name.startswith("p_") and name[2:] in self.coordinates):
+            return None
+        return over(ENERGY, self.dimension(f"{name[2:]}_dot"))
+
+    def column_unit(self, name: str) -> str | None:
+        """The SI unit of a trajectory's column or a result named ``name``: t, a
+        coordinate or velocity, ``energy`` (or ``jacobi``), a momentum ``p_q``, a
+        parameter; None for a name it cannot tell (a multiplier, an invariant)."""
+        if name in ("energy", "jacobi", "hamiltonian"):
+            return unit_text(ENERGY)
+        momentum = self.momentum(name)
+        if momentum is not None:
+            return unit_text(momentum)
+        return None if self.dimension(name) is None else self.unit(name)
 
     def _angular(self, name: str) -> bool:
         base = name.removesuffix(ACCELERATION_SUFFIX).removesuffix(VELOCITY_SUFFIX)

@@ -9,6 +9,16 @@ from ..analysis import Analysis
 from ..errors import PYTHON_SPELLING, setting, spelled
 from .large import latex_printer, plain_printer, unicode_printer
 from .notation import latex_name, too_long_to_print, unicode_name
+from .units import (
+    OMEGA,
+    OMEGA_SQUARED,
+    PERIOD,
+    bracketed,
+    expression_unit,
+    name_unit,
+    units_line,
+    units_section,
+)
 
 #: What text and LaTeX say instead of an expression too long to read (the Hamiltonian of
 #: a densely coupled 6-coordinate system printed for minutes): JSON has them all.
@@ -35,6 +45,7 @@ def analysis_document(analysis: Analysis) -> dict:
         "cyclic_coordinates": list(conservation.cyclic_coordinates) if decided else None,
         "conserved": [
             {"name": q.name, "expression": text(q.expression), "description": q.description}
+            | _unit_field(system, q.expression)
             for q in conservation.conserved
         ]
         if decided
@@ -53,6 +64,11 @@ def analysis_document(analysis: Analysis) -> dict:
         "notes": list(analysis.notes),
         "undecided": [{"stage": u.stage, "reason": u.reason} for u in analysis.undecided],
     }
+    section = units_section(system)
+    if section is not None:  # additive: a dimensioned model's units (issue 31)
+        document["units"] = section
+        if analysis.hamiltonian is not None:
+            document["hamiltonian_units"] = expression_unit(system, analysis.hamiltonian.expression)
     if analysis.reduction is not None:
         reduction = analysis.reduction
         document["reduction"] = {
@@ -62,6 +78,12 @@ def analysis_document(analysis: Analysis) -> dict:
             "effective_potential": text(reduction.effective_potential),
         }
     return document
+
+
+def _unit_field(system, expr) -> dict:
+    """``{"units": "J"}`` for a quantity of a dimensioned model, else nothing."""
+    unit = expression_unit(system, expr)
+    return {} if unit is None else {"units": unit}
 
 
 def _equilibrium_document(e, text, system) -> dict:
@@ -92,6 +114,8 @@ def _equilibrium_document(e, text, system) -> dict:
     numbers = modes_at_values(e.modes, system)
     if numbers is not None:
         document["at_parameter_values"] = numbers
+    if system.units is not None:
+        document["units"] = {"omega_squared": OMEGA_SQUARED, "omega": OMEGA, "periods": PERIOD}
     condition = getattr(e, "stability_condition", None)
     if condition is not None:
         document["stability_condition"] = text(condition)
@@ -124,6 +148,7 @@ def format_analysis(
     lines = [
         f"{system.name}   (coordinates: {', '.join(map(unicode_name, system.coordinate_names))})"
     ]
+    lines += [line for line in (units_line(system),) if line is not None]
     if conservation is None:
         reason = missing.get("conserved quantities", "not computed")
         lines += ["", f"Cyclic coordinates and conserved quantities: {reason}"]
@@ -131,7 +156,8 @@ def format_analysis(
         cyclic = ", ".join(map(unicode_name, conservation.cyclic_coordinates)) or "none"
         lines += ["", f"Cyclic coordinates: {cyclic}", "", "Conserved:"]
         for q in conservation.conserved:
-            lines.append(f"  {_name(q.name)} = {show(q.expression)}   ({q.description})")
+            unit = bracketed(expression_unit(system, q.expression))
+            lines.append(f"  {_name(q.name)} = {show(q.expression)}   ({q.description}){unit}")
         if not conservation.conserved:
             lines.append("  nothing")
     if conservation is not None and conservation.not_conserved:
@@ -139,7 +165,8 @@ def format_analysis(
         for q in conservation.not_conserved:
             lines.append(f"  {_name(q.name)} = {show(q.expression)}   because {q.reason}")
     if analysis.hamiltonian is not None:
-        lines += ["", f"Hamiltonian:  H = {show(analysis.hamiltonian.expression)}"]
+        unit = bracketed(expression_unit(system, analysis.hamiltonian.expression))
+        lines += ["", f"Hamiltonian:  H = {show(analysis.hamiltonian.expression)}{unit}"]
     elif "Hamiltonian" in missing:
         lines += ["", f"Hamiltonian: {missing['Hamiltonian']}"]
     lines += ["", "Equilibria (at rest, staying at rest):"]
@@ -183,6 +210,7 @@ def _equilibrium_lines(points, show, system, at: str = AT_DEFAULTS) -> list[str]
     # a parameter written ω (omega, a turning wire's rate) and the modes' ω in one line
     # read as one quantity ("at ω = 1: ω² = -1"): the modes' are then said in words
     words = any(unicode_name(p.name) == "ω" for p in system.parameters)
+    units = (lambda unit: bracketed(unit)) if system.units is not None else (lambda unit: "")
     lines = []
     for e in points:
         point = ", ".join(f"{unicode_name(k)} = {show(v)}" for k, v in e.point.items()) or (
@@ -218,13 +246,13 @@ def _equilibrium_lines(points, show, system, at: str = AT_DEFAULTS) -> list[str]
             lines.append(f"    constraint forces at rest: {forces}")
         if e.modes.omega_squared:
             squares = ", ".join(show(w2) for w2 in e.modes.omega_squared)
-            lines.append(f"    squared angular frequencies: {squares}")
+            lines.append(f"    squared angular frequencies: {squares}{units(OMEGA_SQUARED)}")
         if e.modes.periods:
             periods = [p if e.modes.closed_form else p.evalf(6) for p in e.modes.periods]
-            lines.append("    periods: " + ", ".join(show(p) for p in periods))
+            lines.append("    periods: " + ", ".join(show(p) for p in periods) + units(PERIOD))
         numbers = modes_at_values(e.modes, system)
         if numbers is not None:
-            lines += _number_lines(numbers, words)
+            lines += _number_lines(numbers, words, system)
         zero_modes = list(getattr(e, "zero_modes", ()))
         for name in dict.fromkeys(zero_modes):  # each kind once, with its count
             count = zero_modes.count(name)
@@ -276,17 +304,30 @@ def modes_at_values(modes, system) -> dict | None:
     return document
 
 
-def _number_lines(numbers: dict, words: bool = False) -> list[str]:
+def _number_lines(numbers: dict, words: bool = False, system=None) -> list[str]:
     """The lines of :func:`modes_at_values`: ω, periods and shapes at the values (``words``:
-    ω² and ω named in words, where a parameter is written ω)."""
-    at = ", ".join(f"{unicode_name(n)} = {v:g}" for n, v in numbers["parameters"].items())
+    ω² and ω named in words, where a parameter is written ω), in SI units where the
+    ``system`` has units."""
+    dimensioned = system is not None and system.units is not None
+
+    def unit(text: str) -> str:
+        return f" {text}" if dimensioned and text else ""
+
+    at = ", ".join(
+        f"{unicode_name(n)} = {v:g}{unit(name_unit(system, n) if dimensioned else '')}"
+        for n, v in numbers["parameters"].items()
+    )
     squares = ", ".join(f"{w2:.6g}" for w2 in numbers["omega_squared"])
-    lines = [f"    at {at}: {'squared angular frequencies' if words else 'ω² ='} {squares}"]
+    lines = [
+        f"    at {at}: {'squared angular frequencies' if words else 'ω² ='} {squares}"
+        + unit(OMEGA_SQUARED)
+    ]
     if any(w is not None for w in numbers["omega"]):
         omega = ", ".join("-" if w is None else f"{w:.6g}" for w in numbers["omega"])
         periods = ", ".join("-" if p is None else f"{p:.6g}" for p in numbers["periods"])
         lines.append(
-            f"      {'angular frequencies' if words else 'ω ='} {omega};  periods {periods}"
+            f"      {'angular frequencies' if words else 'ω ='} {omega}{unit(OMEGA)};  "
+            f"periods {periods}{unit(PERIOD)}"
         )
     if numbers.get("mode_shapes"):
         shapes = ", ".join(
@@ -323,9 +364,14 @@ def latex_analysis(analysis: Analysis, *, values_given: bool = False) -> str:
     system = analysis.equations.system
     show = _readable(latex_printer(system))
     conserved = analysis.conservation.conserved if analysis.conservation is not None else ()
-    rows = [rf"{_latex_quantity(q.name)} &= {show(q.expression)}" for q in conserved]
+    rows = [
+        rf"{_latex_quantity(q.name)} &= {show(q.expression)}"
+        + _latex_unit(expression_unit(system, q.expression))
+        for q in conserved
+    ]
     if analysis.hamiltonian is not None:
-        rows.append(rf"H &= {show(analysis.hamiltonian.expression)}")
+        unit = _latex_unit(expression_unit(system, analysis.hamiltonian.expression))
+        rows.append(rf"H &= {show(analysis.hamiltonian.expression)}{unit}")
     for e in analysis.equilibria:
         point = ", ".join(f"{latex_name(k)} = {show(v)}" for k, v in e.point.items())
         squares = ", ".join(show(w2) for w2 in e.modes.omega_squared)
@@ -339,7 +385,9 @@ def latex_analysis(analysis: Analysis, *, values_given: bool = False) -> str:
             remarks.append(f"{names} degenerate: the regular directions")
         remark = "".join(rf"\ \text{{({r})}}" for r in remarks)
         rows.append(
-            rf"&{point}: \ \omega^2 \in \{{{squares}\}}\ \text{{({e.modes.stability.value})}}"
+            rf"&{point}: \ \omega^2 \in \{{{squares}\}}"
+            + (_latex_unit(OMEGA_SQUARED) if system.units is not None else "")
+            + rf"\ \text{{({e.modes.stability.value})}}"
             + remark
         )
         if getattr(e, "at_defaults", False):
@@ -353,6 +401,11 @@ def latex_analysis(analysis: Analysis, *, values_given: bool = False) -> str:
     for u in analysis.undecided:  # out of time: said, not left out silently
         rows.append(rf"&\text{{{u.stage}: {u.reason}}}")
     return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
+
+
+def _latex_unit(unit: str | None) -> str:
+    r"""``\quad [\mathrm{J}]`` after a quantity of a dimensioned model, else nothing."""
+    return rf"\quad [\mathrm{{{unit}}}]" if unit else ""
 
 
 def _name(name: str) -> str:

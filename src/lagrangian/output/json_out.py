@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ..derive import EquationsOfMotion
 from .large import plain_printer, printed
+from .units import units_section
 
 
 def derive_document(eom: EquationsOfMotion) -> dict:
@@ -22,6 +23,9 @@ def derive_document(eom: EquationsOfMotion) -> dict:
         "mass_matrix": [[text(shown.mass_matrix[i][j]) for j in range(n)] for i in range(n)],
         "forcing": [text(shown.forcing[i]) for i in range(n)],
     }
+    section = units_section(system)
+    if section is not None:  # additive: a dimensioned model's units (issue 31)
+        document["units"] = section
     if eom.accelerations is not None:
         document["accelerations"] = {name: text(expr) for name, expr in eom.accelerations.items()}
     if eom.constraints is not None:

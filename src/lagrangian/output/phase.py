@@ -34,7 +34,7 @@ from ..model import System
 from ..numeric import compile_equations
 from ..simulation import DEFAULT_T_END
 from ..trajectory import Trajectory
-from .plots import math, model_name, new_figure
+from .plots import axis_label, model_name, new_figure
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -198,8 +198,8 @@ def plot_phase_portrait(
             extra = _levels(ax, system, runs, name, angle)
         if angle:
             pi_ticks(ax)
-        ax.set_xlabel(math(name))
-        ax.set_ylabel(math(f"{name}_dot"))
+        ax.set_xlabel(axis_label(runs[0], name))
+        ax.set_ylabel(axis_label(runs[0], f"{name}_dot"))
         ax.grid(True, alpha=0.3)
         handles = ax.get_legend_handles_labels()[0] + extra
         if handles:

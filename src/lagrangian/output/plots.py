@@ -99,6 +99,14 @@ def math(name: str) -> str:
     return f"${latex_name(name)}$"
 
 
+def axis_label(trajectory: Trajectory, name: str) -> str:
+    """``$\theta$ [rad]``: the name, and the unit its column carries (a dimensioned model's,
+    or a file's ``units`` attribute)."""
+    variable = trajectory.dataset.variables.get(name)
+    unit = variable.attrs.get("units") if variable is not None else None
+    return math(name) + (f" [{unit}]" if unit else "")
+
+
 def plot_timeseries(trajectory: Trajectory, system: System | None = None) -> Figure:
     """q(t) (left) and q'(t) (right), one row per coordinate."""
     coordinates = trajectory.coordinates[:MAX_ROWS]
@@ -109,11 +117,11 @@ def plot_timeseries(trajectory: Trajectory, system: System | None = None) -> Fig
     for row, name in zip(axes, coordinates, strict=False):
         for ax, variable, color in zip(row, (name, f"{name}_dot"), ("C0", "C1"), strict=True):
             ax.plot(t, trajectory[variable], color=color, lw=1.3, label=math(variable))
-            ax.set_ylabel(math(variable))
+            ax.set_ylabel(axis_label(trajectory, variable))
             ax.grid(True, alpha=0.3)
             ax.legend(loc="best", fontsize=8)
     for ax in axes[-1]:
-        ax.set_xlabel("$t$")
+        ax.set_xlabel(axis_label(trajectory, "t"))
     left_out = len(trajectory.coordinates) - len(coordinates)
     note = f" (first {len(coordinates)} of {len(trajectory.coordinates)} coordinates)"
     figure.suptitle(f"{model_name(trajectory, system)}: time series" + (note if left_out else ""))

@@ -21,7 +21,7 @@ from ..model import System
 from ..trajectory import Trajectory
 from .notation import latex_name
 from .phase import angle_coordinates, pi_ticks, wrap
-from .plots import math, model_name, new_figure
+from .plots import axis_label, model_name, new_figure
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -118,8 +118,8 @@ def plot_poincare(
     for ax, name in zip(axes[0], others, strict=True):
         if name in wrapped:
             pi_ticks(ax)
-        ax.set_xlabel(math(name))
-        ax.set_ylabel(math(f"{name}_dot"))
+        ax.set_xlabel(axis_label(runs[0], name))
+        ax.set_ylabel(axis_label(runs[0], f"{name}_dot"))
         ax.grid(True, alpha=0.3)
         if labels is not None or len(runs) > 1:
             ax.legend(loc="upper right", fontsize=8, markerscale=3)

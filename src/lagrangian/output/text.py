@@ -8,6 +8,7 @@ from ..derive import EquationsOfMotion
 from ..model import System
 from .large import printed, unicode_printer
 from .notation import UnicodePrinter, declared_functions, equality, step_terms, unicode_name
+from .units import units_line
 
 
 def unicode_expression(expr: sympy.Expr, system: System | None = None) -> str:
@@ -85,5 +86,11 @@ def format_steps(eom: EquationsOfMotion) -> str:
 
 
 def _title(system: System) -> str:
+    """The model's name and coordinates, and a second line of its units if it has them."""
+    line = units_line(system)
+    return _name_line(system) + (f"\n{line}" if line else "")
+
+
+def _name_line(system: System) -> str:
     coordinates = ", ".join(unicode_name(name) for name in system.coordinate_names)
     return f"{system.name}   (coordinates: {coordinates})"

@@ -1,0 +1,108 @@
+"""The outputs of a dimensioned model say their units (issue 31): text, LaTeX and JSON of
+derive and analyze, simulate's summary, CSV headers and netCDF attributes (CF), plot
+axes; a model without units prints exactly what it did."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+import lagrangian as lg
+from lagrangian.cli import ExitStatus, main
+from lagrangian.output.plots import plot_timeseries
+from lagrangian.trajectory import Trajectory
+
+PENDULUM = """
+name = "pendulum"
+coordinates = ["theta"]
+[parameters]
+m = "2 kg"
+l = "50 cm"
+g = "9.81 m/s^2"
+[[particles]]
+name = "bob"
+mass = "m"
+position = ["l*sin(theta)", "-l*cos(theta)"]
+[gravity]
+g = "g"
+[initial]
+theta = 0.5
+"""
+
+
+@pytest.fixture
+def pendulum(tmp_path):
+    path = tmp_path / "pendulum.toml"
+    path.write_text(PENDULUM)
+    return str(path)
+
+
+def run(capsys, *argv):
+    status = main(list(argv))
+    captured = capsys.readouterr()
+    assert status == ExitStatus.SUCCESS, captured.err
+    return captured.out
+
+
+def test_derive_json_has_a_units_section_with_what_was_inferred(capsys, pendulum):
+    document = json.loads(run(capsys, "derive", pendulum, "--json"))
+    assert document["units"] == {
+        "names": {"theta": "rad", "theta_dot": "rad/s", "m": "kg", "l": "m", "g": "m/s^2"},
+        "inferred": ["theta"],
+        "time": "s",
+        "energy": "J",
+    }
+    assert "Units (SI): theta rad (inferred), m kg, l m, g m/s^2" in run(capsys, "derive", pendulum)
+
+
+def test_analyze_names_the_units_of_its_quantities(capsys, pendulum):
+    document = json.loads(run(capsys, "analyze", pendulum, "--json"))
+    assert document["conserved"][0]["units"] == "J"
+    assert document["hamiltonian_units"] == "J"
+    bottom = document["equilibria"][0]
+    assert bottom["units"] == {"omega_squared": "1/s^2", "omega": "rad/s", "periods": "s"}
+    omega = math.sqrt(9.81 / 0.5)  # small oscillations of a pendulum of 50 cm
+    assert bottom["at_parameter_values"]["omega"][0] == pytest.approx(omega)
+    text = run(capsys, "analyze", pendulum)
+    assert f"ω = {omega:.6g} rad/s;  periods {2 * math.pi / omega:.6g} s" in text
+    assert "at g = 9.81 m/s^2, l = 0.5 m: ω² = 19.62 1/s^2" in text
+    assert "(h = T + V, the total energy) [J]" in text
+    latex = run(capsys, "analyze", pendulum, "--latex")
+    assert r"\quad [\mathrm{J}]" in latex and r"\quad [\mathrm{1/s^2}]" in latex
+
+
+def test_a_model_without_units_prints_no_units(capsys):
+    text = run(capsys, "analyze", "simple_pendulum")
+    assert "Units" not in text and "[J]" not in text and "rad/s" not in text
+    assert "units" not in json.loads(run(capsys, "derive", "simple_pendulum", "--json"))
+
+
+def test_files_carry_units_and_read_back(capsys, pendulum, tmp_path):
+    csv_path, nc_path = tmp_path / "run.csv", tmp_path / "run.nc"
+    summary = json.loads(run(capsys, "simulate", pendulum, "--t-end", "1", "--json",
+                             "--out", str(csv_path)))  # fmt: skip
+    assert summary["units"] == {"t": "s", "theta": "rad", "theta_dot": "rad/s", "energy": "J"}
+    header = csv_path.read_text().splitlines()[0]
+    assert header == "t [s],theta [rad],theta_dot [rad/s],energy [J]"
+    back = Trajectory.load(csv_path)
+    assert back.coordinates == ("theta",)
+    assert back.dataset["theta_dot"].attrs["units"] == "rad/s"
+    run(capsys, "simulate", pendulum, "--t-end", "1", "--out", str(nc_path))
+    import xarray
+
+    with xarray.open_dataset(nc_path) as data:
+        assert {name: data[name].attrs.get("units") for name in data.variables} == {
+            "t": "s", "theta": "rad", "theta_dot": "rad/s", "energy": "J"
+        }  # fmt: skip
+    plain = tmp_path / "plain.csv"
+    run(capsys, "simulate", "simple_pendulum", "--t-end", "1", "--out", str(plain))
+    assert plain.read_text().splitlines()[0] == "t,theta,theta_dot,energy"
+
+
+def test_plot_axes_say_the_units(pendulum):
+    system = lg.load(pendulum)
+    figure = plot_timeseries(system.simulate(t_end=1.0), system)
+    labels = [(ax.get_xlabel(), ax.get_ylabel()) for ax in figure.axes]
+    assert labels == [(r"$t$ [s]", r"$\theta$ [rad]"), (r"$t$ [s]", r"$\dot{\theta}$ [rad/s]")]
