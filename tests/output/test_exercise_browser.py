@@ -10,6 +10,7 @@ import sympy
 
 import lagrangian as lg
 from analysis.test_check import CASES, MODELS
+from lagrangian.errors import ModelError
 from lagrangian.output.exercise import STEPS
 from lagrangian.output.page import page_html
 from output.browser import chromium, open_page
@@ -48,6 +49,21 @@ def pages(browser, tmp_path_factory):
     yield page_of
     for page in opened.values():
         page.page.close()
+
+
+#: 2,688 terms once multiplied out (SymPy's count; the page stops past 500 too)
+TOO_LARGE = "(x_dot + g)^3*(m1 + m2)^3*(x + 1)^3*(x + m1 + g + x_dot)^6"
+
+
+def test_an_answer_too_large_to_compare_is_refused_in_the_same_words(pages):
+    found = pages("atwood").page.evaluate(f"() => window.lagrangianCheck('kinetic', '{TOO_LARGE}')")
+    assert found == {
+        "verdict": "error",
+        "reason": "too many terms to compare one by one (more than 500 once multiplied out)",
+        "terms": [],
+    }
+    with pytest.raises(ModelError, match="too many terms to compare one by one"):
+        lg.load(MODELS / "atwood.toml").check(kinetic=TOO_LARGE)
 
 
 def test_the_cases_cover_every_step_and_verdict():

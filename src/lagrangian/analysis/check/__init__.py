@@ -14,7 +14,8 @@ own terms (missing, extra, a wrong factor or sign).  Answers are text for the sa
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager
 
 import sympy
 from sympy.core.function import AppliedUndef
@@ -71,21 +72,25 @@ def check(
     if kinetic is not None:
         right = right_kinetic(eom)
         given = _parsed(kinetic, namespace, setting("kinetic"))
-        results.append(answers.by_terms("kinetic", _text(kinetic), given, right, state, at))
+        with _about(setting("kinetic")):
+            results.append(answers.by_terms("kinetic", _text(kinetic), given, right, state, at))
     if potential is not None:
         right = right_potential(eom)
         given = _parsed(potential, namespace, setting("potential"))
-        results.append(answers.by_terms("potential", _text(potential), given, right, state, at,
-                                        up_to_constant=True))  # fmt: skip
+        with _about(setting("potential")):
+            results.append(answers.by_terms("potential", _text(potential), given, right, state,
+                                            at, up_to_constant=True))  # fmt: skip
     if lagrangian is not None:
         given = _parsed(lagrangian, namespace, setting("lagrangian"))
-        results.append(answers.lagrangian(_text(lagrangian), given, eom, state, at))
+        with _about(setting("lagrangian")):
+            results.append(answers.lagrangian(_text(lagrangian), given, eom, state, at))
     for index, text in enumerate(equations):
         if eom.constraints is not None:
             raise ModelError("equations of a constrained model (with multipliers) are not "
                              "checked", field=setting("equations"))  # fmt: skip
         given = _equation(text, namespace, f"{setting('equations')} {index + 1}")
-        results.append(answers.equation(_text(text), given, eom, state, at))
+        with _about(f"{setting('equations')} {index + 1}"):
+            results.append(answers.equation(_text(text), given, eom, state, at))
     if hamiltonian is not None:
         results.append(_hamiltonian(hamiltonian, eom, parameters))
     if momenta:
@@ -93,8 +98,8 @@ def check(
             coordinate = _coordinate(system, name)
             given = _parsed(text, namespace, f"{setting('momenta')} {name}")
             right = sympy.diff(system.lagrangian, coordinate.q_dot)
-            result = answers.by_terms("momentum", _text(text), given, right, state, at)
-            results.append(result)
+            with _about(f"{setting('momenta')} {name}"):
+                results.append(answers.by_terms("momentum", _text(text), given, right, state, at))
     conserved = list(conserved)
     if conserved:
         from ..conserved import conserved_quantities
@@ -102,7 +107,8 @@ def check(
         known = [(q.name, q.expression) for q in conserved_quantities(eom).conserved]
         for text in conserved:
             given = _parsed(text, namespace, setting("conserved"))
-            results.append(answers.conserved(_text(text), given, eom, known, state, at))
+            with _about(setting("conserved")):
+                results.append(answers.conserved(_text(text), given, eom, known, state, at))
     if not results:
         raise ModelError("nothing to check: give an answer (kinetic, potential, lagrangian, "
                          "equations, hamiltonian, conserved or momenta)")  # fmt: skip
@@ -119,8 +125,18 @@ def _hamiltonian(text, eom: EquationsOfMotion, parameters) -> AnswerCheck:
     given = _parsed(text, Namespace(symbols=names), setting("hamiltonian"))
     state = frozenset([*phase.values(), system.time])
     at = points(state, parameters)
-    return answers.by_terms("hamiltonian", _text(text), given, right, state, at,
-                            up_to_constant=True)  # fmt: skip
+    with _about(setting("hamiltonian")):
+        return answers.by_terms("hamiltonian", _text(text), given, right, state, at,
+                                up_to_constant=True)  # fmt: skip
+
+
+@contextmanager
+def _about(field: str) -> Iterator[None]:
+    """An answer refused while it is compared (too many terms) names the answer."""
+    try:
+        yield
+    except ModelError as error:
+        raise error.located(field=field) from None
 
 
 def _coordinate(system, name: str):

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy
 
+from ...errors import ModelError
 from .result import TermProblem
 from .sampling import Points, close, magnitude, per_set, state_free
 
@@ -34,18 +35,37 @@ class Group:
     scale: np.ndarray  # sum of |term| over the pieces (for rounding)
 
 
+#: A sum raised to a larger power is kept whole (as the page's checker keeps it), and an
+#: answer of more terms than MAX_TERMS once expanded is refused: the diagnosis is for
+#: what a student writes, and neither may cost more than a moment.
+MAX_POWER, MAX_TERMS = 6, 500
+
+
 def split(expr: sympy.Expr, state: frozenset[sympy.Symbol]) -> list[tuple[sympy.Expr, sympy.Expr]]:
     """(coefficient, key) of each term of ``expr`` expanded (products multiplied out,
-    function arguments, powers and logarithms kept as written)."""
+    integer powers of sums up to :data:`MAX_POWER`; function arguments, other powers and
+    logarithms kept as written).  Raises ModelError past :data:`MAX_TERMS` terms."""
+    whole = {
+        power: sympy.Dummy()
+        for power in expr.atoms(sympy.Pow)
+        if power.base.is_Add and power.exp.is_Integer and power.exp > MAX_POWER
+    }
     expanded = sympy.expand(
-        expr, deep=True, power_exp=False, power_base=False, log=False, multinomial=True, mul=True
-    )
+        expr.xreplace(whole),
+        deep=True, power_exp=False, power_base=False, log=False, multinomial=True, mul=True,
+    )  # fmt: skip
+    terms = sympy.Add.make_args(expanded)
+    if len(terms) > MAX_TERMS:
+        raise ModelError(f"too many terms to compare one by one ({len(terms)} once multiplied "
+                         f"out, at most {MAX_TERMS})")  # fmt: skip
+    back = {dummy: power for power, dummy in whole.items()}
+    state = state | frozenset(d for p, d in whole.items() if p.free_symbols & state)
     pieces = []
-    for term in sympy.Add.make_args(expanded):
+    for term in terms:
         coefficient, key = [], []
         for factor in sympy.Mul.make_args(term):
             (key if factor.free_symbols & state else coefficient).append(factor)
-        pieces.append((sympy.Mul(*coefficient), sympy.Mul(*key)))
+        pieces.append((sympy.Mul(*coefficient).xreplace(back), sympy.Mul(*key).xreplace(back)))
     return pieces
 
 

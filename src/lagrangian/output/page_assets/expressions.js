@@ -5,7 +5,8 @@
 //   ["n", 2.5]  ["s", "theta"]  ["+", a, ...]  ["*", a, ...]  ["^", base, exponent]
 //   ["f", "cos", argument, ...]
 
-const EXERCISE_MAX_TERMS = 4000; // an expansion larger than this is refused, not computed
+const EXERCISE_MAX_TERMS = 500; // an expansion larger than this is refused (check's MAX_TERMS)
+const EXERCISE_MAX_POWER = 6; // a sum to a larger power is kept whole (check's MAX_POWER)
 
 // -- the parser -------------------------------------------------------------------------------
 const EXERCISE_FUNCTIONS = {
@@ -195,13 +196,12 @@ function exerciseExpand(tree) {
   const multiply = (left, right) => {
     const out = [];
     for (const a of left) for (const b of right) out.push({ c: a.c * b.c, factors: a.factors.concat(b.factors) });
-    if (out.length > EXERCISE_MAX_TERMS) throw new Error("the expression is too large to expand");
-    return out;
+    return exerciseCollect(out);
   };
   switch (tree[0]) {
     case "n": return [{ c: tree[1], factors: [] }];
     case "s": case "f": return atom();
-    case "+": return tree.slice(1).flatMap(exerciseExpand);
+    case "+": return exerciseCollect(tree.slice(1).flatMap(exerciseExpand));
     case "*": return tree.slice(1).reduce((acc, t) => multiply(acc, exerciseExpand(t)), [{ c: 1, factors: [] }]);
     case "^": {
       const [, base, exponent] = tree;
@@ -212,7 +212,7 @@ function exerciseExpand(tree) {
         const [t] = inner;
         return [{ c: Math.pow(t.c, k), factors: t.factors.map(([f, e]) => [f, e * k]) }];
       }
-      if (k < 1 || k > 6) return atom();
+      if (k < 1 || k > EXERCISE_MAX_POWER) return atom();
       let out = inner;
       for (let i = 1; i < k; i++) out = multiply(out, inner);
       return out;
@@ -253,4 +253,25 @@ function exercisePrinted(c, factors) {
   const under = [denominator, ...bottom].filter(Boolean);
   const text = under.length ? `${numerator}/${under.length > 1 ? `(${under.join("*")})` : under[0]}` : numerator;
   return (c < 0 ? "-" : "") + text;
+}
+
+// like terms added (as SymPy's expand does), each term's equal factors combined; refused past
+// EXERCISE_MAX_TERMS terms
+function exerciseCollect(terms) {
+  const found = new Map();
+  for (const term of terms) {
+    const merged = new Map();
+    for (const [f, e] of term.factors) {
+      const key = JSON.stringify(f);
+      merged.set(key, [f, (merged.get(key)?.[1] ?? 0) + e]);
+    }
+    const keys = [...merged.keys()].filter((k) => merged.get(k)[1] !== 0).sort();
+    const key = keys.map((k) => `${k}^${merged.get(k)[1]}`).join("*");
+    const entry = found.get(key);
+    if (entry) entry.c += term.c;
+    else found.set(key, { c: term.c, factors: keys.map((k) => merged.get(k)) });
+  }
+  const out = [...found.values()].filter((t) => t.c !== 0);
+  if (out.length > EXERCISE_MAX_TERMS) throw new Error(`too many terms to compare one by one (more than ${EXERCISE_MAX_TERMS} once multiplied out)`);
+  return out;
 }
