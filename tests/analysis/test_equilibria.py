@@ -282,3 +282,19 @@ def test_a_balanced_atwood_machine_is_at_rest_everywhere_at_its_values(tmp_path,
     text = capsys.readouterr().out
     assert "  every configuration: marginal  [numeric, at the given values]\n" in text
     assert "ω² = 0: every direction: every configuration is at rest" in text
+
+
+@pytest.mark.slow  # SymPy solves the hoop's equilibria
+def test_an_angle_of_an_equilibrium_is_written_without_whole_turns():
+    # a bead on a hoop turning at omega: off the axis at cos(theta) = g/(R omega^2), both
+    # sides; SymPy gave one of them as -acos(g/(R omega^2)) + 2 pi
+    hoop = lg.System.from_energies(
+        "m*R**2*(theta_dot**2 + omega**2*sin(theta)**2)/2",
+        "-m*g*R*cos(theta)",
+        ["theta"],
+        parameters={"m": 1.0, "R": 1.0, "g": 9.81, "omega": 5.0},
+    )
+    R, g, omega = (hoop.symbol(n) for n in ("R", "g", "omega"))
+    points = {e.point["theta"] for e in hoop.equilibria()}
+    off_axis = sympy.acos(g / (R * omega**2))
+    assert points == {0, sympy.pi, off_axis, -off_axis}

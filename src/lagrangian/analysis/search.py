@@ -37,6 +37,15 @@ SNAP_TO_ZERO = 1e-12
 STARTS = 100
 
 
+def _principal(value: sympy.Expr) -> sympy.Expr:
+    """An angle without the whole turns SymPy adds to it: ``-acos(g/(R w^2)) + 2 pi`` is
+    ``-acos(g/(R w^2))``, the same configuration written as a teacher writes it."""
+    if not isinstance(value, sympy.Add):
+        return value
+    turns = [t for t in value.args if (t / sympy.pi).is_even and not (t / sympy.pi).is_zero]
+    return value - sympy.Add(*turns) if turns else value
+
+
 class RootSearch:
     """Solve G = 0 for ``unknowns``, symbolically and numerically."""
 
@@ -70,7 +79,11 @@ class RootSearch:
             return None
         points = []
         for solution in solutions:
-            point = {c.name: solution[c.q] for c in self.unknowns if c.q in solution}
+            point = {
+                c.name: _principal(solution[c.q]) if angle else solution[c.q]
+                for c, angle in zip(self.unknowns, self.angles, strict=True)
+                if c.q in solution
+            }
             if self._may_be_real(point) and self._solves(point) and point not in points:
                 points.append(point)
         return points
