@@ -6,8 +6,9 @@ from __future__ import annotations
 import pytest
 import sympy
 
+import lagrangian as lg
 from lagrangian import algebra
-from lagrangian.algebra import is_zero, nonzero_at_a_point
+from lagrangian.algebra import is_zero, nonzero_at_a_point, tidy_fraction
 
 x, y = sympy.symbols("x y", real=True)
 m, length = sympy.symbols("m l", positive=True)
@@ -64,3 +65,17 @@ def test_the_point_is_the_same_in_every_run():
     assert values[k] < 0 < min(values[m], values[length])
     assert values == {s: algebra._probe_value(s) for s in (x, y, m, length, k)}
     assert values[x] != values[y]
+
+
+def test_a_denominator_with_a_squared_cosine_is_written_as_a_textbook_writes_it():
+    # the cart-pole's determinant: M - m cos^2(theta) + m is M + m sin^2(theta); the double
+    # pendulum's m1 - m2 cos^2(theta1 - theta2) + m2 is m1 + m2 sin^2(theta1 - theta2)
+    M, m, l, theta = sympy.symbols("M m l theta", positive=True)
+    expr = sympy.sin(theta) / (l * (M - m * sympy.cos(theta) ** 2 + m))
+    tidied = tidy_fraction(expr, [theta])
+    assert sympy.fraction(tidied)[1] == l * (M + m * sympy.sin(theta) ** 2)
+    assert sympy.simplify(tidied - expr) == 0
+    eom = lg.load("double_pendulum").equations_of_motion()
+    m1, m2, t1, t2 = (eom.system.symbol(n) for n in ("m1", "m2", "theta1", "theta2"))
+    denominator = sympy.fraction(eom.accelerations["theta1"])[1]
+    assert m1 + m2 * sympy.sin(t1 - t2) ** 2 in sympy.Mul.make_args(denominator)

@@ -263,7 +263,41 @@ def tidy_fraction(
     common = sympy.gcd(positive_content(numerator, state), positive_content(denominator, state))
     numerator = tidy(numerator / common, state, trig=trig)
     denominator = with_positive_content_outside(tidy(denominator / common, state, trig=trig), state)
-    return numerator / denominator
+    return numerator / _shorter_trig_factors(denominator)
+
+
+def _squares_swapped(expr: sympy.Expr) -> list[sympy.Expr]:
+    """``expr`` with every cos(u)^2 written 1 - sin(u)^2, and with every sin(u)^2 written
+    1 - cos(u)^2, each expanded (cheap where trigsimp is not, and deterministic)."""
+    u = sympy.Wild("u")
+    forms = []
+    for square, other in ((sympy.cos, sympy.sin), (sympy.sin, sympy.cos)):
+        swapped = expr.replace(square(u) ** 2, lambda u, other=other: 1 - other(u) ** 2)
+        forms.append(sympy.expand(swapped))
+    return forms
+
+
+#: Largest factor of a denominator (operations) that :func:`_shorter_trig_factors` tries.
+TRIG_FACTOR_MAX_OPS = 24
+
+
+def _shorter_trig_factors(denominator: sympy.Expr) -> sympy.Expr:
+    """Each small sum of the denominator with a sine or cosine squared, in its shortest
+    form by sin^2 + cos^2 = 1: M - m cos^2(theta) + m is M + m sin^2(theta), the
+    denominator a textbook writes (the determinant of the cart-pole's mass matrix)."""
+    factors = []
+    for factor in sympy.Mul.make_args(denominator):
+        base, exponent = factor.as_base_exp()
+        if (
+            base.is_Add
+            and base.has(sympy.sin, sympy.cos)
+            and not ops_exceed(base, TRIG_FACTOR_MAX_OPS)
+        ):
+            shorter = min(_squares_swapped(base), key=sympy.count_ops)
+            if sympy.count_ops(shorter) < sympy.count_ops(base):
+                factor = shorter**exponent
+        factors.append(factor)
+    return sympy.Mul(*factors)
 
 
 def _is_polynomial_factor(factor: sympy.Expr) -> bool:
