@@ -175,7 +175,12 @@ def lyapunov_of_system(
     transient = transient_setting(transient)  # before the compilation
     initial, params = run.values(system)
     t_end = _model_t_end(system, t_end)
-    compiled, watch = run.compiled(system, transient + t_end)
+    total = transient + t_end  # the transient is integrated too: it counts in the budget
+
+    def reached(t: float) -> str:
+        return f"t = {t:.6g} of {total:g}, a transient of {transient:g} and then t_end = {t_end:g}"
+
+    compiled, watch = run.compiled(system, total, describe=reached if transient else None)
     interval = DEFAULT_INTERVAL if interval is None else interval
     return lyapunov_spectrum(
         compiled, t_end=t_end, count=count, initial=initial, params=params,

@@ -33,6 +33,7 @@ import numpy as np
 from ..errors import ModelError, setting
 from .base import check_time_span, positive_setting, transient_setting
 from .compiled_dop853 import MIN_FACTOR, TOO_SMALL_STEP, first_step, tangent_loop
+from .guard import parameter_problem, start_problem
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -102,8 +103,10 @@ def lyapunov_spectrum(
 ) -> LyapunovSpectrum:
     """The ``count`` largest exponents (default: all 2n) over t_end after ``transient``.
 
-    ``initial`` and ``params`` as for :func:`~lagrangian.integrate.simulate`;
-    ``watch`` is told the time reached (transient included) after every interval.
+    ``initial`` and ``params`` as for :func:`~lagrangian.integrate.simulate`, and refused
+    as it refuses them where the equations have no finite value at the start; ``watch``
+    is told the time reached (transient included) during every interval, and may end
+    the run by raising (its time budget).
     """
     if compiled.has_constraints:
         raise ModelError("Lyapunov exponents of constrained systems are not supported")
@@ -122,8 +125,13 @@ def lyapunov_spectrum(
     atol = DEFAULT_ATOL if atol is None else positive_setting("atol", atol)
     y0 = compiled.state_vector(initial)
     p = compiled.parameter_vector(params)
-    flow = _Flow(compiled, p, count, rtol, atol)
-    y = flow.state(0.0, transient, y0, watch)
+    # y' = NaN at the start: the adaptive step would shrink without end, never reaching
+    # the end of an interval where the watch was told
+    problem = parameter_problem(compiled, 0.0, y0, p) or start_problem(compiled, 0.0, y0, p)
+    if problem is not None:
+        raise ModelError(problem)
+    flow = _Flow(compiled, p, count, rtol, atol, watch)
+    y = flow.state(0.0, transient, y0)
     start = transient
     displacements = np.linalg.qr(np.random.default_rng(SEED).normal(size=(size, count)))[0]
     sums = np.zeros(count)
@@ -137,8 +145,6 @@ def lyapunov_spectrum(
         t = t_next
         times.append(t)
         history.append(sums / (t - start))
-        if watch is not None:
-            watch(t)
     names = compiled.coordinate_names
     state_names = (*names, *(f"{q}_dot" for q in names))
     return LyapunovSpectrum(
@@ -173,9 +179,13 @@ class _Flow:
     """The state alone, or with k displacements (the variational equations), by DOP853:
     in its compiled loop of the variational equations where numba is installed
     (:func:`~.compiled_dop853.tangent_loop`, J generated from the symbolic Jacobian),
-    else by SciPy's ``solve_ivp`` over ``rhs`` and ``rhs_jacobian``; the same steps."""
+    else by SciPy's ``solve_ivp`` over ``rhs`` and ``rhs_jacobian``; the same steps.
+    ``watch`` is told the time reached as the steps go (a transient of 1e12 is one
+    solve: told only at its end, its budget was never judged)."""
 
-    def __init__(self, compiled: CompiledSystem, params: np.ndarray, count: int, rtol, atol):
+    def __init__(
+        self, compiled: CompiledSystem, params: np.ndarray, count: int, rtol, atol, watch=None
+    ):
         self._compiled = compiled
         self._params = np.ascontiguousarray(params, dtype=float)
         self._size = 2 * compiled.n
@@ -183,6 +193,7 @@ class _Flow:
         self._rtol, self._atol = rtol, atol
         self._first_step: float | None = None
         self._loop = tangent_loop(compiled)
+        self._watch = watch
 
     def _solve(self, t0: float, t1: float, z0: np.ndarray) -> np.ndarray:
         """z(t1) from z(t0) = z0, z the state with or without the displacements."""
@@ -201,9 +212,11 @@ class _Flow:
         """(z(t1), the times of the steps) by SciPy's DOP853."""
         from scipy.integrate import solve_ivp
 
-        compiled, params, size = self._compiled, self._params, self._size
+        compiled, params, size, watch = self._compiled, self._params, self._size, self._watch
 
         def function(t: float, z: np.ndarray) -> np.ndarray:
+            if watch is not None:
+                watch(t)
             y = z[:size]
             slope = compiled.rhs(t, y, params)
             if z.shape[0] == size:
@@ -225,6 +238,7 @@ class _Flow:
     def _by_loop(self, t0: float, t1: float, z0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(z(t1), the times of the last steps) by the compiled loop: SciPy's steps."""
         loop, params, rtol, atol = self._loop, self._params, self._rtol, self._atol
+        watch = self._watch
         z = np.array(z0, dtype=float)
         flags = np.zeros(1, dtype=np.int64)
 
@@ -255,18 +269,15 @@ class _Flow:
                 clock[1] *= MIN_FACTOR
             times.extend(ends[: counts[1]][-2:])
             counts[1] = 0
+            if watch is not None:
+                watch(float(clock[0]))
         if status == 2:
             raise ModelError(f"the integration failed at t = {clock[0]:g}: {TOO_SMALL_STEP}")
         return z, np.array(times[-3:])
 
-    def state(self, t0: float, t1: float, y0: np.ndarray, watch) -> np.ndarray:
+    def state(self, t0: float, t1: float, y0: np.ndarray) -> np.ndarray:
         """y(t1) from y(t0) = y0."""
-        if t1 <= t0:
-            return y0
-        y = self._solve(t0, t1, y0)
-        if watch is not None:
-            watch(t1)
-        return y
+        return y0 if t1 <= t0 else self._solve(t0, t1, y0)
 
     def extended(
         self, t0: float, t1: float, y0: np.ndarray, w0: np.ndarray
