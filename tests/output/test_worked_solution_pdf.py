@@ -8,6 +8,7 @@ installs them); where it is missing these tests skip and say so.
 
 from __future__ import annotations
 
+import json
 import shutil
 import subprocess
 from pathlib import Path
@@ -114,3 +115,21 @@ def test_the_html_typesets_every_formula_offline(written, width):
     assert counts["errors"] == 0
     assert counts["pictures"] == 2
     assert counts["overflow"] <= 0  # long formulas scroll in their own box
+
+
+def test_a_model_cannot_run_latex_in_the_notes(tmp_path):
+    # a description that would read a file and write one, were it LaTeX
+    hostile = r"\input{/etc/hostname} \immediate\write18{touch pwned} $x$ & 50% #1 ~ ^ _ }{"
+    model = tmp_path / "hostile.toml"
+    model.write_text(
+        f'name = "Hostile {{\\\\relax}}"\ndescription = {json.dumps(hostile)}\n'
+        'coordinates = ["x"]\nkinetic = "m*x_dot**2/2"\npotential = "k*x**2/2"\n'
+        "[parameters]\nk = 1.0\nm = 1.0\n",
+        encoding="utf-8",
+    )
+    solution = worked_solution(lg.load(str(model)), figures=False)
+    (tmp_path / "hostile.tex").write_text(report_text(solution, "tex"), encoding="utf-8")
+    log = _pdflatex(tmp_path, "hostile")
+    _clean(log)
+    assert "(/etc/hostname" not in log.replace("\n", "")  # TeX logs a file it opens so
+    assert not (tmp_path / "pwned").exists()
