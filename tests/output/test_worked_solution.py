@@ -311,3 +311,24 @@ def test_the_formats_offered_are_the_registry():
 
     (to,) = [p for p in app.commands["report"].params if "--to" in p.opts]
     assert sorted(to.type.choices) == sorted(FORMATS) == ["html", "md", "tex"]
+
+
+def test_the_system_lists_its_bodies_and_springs():
+    from helpers import spring_bar_and_bob
+    from lagrangian.output.worked_solution.printing import Shower
+    from lagrangian.output.worked_solution.system_section import system_section
+
+    system = spring_bar_and_bob()
+    tables = [b for b in system_section(system, Shower(system)).blocks if isinstance(b, Table)]
+    bodies = next(t for t in tables if t.header[0] == "body")
+    assert bodies.rows == (
+        (
+            ("bar",),
+            (Math("M"),),
+            (Math(r"\left(1, 0\right)"),),
+            ("angle ", Math(r"\phi")),
+            (Math(r"\frac{M a^{2}}{12}"),),
+        ),
+    )
+    springs = next(t for t in tables if t.header[0] == "spring")
+    assert springs.rows == ((("spring1",), (Math("k"),), (Math("L_{0}"),)),)  # named when built

@@ -133,3 +133,12 @@ def test_a_model_cannot_run_latex_in_the_notes(tmp_path):
     _clean(log)
     assert "(/etc/hostname" not in log.replace("\n", "")  # TeX logs a file it opens so
     assert not (tmp_path / "pwned").exists()
+
+
+def test_a_mechanism_with_a_body_and_a_spring_compiles_with_its_pictures(tmp_path):
+    from helpers import spring_bar_and_bob
+    from lagrangian.output.worked_solution import write_report
+
+    written = write_report(worked_solution(spring_bar_and_bob()), tmp_path / "bar.tex")
+    assert [p.name for p in written] == ["bar-modes.pdf", "bar-phase.pdf", "bar.tex"]
+    _clean(_pdflatex(tmp_path, "bar"))

@@ -12,22 +12,20 @@ nothing is derived here.
 
 from __future__ import annotations
 
-import sympy
-
 from ...analysis import Analysis, analyze
 from ...budget import STAGE_SECONDS
 from ...derive import EquationsOfMotion, derive
 from ...model import System
-from ..large import latex_printer
-from ..notation import latex_name, step_terms, too_long_to_print
+from ..notation import latex_name, step_terms
 from .breaking import LINE_WIDTH, broken_lines, visible_width
-from .document import Display, Math, Paragraph, Row, Section, Table, WorkedSolution, joined, parts
+from .document import Display, Math, Paragraph, Row, Section, WorkedSolution, joined, parts
 from .equilibria import equilibria_sections
 from .figures import mode_pictures, phase_pictures
+from .printing import Shower
+from .system_section import system_section
 
 #: The stages of the analysis a worked solution shows (steady motions are left to analyze).
 REPORT_STAGES = ("conserved quantities", "Hamiltonian", "equilibria", "modes", "Routh reduction")
-TOO_LONG = r"\text{too long to print; derive --json gives it}"
 
 #: The left side of each term of a coordinate's equation (see notation.step_terms).
 _STEP_LHS = {
@@ -55,10 +53,10 @@ def worked_solution(
     eom = derive(system)
     free = derive(system.without_inputs()) if system.input_names else eom
     analysis = analyze(free, timeout=timeout, stages=REPORT_STAGES)
-    show = _Shower(system)
+    show = Shower(system)
     values_said = "the given values" if given else "the default values"
     sections = [
-        _system_section(system, show),
+        system_section(system, show),
         _energy_section(system, show),
         _steps_section(eom, show),
         _matrix_section(eom, show),
@@ -77,75 +75,7 @@ def worked_solution(
     return WorkedSolution(system.name, system.description, tuple(sections))
 
 
-class _Shower:
-    """LaTeX of expressions: printed once, broken into lines, named when too long."""
-
-    def __init__(self, system: System) -> None:
-        self._print = latex_printer(system)
-
-    def __call__(self, expr) -> str:
-        return TOO_LONG if too_long_to_print(sympy.sympify(expr)) else self._print(expr)
-
-    def row(self, lhs: str, expr, note=(), width: float = LINE_WIDTH) -> Row:
-        return Row(lhs, tuple(broken_lines(self(expr), width)), note=note)
-
-
-def _system_section(system: System, show: _Shower) -> Section:
-    blocks: list = []  # the description is the document's subtitle
-    coordinates = [parts(Math(latex_name(n))) for n in system.coordinate_names]
-    blocks.append(Paragraph(parts("Generalized coordinates: ", *joined(coordinates), ".")))
-    values = system.parameter_values
-    if system.parameters:
-        rows = tuple(
-            (
-                parts(Math(latex_name(p.name))),
-                parts(f"{values[p.name]:g}" if p.name in values else "none"),
-            )
-            for p in system.parameters
-        )
-        blocks.append(Table(("parameter", "value"), rows))
-    if system.particles:
-        rows = tuple(
-            (
-                parts(p.name),
-                parts(Math(show(p.mass))),
-                parts(Math(r"\left(" + ", ".join(show(x) for x in p.position) + r"\right)")),
-            )
-            for p in system.particles
-        )
-        blocks.append(Paragraph(parts("The particles and their positions:")))
-        blocks.append(Table(("particle", "mass", "position"), rows))
-    if system.bodies:
-        names = ", ".join(b.name or "unnamed" for b in system.bodies)
-        blocks.append(Paragraph(parts(f"Rigid bodies: {names}.")))
-    if system.springs:
-        blocks.append(Paragraph(parts(f"Linear springs: {len(system.springs)}.")))
-    if system.gravity is not None:
-        direction = system.gravity.direction
-        along = (
-            Math(r"\left(" + ", ".join(show(x) for x in direction) + r"\right)")
-            if direction is not None
-            else "the downward vertical"
-        )
-        blocks.append(
-            Paragraph(
-                parts("Uniform gravity ", Math(show(system.gravity.g)), " along ", along, ".")
-            )
-        )
-    if system.forces:
-        blocks.append(Paragraph(parts("Generalized non-conservative forces:")))
-        rows = [show.row(f"Q_{{{latex_name(n)}}}", q) for n, q in system.forces.items()]
-        blocks.append(Display(tuple(rows)))
-    if system.constraints:
-        blocks.append(Paragraph(parts("Constraints, linear in the velocities:")))
-        blocks.append(Display(tuple(show.row("0", c) for c in system.constraints)))
-    if system.input_names:
-        inputs = joined([parts(Math(latex_name(n))) for n in system.input_names])
-        blocks.append(Paragraph(parts("Inputs (held at 0 in the analysis): ", *inputs, ".")))
-    return Section(parts("The system"), tuple(blocks))
-
-
-def _energy_section(system: System, show: _Shower) -> Section:
+def _energy_section(system: System, show: Shower) -> Section:
     if system.kinetic is None:
         blocks: list = [Paragraph(parts("The model gives its Lagrangian directly:"))]
         rows = [show.row("L", system.lagrangian)]
@@ -178,7 +108,7 @@ def _energy_section(system: System, show: _Shower) -> Section:
     return Section(parts("Energies and Lagrangian"), tuple(blocks))
 
 
-def _steps_section(eom: EquationsOfMotion, show: _Shower) -> Section:
+def _steps_section(eom: EquationsOfMotion, show: Shower) -> Section:
     law = r"\frac{d}{dt}\frac{\partial L}{\partial \dot{q}} - \frac{\partial L}{\partial q}"
     law += r" = Q_q - \frac{\partial \mathcal{F}}{\partial \dot{q}}"
     if eom.constraints is not None:
@@ -201,7 +131,7 @@ def _steps_section(eom: EquationsOfMotion, show: _Shower) -> Section:
     return Section(parts("Lagrange's equations, step by step"), tuple(blocks))
 
 
-def _matrix_section(eom: EquationsOfMotion, show: _Shower) -> Section:
+def _matrix_section(eom: EquationsOfMotion, show: Shower) -> Section:
     n = len(eom.coordinates)
     mass = [[show(eom.mass_matrix[i, j]) for j in range(n)] for i in range(n)]
     forcing = [show(eom.forcing[i, 0]) for i in range(n)]
@@ -264,7 +194,7 @@ def _matrix_section(eom: EquationsOfMotion, show: _Shower) -> Section:
     return Section(parts("Equations of motion in mass-matrix form"), tuple(blocks))
 
 
-def _conserved_section(analysis: Analysis, show: _Shower) -> Section:
+def _conserved_section(analysis: Analysis, show: Shower) -> Section:
     conservation = analysis.conservation
     if conservation is None:
         return Section(parts("Conserved quantities"), (Paragraph(parts("Not decided in time.")),))
@@ -285,7 +215,7 @@ def _conserved_section(analysis: Analysis, show: _Shower) -> Section:
     return Section(parts("Conserved quantities"), tuple(blocks))
 
 
-def _hamiltonian_section(analysis: Analysis, show: _Shower) -> Section:
+def _hamiltonian_section(analysis: Analysis, show: Shower) -> Section:
     if analysis.hamiltonian is None:
         reasons = [
             n.removeprefix("Hamiltonian: ") for n in analysis.notes if n.startswith("Hamiltonian")
