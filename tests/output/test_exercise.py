@@ -16,7 +16,13 @@ from helpers import slow_where
 from lagrangian.cli import ExitStatus, main
 from lagrangian.errors import ModelError
 from lagrangian.examples import example_path
-from lagrangian.output.exercise import STEPS, exercise_document, exercise_steps
+from lagrangian.output.exercise import (
+    NO_CONSTRAINTS,
+    NO_FUNCTIONS,
+    STEPS,
+    exercise_document,
+    exercise_steps,
+)
 from lagrangian.output.page import page_html
 
 CALLS = {"sin": math.sin, "cos": math.cos, "tan": math.tan, "exp": math.exp, "log": math.log,
@@ -92,7 +98,7 @@ def test_page_with_exercise_and_without():
     assert steps_asked(plain) is None
     exercise = json.loads(MODEL.search(asked).group(1))["exercise"]
     assert exercise["steps"] == ["kinetic", "potential"]
-    assert set(exercise) == {"names", "steps", "kinetic", "potential"}
+    assert set(exercise) == {"names", "steps", "notes", "kinetic", "potential"}
 
 
 def test_command_line(tmp_path, capsys, monkeypatch):
@@ -120,13 +126,19 @@ def test_command_line(tmp_path, capsys, monkeypatch):
     assert not (tmp_path / "x.html").exists()
 
 
-def test_a_model_with_unspecified_functions_is_refused():
-    system = lg.loads(
+def test_what_cannot_be_asked_is_said_and_the_rest_asked():
+    functions = lg.loads(
         'name = "f"\ncoordinates = ["x"]\nlagrangian = "x_dot^2/2 - V"\n'
         '[parameters]\n[functions]\nV = ["x"]\n'
     )
-    with pytest.raises(ModelError, match="an exercise needs a model without unspecified"):
-        exercise_document(system.equations_of_motion(), ("kinetic",))
+    assert exercise_document(functions.equations_of_motion(), ("kinetic",)) == {
+        "steps": [],
+        "notes": [NO_FUNCTIONS],
+    }
+    constrained = exercise_document(lg.load("cartesian_pendulum").equations_of_motion(), STEPS)
+    assert constrained["steps"] == ["kinetic", "potential", "lagrangian"]
+    assert constrained["notes"] == [NO_CONSTRAINTS]
+    assert "equations" not in constrained
 
 
 def test_sympy_constants_become_numbers():

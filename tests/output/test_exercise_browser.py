@@ -11,7 +11,7 @@ import sympy
 import lagrangian as lg
 from analysis.test_check import CASES, MODELS
 from lagrangian.errors import ModelError
-from lagrangian.output.exercise import STEPS
+from lagrangian.output.exercise import NO_CONSTRAINTS, NO_FUNCTIONS, STEPS
 from lagrangian.output.page import page_html
 from output.browser import chromium, open_page
 
@@ -138,3 +138,27 @@ def test_a_student_types_checks_and_sees_the_solution(pages):
     page.locator("#exercise-equations-0 ~ .exercise-show").click()
     assert page.locator("#exercise-equations-0 ~ .exercise-answer .katex").count() == 1
     assert opened.errors == []
+
+
+@pytest.mark.parametrize("name", ["cartesian_pendulum", "velocity_dependent_potential"])
+def test_what_a_page_cannot_ask_is_said_in_it(browser, tmp_path, name):
+    path = tmp_path / f"{name}.html"
+    path.write_text(page_html(lg.load(name), exercise=STEPS), "utf-8")
+    opened = open_page(browser, path)
+    notes = opened.page.locator(".exercise-note").all_inner_texts()
+    fields = opened.page.locator("#exercise input").count()
+    if name == "cartesian_pendulum":  # constrained: T, V and L asked, not the equations
+        assert notes == [NO_CONSTRAINTS]
+        assert fields == 3
+        assert (
+            opened.page.evaluate(
+                "window.lagrangianCheck('kinetic', 'm*(x_dot^2 + y_dot^2)/2').verdict"
+            )
+            == "right"
+        )
+    else:  # unspecified functions: nothing asked, the solution in view
+        assert notes == [NO_FUNCTIONS]
+        assert fields == 0
+        assert opened.page.locator("#solution > :not(#exercise)").first.is_visible()
+    assert opened.errors == []
+    opened.page.close()

@@ -42,6 +42,13 @@ FUNCTIONS = {
 }  # fmt: skip
 
 
+NO_FUNCTIONS = "No exercise: the model's unspecified functions have no values to check answers at."
+NO_CONSTRAINTS = (
+    "The equations of motion are not asked: with constraints they hold Lagrange "
+    "multipliers, which the page's checker does not handle (lagrangian check neither)."
+)
+
+
 def exercise_steps(text: str | Sequence[str]) -> tuple[str, ...]:
     """The steps named in ``text`` (``kinetic,potential``; ``all``: every one), checked."""
     names = text.split(",") if isinstance(text, str) else list(text)
@@ -60,11 +67,16 @@ def exercise_steps(text: str | Sequence[str]) -> tuple[str, ...]:
 
 def exercise_document(eom: EquationsOfMotion, steps: Sequence[str]) -> dict:
     """What the page's checker needs for ``steps``: the names, and per step the right
-    answer's tree, its groups and its LaTeX (shown on request)."""
+    answer's tree, its groups and its LaTeX (shown on request); ``notes`` say what is not
+    asked and why (the page then asks the rest: a teacher's page, or serve's Exercise box
+    on any model, is still made)."""
     system = eom.system
-    if system.functions:
-        raise ModelError("an exercise needs a model without unspecified functions",
-                         field=setting("exercise"))  # fmt: skip
+    if system.functions:  # nothing can be checked at points: the solution stays in view
+        return {"steps": [], "notes": [NO_FUNCTIONS]}
+    notes = []
+    if "equations" in steps and eom.constraints is not None:
+        steps = [step for step in steps if step != "equations"]
+        notes.append(NO_CONSTRAINTS)
     state = state_symbols(eom)
     at = points(state, [p.symbol for p in system.parameters])
     show = latex_printer(system)
@@ -104,6 +116,7 @@ def exercise_document(eom: EquationsOfMotion, steps: Sequence[str]) -> dict:
             ],
         },
         "steps": list(steps),
+        "notes": notes,
     }
     if "kinetic" in steps:
         document["kinetic"] = answer(right_kinetic(eom))
@@ -115,9 +128,6 @@ def exercise_document(eom: EquationsOfMotion, steps: Sequence[str]) -> dict:
             tree(e) for e in euler_lagrange(eom.lagrangian, eom)
         ]
     if "equations" in steps:
-        if eom.constraints is not None:
-            raise ModelError("an exercise on the equations of a constrained model (with "
-                             "multipliers) is not offered", field=setting("exercise"))  # fmt: skip
         document["equations"] = [
             answer(raw) | {"shown": tree(step.equation), "coordinate": step.coordinate.name}
             for raw, step in zip(raw_equations(eom), eom.steps, strict=True)

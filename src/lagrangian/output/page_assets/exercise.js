@@ -13,7 +13,6 @@ const EXERCISE_TITLES = {
 };
 
 function lagrangianExercise(data, solution) {
-  const checker = exerciseChecker(data);
   const make = (tag, attributes = {}, text = null) => {
     const node = document.createElement(tag);
     for (const [k, v] of Object.entries(attributes)) node.setAttribute(k, v);
@@ -24,10 +23,14 @@ function lagrangianExercise(data, solution) {
     if (window.katex) window.katex.render(latex, node, { throwOnError: false, strict: "ignore", trust: false });
     else node.textContent = latex;
   };
-  const worked = [...solution.children];
-  for (const node of worked) node.hidden = true;
   const panel = make("section", { class: "exercise", id: "exercise", "aria-label": "exercise" });
   panel.append(make("h2", {}, "Exercise"));
+  for (const note of data.notes) panel.append(make("p", { class: "exercise-note" }, note));
+  solution.prepend(panel);
+  if (!data.steps.length) return; // nothing asked: the worked solution stays in view
+  const checker = exerciseChecker(data);
+  const worked = [...solution.children].filter((node) => node !== panel);
+  for (const node of worked) node.hidden = true;
   const names = [...data.names.coordinates.flatMap((c) => [c.name, c.velocity, c.acceleration]), ...data.names.parameters.map((p) => p.name)];
   panel.append(make("p", {}, "Derive each step yourself; each answer is checked in this page, offline. "
     + `Write as in a model file (m*l^2*theta_dot^2/2, cos(theta)) with the names ${names.join(", ")}; `
@@ -79,6 +82,5 @@ function lagrangianExercise(data, solution) {
   }
   revealButton.addEventListener("click", reveal);
   panel.append(revealButton);
-  solution.prepend(panel);
   window.lagrangianCheck = (step, text) => checker.check(step, text);
 }
