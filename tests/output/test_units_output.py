@@ -106,3 +106,15 @@ def test_plot_axes_say_the_units(pendulum):
     figure = plot_timeseries(system.simulate(t_end=1.0), system)
     labels = [(ax.get_xlabel(), ax.get_ylabel()) for ax in figure.axes]
     assert labels == [(r"$t$ [s]", r"$\theta$ [rad]"), (r"$t$ [s]", r"$\dot{\theta}$ [rad/s]")]
+
+
+def test_exported_code_says_its_units_in_its_header(pendulum):
+    from lagrangian.export import export_code
+
+    text = export_code(lg.load(pendulum), "numpy")
+    line = (
+        "# Units (SI base units, t in s): theta [rad], theta_dot [rad/s], m [kg], l [m], g [m/s^2]."
+    )
+    assert line in text.splitlines()[:8]
+    assert "params[1] = l  (0.5)" in text  # 50 cm, in the unit the header says
+    assert "Units" not in export_code(lg.load("simple_pendulum"), "c")

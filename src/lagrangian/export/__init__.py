@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path
 from types import MappingProxyType
 
@@ -63,6 +64,9 @@ def export_code(
         )
     eom = derive(system) if isinstance(system, System) else system
     made = program(eom, definitions=definitions, baumgarte=baumgarte)
+    units = _units_note(eom.system)
+    if units:  # the header comment says what the numbers are in (codegen knows no units)
+        made = replace(made, description="\n".join(filter(None, (made.description, units))))
     target = target_class()
     target.check()  # a package the target needs, before the work
     try:
@@ -90,6 +94,17 @@ def write_code(system, language: str, path: str | Path, **options: object) -> Pa
     text = export_code(system, language, name=options.pop("name", None) or Path(path).stem,
                        **options)  # fmt: skip
     return write_atomically(path, lambda target: Path(target).write_text(text, encoding="utf-8"))
+
+
+def _units_note(system: System) -> str | None:
+    """The units of a dimensioned model's arguments, for the header: every value of y,
+    params and u is in SI base units (the model converted its own when it was loaded)."""
+    units = system.units
+    if units is None:
+        return None
+    states = [*system.coordinate_names, *(f"{q}_dot" for q in system.coordinate_names)]
+    named = ", ".join(f"{name} [{units.unit(name)}]" for name in (*states, *system.parameter_names))
+    return f"Units (SI base units, t in s): {named}."
 
 
 def _identifier(name: str) -> str:

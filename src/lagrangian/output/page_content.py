@@ -137,9 +137,11 @@ def page_content(
         ],
         "inputs": [{"name": name, "value": values.get(name, 0.0)} for name in system.input_names],
         "initial": state,
-        # the controls' labels typeset: theta1_dot as \dot{\theta}_{1}
+        # the controls' labels typeset: theta1_dot as \dot{\theta}_{1} (with its unit, in a
+        # dimensioned model: the values are SI)
         "labels": {
-            name: latex_name(name) for name in (*parameter_names, *system.input_names, *state)
+            name: latex_name(name) + _latex_unit(system, name)
+            for name in (*parameter_names, *system.input_names, *state)
         },
         # the plots' axes and legends: theta1_dot as θ̇₁
         "symbols": {name: unicode_name(name) for name in state},
@@ -152,6 +154,9 @@ def page_content(
         "sections": _sections(eom, analysis, results),
         "dop853": _dop853(),
     }
+    if system.units is not None:  # the readouts' units: t, the energy, each conserved one
+        names = ["t", "energy", *(q.name for q in conserved)]
+        document["units"] = {n: u for n in names if (u := system.units.column_unit(n))}
     if exercise:
         document["exercise"] = exercise_document(eom, exercise_steps(exercise))
     if code is None:  # the solution only: nothing to run without the functions
@@ -168,6 +173,12 @@ def page_content(
         script += "\n".join(JavaScriptTarget().function("results", code, routine, exported=False))
         script += "\n"
     return PageContent(document, script, decided=not analysis.undecided)
+
+
+def _latex_unit(system: System, name: str) -> str:
+    r"""``\ [\mathrm{m}]`` after a control's label in a dimensioned model, else nothing."""
+    unit = system.units.column_unit(name) if system.units is not None else None
+    return rf"\ [\mathrm{{{unit}}}]" if unit else ""
 
 
 def _unspecified(eom: EquationsOfMotion, definitions: Mapping[str, str] | None) -> list[str]:

@@ -547,6 +547,9 @@ function lagrangianPage(model, code) {
   const relative = (value, start) => ((value - start) / Math.abs(start)).toExponential(2);
   const absolute = (value, start) => (value - start).toExponential(2);
 
+  // A dimensioned model's unit after a readout (its values are SI): " s", " J"; else "".
+  const unit = (name) => (model.units && model.units[name] ? ` ${model.units[name]}` : "");
+
   function readouts() {
     let E;
     let I;
@@ -558,8 +561,8 @@ function lagrangianPage(model, code) {
     }
     const energy = flat(E)[0];
     const lines = [
-      `t = ${sim.t.toFixed(3)}`,
-      `energy h = ${energy.toPrecision(10)}`,
+      `t = ${sim.t.toFixed(3)}${unit("t")}`,
+      `energy h = ${energy.toPrecision(10)}${unit("energy")}`,
       Math.abs(energy0) > STARTS_AT_ZERO ? `drift (h - h0)/|h0| = ${relative(energy, energy0)}` : `drift h - h0 = ${absolute(energy, energy0)}`,
       `steps: ${sim.steps} (${sim.t > 0 ? (sim.steps / sim.t).toFixed(0) : 0} per s)`,
       `frames per second: ${fps.toFixed(0)}`,
@@ -569,7 +572,7 @@ function lagrangianPage(model, code) {
       if (quantity.name === "energy") return;
       const start = invariants0[k];
       const change = Math.abs(start) > STARTS_AT_ZERO ? `drift ${relative(value, start)}` : `absolute drift ${absolute(value, start)}`;
-      lines.push(`${quantity.name} = ${value.toPrecision(10)} (${change})`);
+      lines.push(`${quantity.name} = ${value.toPrecision(10)}${unit(quantity.name)} (${change})`);
     });
     if (sim.error) lines.push(`stopped: ${sim.error}`);
     const rows = ui.readouts.children;
