@@ -12,6 +12,7 @@ wall clock, and check that nothing is left armed and that the next stage still w
 from __future__ import annotations
 
 import signal
+from pathlib import Path
 
 import pytest
 
@@ -136,3 +137,41 @@ def test_after_a_time_out_inside_a_large_derivation_the_next_analysis_works():
     acceleration = spring.equations_of_motion().accelerations["x"]
     at = {"x": 1.5, "k": 8.0, "m": 2.0}
     assert acceleration.subs({s: at[s.name] for s in acceleration.free_symbols}) == -6.0
+
+
+LEFT_BEHIND = """
+import sys
+from lagrangian.budget import REPEAT_SECONDS, OutOfTime, cpu_seconds, deadline
+
+length = int(sys.argv[1])
+try:
+    with deadline(0.05, "stage"):
+        try:
+            while True:
+                pass
+        finally:
+            0.5 in range(length)  # the last of the unwinding, in C
+except OutOfTime as error:
+    print(error, file=sys.stderr)
+end = cpu_seconds() + 10 * REPEAT_SECONDS  # a stale timer would fire in here, or at exit
+while cpu_seconds() < end:
+    pass
+sys.exit(2)
+"""
+
+
+def test_a_process_whose_deadline_ran_out_exits_with_its_own_status():
+    """As the command line does after its one-line error: exit 2, where the stale timer
+    killed the process by SIGPROF (exit 155) or raised again at the top (exit 1)."""
+    import os
+    import subprocess
+    import sys
+
+    length = _length_taking(3 * REPEAT_SECONDS)
+    source = str(Path(budget.__file__).parents[1])
+    environment = {**os.environ, "PYTHONPATH": source}
+    done = subprocess.run(
+        [sys.executable, "-c", LEFT_BEHIND, str(length)],
+        capture_output=True, text=True, env=environment, check=False,
+    )  # fmt: skip
+    assert (done.returncode, done.stderr) == (2, "stage: not decided within 0.05 s\n")

@@ -11,7 +11,9 @@ raises :class:`OutOfTime` (a ``BaseException``, so that no ``except Exception``
 inside SymPy swallows it) in the code it guards.  The guarded code is abandoned
 whole: its caller gets either the complete result or :class:`OutOfTime`, never
 a half-made one, and reports the part as undecided (:func:`attempt`) or falls
-back to a cheaper route that is still correct.
+back to a cheaper route that is still correct.  However the block is left, the
+deadline is cleared with its signal held back, and nothing of it outlives the
+block (:class:`deadline`): the next stage in the same process starts clean.
 
 A process has one CPU-time timer, so deadlines nest: an inner one arms the
 timer for the earlier of its own end and the outer end, and on leaving re-arms
@@ -25,6 +27,8 @@ budget, and :func:`recount` charges its time once it has been waited for.
 Sizes are measured with :func:`exceeds`, which stops counting at the limit, so
 asking whether a million-node expression is "too large" costs as much as a small
 one (SymPy's ``count_ops`` walks the whole tree, shared parts again and again).
+SymEngine's expand runs in C++, where no deadline reaches: :func:`expanded_terms`
+counts the terms an expansion would make, before it is made.
 """
 
 from __future__ import annotations
