@@ -12,13 +12,15 @@ import pytest
 
 import lagrangian as lg
 from lagrangian.cli import ExitStatus, main
+from lagrangian.examples import example_names
 from lagrangian.output.page import page_html
 from output.browser import chromium, open_page
 
 pytestmark = pytest.mark.slow
 
-#: Examples whose analysis has two or more coordinates and long symbolic forms.
-MULTI_COORDINATE = ("double_pendulum", "heavy_top", "cart_pole")
+#: Every example with two or more coordinates (the double pendulum's, the heavy top's and
+#: the cart-pole's symbolic forms are the longest).
+MULTI_COORDINATE = tuple(n for n in example_names() if len(lg.load(n).coordinates) >= 2)
 
 #: Every element of the section "Equilibria and small oscillations" wider than its box
 #: (scrollWidth > clientWidth, KaTeX's own inner boxes aside), and every piece of typeset
@@ -70,7 +72,9 @@ def test_no_element_of_the_analysis_overflows_its_column(browser, written, name,
     assert page.evaluate(OVERFLOWING) == []
     # every equilibrium's verdict is said in words, in view
     verdicts = page.locator(".equilibrium .verdict").all_inner_texts()
-    assert verdicts and all(v.split()[0] in ("stable", "unstable", "marginal") for v in verdicts)
+    assert all(v.split()[0] in ("stable", "unstable", "marginal") for v in verdicts)
+    if name in ("double_pendulum", "heavy_top", "cart_pole"):
+        assert verdicts  # (central forces, rolling: no isolated equilibrium to judge)
     assert opened.errors == []
     page.close()
 
