@@ -332,3 +332,53 @@ def test_the_system_lists_its_bodies_and_springs():
     )
     springs = next(t for t in tables if t.header[0] == "spring")
     assert springs.rows == ((("spring1",), (Math("k"),), (Math("L_{0}"),)),)  # named when built
+
+
+def _mode_pictures(example: str):
+    from lagrangian.analysis import analyze
+    from lagrangian.output.worked_solution.content import REPORT_STAGES
+    from lagrangian.output.worked_solution.figures import mode_pictures
+    from lagrangian.output.worked_solution.printing import Shower
+
+    system = lg.load(example)
+    analysis = analyze(system.equations_of_motion(), stages=REPORT_STAGES)
+    return mode_pictures(system, analysis, "the default values", Shower(system))
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("example", "said"),
+    [
+        # every omega^2 = 0 (a free particle: every configuration at rest): nothing moves
+        (
+            "free_particle_spherical",
+            "No equilibrium about which the system oscillates: no normal modes to draw.",
+        ),
+        # the hanging bob's one mode lies along the circle, not along x or y
+        (
+            "cartesian_pendulum",
+            "The normal modes of a constrained system are not drawn (its mode shapes lie in the"
+            " directions the constraints allow, not along each coordinate).",
+        ),
+        ("driven_damped_pendulum", "No equilibrium: no normal modes to draw."),
+    ],
+)
+def test_modes_are_drawn_only_where_they_show_an_oscillation(example, said):
+    (paragraph,) = _mode_pictures(example)
+    assert paragraph == Paragraph((said,))
+
+
+@pytest.mark.slow
+def test_the_hanging_cart_pole_is_drawn_about_its_stable_direction():
+    paragraph, picture = _mode_pictures("cart_pole")
+    assert paragraph.parts[1] == Math(r"\theta = \pi")  # marginal: a free translation
+    assert picture.name == "modes"
+
+
+@pytest.mark.slow
+def test_a_note_said_in_its_section_is_not_repeated():
+    solution = worked_solution(lg.load("cartesian_pendulum"), figures=False)
+    assert "Notes" not in ["".join(map(str, s.title)) for s in solution.sections]
+    assert _text(_section(solution, "Hamiltonian").blocks) == (
+        "Not computed for systems with constraints."
+    )

@@ -69,7 +69,8 @@ def worked_solution(
             Section(parts("Mode shapes"), mode_pictures(system, analysis, values_said, show), 2)
         )
         sections.append(Section(parts("Phase portrait"), phase_pictures(system, given)))
-    notes = [*analysis.notes, *(f"{u.stage}: {u.reason}" for u in analysis.undecided)]
+    notes = [n for n in analysis.notes if n not in _said(analysis)]
+    notes += [f"{u.stage}: {u.reason}" for u in analysis.undecided]
     if notes:
         sections.append(Section(parts("Notes"), tuple(Paragraph(parts(n)) for n in notes)))
     return WorkedSolution(system.name, system.description, tuple(sections))
@@ -247,6 +248,16 @@ def _hamiltonian_section(analysis: Analysis, show: Shower) -> Section:
         Display((show.row("H", analysis.hamiltonian.expression),)),
     )
     return Section(parts("Hamiltonian"), blocks)
+
+
+def _said(analysis: Analysis) -> set[str]:
+    """The notes the sections say already: why there is no Hamiltonian, no equilibria."""
+    said = set()
+    if analysis.hamiltonian is None:
+        said |= {n for n in analysis.notes if n.startswith("Hamiltonian: ")}
+    if not analysis.equilibria:
+        said |= {n for n in analysis.notes if n.startswith("equilibria: ")}
+    return said
 
 
 def _readable(lines: list[str]) -> bool:

@@ -55,8 +55,8 @@ def equilibria_sections(analysis: Analysis, show, values_said: str) -> list[Sect
     if "equilibria" in missing:
         intro.append(Paragraph(parts(f"Not decided: {missing['equilibria']}.")))
     elif not analysis.equilibria:
-        said = not_applied[0] if not_applied else "none found"
-        intro.append(Paragraph(parts(said[:1].upper() + said[1:] + ".")))
+        for said in not_applied or ["none found"]:
+            intro.append(Paragraph(parts(said[:1].upper() + said[1:] + ".")))
     sections = [Section(parts("Equilibria and normal modes"), tuple(intro))]
     for e in analysis.equilibria:
         point = [parts(Math(f"{latex_name(k)} = {show(v)}")) for k, v in e.point.items()]

@@ -10,6 +10,7 @@ silently.
 
 from __future__ import annotations
 
+from ...algebra import as_expression
 from ...analysis import Analysis
 from ...errors import LagrangianError
 from ...model import System
@@ -60,15 +61,21 @@ def mode_pictures(system: System, analysis: Analysis, values_said: str, show) ->
     """The normal modes about the first stable equilibrium, drawn (or why not)."""
     from ..mode_shapes import plot_normal_modes
 
-    stable = [e for e in analysis.equilibria if e.stable and e.modes.shapes]
-    marginal = [
+    # drawn: a mode shape per coordinate (a constrained system's modes have fewer) and a
+    # point that oscillates (every omega^2 = 0, as for a free particle, shows nothing)
+    drawable = [
         e
         for e in analysis.equilibria
-        if e.modes.stability.value == "marginal" and e.modes.shapes and not e.free
+        if e.point
+        and e.modes.shapes
+        and len(e.modes.shapes[0]) == len(system.coordinates)
+        and _oscillates(e.modes, system)
     ]
+    stable = [e for e in drawable if e.stable]
+    marginal = [e for e in drawable if e.modes.stability.value == "marginal" and not e.free]
     chosen = (stable or marginal or [None])[0]
     if chosen is None:
-        return (Paragraph(parts("No stable equilibrium with mode shapes: no modes to draw.")),)
+        return (Paragraph(parts(_why_no_modes(system, analysis))),)
     at = dict(getattr(chosen, "representative", None) or chosen.point)
     try:
         figure = plot_normal_modes(system, at, modes=chosen.modes)
@@ -83,3 +90,27 @@ def mode_pictures(system: System, analysis: Analysis, values_said: str, show) ->
         " the equilibrium dashed.",
     )
     return (Paragraph(text), Picture("modes", caption, figure))
+
+
+def _oscillates(modes, system: System) -> bool:
+    """Whether some omega^2 of ``modes`` is positive at the system's parameter values."""
+    values = system.parameter_values
+    at = {p.symbol: values[p.name] for p in system.parameters if p.name in values}
+    for w2 in modes.omega_squared:
+        try:
+            if complex(as_expression(w2).subs(at)).real > 0:
+                return True
+        except TypeError:  # a parameter without a value
+            continue
+    return False
+
+
+def _why_no_modes(system: System, analysis: Analysis) -> str:
+    if not analysis.equilibria:
+        return "No equilibrium: no normal modes to draw."
+    if system.constraints:
+        return (
+            "The normal modes of a constrained system are not drawn (its mode shapes lie in"
+            " the directions the constraints allow, not along each coordinate)."
+        )
+    return "No equilibrium about which the system oscillates: no normal modes to draw."
