@@ -67,6 +67,13 @@ CASES = [
      "-R^2*m*omega^2*sin(theta)^2/2",
      [("R**2*m*omega**2*sin(theta)**2/2", "sign", "-R**2*m*omega**2*sin(theta)**2/2")]),
     # -- pendulum on a spring
+    ("spring_pendulum",  # twice the energy, without the spring: compared in its own scale
+     {"conserved": ["m*(r_dot^2 + r^2*theta_dot^2) - 2*m*g*r*cos(theta)"]}, "wrong",
+     "not conserved: its rate of change along the motion is not 0; as energy: the term k*r^2 "
+     "is missing; the term -2*k*l0*r is missing",
+     [("k*r**2", "missing", "k*r**2"), ("-2*k*l0*r", "missing", "-2*k*l0*r")]),
+    ("spring_pendulum", {"conserved": ["m*r_dot^2"]}, "wrong",  # one term is no scale
+     "not conserved: its rate of change along the motion is not 0", []),
     ("spring_pendulum", {"kinetic": "m*(r_dot^2 + r*theta_dot^2)/2"}, "wrong",
      "the term m*r^2*theta_dot^2/2 is missing; the term m*r*theta_dot^2/2 should not be there",
      [("m*r**2*theta_dot**2/2", "missing", "m*r**2*theta_dot**2/2"),

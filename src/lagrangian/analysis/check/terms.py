@@ -120,13 +120,15 @@ def compare(
     student's term to a right one is tried as the factor, those of terms with the same
     ``leading`` symbols only when there are such (an equation's accelerations: one
     normalises the equation of q by its q'' term, even by a function of the state), else
-    the ratios free of the state; the one that makes the most groups agree is kept; the
+    the ratios free of the state that make at least two groups agree; the one that makes
+    the most groups agree is kept; the
     expected terms are printed times it, in the student's scale.
     """
     unit = np.ones_like(right[0].key_values) if right else np.ones((1, 1))
     if not rescale or not given or not right:
         return _matched(given, right, unit, sympy.S.One)
-    candidates = _factors(given, right, leading) or [
+    led = _factors(given, right, leading) if leading else []
+    candidates = led or [
         (values, symbolic)
         for values, symbolic in _factors(given, right, frozenset())
         if state_free(values)
@@ -134,6 +136,8 @@ def compare(
     best = (None, _matched(given, right, unit, sympy.S.One))
     for values, symbolic in candidates:
         comparison = _matched(given, right, values, symbolic)
+        if not led and comparison.ok < 2:  # one term alike is no evidence of a scale
+            continue
         rank = (comparison.ok, -len(comparison.problems))
         if best[0] is None or rank > best[0]:
             best = (rank, comparison)

@@ -136,12 +136,13 @@ function exerciseChecker(data) {
   function compare(given, right, rescale = false, leading = new Set()) {
     const unit = envs.map((row) => row.map(() => 1));
     if (!rescale || !given.length || !right.length) return matched(given, right, unit, null);
-    let candidates = factors(given, right, leading);
-    if (!candidates.length) candidates = factors(given, right, new Set()).filter((c) => exStateFree(c.values));
+    const led = leading.size ? factors(given, right, leading) : [];
+    const candidates = led.length ? led : factors(given, right, new Set()).filter((c) => exStateFree(c.values));
     let best = matched(given, right, unit, null);
     let bestRank = null;
     for (const c of candidates) {
       const comparison = matched(given, right, c.values, c.unit ? null : c);
+      if (!led.length && comparison.ok < 2) continue; // one term alike is no evidence of a scale
       const rank = [comparison.ok, -comparison.problems.length];
       if (bestRank === null || rank[0] > bestRank[0] || (rank[0] === bestRank[0] && rank[1] > bestRank[1])) {
         best = comparison;
