@@ -40,8 +40,12 @@ PYTHON_SPELLING: Mapping[str, str] = {
     "transient": "transient",
     "allow_remote": "allow_remote=True",
     "allow_host": "allowed_hosts",
+    "count": "count",
+    "interval": "interval",
 }
 _SETTING = re.compile(r"\u27e6([a-z_=]+)\u27e7")
+_CHOICES = re.compile(r"\u27ea([^\u27eb]*)\u27eb")
+_CHOICE_SEPARATOR = "\u2016"
 
 
 def setting(name: str) -> str:
@@ -50,11 +54,31 @@ def setting(name: str) -> str:
     return f"\u27e6{name}\u27e7"
 
 
+def choices(*remedies: str) -> str:
+    """Remedies offered in a message, as a list ("a shorter t_end, a looser rtol or a
+    larger dt"); a remedy that names a :func:`setting` the reader has no way to give (a
+    command without that option: not in its spelling) is left out of it."""
+    return f"\u27ea{_CHOICE_SEPARATOR.join(remedies)}\u27eb"
+
+
 def spelled(text: str, spelling: Mapping[str, str]) -> str:
     """``text`` with every :func:`setting` written as ``spelling`` says (Python's
-    keyword where ``spelling`` has no entry)."""
+    keyword where ``spelling`` has no entry), and every list of :func:`choices` without
+    the remedies whose settings ``spelling`` does not have."""
+
+    def offered(found: re.Match) -> str:
+        remedies = [
+            remedy
+            for remedy in found[1].split(_CHOICE_SEPARATOR)
+            if all(name in spelling for name in _SETTING.findall(remedy))
+        ]
+        if len(remedies) < 2:
+            return "".join(remedies)
+        return f"{', '.join(remedies[:-1])} or {remedies[-1]}"
+
     return _SETTING.sub(
-        lambda found: spelling.get(found[1], PYTHON_SPELLING.get(found[1], found[1])), text
+        lambda found: spelling.get(found[1], PYTHON_SPELLING.get(found[1], found[1])),
+        _CHOICES.sub(offered, text),
     )
 
 

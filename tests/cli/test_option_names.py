@@ -57,3 +57,19 @@ def test_each_command_spells_only_the_settings_it_has_an_option_for():
 def test_every_flag_of_a_setting_is_an_option_of_some_command():
     options = {name for command in app.commands.values() for p in command.params for name in p.opts}
     assert {flag.split()[0] for flag in FLAGS.values()} <= options
+
+
+def test_remedies_without_an_option_on_this_command_are_left_out():
+    from lagrangian.errors import PYTHON_SPELLING, choices, setting, spelled
+
+    text = "give " + choices(
+        f"a shorter {setting('t_end')}", f"a looser {setting('rtol')}", f"a larger {setting('dt')}"
+    )
+    assert spelled(text, PYTHON_SPELLING) == "give a shorter t_end, a looser rtol or a larger dt"
+    plot = command_flags(app.commands["plot"])  # has --t-end, not --rtol nor --dt
+    assert spelled(text, plot) == "give a shorter --t-end"
+    lyapunov = command_flags(app.commands["lyapunov"])  # --rtol, no --dt
+    assert spelled(text, lyapunov) == "give a shorter --t-end or a looser --rtol"
+    assert spelled(choices("fewer members", f"a faster {setting('backend')}"), {}) == (
+        "fewer members"
+    )

@@ -139,4 +139,19 @@ CASES = [
         )
         for label, name in (("space", "bad name"), ("port", "host:80"), ("slash", "a/b"))
     ),
+    HostileCase(
+        # the setting was named as Python spells it ("count: ..."): lyapunov has --count
+        "lyapunov-count-names-its-option",
+        ("lyapunov", "simple_pendulum", "--count", "99", "--t-end", "1"),
+        error=r"--count: the number of exponents must be from 1 to 2 \(twice the coordinates\), "
+        r"not 99$",
+    ),
+    HostileCase(
+        # said "or a larger --dt": lyapunov has no --dt (its runs are adaptive)
+        "lyapunov-pace-names-only-its-options",
+        ("lyapunov", "henon_heiles", "--interval", "1e-9", "--t-end", "1000"),
+        error=r"more than the 300 s allowed; give a shorter --t-end or a looser --rtol, or "
+        r"allow more time with --timeout SECONDS$",
+        slow=True,
+    ),
 ]

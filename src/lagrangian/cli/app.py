@@ -43,6 +43,8 @@ FLAGS = {
     "momenta": "--momentum",
     "exercise": "--exercise",
     "allow_host": "--allow-host",
+    "count": "--count",
+    "interval": "--interval",
 }
 
 

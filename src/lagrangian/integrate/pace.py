@@ -42,15 +42,26 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from ..budget import checked_seconds, cpu_seconds
-from ..errors import LagrangianError, setting
+from ..errors import LagrangianError, choices, setting
 
+# Each remedy names its setting: a command that has no option for it leaves it out (plot
+# has no --rtol nor --dt, lyapunov no --dt).
 RUN_ADVICE = (
-    f"give a shorter {setting('t_end')}, a looser {setting('rtol')} or a larger {setting('dt')}, "
-    f"or allow more time with {setting('timeout')}"
+    "give "
+    + choices(
+        f"a shorter {setting('t_end')}", f"a looser {setting('rtol')}", f"a larger {setting('dt')}"
+    )
+    + f", or allow more time with {setting('timeout')}"
 )
 ENSEMBLE_ADVICE = (
-    f"give fewer members, a shorter {setting('t_end')} or a larger {setting('dt')}, a faster "
-    f"{setting('backend')}, or allow more time with {setting('timeout')}"
+    "give "
+    + choices(
+        "fewer members",
+        f"a shorter {setting('t_end')}",
+        f"a larger {setting('dt')}",
+        f"a faster {setting('backend')}",
+    )
+    + f", or allow more time with {setting('timeout')}"
 )
 #: Seconds after which the pace so far is trusted enough to project the total.
 PROBE_SECONDS = 1.0
