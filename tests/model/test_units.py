@@ -195,6 +195,69 @@ def test_a_3d_body_and_springs_with_units(tmp_path):
     assert springs.units.dimension("x") == LENGTH
 
 
+CART_WITH_FRICTION_AND_DEGREES = """
+coordinates = ["x", "theta"]
+[parameters]
+M = "1 kg"
+m = "100 g"
+l = "0.5 m"
+g = "9.81 m/s^2"
+r = "5 cm"
+mu = 0.1
+F0 = "2 N"
+tau0 = "3 s"
+[[particles]]
+name = "cart"
+mass = "M"
+position = ["x", "0"]
+[[particles]]
+name = "bob"
+mass = "m"
+position = ["x + l*sin(theta)", "-l*cos(theta)"]
+[gravity]
+g = "g"
+[forces]
+x = "F0*exp(-t/tau0) - mu*M*g*sign(x_dot) - sqrt(M*F0/l)*Abs(x_dot)/10"
+[inputs]
+tau = {theta = "tau", x = "-tau/r"}
+[units]
+theta = "deg"
+[initial]
+theta = 30
+theta_dot = 10
+"""
+
+CHARGE_IN_A_FIELD = """
+coordinates = ["x", "y"]
+lagrangian = "m*(x_dot^2 + y_dot^2)/2 - q*V + q*(x_dot*A + y_dot*B)"
+[parameters]
+m = "1 kg"
+q = "1 C"
+[functions]
+V = ["x", "y"]
+A = ["x", "y"]
+B = ["x", "y"]
+[units]
+x = "m"
+y = "m"
+"""
+
+
+def test_friction_inputs_and_an_angle_in_degrees(tmp_path):
+    system = load_text(tmp_path, CART_WITH_FRICTION_AND_DEGREES)
+    assert dict(system.initial) == pytest.approx({"theta": math.pi / 6, "theta_dot": math.pi / 18})
+    units = system.units
+    assert units.unit("theta") == "rad" and units.unit("mu") == "1"
+    assert units.unit("tau") == "J"  # a torque: the generalized force on an angle
+    assert units.bare("theta", 90) == pytest.approx(math.pi / 2)
+
+
+def test_declared_functions_get_their_units_from_the_equations(tmp_path):
+    units = load_text(tmp_path, CHARGE_IN_A_FIELD).units
+    assert units.unit("V") == "kg*m^2/(s^3*A)"  # a potential: J/C = V
+    assert units.unit("A") == "kg*m/(s^2*A)"  # a vector potential: V*s/m = T*m
+
+
 def model_with(kinetic="m*x_dot^2/2", potential="k*x^2/2", extra="", parameters=""):
     return f"""
 coordinates = ["x"]
@@ -405,3 +468,13 @@ def test_a_model_without_units_loads_no_unit_library():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert done.stdout.strip() == "False"
     assert lg.load("double_pendulum").units is None
+
+
+def test_a_drag_term_of_the_wrong_power_is_named_as_written(tmp_path):
+    text = CART_WITH_FRICTION_AND_DEGREES.replace("Abs(x_dot)/10", "Abs(x_dot) * x_dot/10")
+    with pytest.raises(ModelError) as caught:
+        load_text(tmp_path, text)
+    assert str(caught.value).endswith(
+        "forces.x: the term sqrt(M*F0/l)*Abs(x_dot) * x_dot/10 is a power (W), the other "
+        "terms are forces (N)"
+    )

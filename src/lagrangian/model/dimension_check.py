@@ -67,7 +67,7 @@ _FIELD_DIMENSIONS = tuple(
 _GENERALIZED_FORCE = re.compile(r"(forces|conservative_forces|inputs\.\w+)\.(\w+)")
 _DIMENSIONLESS_ARGUMENTS = frozenset(
     {"sin", "cos", "tan", "cot", "sec", "csc", "asin", "acos", "atan", "sinh", "cosh",
-     "tanh", "exp", "log", "sign"}
+     "tanh", "exp", "log"}
 )  # fmt: skip
 _OPENERS, _CLOSERS = "([{", ")]}"
 #: A velocity's dimension is its coordinate's per time, an acceleration's per time squared.
@@ -288,6 +288,9 @@ class _Check:
             return None if form is None else scale(form, Fraction(1, 2))
         if name == "Abs":
             return self.form(args[0])
+        if name == "sign":  # the sign of a quantity of any dimension (Coulomb friction's)
+            self.form(args[0])
+            return known(DIMENSIONLESS)
         if name == "atan2":
             self.alike(list(args), "argument of atan2")
             return known(DIMENSIONLESS)

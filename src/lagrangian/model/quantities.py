@@ -102,7 +102,10 @@ def read_unit(text: str, where: str, *, quoted: str | None = None) -> Unit:
         raise ModelError(f"{quoted!r} is not a unit", field=where) from None
     if not all(registry._units[name].is_multiplicative for name in _names(parsed)):
         raise _offset(quoted, where)
-    return Unit(text.strip(), float(base.magnitude), from_pint(base.dimensionality.items()))
+    factor = float(base.magnitude)
+    if not (math.isfinite(factor) and factor > 0):
+        raise ModelError(f"{quoted!r} is beyond double precision", field=where)
+    return Unit(text.strip(), factor, from_pint(base.dimensionality.items()))
 
 
 _ONE = Unit("1", 1.0, from_pint(()))
