@@ -103,3 +103,40 @@ CASES += [
     )
     for method in ("dop853", "rk4")
 ]  # fmt: skip
+
+# initial states off a holonomic constraint: x = y = 0 raised LinAlgError (exit 1) with every
+# method and backend; x = 0.5, y = 0 was moved to x = 1 with nothing said
+_SINGULAR_START = (
+    r"the initial state{} \(x = 0, y = 0, x_dot = 0, y_dot = 0\) cannot be moved onto the "
+    r"constraints: it is a singular point of theirs"
+)
+CASES += [
+    *(
+        HostileCase(
+            f"simulate-start-at-a-singular-point-of-the-constraint-{'-'.join(how)}",
+            ("simulate", "cartesian_pendulum", "--set", "x=0", "--set", "y=0", "--t-end", "0.1",
+             *how),
+            error=_SINGULAR_START.format(""),
+        )
+        for how in (("--method", "dop853"), ("--method", "rk4"), ("--backend", "numba"))
+    ),
+    HostileCase(
+        "ensemble-start-at-a-singular-point-of-the-constraint",
+        ("ensemble", "cartesian_pendulum", "--grid", "x=1:0:2", "--set", "y=0", "--t-end",
+         "0.01"),
+        error=_SINGULAR_START.format(" of motion 1"),
+    ),
+    HostileCase(
+        "poincare-start-at-a-singular-point-of-the-constraint",
+        ("poincare", "cartesian_pendulum", "--axes", "x,x_dot", "--section", "x=0", "--set",
+         "x=0", "--set", "y=0", "--t-end", "1"),
+        error=_SINGULAR_START.format(""),
+    ),
+    HostileCase(
+        "simulate-start-off-the-constraint-moved-and-said",
+        ("simulate", "cartesian_pendulum", "--set", "x=0.5", "--set", "y=0", "--t-end", "0.1"),
+        exit_code=0,
+        warning=r"the initial state was moved onto the constraints \(values changed by up to "
+        r"0\.5\): x 0\.5 -> 1; give a state on the constraints to start from it",
+    ),
+]  # fmt: skip

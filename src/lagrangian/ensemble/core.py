@@ -52,6 +52,7 @@ from ..integrate import method_class
 from ..integrate.base import check_time_span
 from ..integrate.fixed_step import AbstractFixedStepIntegrator, step_grid
 from ..integrate.memory import check_fits, count_text, step_count
+from ..integrate.start import constrained_start
 from ..integrate.step_size import fixed_step_for
 from .choices import BACKENDS, METHODS, PRECISIONS
 from .chunk import AbstractEnsembleBackend, Chunk, Chunks
@@ -221,7 +222,7 @@ def ensemble_bytes(
 
 
 def _projected(compiled: CompiledSystem, batch: Members) -> Members:
-    y0 = np.asarray(compiled.project(0.0, batch.y0, batch.params), dtype=float)
+    y0 = constrained_start(compiled, 0.0, batch.y0, batch.params)
     return Members(y0, batch.params, batch.shape, batch.dims, batch.coords)
 
 

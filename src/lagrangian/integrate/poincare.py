@@ -37,6 +37,7 @@ from .events import Event
 from .memory import check_fits, count_text, run_bytes
 from .scipy_methods import Dop853
 from .section import Section, axis_values, state_names
+from .start import constrained_start
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -150,6 +151,8 @@ def poincare_section(
     events = ()
     t_eval = None
     starts = np.asarray(starts, dtype=float).reshape(2 * n, -1)
+    if compiled.has_constraints and compiled.project is not None:
+        starts = constrained_start(compiled, t0, starts, p)  # as a single run's start
     if strobe is not None:
         strobe = positive_setting("strobe", strobe)
         times = max(0.0, (t1 - transient) / strobe)

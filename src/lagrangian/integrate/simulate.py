@@ -6,7 +6,7 @@ adaptive ones; one that does not apply is an error, a missing one takes the
 method's documented default), and ``check(compiled)`` (a variational method
 refuses constraints).  It then builds y0 and params
 (``compiled.state_vector`` / ``parameter_vector``: a missing parameter value
-is an error), projects y0 of a constrained system onto its constraints, runs
+is an error), moves y0 of a constrained system onto its constraints (:mod:`.start`), runs
 the method, and evaluates the energy, the conserved quantities and the
 multipliers at the output times.
 
@@ -40,6 +40,7 @@ from .fixed_step import AbstractFixedStepIntegrator
 from .guard import parameter_problem
 from .memory import check_fits, count_text, run_bytes
 from .registry import method_class
+from .start import constrained_start
 from .step_size import fixed_step_for
 
 if TYPE_CHECKING:
@@ -85,7 +86,7 @@ def simulate(
     y0 = compiled.state_vector(initial)
     p = compiled.parameter_vector(params)
     if compiled.has_constraints and compiled.project is not None:
-        y0 = np.asarray(compiled.project(t_span[0], y0, p), dtype=float)
+        y0 = constrained_start(compiled, t_span[0], y0, p)
     problem = parameter_problem(compiled, t_span[0], y0, p)
     if problem is not None:
         raise ModelError(problem)
