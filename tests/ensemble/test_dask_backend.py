@@ -2,6 +2,13 @@
 
 from __future__ import annotations
 
+import os
+import signal
+import threading
+import time
+import warnings
+from concurrent.futures import CancelledError
+
 import numpy as np
 import pytest
 
@@ -92,11 +99,11 @@ class _FakeClient(_Closing):
     def __init__(self, fake):
         super().__init__(fake, "client")
 
-    def scatter(self, payload, broadcast):
-        return payload
-
     def nthreads(self):
         return {"worker": 2}
+
+    def scheduler_info(self):
+        return {"workers": {"tcp://127.0.0.1:1": {}}}
 
     def submit(self, *args, **options):
         return _Killed(self.fake)
@@ -107,6 +114,8 @@ class _Killed:
         self.fake = fake
 
     def result(self):
+        if self.fake.fail_at == "cancel":  # what a task whose input was lost for good raises
+            raise CancelledError("_task-1 cancelled for reason: already forgotten.")
         raise self.fake.KilledWorker("Attempted to run task _task on 4 different workers")
 
 
@@ -115,6 +124,12 @@ class _Killed:
     [
         ("start", r"^the local dask cluster did not start: Nanny failed to start\.$", []),
         ("run", r"^the dask cluster failed during the run: Attempted", ["client", "cluster"]),
+        (
+            "cancel",
+            r"^the dask cluster failed during the run: _task-1 cancelled for reason: already "
+            r"forgotten\.$",
+            ["client", "cluster"],
+        ),
     ],
 )  # fmt: skip
 def test_a_failing_cluster_is_one_line(pendulum, monkeypatch, fail_at, message, closed):
@@ -137,3 +152,58 @@ def test_the_local_cluster_leaves_no_scratch_folder(pendulum, tmp_path, monkeypa
     )
     assert result.shape == (2,)
     assert list(tmp_path.iterdir()) == []
+
+
+def _kill_workers_while_they_work(client, started: threading.Event) -> int:
+    """SIGKILL every worker process once tasks run on them (their nannies start new ones);
+    the number killed.  Bounded: the run under test is watched by its thread's join."""
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and not any(client.processing().values()):
+        time.sleep(0.05)
+    started.set()
+    pids = client.run(os.getpid)
+    for pid in pids.values():
+        os.kill(pid, signal.SIGKILL)
+    return len(pids)
+
+
+@pytest.mark.slow
+def test_workers_killed_during_the_run_are_replaced_and_said(pendulum):
+    # was: the model's scattered payload died with the workers, every task waiting on it was
+    # cancelled, and the run ended in "internal error: FutureCancelledError" (exit 1) after
+    # distributed's log lines; now the payload is computed again and the chunks re-run
+    distributed = pytest.importorskip("distributed")
+    thetas = np.linspace(0.1, 1.0, 24)
+    expected = run_ensemble(pendulum, initial={"theta": thetas}, t_end=2.0, dt=0.01)
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+        dashboard_address=None,
+    ) as cluster, distributed.Client(cluster) as client:  # fmt: skip
+        outcome: dict = {}
+
+        def run():
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                try:
+                    outcome["result"] = run_ensemble(
+                        pendulum, initial={"theta": thetas}, t_end=2.0, dt=0.01,
+                        backend="dask", scheduler=cluster.scheduler_address, chunk_size=2,
+                    )  # fmt: skip
+                except Exception as error:  # reported by the assertion below
+                    outcome["error"] = error
+            outcome["warnings"] = [str(w.message) for w in caught]
+
+        worker = threading.Thread(target=run)
+        worker.start()
+        started = threading.Event()
+        killed = _kill_workers_while_they_work(client, started)
+        worker.join(timeout=300)
+        assert not worker.is_alive(), "the run did not end within 300 s of the kill"
+    assert killed == 2
+    assert "error" not in outcome, outcome.get("error")
+    for name, values in expected.final_state.items():  # the same chunks, the same numbers
+        np.testing.assert_allclose(outcome["result"].final_state[name], values, rtol=0, atol=0)
+    assert (
+        "2 dask workers left the cluster during the run (killed or restarted); their chunks "
+        "ran again on the workers there"
+    ) in outcome["warnings"]

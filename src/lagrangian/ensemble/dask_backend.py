@@ -22,17 +22,22 @@ killed, a scheduler that goes away) ends the run with one
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import itertools
+import logging
+import os
 import re
 import socket
 import tempfile
 import time
+import warnings
 from collections.abc import Iterator
+from concurrent.futures import CancelledError
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
-from ..errors import LagrangianError, MissingDependencyError, ModelError
+from ..errors import LagrangianError, LagrangianWarning, MissingDependencyError, ModelError
 from .chunk import AbstractEnsembleBackend, Chunk, Chunks, Outputs, Progress
 from .numpy_backend import NumpyBackend
 
@@ -136,15 +141,24 @@ class DaskBackend(AbstractEnsembleBackend):
 
         payload = model_payload(first.compiled)
         key = hashlib.sha256(payload).hexdigest()
-        failures = (OSError, TimeoutError, distributed.KilledWorker)  # CommClosedError: OSError
+        # CommClosedError is an OSError; a task whose input was lost for good is cancelled
+        failures = (OSError, TimeoutError, distributed.KilledWorker, CancelledError)
         with (
             tempfile.TemporaryDirectory(prefix="lagrangian-dask-") as scratch,
             dask.config.set({"temporary-directory": scratch}),  # the scheduler's scratch too
+            _quiet_cluster_logs(),
         ):
             client, cluster = _connect(distributed, self.scheduler, scratch)
             try:
-                work = _Work(client, key, client.scatter(payload, broadcast=True), chunks)
-                return work.run(distributed, itertools.chain([first], pending), progress)
+                workers = _worker_addresses(client)
+                # the model as the result of a task, not scattered data: when the workers
+                # holding it die, the scheduler computes it again for the tasks that need it
+                # (scattered data is lost with them, and every task waiting on it cancelled)
+                shared = client.submit(_model_bytes, payload, key=f"lagrangian-model-{key}")
+                work = _Work(client, key, shared, chunks)
+                outputs = work.run(distributed, itertools.chain([first], pending), progress)
+                _warn_lost(workers - _worker_addresses(client))
+                return outputs
             except failures as error:
                 raise ClusterError(
                     f"the dask cluster failed during the run: {_first_line(error)}"
@@ -153,6 +167,59 @@ class DaskBackend(AbstractEnsembleBackend):
                 client.close()
                 if cluster is not None:
                     cluster.close()
+
+
+def _model_bytes(payload: bytes) -> bytes:
+    """The model's payload, as a task's result (see :meth:`DaskBackend.run`)."""
+    return payload
+
+
+def _worker_addresses(client) -> set[str]:
+    return set(client.scheduler_info().get("workers", {}))
+
+
+def _warn_lost(lost: set[str]) -> None:
+    """Say that workers were lost and their chunks ran again (the results are complete)."""
+    if lost:
+        count = len(lost)
+        warnings.warn(
+            LagrangianWarning(
+                f"{count} dask worker{'s' if count > 1 else ''} left the cluster during the "
+                "run (killed or restarted); their chunks ran again on the workers there"
+            ),
+            stacklevel=4,
+        )
+
+
+@contextlib.contextmanager
+def _quiet_cluster_logs() -> Iterator[None]:
+    """distributed's own log lines (a worker removed, restarted, data lost: dozens when
+    workers die) held back during the run: what they mean is said once, by the warning
+    of :func:`_warn_lost` or by the one line of a :class:`ClusterError`."""
+    names = ["distributed"] + [
+        name for name in logging.root.manager.loggerDict if name.startswith("distributed.")
+    ]
+    loggers = [logging.getLogger(name) for name in names]
+    levels = [logger.level for logger in loggers]
+    for logger in loggers:
+        logger.setLevel(logging.CRITICAL + 1)
+    # the worker processes of a local cluster (and those their nannies start again) read
+    # their logging level from the environment they inherit
+    environment = os.environ.get(_WORKER_LOGGING)
+    os.environ[_WORKER_LOGGING] = "critical"
+    try:
+        yield
+    finally:
+        for logger, level in zip(loggers, levels, strict=True):
+            logger.setLevel(level)
+        if environment is None:
+            os.environ.pop(_WORKER_LOGGING, None)
+        else:
+            os.environ[_WORKER_LOGGING] = environment
+
+
+#: dask's configuration of distributed's logging level, as an environment variable.
+_WORKER_LOGGING = "DASK_LOGGING__DISTRIBUTED"
 
 
 def _connect(distributed, scheduler: str | None, scratch: str):
