@@ -14,9 +14,12 @@ Without ``scheduler`` a ``LocalCluster`` of two worker processes, one thread
 each, is started for the run (its scratch files in a temporary folder) and closed
 after it; with an address (``tcp://host:port`` or ``tls://``) the run uses that
 cluster, after a check of the address's form and a connection within
-``CONNECT_SECONDS``.  A cluster that fails (workers that do not start or are
-killed, a scheduler that goes away) ends the run with one
-:class:`ClusterError` line.  dask is imported here only
+``CONNECT_SECONDS``.  Workers that die during the run and are started again (by
+their nannies) cost only time: the model's payload is a task's result, which the
+scheduler computes again, their chunks run again, and one warning says how many
+workers left; distributed's own log lines are held back meanwhile.  A cluster that
+fails (workers that do not start, a task whose workers died four times, a scheduler
+that goes away) ends the run with one :class:`ClusterError` line.  dask is imported here only
 (``pip install ".[dask]"``).
 """
 
