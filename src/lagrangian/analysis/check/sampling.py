@@ -16,6 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 import sympy
 
+from ...algebra import as_expression
+
 PARAMETER_SETS = 3
 STATES = 5
 #: Relative tolerance of every numerical comparison (values are computed in double
@@ -33,7 +35,7 @@ class Points:
 
     def evaluate(self, expr: sympy.Expr) -> np.ndarray:
         """``expr`` at every point (NaN where it is not a finite real number)."""
-        expr = sympy.sympify(expr)
+        expr = as_expression(expr)
         unknown = expr.free_symbols - set(self.symbols)
         if unknown:
             raise ValueError(f"no values for {sorted(map(str, unknown))}")
