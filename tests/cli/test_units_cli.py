@@ -99,7 +99,7 @@ def test_at_takes_degrees_exactly(capsys):
 
 
 def test_grid_takes_units(capsys, tmp_path):
-    outputs = []
+    outputs, units = [], []
     for grid in ("l=20cm:1m:3", "l=0.2:1:3"):
         out = tmp_path / f"{len(outputs)}.nc"
         status, _, err = run(capsys, "ensemble", "simple_pendulum", "--grid", grid, "--t-end",
@@ -107,7 +107,10 @@ def test_grid_takes_units(capsys, tmp_path):
         assert status == ExitStatus.SUCCESS, err
         with xarray.open_dataset(out) as data:
             outputs.append(data["final_theta"].values.copy())
+            units.append({n: data[n].attrs.get("units") for n in ("l", "final_theta_dot")})
     assert (outputs[0] == outputs[1]).all()
+    # the unit made the model dimensioned: its ensemble's netCDF says the units (CF)
+    assert units == [{"l": "m", "final_theta_dot": "rad/s"}, {"l": None, "final_theta_dot": None}]
     status, _, err = run(capsys, "ensemble", "simple_pendulum", "--grid", "l=1kg:2kg:2")
     assert status == ExitStatus.BAD_INPUT
     assert "the term l*sin(theta) is a mass (kg), expected a length (m)" in err

@@ -55,7 +55,25 @@ def ensemble_of_system(
     if dt is None and settings.get("dt") is not None:
         dt = float(settings["dt"])
     compiled, progress = _compiled_runs(system, definitions, timeout, progress, options)
-    return run_ensemble(compiled, t_end=t_end, method=method, dt=dt, progress=progress, **options)
+    result = run_ensemble(compiled, t_end=t_end, method=method, dt=dt, progress=progress, **options)
+    if system.units is not None:
+        _name_units(result, system.units)
+    return result
+
+
+#: The units of observables that are not a state's: a time, a rate.
+_OBSERVABLE_UNITS = {"flip_time": "s", "lyapunov": "1/s", "t": "s"}
+
+
+def _name_units(result: EnsembleTrajectory, units) -> None:
+    """CF ``units`` attributes on a dimensioned model's ensemble: each grid coordinate,
+    final state and saved path by its name, and the observables that have one."""
+    for name, variable in result.dataset.variables.items():
+        name = str(name)
+        base = name.removeprefix("final_").removeprefix("path_")
+        unit = _OBSERVABLE_UNITS.get(name) or units.column_unit(base)
+        if unit is not None:
+            variable.attrs["units"] = unit
 
 
 def bifurcation_of_system(

@@ -47,6 +47,7 @@ MAX_COUNTS: Mapping[str, int] = MappingProxyType(
         "conservative_forces": 200,
         "initial": 400,
         "inputs": 200,
+        "units": 1_500,  # one per coordinate, parameter, input and function at most
     }
 )
 """Most entries of each list or table of a model."""

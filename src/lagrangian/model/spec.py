@@ -67,6 +67,7 @@ def check_size(spec: ModelSpec) -> None:
         "conservative_forces": spec.conservative_forces,
         "initial": spec.initial,
         "inputs": spec.inputs,
+        "units": spec.units,
     }
     check_counts(
         {

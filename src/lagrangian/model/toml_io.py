@@ -63,7 +63,7 @@ def _check_simulate_value(key: str, value: object) -> None:
 
 _COUNTED = (
     "coordinates", "parameters", "particles", "bodies", "springs", "constraints", "functions",
-    "forces", "conservative_forces", "initial", "inputs",
+    "forces", "conservative_forces", "initial", "inputs", "units",
 )  # fmt: skip
 
 
