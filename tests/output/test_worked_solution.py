@@ -286,6 +286,10 @@ def test_unicode_of_the_analysis_becomes_mathematics():
         ),
         (["--to", "md", "--set", "q=1"], "'q' is neither a parameter nor a coordinate or velocity"),
         (["--to", "md", "--set", "l=-1"], None),
+        (
+            ["--to", "md", "--define", "V=x"],
+            "definitions: 'V' is not a declared function (declared: none)",
+        ),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2(arguments, message, capsys, tmp_path, monkeypatch):
@@ -382,3 +386,16 @@ def test_a_note_said_in_its_section_is_not_repeated():
     assert _text(_section(solution, "Hamiltonian").blocks) == (
         "Not computed for systems with constraints."
     )
+
+
+@pytest.mark.slow
+def test_the_functions_defined_run_the_phase_portrait():
+    from lagrangian.output.worked_solution.figures import phase_pictures
+
+    system = lg.load("velocity_dependent_potential")  # V, A, B, C unspecified
+    (said,) = phase_pictures(system, False)
+    assert said.parts[0].startswith("No phase portrait: functions V(x, y, z), A(x, y, z)")
+    # a charge in a uniform magnetic field along z (A = (-y/2, x/2, 0)): it runs
+    definitions = {"V": "0", "A": "-y/2", "B": "x/2", "C": "0"}
+    _, picture = phase_pictures(system, False, definitions)
+    assert picture.name == "phase"

@@ -32,13 +32,14 @@ def _formats():
     "A parameter value, or an initial coordinate / velocity of the phase portrait's run "
     "(repeatable): the numbers are at these values."
 )
+@options.define
 @click.option("--no-figures", is_flag=True, help="Leave out the phase portrait and mode shapes.")
 @options.seconds(
     STAGE_SECONDS,
     "CPU seconds for each stage of the analysis (> 0, at most a week); a stage out of time "
     "is said undecided in the document.",
 )
-def report(model, to, out, assignments, no_figures: bool, timeout: float) -> None:
+def report(model, to, out, assignments, definitions, no_figures: bool, timeout: float) -> None:
     """Write the worked solution of MODEL for lecture notes: the system, T, V, L, each
     step of Lagrange's equations, M q'' = f, conserved quantities with their reasons, H,
     equilibria with their stability, normal modes with numbers, and pictures."""
@@ -72,7 +73,11 @@ def report(model, to, out, assignments, no_figures: bool, timeout: float) -> Non
 
         matplotlib.use("Agg")  # no display needed
     solution = worked_solution(
-        system, given=bool(parameters), figures=not no_figures, timeout=timeout
+        system,
+        given=bool(parameters),
+        figures=not no_figures,
+        timeout=timeout,
+        definitions=options.definitions(definitions),
     )
     written = write_report(solution, out, chosen.name)
     pictures = [path.name for path in written[:-1]]

@@ -12,8 +12,11 @@ nothing is derived here.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from ...analysis import Analysis, analyze
 from ...budget import STAGE_SECONDS
+from ...codegen.definitions import function_definitions
 from ...derive import EquationsOfMotion, derive
 from ...model import System
 from ..notation import latex_name, step_terms
@@ -45,11 +48,16 @@ def worked_solution(
     given: bool = False,
     figures: bool = True,
     timeout: float | None = STAGE_SECONDS,
+    definitions: Mapping[str, str] | None = None,
 ) -> WorkedSolution:
     """The :class:`WorkedSolution` of ``system`` at its parameter values (``given``: the
     values were set by the user, and the document says "the given values"); ``figures``:
     with the phase portrait and the mode shapes (a run of the model, a few seconds);
-    ``timeout``: CPU seconds for each stage of the analysis."""
+    ``timeout``: CPU seconds for each stage of the analysis; ``definitions`` ({NAME:
+    EXPR}) give the model's unspecified functions for the phase portrait's run."""
+    # every definition checked as simulate checks it (a declared name, text the parser
+    # reads) before the work, also where no picture will run the model
+    function_definitions(system, definitions)
     eom = derive(system)
     free = derive(system.without_inputs()) if system.input_names else eom
     analysis = analyze(free, timeout=timeout, stages=REPORT_STAGES)
@@ -68,7 +76,9 @@ def worked_solution(
         sections.append(
             Section(parts("Mode shapes"), mode_pictures(system, analysis, values_said, show), 2)
         )
-        sections.append(Section(parts("Phase portrait"), phase_pictures(system, given)))
+        sections.append(
+            Section(parts("Phase portrait"), phase_pictures(system, given, definitions))
+        )
     notes = [n for n in analysis.notes if n not in _said(analysis)]
     notes += [f"{u.stage}: {u.reason}" for u in analysis.undecided]
     if notes:

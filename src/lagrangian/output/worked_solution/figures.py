@@ -10,6 +10,8 @@ silently.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 from ...algebra import as_expression
 from ...analysis import Analysis
 from ...errors import LagrangianError
@@ -18,13 +20,15 @@ from ..notation import latex_name
 from .document import Math, Paragraph, Picture, joined, parts
 
 
-def phase_pictures(system: System, given: bool) -> tuple:
+def phase_pictures(
+    system: System, given: bool, definitions: Mapping[str, str] | None = None
+) -> tuple:
     """The phase portrait of a run of ``system`` (or a sentence saying why there is none)."""
     from ...simulation import simulate_system
     from ..phase import conservative_one_dof, phase_family, plot_phase_portrait
 
     try:
-        run = simulate_system(system)
+        run = simulate_system(system, definitions=definitions)
         if run.status == "failed":
             raise LagrangianError(run.dataset.attrs.get("message", "the integration failed"))
         runs = [run]
