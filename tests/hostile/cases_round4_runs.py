@@ -140,3 +140,16 @@ CASES += [
         r"0\.5\): x 0\.5 -> 1; give a state on the constraints to start from it",
     ),
 ]  # fmt: skip
+
+# the sibling in plot: a trajectory's Poincaré section with no crossing was written with
+# nothing said (its title says so, a script does not read it)
+CASES += [
+    HostileCase(
+        "plot-poincare-of-a-run-at-rest-said",
+        ("plot", "henon_heiles", "--kind", "poincare", "--set", "x=0", "--set", "y=0",
+         "--set", "x_dot=0", "--set", "y_dot=0", "--t-end", "5", "--out", "{dir}/p.png"),
+        exit_code=0,
+        warning=r"the run does not cross the section x = 0 upwards: the Poincaré section has "
+        r"no points",
+    ),
+]  # fmt: skip

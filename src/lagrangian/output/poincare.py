@@ -10,12 +10,13 @@ crossings of its samples, linearly interpolated.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import LagrangianWarning, ModelError
 from ..integrate import Event
 from ..model import System
 from ..trajectory import Trajectory
@@ -125,6 +126,14 @@ def plot_poincare(
             ax.legend(loc="upper right", fontsize=8, markerscale=3)
     where = f"${latex_name(c)} = 0$, ${latex_name(c + '_dot')} > 0$"
     count = f"{total} points" if total else "no crossing: a longer run may have some"
+    if not total:  # the picture says so too, but a picture is not read by a script
+        warnings.warn(
+            LagrangianWarning(
+                f"the run does not cross the section {c} = 0 upwards: the Poincaré section "
+                "has no points (a longer run may have some)"
+            ),
+            stacklevel=2,
+        )
     figure.suptitle(f"{model_name(runs[0], system)}: Poincaré section {where} ({count})")
     return figure
 
