@@ -90,3 +90,54 @@ def test_a_model_with_no_initial_state_says_how_to_start_it(browser, tmp_path):
     assert hint.is_hidden()
     assert page.evaluate("() => lagrangian.run(1).q.x") != 0.5  # it moves
     page.close()
+
+
+#: A bead on a hoop of radius R turning at omega about the vertical (its distance from the
+#: centre is constant: drawn before as a pendulum's rod from the origin).
+TURNING_HOOP = """
+name = "bead on a turning hoop"
+coordinates = ["theta"]
+[parameters]
+m = 1
+R = 1.5
+g = 9.81
+omega = 5
+[[particles]]
+name = "bead"
+mass = "m"
+position = ["R*sin(theta)*cos(omega*t)", "R*sin(theta)*sin(omega*t)", "-R*cos(theta)"]
+[gravity]
+g = "g"
+direction = [0, 0, -1]
+[initial]
+theta = 0.5
+"""
+
+
+def test_a_bead_is_drawn_on_its_hoop_or_wire_and_a_pendulum_on_its_rod(browser, tmp_path):
+    model = tmp_path / "hoop.toml"
+    model.write_text(TURNING_HOOP, encoding="utf-8")
+    hoop = open_page(browser, _written(tmp_path, model)).page
+    hoop.evaluate("() => { lagrangian.pause(); lagrangian.run(0.7); }")
+    (track,) = hoop.evaluate("() => lagrangian.tracks()")
+    assert track["particle"] == "bead" and len(track["points"]) > 50
+    assert [sum(x * x for x in p) ** 0.5 for p in track["points"]] == pytest.approx(
+        [1.5] * len(track["points"]), abs=1e-12
+    )  # the whole hoop, of radius R
+    assert hoop.evaluate("() => lagrangian.rods()") == []  # not a pendulum's rod
+    hoop.close()
+    wire = open_page(browser, _written(tmp_path, "rotating_wire_bead")).page
+    wire.evaluate("() => { lagrangian.pause(); lagrangian.run(1.3); }")
+    (track,) = wire.evaluate("() => lagrangian.tracks()")
+    bead = wire.evaluate("() => lagrangian.state().q.r")
+    # the wire through the origin at the angle omega t = 1.3, the bead on it
+    for x, y in track["points"]:
+        assert x * 0.963558185417193 - y * 0.26749882862458735 == pytest.approx(0, abs=1e-9)
+    middle = track["points"][len(track["points"]) // 2]
+    assert middle == pytest.approx([bead * 0.26749882862458735, bead * 0.963558185417193])
+    assert max(abs(x) for x, _ in track["points"]) > 2 * abs(middle[0])  # a rail, not a dot
+    wire.close()
+    pendulum = open_page(browser, _written(tmp_path, "simple_pendulum")).page
+    assert pendulum.evaluate("() => lagrangian.tracks()") == []
+    assert pendulum.evaluate("() => lagrangian.rods()") == [["origin", "bob"]]
+    pendulum.close()

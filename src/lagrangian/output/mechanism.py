@@ -37,6 +37,8 @@ LARGEST_MARKER, SMALLEST_MARKER = 15.0, 5.0
 #: The colours of the parts, as hex (the page uses them as they are: no matplotlib to read
 #: them); the greys are matplotlib's "0.25" and "0.45" rounded to 8 bits, as it draws them.
 ROD_COLOR, SPRING_COLOR, BODY_COLOR, PIVOT_COLOR = "#404040", "#737373", "#8c564b", "#000000"
+#: The hoop or rail a particle is held to (the page draws it: geometry.tracks).
+TRACK_COLOR = "#9aa4ae"
 SOLID_COLOR = "#1f4e79"
 #: Opacity of the newest piece of the trail (the oldest is transparent).
 TRAIL_ALPHA = 0.85

@@ -46,7 +46,7 @@ from ..errors import ModelError
 from ..model import RigidBody, System
 from ..model.values import check_parameter_values
 from .exercise import exercise_document, exercise_steps
-from .geometry import ROD_TOLERANCE, coordinates_drawn, geometry
+from .geometry import ROD_TOLERANCE, coordinates_drawn, geometry, tracks
 from .large import latex_printer
 from .latex import latex_equations, latex_steps
 from .mechanism import (
@@ -56,6 +56,7 @@ from .mechanism import (
     ROD_COLOR,
     SOLID_COLOR,
     SPRING_COLOR,
+    TRACK_COLOR,
     TRAIL_ALPHA,
 )
 from .notation import latex_name, too_long_to_print, unicode_name
@@ -320,6 +321,7 @@ def _scene(system: System, values: Mapping[str, float]) -> dict:
         "solid_rules": {"flat": FLAT, "equal": EQUAL, "rim_points": RIM_POINTS},
         "palette": list(PARTICLE_COLORS),
         "style": _style(),
+        "tracks": [] if view.coordinates_only else [t.document() for t in tracks(system)],
     }
 
 
@@ -327,6 +329,7 @@ def _style() -> dict:
     """The colours and proportions ``animate`` draws with (:mod:`lagrangian.output.mechanism`)."""
     return {
         "rod": ROD_COLOR,
+        "track": TRACK_COLOR,
         "spring": SPRING_COLOR,
         "body": BODY_COLOR,
         "pivot": PIVOT_COLOR,

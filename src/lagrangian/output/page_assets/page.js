@@ -18,6 +18,7 @@
 //   energy()              the energy function h = q' dL/dq' - L now
 //   conserved()           {name: value} of the conserved quantities the analysis found
 //   results()             [{verdict, omega_squared}] of each equilibrium at the parameters now
+//   tracks(), rods()      the hoops and rails drawn now ({particle, points}), the rods' ends
 //   link()                the share link of the run now (pauses it; share.js), embedded()
 //   reset(), play(), pause(), stats() -> {fps, frame_ms, steps, steps_per_second, method}
 //   screenPosition(particle) [x, y] of a particle on the mechanism's canvas (CSS pixels)
@@ -333,9 +334,59 @@ function lagrangianPage(model, code) {
     anchored = [...Array(scene.springs)].map((_, s) =>
       [0, 1].map((e) => samples.every((p) => p.S[2 * s + e].every((x, i) => x === samples[0].S[2 * s + e][i]))),
     );
+    holdTracks();
+    // a hoop whole in view (a rail is longer than any view: clipped to it)
+    for (const { points } of trackPoints(0, initialState()).filter((_, k) => heldTracks[k].closed)) {
+      for (const point of points) point.forEach((x, i) => Number.isFinite(x) && (extent[i] = [Math.min(extent[i][0], x), Math.max(extent[i][1], x)]));
+    }
     if (links.some((r) => r.includes(-1)) || stems.length) {
       extent = extent.map(([a, b]) => [Math.min(a, 0), Math.max(b, 0)]);
     }
+  }
+
+  // The curves particles are held to (page_content: geometry.tracks): a hoop or a rail is
+  // drawn where it moves with t (a turning hoop, a turning wire: no pendulum's rod from
+  // the origin then) or where no rod holds the particle (a bead on a fixed wire).  A closed
+  // curve is drawn whole; an open one over q now -+ `half`, wide enough to cross the view.
+  let heldTracks = [];
+
+  function holdTracks() {
+    const moving = new Set((scene.tracks || []).filter((t) => t.moving).map((t) => t.particle));
+    links = links.filter(([a, b]) => !(a === -1 && moving.has(b)));
+    const linked = new Set(links.flat());
+    const spans = extent.map(([low, high]) => high - low);
+    const span = Math.max(...spans.filter(Number.isFinite), 1e-9);
+    heldTracks = (scene.tracks || [])
+      .filter((t) => t.moving || !linked.has(t.particle))
+      .map((t) => {
+        if (t.closed) return { ...t, half: Math.PI };
+        // |dP/dq| at the start: an open curve crosses the view in about span / speed
+        const y = initialState();
+        const at = (q) => {
+          const moved = y.slice();
+          moved[t.coordinate] = q;
+          return code.scene(0, moved, params, inputs)[0][t.particle];
+        };
+        const q0 = y[t.coordinate];
+        const h = 1e-6 * Math.max(1, Math.abs(q0));
+        const speed = Math.hypot(...at(q0 + h).map((x, i) => x - at(q0 - h)[i])) / (2 * h);
+        return { ...t, half: speed > 0 ? (1.5 * span) / speed : 1 };
+      });
+  }
+
+  // the points of each held track at time t, state y
+  function trackPoints(t, y) {
+    const SAMPLES = 96;
+    return heldTracks.map((track) => {
+      const centre = track.closed ? Math.PI : y[track.coordinate];
+      const points = [];
+      for (let k = 0; k <= SAMPLES; k++) {
+        const moved = y.slice();
+        moved[track.coordinate] = centre - track.half + (2 * track.half * k) / SAMPLES;
+        points.push(code.scene(t, moved, params, inputs)[0][track.particle]);
+      }
+      return { particle: scene.particles[track.particle].name, points };
+    });
   }
 
   function grow(p) {
@@ -472,6 +523,15 @@ function lagrangianPage(model, code) {
       for (let k = 1; k < trail.length; k++) {
         const alpha = style.trail_alpha * (k / trail.length);
         line([at(trail[k - 1].point), at(trail[k].point)], hexAlpha(scene.particles.length ? scene.particles[scene.particles.length - 1].color : style.body, alpha), 1.8 * r);
+      }
+      if (heldTracks.length) {
+        // the hoops and rails, thin, within the panel (a rail is longer than the view)
+        context.save();
+        context.beginPath();
+        context.rect(x0, y1, x1 - x0, y0 - y1);
+        context.clip();
+        for (const { points } of trackPoints(sim.t, sim.y)) line(points.map(at), style.track, 1.4 * r);
+        context.restore();
       }
       p.S.forEach((_, s) => {
         const a = at(p.S[2 * s] ?? origin);
@@ -1041,6 +1101,8 @@ function lagrangianPage(model, code) {
     energy: () => flat(observed()[0])[0],
     conserved: () => Object.fromEntries(flat(observed()[1]).map((v, k) => [model.conserved[k].name, v])),
     results: results.now,
+    tracks: () => trackPoints(sim.t, sim.y),
+    rods: () => links.map((link) => link.map((i) => (i < 0 ? "origin" : scene.particles[i].name))),
     link: shareLink,
     embedded: () => document.body.classList.contains("embed"),
     reset: restart,
