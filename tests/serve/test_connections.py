@@ -174,3 +174,21 @@ def test_each_kind_of_message_is_logged_once_per_interval():
     now[0] = 40.0
     assert passes("socket.accept() out of system resource\nsocket: <fd=3>") is not None
     assert passes("socket.accept() out of system resource\nsocket: <fd=4>") is None
+
+
+def test_a_body_that_never_arrives_whole_is_closed_without_an_error_logged(server):
+    port, renderer, lines = server
+    origin = f"http://127.0.0.1:{port}"
+    with socket.create_connection(("127.0.0.1", port), timeout=WAIT_SECONDS) as posting:
+        posting.sendall(
+            f"POST /page HTTP/1.1\r\nHost: 127.0.0.1:{port}\r\nOrigin: {origin}\r\n"
+            "Content-Length: 100\r\n\r\nm*x_dot**2".encode()  # 10 of the 100 bytes
+        )
+        assert answer(posting) == b""
+    with socket.create_connection(("127.0.0.1", port), timeout=WAIT_SECONDS) as editor:
+        editor.sendall(get(port))  # answered after the request given up has been handled
+        assert answer(editor).startswith(b"HTTP/1.1 200 ")
+    # the application saw the client go (no "Exception in ASGI application"), and
+    # derived nothing
+    assert lines == ["closed a connection whose request had not arrived whole within 0.5 s"]
+    assert not renderer.rendering.is_set()
