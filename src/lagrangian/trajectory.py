@@ -236,7 +236,7 @@ class Trajectory:
             }
         units = {
             name: str(self.dataset[name].attrs["units"])
-            for name in ["t", *self.final_state, *self.drifts()]
+            for name in dict.fromkeys(["t", *self.final_state, "energy", *self.drifts()])
             if "units" in self.dataset[name].attrs
         }
         if units:  # additive: a dimensioned model's units (issue 31)

@@ -72,6 +72,7 @@ def test_a_bare_number_is_in_the_unit_the_model_declares(capsys, spring):
         (("--set", "m=20degC"), "--set m=20degC: '20degC' has a unit with an offset"),
         (("--set", "m=3parsecz"), "unknown unit 'parsecz' (did you mean 'parsec'?)"),
         (("--set", "m=abc"), "expected NAME=NUMBER, got 'm=abc'"),
+        (("--set", "q=3m"), "--set q: 'q' is not a parameter, coordinate or velocity of the"),
     ],
 )
 def test_a_value_of_the_wrong_dimension_is_one_line(capsys, spring, argv, message):

@@ -222,6 +222,14 @@ def values_given(
     for name, text in texts.items():
         if has_unit(text):
             quantities[name] = read_quantity(text.strip(), f"{where} {name}={text}")
+    states = {n for q in system.coordinate_names for n in (q, f"{q}{VELOCITY_SUFFIX}")}
+    for name in quantities:
+        if name not in states and name not in system.parameter_names:
+            raise ModelError(
+                f"'{name}' is not a parameter, coordinate or velocity of the model "
+                f"(parameters: {', '.join(system.parameter_names) or 'none'})",
+                field=f"{where} {name}",
+            )
     if quantities and system.units is None:
         try:
             system = redimensioned(system, {n: q.unit.dimension for n, q in quantities.items()})
@@ -236,8 +244,6 @@ def values_given(
             continue
         quantity = quantities[name]
         expected = system.units.dimension(name)
-        if expected is None:
-            raise ModelError(f"'{name}' is not a name of the model", field=f"{where} {name}")
         if expected != quantity.unit.dimension:
             raise ModelError(
                 f"{name} is {describe(expected)} but {text.strip()} is "
