@@ -44,3 +44,20 @@ def test_the_evaluated_column_gives_the_analysis_numbers():
         assert block["depends"] is True  # stable or not, at the values of the moment
     # each point of the double pendulum is a number: nothing to evaluate there
     assert all("number" in p["value"] for b in blocks for p in b["point"])
+
+
+def test_the_numbers_routine_is_printed_or_left_out_whole():
+    from lagrangian.codegen import program
+    from lagrangian.derive import derive
+    from lagrangian.output.page_results import results_script
+
+    system = lg.load("harmonic_oscillator")
+    k, m = system.symbol("k"), system.symbol("m")
+    code = program(derive(system))
+    script = results_script(code, [k / m])
+    assert script.startswith("\nfunction results(t, y, params = DEFAULT_PARAMS, u = null) {")
+    assert "const X = [[p_k/p_m]];" in script
+    # a function JavaScript has not (SymPy's strict printer refuses it): no routine, and
+    # the page shows the symbolic forms; it is not a page that fails to be written
+    assert results_script(code, [k / m, sympy.gamma(k)]) == ""
+    assert results_script(code, []) == ""

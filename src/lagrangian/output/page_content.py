@@ -60,7 +60,7 @@ from .mechanism import (
     TRAIL_ALPHA,
 )
 from .notation import latex_name, too_long_to_print, unicode_name
-from .page_results import results_routine, results_section
+from .page_results import results_script, results_section
 from .solids import EQUAL, FLAT, RIM_POINTS
 
 #: Seconds each stage of the analysis may take for a page (the rest is said undecided).
@@ -169,10 +169,7 @@ def page_content(
         return PageContent(document, None, decided=not analysis.undecided)
     document["scene"] = _scene(system, values)
     script = _script(code, system, conserved)
-    routine = results_routine(code, expressions)
-    if routine is not None:
-        script += "\n".join(JavaScriptTarget().function("results", code, routine, exported=False))
-        script += "\n"
+    script += results_script(code, expressions)
     return PageContent(document, script, decided=not analysis.undecided)
 
 

@@ -197,9 +197,18 @@ def _display_fractions(latex: str) -> str:
     return latex.replace(r"\frac{", r"\dfrac{")
 
 
-def results_routine(code: Program, expressions: Sequence[sympy.Expr]):
-    """The routine ``results`` of the page's module: the column ``X`` of ``expressions``
-    (over the model's parameters), or None where there is nothing to evaluate."""
+def results_script(code: Program, expressions: Sequence[sympy.Expr]) -> str:
+    """The function ``results(t, y, params)`` of the page's module, the column ``X`` of
+    ``expressions`` (over the model's parameters), printed by the JavaScript target; ""
+    where there is nothing to evaluate, or an expression has a function JavaScript lacks
+    (the page then shows the symbolic forms and the numbers it was written with)."""
+    from ..codegen.javascript import JavaScriptTarget
+
     if not expressions:
-        return None
-    return code.routine("results", [("X", sympy.Matrix(list(expressions)))])
+        return ""
+    routine = code.routine("results", [("X", sympy.Matrix(list(expressions)))])
+    try:
+        lines = JavaScriptTarget().function("results", code, routine, exported=False)
+    except NotImplementedError:  # SymPy's strict printer: a function with no JavaScript
+        return ""
+    return "\n".join(lines) + "\n"
