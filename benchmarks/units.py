@@ -49,7 +49,7 @@ def cpu(function, repeat: int) -> float:
 
 def check_only(text: str):
     """The dimension check of ``text``'s model, ready to run (its System built before)."""
-    spec, declared = read_units(spec_from_mapping(tomllib.loads(text)))
+    spec, declared, _ = read_units(spec_from_mapping(tomllib.loads(text)))
     system = build_system(spec)
     names = Names(
         coordinates=system.coordinate_names,

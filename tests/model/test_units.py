@@ -478,3 +478,14 @@ def test_a_drag_term_of_the_wrong_power_is_named_as_written(tmp_path):
         "forces.x: the term sqrt(M*F0/l)*Abs(x_dot) * x_dot/10 is a power (W), the other "
         "terms are forces (N)"
     )
+
+
+def test_initial_values_may_carry_units(tmp_path):
+    text = PENDULUM_WITH_UNITS.replace("theta = 0.2", 'theta = "30 deg"\ntheta_dot = "60 rpm"')
+    system = load_text(tmp_path, text)
+    assert dict(system.initial) == pytest.approx({"theta": math.pi / 6, "theta_dot": 2 * math.pi})
+    with pytest.raises(ModelError) as caught:
+        load_text(tmp_path, text.replace('"60 rpm"', '"3 m"'))
+    assert str(caught.value).endswith(
+        "initial.theta_dot: theta_dot is a rate (1/s) but the value is a length (m)"
+    )

@@ -69,9 +69,9 @@ def build_system(spec: ModelSpec) -> System:
     """
     try:
         check_size(spec)
-        given, declared = spec, None
+        given, declared, initial = spec, None, None
         if has_units(spec):  # a model without units reads none (and imports no pint)
-            spec, declared = read_units(spec)
+            spec, declared, initial = read_units(spec)
         system, undecided = attempt("model", BUILD_SECONDS, _Builder(spec).build)
         if undecided is not None:
             raise ModelError(
@@ -80,7 +80,7 @@ def build_system(spec: ModelSpec) -> System:
             )
         check_masses(system)
         if declared is not None:
-            system = dimensioned(system, spec, declared)
+            system = dimensioned(system, spec, declared, initial)
         return replace(system, spec=given)
     except ModelError as error:
         raise error.located(source=spec.source) from None

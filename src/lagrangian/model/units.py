@@ -33,7 +33,7 @@ from ..errors import ModelError
 from ..symbols import ACCELERATION_SUFFIX, TIME_NAME, VELOCITY_SUFFIX
 from .dimensions import DIMENSIONLESS, ENERGY, TIME, Dimension, describe, over, unit_text
 from .inputs import input_entries
-from .quantities import Unit, has_unit, read_quantity, read_unit
+from .quantities import Quantity, Unit, has_unit, read_quantity, read_unit
 
 if TYPE_CHECKING:
     from .spec import ModelSpec
@@ -122,7 +122,7 @@ class Units:
 
 def has_units(spec: ModelSpec) -> bool:
     """Whether ``spec`` has a unit anywhere (without reading any)."""
-    if spec.units:
+    if spec.units or any(isinstance(value, str) for value in spec.initial.values()):
         return True
     parameters = spec.parameters
     if not isinstance(parameters, Mapping):
@@ -131,9 +131,10 @@ def has_units(spec: ModelSpec) -> bool:
     return any(isinstance(value, str) for value in values)
 
 
-def read_units(spec: ModelSpec) -> tuple[ModelSpec, dict[str, Unit]]:
-    """``spec`` with its parameters' values and initial values in SI base units, and the
-    unit declared for each name that has one."""
+def read_units(spec: ModelSpec) -> tuple[ModelSpec, dict[str, Unit], dict[str, Quantity]]:
+    """``spec`` with its parameters' values and initial values in SI base units, the unit
+    declared for each name that has one, and the initial values given with a unit
+    (``theta = "30 deg"``: checked against the coordinate's dimension once it is known)."""
     if not isinstance(spec.units, Mapping):
         raise ModelError('expected a table of name = "unit"', field="units")
     declared = {}
@@ -145,13 +146,18 @@ def read_units(spec: ModelSpec) -> tuple[ModelSpec, dict[str, Unit]]:
     for name, entry in (spec.parameters or {}).items():
         parameters[name] = _parameter_in_si(name, entry, declared)
     _check_declared_names(spec, declared, parameters)
-    initial = {}
+    initial, given = {}, {}
     for name, value in spec.initial.items():
         base = name.removesuffix(VELOCITY_SUFFIX)
         unit = declared.get(base)
-        scaled = value * unit.factor if unit and isinstance(value, int | float) else value
-        initial[name] = scaled if not isinstance(value, bool) else value
-    return replace(spec, parameters=parameters, initial=initial), declared
+        if isinstance(value, str):
+            given[name] = read_quantity(value, f"initial.{name}")
+            initial[name] = given[name].value
+        elif unit and isinstance(value, int | float) and not isinstance(value, bool):
+            initial[name] = value * unit.factor
+        else:
+            initial[name] = value
+    return replace(spec, parameters=parameters, initial=initial), declared, given
 
 
 def _parameter_in_si(name: str, entry: object, declared: dict[str, Unit]) -> object:
@@ -187,8 +193,14 @@ def _check_declared_names(spec: ModelSpec, declared: Mapping[str, Unit], paramet
             )
 
 
-def dimensioned(system: System, spec: ModelSpec, declared: Mapping[str, Unit]) -> System:
-    """``system`` (built from ``spec``) with its :class:`Units`, after the dimension check."""
+def dimensioned(
+    system: System,
+    spec: ModelSpec,
+    declared: Mapping[str, Unit],
+    initial: Mapping[str, Quantity] | None = None,
+) -> System:
+    """``system`` (built from ``spec``) with its :class:`Units`, after the dimension check
+    (and the check of the ``initial`` values given with a unit against it)."""
     from .dimension_check import Names, check_dimensions
 
     names = Names(
@@ -204,6 +216,13 @@ def dimensioned(system: System, spec: ModelSpec, declared: Mapping[str, Unit]) -
         inferred=tuple(name for name in dimensions if name not in declared),
         coordinates=system.coordinate_names,
     )
+    for name, quantity in (initial or {}).items():
+        if quantity.unit.dimension != units.dimension(name):
+            raise ModelError(
+                f"{name} is {describe(units.dimension(name))} but the value is "
+                f"{describe(quantity.unit.dimension)}",
+                field=f"initial.{name}",
+            )
     return replace(system, units=units)
 
 
