@@ -331,6 +331,58 @@ def exercise_page() -> None:
         raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
 
 
+def page_share_and_embed() -> None:
+    """The double pendulum's page as a course page embeds it (``#embed`` in an
+    ``<iframe sandbox="allow-scripts">``, with g = 3.7 from a share link), and its
+    equilibria at a phone's width (412 px): verdicts and numbers in view."""
+    import shutil
+    import tempfile
+
+    from playwright.sync_api import sync_playwright
+
+    from lagrangian.output.page import page_html
+
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    if chromium is None:
+        raise SystemExit("the page's screenshots need chromium on the PATH")
+    with tempfile.TemporaryDirectory() as folder:
+        page = Path(folder) / "double_pendulum.html"
+        page.write_text(page_html(lg.load("double_pendulum")), encoding="utf-8")
+        course = Path(folder) / "week3.html"
+        course.write_text(
+            "<!DOCTYPE html><html><body style='font: 16px sans-serif; margin: 24px'>"
+            "<h2>Week 3: the double pendulum</h2><p>Try g = 3.7 (the Moon is 1.6): which "
+            "mode is slower now?</p>"
+            f'<iframe sandbox="allow-scripts" src="{page.as_uri()}#embed&p.g=3.7"'
+            ' width="640" height="470" style="border: 1px solid #ccc"></iframe></body></html>',
+            encoding="utf-8",
+        )
+        with sync_playwright() as playwright:
+            browser = playwright.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
+            tab = browser.new_page(viewport={"width": 700, "height": 620})
+            tab.goto(course.as_uri())
+            frame = tab.frames[1]
+            frame.wait_for_function("() => window.lagrangian !== undefined")
+            frame.wait_for_function("() => lagrangian.state().t > 2", timeout=60_000)
+            frame.evaluate("() => lagrangian.pause()")
+            tab.wait_for_timeout(300)
+            tab.screenshot(path=str(IMAGES / "page_embed.png"))
+            phone = browser.new_page(viewport={"width": 412, "height": 900})
+            phone.goto(page.as_uri())
+            phone.wait_for_function("() => window.lagrangian !== undefined")
+            phone.evaluate("() => lagrangian.pause()")
+            phone.wait_for_timeout(500)
+            phone.locator(".equilibrium").first.screenshot(
+                path=str(IMAGES / "page_equilibrium_phone.png")
+            )
+            browser.close()
+    for name in ("page_embed.png", "page_equilibrium_phone.png"):
+        size = (IMAGES / name).stat().st_size
+        print(f"  {name:34s} {size / 1000:6.1f} kB")
+        if size > LIMIT:
+            raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+
+
 def double_pendulum_report() -> None:
     """Two pages of ``lagrangian report double_pendulum --to tex`` as pdflatex sets them
     (the derivation, and the normal modes with their numbers), rendered by pdftoppm or
@@ -474,6 +526,7 @@ PICTURES = (
     double_pendulum,
     double_pendulum_flip_map,
     double_pendulum_page,
+    page_share_and_embed,
     double_pendulum_report,
     exercise_page,
     vertical_spring,
