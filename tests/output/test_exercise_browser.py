@@ -162,3 +162,45 @@ def test_what_a_page_cannot_ask_is_said_in_it(browser, tmp_path, name):
         assert opened.page.locator("#solution > :not(#exercise)").first.is_visible()
     assert opened.errors == []
     opened.page.close()
+
+
+def mutations(system: lg.System) -> list[tuple[str, str]]:
+    """(step, answer) for the right T, V, L and equations of ``system`` and, of each, the
+    usual slips: a factor 2 on all, a constant or a total derivative added, each term
+    left out, doubled or added twice, a term that does not belong."""
+    from lagrangian.analysis.check import raw_equations, right_kinetic, right_potential
+
+    eom = system.equations_of_motion()
+    q = system.coordinates[0]
+    rights = [("kinetic", right_kinetic(eom)), ("potential", right_potential(eom))]
+    rights += [("lagrangian", system.lagrangian)]
+    rights += [("equations", sympy.expand(e)) for e in raw_equations(eom)]
+    found = []
+    for step, right in rights:
+        terms = sympy.Add.make_args(sympy.expand(right))
+        slips = [right, 2 * right, right + 5, right + sympy.cos(q.q) * q.q_dot]
+        slips += [right - t for t in terms] + [right - 2 * t for t in terms]
+        slips += [right + t for t in terms] + [right + q.q * q.q_dot**2]
+        found += [(step, str(slip).replace("**", "^")) for slip in slips]
+    return found
+
+
+@pytest.mark.parametrize("name", ["cart_pole"])  # 79 answers, half a minute
+def test_the_page_agrees_with_check_on_the_usual_slips(browser, tmp_path, name):
+    system = lg.load(name)
+    path = tmp_path / f"{name}.html"
+    path.write_text(page_html(system, exercise=STEPS), "utf-8")
+    opened = open_page(browser, path)
+    opened.page.wait_for_function("() => window.lagrangianCheck !== undefined")
+    disagreements = []
+    for step, answer in mutations(system):
+        found = opened.page.evaluate("([s, t]) => window.lagrangianCheck(s, t)", [step, answer])
+        expected = system.check(**({step: [answer]} if step == "equations" else {step: answer}))
+        if (found["verdict"], sorted(t["problem"] for t in found["terms"])) != (
+            expected.verdict,
+            sorted(t.problem for t in expected.terms),
+        ):
+            disagreements.append((step, answer, found["reason"], expected.reason))
+    assert disagreements == []
+    assert opened.errors == []
+    opened.page.close()
