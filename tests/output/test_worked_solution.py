@@ -399,3 +399,20 @@ def test_the_functions_defined_run_the_phase_portrait():
     definitions = {"V": "0", "A": "-y/2", "B": "x/2", "C": "0"}
     _, picture = phase_pictures(system, False, definitions)
     assert picture.name == "phase"
+
+
+@pytest.mark.slow
+def test_a_cyclic_coordinate_is_eliminated_by_routh():
+    # the spherical pendulum by hand: p_phi = m l^2 sin^2(theta) phi_dot, R = L - p_phi phi_dot
+    # = m l^2 theta_dot^2/2 + m g l cos(theta) - p_phi^2/(2 m l^2 sin^2(theta))
+    solution = worked_solution(lg.load("spherical_pendulum"), figures=False)
+    rows = _rows(_section(solution, "Routh's reduction"))
+    assert rows[r"\dot{\phi}"] == r"\frac{p_{\phi}}{l^{2} m \sin^{2}{\left(\theta \right)}}"
+    assert rows["R"] == (
+        r"\frac{l^{2} m \dot{\theta}^{2}}{2} + g l m \cos{\left(\theta \right)}"
+        r" - \frac{p_{\phi}^{2}}{2 l^{2} m \sin^{2}{\left(\theta \right)}}"
+    )
+    assert rows[r"V_{\mathrm{eff}}"] == (
+        r"- g l m \cos{\left(\theta \right)}"
+        r" + \frac{p_{\phi}^{2}}{2 l^{2} m \sin^{2}{\left(\theta \right)}}"
+    )

@@ -70,6 +70,7 @@ def worked_solution(
         _matrix_section(eom, show),
         _conserved_section(analysis, show),
         _hamiltonian_section(analysis, show),
+        *_routh_sections(analysis, show),
         *equilibria_sections(analysis, show, values_said),
     ]
     if figures:
@@ -273,6 +274,45 @@ def _said(analysis: Analysis) -> set[str]:
 def _readable(lines: list[str]) -> bool:
     """At most three lines, none much wider than a line (a fraction cannot be broken)."""
     return len(lines) <= 3 and all(visible_width(line) <= 1.15 * LINE_WIDTH for line in lines)
+
+
+def _routh_sections(analysis: Analysis, show: Shower) -> list[Section]:
+    """The cyclic coordinates eliminated (Routh): their velocities, R and V_eff."""
+    reduction = analysis.reduction
+    if reduction is None:
+        return []
+    cyclic = joined([parts(Math(latex_name(n))) for n in reduction.cyclic])
+    momenta = joined([parts(Math(latex_name(str(p)))) for p in reduction.momenta.values()])
+    rows = [show.row(latex_name(f"{n}_dot"), v) for n, v in reduction.velocities.items()]
+    blocks = (
+        Paragraph(
+            parts(
+                "The cyclic coordinates ",
+                *cyclic,
+                " are eliminated with their constant momenta ",
+                *momenta,
+                ": their velocities follow from the momenta,",
+            )
+        ),
+        Display(tuple(rows)),
+        Paragraph(
+            parts(
+                "and the Routhian ",
+                Math(r"R = L - \sum_c p_c \dot{q}_c"),
+                " is a Lagrangian for the other coordinates; its potential part is the"
+                " effective potential ",
+                Math(r"V_{\mathrm{eff}}"),
+                ", whose stationary points are the steady motions:",
+            )
+        ),
+        Display(
+            (
+                show.row("R", reduction.routhian),
+                show.row(r"V_{\mathrm{eff}}", reduction.effective_potential),
+            )
+        ),
+    )
+    return [Section(parts("Routh's reduction"), blocks)]
 
 
 def quantity_latex(name: str) -> str:
