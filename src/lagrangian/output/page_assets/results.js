@@ -121,7 +121,8 @@ function lagrangianResults(evaluate, element, typesetMath) {
   }
 
   function fit(root) {
-    for (const box of root.querySelectorAll(".math")) {
+    // the analysis' formulas only: the other long formulas of the solution scroll sideways
+    for (const box of root.querySelectorAll(".math.wrap")) {
       box.style.fontSize = "";
       let scale = 1;
       // a few rounds: the parts of KaTeX's boxes set in pixels do not shrink with the font
