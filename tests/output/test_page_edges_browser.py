@@ -137,6 +137,11 @@ def test_a_bead_is_drawn_on_its_hoop_or_wire_and_a_pendulum_on_its_rod(browser, 
     assert middle == pytest.approx([bead * 0.26749882862458735, bead * 0.963558185417193])
     assert max(abs(x) for x, _ in track["points"]) > 2 * abs(middle[0])  # a rail, not a dot
     wire.close()
+    cart = open_page(browser, _written(tmp_path, "cart_pole")).page
+    (rail,) = cart.evaluate("() => lagrangian.tracks()")  # the cart's, along y = 0
+    assert rail["particle"] == "cart" and {y for _, y in rail["points"]} == {0}
+    assert cart.evaluate("() => lagrangian.rods()") == [["cart", "bob"]]  # the pole
+    cart.close()
     pendulum = open_page(browser, _written(tmp_path, "simple_pendulum")).page
     assert pendulum.evaluate("() => lagrangian.tracks()") == []
     assert pendulum.evaluate("() => lagrangian.rods()") == [["origin", "bob"]]

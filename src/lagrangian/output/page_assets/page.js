@@ -353,7 +353,8 @@ function lagrangianPage(model, code) {
   function holdTracks() {
     const moving = new Set((scene.tracks || []).filter((t) => t.moving).map((t) => t.particle));
     links = links.filter(([a, b]) => !(a === -1 && moving.has(b)));
-    const linked = new Set(links.flat());
+    // held by a rod: its far end (a cart at the near end of its pole still runs on a rail)
+    const linked = new Set(links.map(([, b]) => b));
     const spans = extent.map(([low, high]) => high - low);
     const span = Math.max(...spans.filter(Number.isFinite), 1e-9);
     heldTracks = (scene.tracks || [])
