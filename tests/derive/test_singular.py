@@ -8,6 +8,8 @@ import pytest
 import sympy
 
 import lagrangian as lg
+from lagrangian.derive.solve import check_regular
+from lagrangian.symbols import Coordinate
 
 
 def named(message: str, name: str) -> bool:
@@ -95,3 +97,53 @@ def test_masses_of_very_different_magnitude_are_regular():
     lagrangian = big * x_dot**2 / 2 + y_dot**2 / 2 - k * (x - y) ** 2 / 2
     eom = lg.System.from_lagrangian(lagrangian, coordinates=["x", "y"]).equations_of_motion()
     assert eom.accelerations is not None
+
+
+# -- floats lose I beside a huge rank-one term: the verdict "singular" is checked precisely --
+def test_identity_plus_a_huge_rank_one_term_is_regular():
+    """M = I + 3540 s^58 J (J all ones, s = x' + y' + z'): positive definite, but its
+    condition number near 10^41 made the float rank 1."""
+    coordinates = [Coordinate.named(name) for name in "xyz"]
+    s = sum(c.q_dot for c in coordinates)
+    check_regular(sympy.eye(3) + 60 * 59 * s**58 * sympy.ones(3, 3), coordinates)
+
+
+@pytest.mark.slow  # Cramer's rule on the 58th powers: 15 s
+def test_a_lagrangian_with_a_huge_rank_one_term_derives():
+    """The model of the report, whole: its M is the matrix above."""
+    lagrangian = "(x_dot^2 + y_dot^2 + z_dot^2)/2 + (x_dot + y_dot + z_dot)^60"
+    system = lg.System.from_lagrangian(lagrangian, coordinates=["x", "y", "z"])
+    eom = system.equations_of_motion()
+    s = sum(system.symbol(f"{q}_dot") for q in "xyz")
+    expected = sympy.eye(3) + 60 * 59 * s**58 * sympy.ones(3, 3)
+    point = {system.symbol(f"{q}_dot"): sympy.Rational(k, 7) for k, q in enumerate("xyz", 2)}
+    assert (eom.mass_matrix - expected).xreplace(point) == sympy.zeros(3, 3)
+
+
+def test_a_singular_rank_one_term_is_still_refused():
+    """s^58 J alone (no identity): rank 1 exactly."""
+    coordinates = [Coordinate.named(name) for name in "xyz"]
+    s = sum(c.q_dot for c in coordinates)
+    with pytest.raises(lg.SingularMassMatrixError, match=r"\(rank 1 of 3\)"):
+        check_regular(60 * 59 * s**58 * sympy.ones(3, 3), coordinates)
+
+
+def test_a_huge_term_with_transcendental_entries_is_regular():
+    """exp(x) keeps the entries irrational at the rational point: judged at 100 digits."""
+    lagrangian = "(x_dot^2 + y_dot^2)/2 + exp(x)*(x_dot + y_dot)^60"
+    eom = lg.System.from_lagrangian(lagrangian, coordinates=["x", "y"]).equations_of_motion()
+    assert eom.mass_matrix.shape == (2, 2)
+
+
+def test_a_truly_singular_matrix_keeps_its_message():
+    message = derive_error("(x_dot + y_dot)**2/2", ["x", "y"])
+    assert message == (
+        "singular mass matrix (rank 1 of 2): the velocities of x, y enter the Lagrangian "
+        "only in a combination; use fewer coordinates"
+    )
+
+
+def test_a_singular_matrix_with_transcendental_entries_is_refused():
+    """M = v v^T with v = (sin x, cos x): rank 1 at every point, at 100 digits too."""
+    message = derive_error("(sin(x)*x_dot + cos(x)*y_dot)**2/2", ["x", "y"])
+    assert message.startswith("singular mass matrix (rank 1 of 2)"), message

@@ -16,6 +16,7 @@ import sympy
 from sympy.core.function import AppliedUndef
 
 from ..algebra import tidy_fraction
+from ..budget import attempt
 from ..errors import ModelError, SingularMassMatrixError
 from ..pointwise import evaluate
 from ..symbols import Coordinate
@@ -24,6 +25,14 @@ from ..symbols import Coordinate
 CRAMER_MAX_SIZE = 3
 #: Blocks larger than this are not solved symbolically (the formulas explode).
 SYMBOLIC_MAX_SIZE = 6
+#: Decimal digits of the second look at a matrix that floats call singular: singular
+#: values below 10^-(PRECISE_DIGITS/2) of the largest count as zero, so a condition
+#: number up to 10^50 is still told from a singular matrix (floats stop near 10^9).
+PRECISE_DIGITS = 100
+#: CPU seconds for that second look; past them the floats' verdict stands.
+PRECISE_SECONDS = 5.0
+#: Denominators of the rational point of the second look (its values exact).
+POINT_DENOMINATOR = 1000
 
 
 def check_regular(mass_matrix: sympy.Matrix, coordinates: Sequence[Coordinate]) -> None:
@@ -49,13 +58,24 @@ def check_regular(mass_matrix: sympy.Matrix, coordinates: Sequence[Coordinate]) 
     rng = random.Random(20261122)
     ranks = []
     for _ in range(3):
-        numeric = _at_random_point(mass_matrix, rng)
+        values = _random_values(mass_matrix, rng)
+        numeric = evaluate(mass_matrix, values)
         if numeric is None:
             return  # could not evaluate: let the symbolic solve decide
         scaled = _equilibrated(numeric)
         ranks.append(np.linalg.matrix_rank(scaled, tol=1e-9 * np.abs(scaled).max()))
     rank = max(ranks)
     if rank < len(names):
+        # Floats lose a term 10^-16 of another: M = I + 3540 s^58 J (J all ones) reads as
+        # rank 1.  The verdict "singular" is only given once exact or 100-digit arithmetic
+        # at a rational point agrees.
+        precise, _ = attempt(
+            "the mass matrix's rank", PRECISE_SECONDS, lambda: _precise_rank(mass_matrix, values)
+        )
+        if precise is not None:
+            if precise == len(names):
+                return
+            rank = max(rank, precise)
         null = np.linalg.svd(_equilibrated(numeric))[2][-1]
         involved = [name for name, weight in zip(names, null, strict=True) if abs(weight) > 1e-6]
         raise SingularMassMatrixError(
@@ -65,10 +85,41 @@ def check_regular(mass_matrix: sympy.Matrix, coordinates: Sequence[Coordinate]) 
         )
 
 
+def _precise_rank(matrix: sympy.Matrix, values: dict) -> int | None:
+    """The rank of ``matrix`` at ``values`` rounded to rationals: exact where the entries
+    are then rational, else from singular values at PRECISE_DIGITS digits (None: an entry
+    that is not a finite real number there)."""
+    import mpmath
+
+    point = {
+        atom: sympy.Rational(value).limit_denominator(POINT_DENOMINATOR)
+        for atom, value in values.items()
+    }
+    entries = sympy.Matrix(matrix).xreplace(point)
+    if all(entry.is_Rational for entry in entries):
+        return entries.rank()
+    with mpmath.workdps(PRECISE_DIGITS):
+        try:
+            rows = [
+                [mpmath.mpf(entry.evalf(PRECISE_DIGITS)) for entry in entries.row(i)]
+                for i in range(entries.rows)
+            ]
+        except (TypeError, ValueError):  # complex, or not a number
+            return None
+        if not all(mpmath.isfinite(value) for row in rows for value in row):
+            return None
+        singular = mpmath.svd_r(mpmath.matrix(rows), compute_uv=False)
+        largest = max(abs(value) for value in singular)
+        if largest == 0:
+            return 0
+        cutoff = largest * mpmath.mpf(10) ** (-PRECISE_DIGITS // 2)
+        return sum(1 for value in singular if abs(value) > cutoff)
+
+
 def check_independent(matrix: sympy.Matrix, names: Sequence[str]) -> None:
     """Raise ModelError unless the rows of ``matrix`` (constraints) are independent."""
     rng = random.Random(7)
-    numeric = _at_random_point(matrix, rng)
+    numeric = evaluate(matrix, _random_values(matrix, rng))
     if numeric is not None and np.linalg.matrix_rank(numeric) < matrix.rows:
         raise ModelError(
             "the constraints are not independent: " + ", ".join(names), field="constraints"
@@ -83,11 +134,13 @@ def _equilibrated(matrix: np.ndarray) -> np.ndarray:
     return matrix * scale[:, None] * scale[None, :]
 
 
-def _at_random_point(matrix: sympy.Matrix, rng: random.Random) -> np.ndarray | None:
+def _random_values(matrix: sympy.Matrix, rng: random.Random) -> dict:
+    """Values in [0.5, 2.5] for the symbols, unspecified functions and their derivatives
+    of ``matrix`` (:func:`evaluate` gives None on overflow: no verdict from there)."""
     undefined = matrix.atoms(AppliedUndef, sympy.Derivative)
     values = {atom: rng.uniform(0.5, 2.5) for atom in undefined}
     values.update({s: rng.uniform(0.5, 2.5) for s in matrix.free_symbols})
-    return evaluate(matrix, values)  # None on overflow: no verdict from here
+    return values
 
 
 def solve_accelerations(
