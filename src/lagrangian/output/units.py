@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 import sympy
 
+from ..algebra import as_expression
 from ..model.dimensions import ENERGY, RATE, dimension_of, power, unit_text
 
 if TYPE_CHECKING:
@@ -27,7 +28,7 @@ def expression_unit(system: System, expr: sympy.Expr) -> str | None:
     dimension the expression does not have (a sum of unlike terms)."""
     if system.units is None:
         return None
-    expr = sympy.sympify(expr)
+    expr = as_expression(expr)
     table = system.units.symbols(system)
     for symbol in expr.free_symbols - set(table):  # momenta p_q (a Hamiltonian's), by name
         dimension = _momentum(system, symbol.name)

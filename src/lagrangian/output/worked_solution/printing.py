@@ -4,8 +4,7 @@ and named rather than printed when too long to read."""
 
 from __future__ import annotations
 
-import sympy
-
+from ...algebra import as_expression
 from ...model import System
 from ..large import latex_printer
 from ..notation import too_long_to_print
@@ -22,7 +21,7 @@ class Shower:
         self._print = latex_printer(system)
 
     def __call__(self, expr) -> str:
-        return TOO_LONG if too_long_to_print(sympy.sympify(expr)) else self._print(expr)
+        return TOO_LONG if too_long_to_print(as_expression(expr)) else self._print(expr)
 
     def row(self, lhs: str, expr, note=(), width: float = LINE_WIDTH) -> Row:
         return Row(lhs, tuple(broken_lines(self(expr), width)), note=note)
