@@ -136,3 +136,45 @@ def test_tidy_leaves_a_product_of_many_sums_unexpanded():
     product = sympy.Mul(*(VELOCITIES[i] + VELOCITIES[i + 1] for i in range(19)))
     assert algebra.expand_products(product) == product  # 2^19 terms
     assert algebra.expand_products((x + y) * (z + w)) == x * z + x * w + y * z + y * w
+
+
+# -- a model built from particles, bodies or springs: the refusal names the field written --
+COORDINATE_NAMES = [f"q{i}" for i in range(20)]
+POSITIONS = " + ".join(COORDINATE_NAMES)
+
+
+def test_a_particles_position_too_large_is_named_not_the_lagrangian():
+    """The user wrote the position, not L: the refusal names ``particles[1].position[1]``."""
+    system = lg.System.from_particles(
+        COORDINATE_NAMES,
+        [lg.Particle("a", 1, ("q0", 0)), lg.Particle("b", 1, ("q1", f"({POSITIONS})^20"))],
+    )
+    with pytest.raises(ModelError) as refused:
+        system.equations_of_motion()
+    assert refused.value.field == "particles[1].position[1]"
+    assert str(refused.value).startswith("particles[1].position[1]: expanded, it makes more")
+
+
+def test_a_bodys_angle_too_large_is_named():
+    body = lg.RigidBody2D("a", 1, 1, ("q0", "q1"), f"({POSITIONS})^20")
+    system = lg.System.from_particles(COORDINATE_NAMES, bodies=(body,))
+    with pytest.raises(ModelError) as refused:
+        system.equations_of_motion()
+    assert refused.value.field == "bodies[0].angle"
+
+
+def test_the_tables_refusal_of_a_particle_model_names_the_particle(monkeypatch):
+    """L alone within the count, its derivatives' tables not: the same field is named."""
+    monkeypatch.setattr(fast, "MAX_EXPANDED_TERMS", 1_000)
+    names = COORDINATE_NAMES[:8]
+    system = lg.System.from_particles(
+        names,
+        [lg.Particle("a", 1, ("q0", 0)), lg.Particle("b", 1, ("q1", f"({' + '.join(names)})^3"))],
+    )
+    with pytest.raises(ModelError, match="too large to derive") as refused:
+        fast.derive_large(system)
+    assert refused.value.field == "particles[1].position[1]"
+
+
+def test_a_lagrangian_written_as_text_is_still_named_lagrangian():
+    assert fast.lagrangian_field(_system("q0_dot^2/2", 1)) == "lagrangian"

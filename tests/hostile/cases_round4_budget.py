@@ -83,7 +83,7 @@ CASES = [
     HostileCase(
         "derive-particle-position-too-large-to-expand",
         ("derive", "{dir}/model.toml"),
-        error=TOO_LARGE,
+        error=TOO_LARGE.replace("lagrangian: ", r"particles\[0\]\.position\[0\]: "),
         model=POSITION_POWER,
     ),
     *(

@@ -22,6 +22,7 @@ need M and f alone).
 
 from __future__ import annotations
 
+import dataclasses
 import random
 from collections import defaultdict
 
@@ -40,7 +41,7 @@ from .solve import check_regular, solve_accelerations
 class _Tables:
     """Splitting SymEngine expressions into {monomial: coefficient} over the state symbols."""
 
-    def __init__(self, state, *, nonsmooth: bool = False):
+    def __init__(self, state, *, nonsmooth: bool = False, field=lambda: None):
         import symengine as se
 
         self.se = se
@@ -50,6 +51,7 @@ class _Tables:
         self.absolute: set = set()  # the monomials that hold an |u|
         self._depends: dict = {}  # factor -> whether it holds a state symbol
         self.made = 0  # terms split so far: all the tables' terms are bounded together
+        self.field = field  # () -> the model's field a refusal names (found only then)
 
     def depends(self, factor) -> bool:
         """Whether ``factor`` holds a state symbol (cached: the same factors recur)."""
@@ -82,7 +84,7 @@ class _Tables:
             product = se.Mul(*dependent)
             left = MAX_EXPANDED_TERMS - self.made - added
             if expanded_terms(product, left) > left:
-                raise too_many_terms()
+                raise too_many_terms(self.field())
             for part in _args(se.expand(product), se.Add):
                 added += 1
                 inner, monomial = [outer], []
@@ -91,7 +93,7 @@ class _Tables:
                 into[se.Mul(*monomial)].append(se.Mul(*inner))
         self.made += added
         if self.made > MAX_EXPANDED_TERMS:
-            raise too_many_terms()
+            raise too_many_terms(self.field())
         return into
 
     def table(self, lists: dict) -> dict:
@@ -162,7 +164,7 @@ def derive_large(
     given = {**converted, **{f"forces.{name}": x for name, x in forces.items()}}
     for field, expr in given.items():
         if expanded_terms(expr) > MAX_EXPANDED_TERMS:
-            raise too_many_terms(field)
+            raise too_many_terms(lagrangian_field(system) if field == "lagrangian" else field)
     import symengine as se
 
     q = [to_symengine(c.q, cache) for c in coordinates]
@@ -171,7 +173,7 @@ def derive_large(
     accelerations = [to_symengine(c.q_ddot, cache) for c in coordinates]
     differentiated = (converted["lagrangian"], converted["dissipation"])
     nonsmooth = any(x.atoms(se.Abs, se.sign) for x in differentiated)
-    tables = _Tables([*q, *v, t], nonsmooth=nonsmooth)
+    tables = _Tables([*q, *v, t], nonsmooth=nonsmooth, field=lambda: lagrangian_field(system))
     lagrangian = tables.table(tables.split(converted["lagrangian"]))
     lagrangian_index = tables.index(lagrangian)
     dissipation = tables.table(tables.split(converted["dissipation"]))
@@ -301,6 +303,41 @@ def too_many_terms(field: str | None = None) -> ModelError:
         "n terms to the k makes C(n + k - 1, k)): the model is too large to derive",
         field=field,
     )
+
+
+def lagrangian_field(system: System) -> str:
+    """The field a refusal of L names: "lagrangian" where the model gives it (or its
+    energies) as text, else the field of a particle, body or spring that expands to the
+    most terms (``particles[0].position[0]``, as the model's other errors spell fields):
+    the user wrote that, not L, which was assembled from it."""
+    spec = system.spec
+    if spec is None or any(
+        getattr(spec, key) is not None for key in ("lagrangian", "kinetic", "potential")
+    ):
+        return "lagrangian"
+    fields = [
+        (where, expr)
+        for kind in ("particles", "bodies", "springs")
+        for i, component in enumerate(getattr(system, kind))
+        for where, expr in _expressions(component, f"{kind}[{i}]")
+    ]
+    if not fields:
+        return "lagrangian"
+    counts = [expanded_terms(expr) for _, expr in fields]
+    return fields[counts.index(max(counts))][0]
+
+
+def _expressions(value, where: str):
+    """(field, expression) of every SymPy expression in a component (a dataclass), its
+    tuples and tuples of tuples indexed as the model file writes them."""
+    if isinstance(value, sympy.Basic):
+        yield where, value
+    elif isinstance(value, tuple | list):
+        for k, item in enumerate(value):
+            yield from _expressions(item, f"{where}[{k}]")
+    elif dataclasses.is_dataclass(value):
+        for part in dataclasses.fields(value):
+            yield from _expressions(getattr(value, part.name), f"{where}.{part.name}")
 
 
 def _regular_at_random_points(matrix) -> bool:
