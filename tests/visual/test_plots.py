@@ -178,6 +178,14 @@ def test_normal_modes_about_an_equilibrium_stable_apart_from_a_free_translation(
     assert out.read_bytes().startswith(b"\x89PNG")
 
 
+def test_the_title_of_a_single_mode_fits_its_figure():
+    # one panel, "Spherical pendulum: normal modes about θ = 0, φ = 0": its ends were cut
+    figure = plot_normal_modes(lg.load("spherical_pendulum"))
+    figure.canvas.draw()
+    box = figure._suptitle.get_window_extent()
+    assert box.x0 >= 0 and box.x1 <= figure.bbox.width, (box, figure.bbox)
+
+
 def test_normal_modes_without_geometry_are_bars():
     figure = plot_normal_modes(lg.load("harmonic_oscillator"), {"x": 0})
     (ax,) = figure.axes

@@ -32,6 +32,8 @@ if TYPE_CHECKING:
 #: Largest particle displacement in a mode picture, as a fraction of the mechanism's size.
 DISPLACEMENT = 0.25
 PHASES = np.linspace(0, np.pi, 5)
+#: Width of the pictures of a mechanism's modes with one panel, inches.
+STROBE_MIN_WIDTH = 6.4
 
 
 def mode_numbers(
@@ -163,7 +165,10 @@ def _strobe(system, point, omega_squared, shapes, parameters, frees) -> Figure:
         1e-9,
     )
     a, b = scene.views[0]
-    figure, axes = new_figure(1, len(shapes), height=4.4, width=3.6 * len(shapes) + 0.6)
+    # one panel alone is narrower than the figure's title ("Spherical pendulum: normal modes
+    # about θ = 0, φ = 0" lost its ends at 4.2 in)
+    width = max(3.6 * len(shapes) + 0.6, STROBE_MIN_WIDTH)
+    figure, axes = new_figure(1, len(shapes), height=4.4, width=width)
     for i, (ax, shape) in enumerate(zip(axes[0], shapes, strict=True)):
         probe = scene.at(np.zeros(1), (q0 + 1e-6 * shape)[:, None])
         moved = float(np.abs(probe.particles - rest.particles).max()) / 1e-6

@@ -20,6 +20,11 @@ PREAMBLE = r"""\documentclass[11pt,a4paper]{article}
 \usepackage[margin=2.5cm]{geometry}
 \usepackage{booktabs}
 \allowdisplaybreaks
+% a picture stays near its text where it fits, rather than on a page of its own
+\renewcommand{\topfraction}{0.9}
+\renewcommand{\bottomfraction}{0.8}
+\renewcommand{\textfraction}{0.07}
+\renewcommand{\floatpagefraction}{0.7}
 \setlength{\parindent}{0pt}
 \setlength{\parskip}{0.6em}
 % what is wider than its share of the line is scaled down to it
@@ -68,9 +73,9 @@ def _block(block, figure_files: dict[str, str]) -> str:
     if isinstance(block, Picture):
         return "\n".join(
             [
-                r"\begin{figure}[htbp]",
+                r"\begin{figure}[!htbp]",
                 r"\centering",
-                rf"\includegraphics[width=\linewidth,height=0.45\textheight,keepaspectratio]"
+                rf"\includegraphics[width=\linewidth,height=0.36\textheight,keepaspectratio]"
                 rf"{{{figure_files[block.name]}}}",
                 r"\caption{" + tex_text(block.caption) + "}",
                 r"\end{figure}",
