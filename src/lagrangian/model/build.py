@@ -69,10 +69,11 @@ def build_system(spec: ModelSpec) -> System:
     """
     try:
         check_size(spec)
-        given, declared, initial = spec, None, None
+        given, declared, initial, trees = spec, None, None, None
         if has_units(spec):  # a model without units reads none (and imports no pint)
             spec, declared, initial = read_units(spec)
-        system, undecided = attempt("model", BUILD_SECONDS, _Builder(spec).build)
+            trees = {}
+        system, undecided = attempt("model", BUILD_SECONDS, _Builder(spec, trees).build)
         if undecided is not None:
             raise ModelError(
                 f"the model was not built within {BUILD_SECONDS:g} s: its expressions are "
@@ -80,15 +81,16 @@ def build_system(spec: ModelSpec) -> System:
             )
         check_masses(system)
         if declared is not None:
-            system = dimensioned(system, spec, declared, initial)
+            system = dimensioned(system, spec, declared, initial, trees)
         return replace(system, spec=given)
     except ModelError as error:
         raise error.located(source=spec.source) from None
 
 
 class _Builder:
-    def __init__(self, spec: ModelSpec):
+    def __init__(self, spec: ModelSpec, trees: dict | None = None):
         self.spec = spec
+        self.trees = trees  # the syntax trees, kept for the dimension check (with units)
         self.coordinates = coordinates_named(spec.coordinates)
         self.names = self._base_names()
         self.functions = self._functions()
@@ -196,7 +198,7 @@ class _Builder:
             raise ModelError(f"expected an expression, got {value!r}", field=where)
         if isinstance(value, str):
             try:
-                result = parse_expression(value, self.namespace)
+                result = parse_expression(value, self.namespace, trees=self.trees)
             except ParseError as error:
                 raise ModelError(str(error), field=where, text=value) from None
         elif isinstance(value, int):

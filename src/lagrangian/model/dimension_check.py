@@ -101,11 +101,14 @@ class _Requirement:
     torque: bool  # the expectation is a generalized force (an energy is a torque there)
 
 
-def check_dimensions(spec: ModelSpec, names: Names) -> dict[str, Dimension]:
+def check_dimensions(
+    spec: ModelSpec, names: Names, trees: Mapping[str, Node] | None = None
+) -> dict[str, Dimension]:
     """The dimension of every coordinate, parameter and function of ``spec``: the known
     ones, and the others as its expressions fix them.  ModelError for a term of the
-    wrong dimension (naming it), or for names the model leaves undetermined."""
-    check = _Check(names)
+    wrong dimension (naming it), or for names the model leaves undetermined.  ``trees``:
+    the syntax trees of the texts, where the build kept them (not parsed again)."""
+    check = _Check(names, trees or {})
     for field, value, _ in expression_fields(spec):
         check.field(field, value)
     for requirement in check.pending:
@@ -129,8 +132,9 @@ def check_dimensions(spec: ModelSpec, names: Names) -> dict[str, Dimension]:
 
 
 class _Check:
-    def __init__(self, names: Names):
+    def __init__(self, names: Names, trees: Mapping[str, Node]):
         self.names = names
+        self.trees = trees
         self.coordinates = frozenset(names.coordinates)
         self.functions = frozenset(names.functions)
         self.solver = Solver()
@@ -141,7 +145,7 @@ class _Check:
     def field(self, field: str, value: object) -> None:
         text = value if isinstance(value, str) else str(value)
         try:
-            tree = syntax_tree(text)
+            tree = self.trees.get(text) or syntax_tree(text)
         except ParseError as error:  # parsed when the model was built: only SymPy's str()
             raise ModelError(f"cannot check its units: {error}", field=field) from None
         self.text, self.where = text, field

@@ -198,9 +198,11 @@ def dimensioned(
     spec: ModelSpec,
     declared: Mapping[str, Unit],
     initial: Mapping[str, Quantity] | None = None,
+    trees: Mapping[str, object] | None = None,
 ) -> System:
     """``system`` (built from ``spec``) with its :class:`Units`, after the dimension check
-    (and the check of the ``initial`` values given with a unit against it)."""
+    (and the check of the ``initial`` values given with a unit against it); ``trees``:
+    the syntax trees of its texts, kept by the build (text -> tree)."""
     from .dimension_check import Names, check_dimensions
 
     names = Names(
@@ -209,7 +211,7 @@ def dimensioned(
         functions=tuple(f.name for f in system.functions),
         known={name: unit.dimension for name, unit in declared.items()},
     )
-    dimensions = check_dimensions(spec, names)
+    dimensions = check_dimensions(spec, names, trees)
     units = Units(
         dimensions=dimensions,
         declared=declared,

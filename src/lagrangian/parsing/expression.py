@@ -9,7 +9,6 @@ by calling ``Add``, ``Mul``, ``Pow`` and the function classes directly.
 
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import sympy
@@ -38,9 +37,16 @@ class ReferencedNames:
 
 
 def parse_expression(
-    text: str, namespace: Namespace, limits: ParseLimits = DEFAULT_LIMITS
+    text: str,
+    namespace: Namespace,
+    limits: ParseLimits = DEFAULT_LIMITS,
+    *,
+    trees: dict[str, Node] | None = None,
 ) -> sympy.Expr:
     """The SymPy expression written in ``text`` (plain or LaTeX).
+
+    ``trees``: where to keep the syntax tree, ``trees[text]``, for a later pass over the
+    text as written (a dimensioned model's check: it is not parsed twice).
 
     Raises :class:`~lagrangian.errors.ParseError` (with the 0-based
     ``position``) for anything that is not a valid expression, and
@@ -54,6 +60,8 @@ def parse_expression(
     if not isinstance(namespace, Namespace):
         raise TypeError(f"namespace must be a Namespace, not {type(namespace).__name__}")
     tree = _parse_tree(text, limits)
+    if trees is not None:
+        trees[text] = tree
     result = build_expression(tree, text, namespace, limits)
     if not isinstance(result, sympy.Expr):
         raise ParseError("not an expression", text, None)
@@ -137,13 +145,6 @@ def _parse_tree(text: str, limits: ParseLimits) -> Node:
         raise TypeError(f"expression text must be a str, not {type(text).__name__}")
     if not isinstance(limits, ParseLimits):
         raise TypeError(f"limits must be ParseLimits, not {type(limits).__name__}")
-    return _tree(text, limits)
-
-
-@functools.lru_cache(maxsize=512)
-def _tree(text: str, limits: ParseLimits) -> Node:
-    """The tree of ``text``, kept for the next pass that reads the same text (the tree is
-    immutable): a dimensioned model's check reads each field again right after its build."""
     if len(text) > limits.max_length:
         raise ParseError(
             f"expression too long ({len(text)} characters, limit {limits.max_length})", text, None
