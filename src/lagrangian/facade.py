@@ -179,6 +179,26 @@ class System(ModelSystem):
 
         return lyapunov_of_system(self, **options)
 
+    def sensitivities(self, wrt, **options: object):
+        """dy(t)/dw along one motion for each name w in ``wrt`` (parameters, or coordinates
+        and velocities for their initial values) -> :class:`~lagrangian.integrate.
+        sensitivity.Sensitivities` (``.values``, ``.of(state, w)``, ``.to_dataset()``).
+
+        From the forward sensitivity equations, integrated with the motion.  Options:
+        t_end, points (output times), rtol, atol, initial, params, backend, timeout (see
+        :func:`lagrangian.simulation.sensitivities_of_system`).
+
+        >>> import lagrangian as lg
+        >>> spring = lg.System.from_lagrangian("m*x_dot**2/2 - k*x**2/2", coordinates=["x"])
+        >>> result = spring.sensitivities(["x"], t_end=1.0, params={"m": 1, "k": 4},
+        ...                               initial={"x": 1.0})
+        >>> round(float(result.of("x", "x")[-1]), 6)  # d x(1) / d x(0) = cos(2)
+        -0.416147
+        """
+        from .simulation import sensitivities_of_system
+
+        return sensitivities_of_system(self, wrt=wrt, **options)
+
     def poincare(self, **options: object):
         """A Poincaré section -> :class:`~lagrangian.integrate.poincare.PoincareSection`
         (``.values``, ``["y"]``, ``.save("points.csv")``, ``.plot()``).

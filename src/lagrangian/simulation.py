@@ -7,7 +7,7 @@ then the model's ``[simulate]`` table, then the integrator's documented default.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -23,6 +23,7 @@ from .integrate.lyapunov import DEFAULT_INTERVAL, LyapunovSpectrum, lyapunov_spe
 from .integrate.pace import RunPace, watching
 from .integrate.poincare import MAX_ORBITS, PoincareSection, poincare_section, shell_starts
 from .integrate.section import parse_section
+from .integrate.sensitivity import DEFAULT_POINTS, Sensitivities, sensitivities
 from .model import System
 from .model.values import check_parameter_values
 from .numeric import compile_equations, default_backend
@@ -185,6 +186,29 @@ def lyapunov_of_system(
     return lyapunov_spectrum(
         compiled, t_end=t_end, count=count, initial=initial, params=params,
         transient=transient, interval=interval, rtol=run.rtol, atol=run.atol, watch=watch,
+    )  # fmt: skip
+
+
+def sensitivities_of_system(
+    system: System,
+    *,
+    wrt: Sequence[str],
+    t_end: float | None = None,
+    points: int = DEFAULT_POINTS,
+    **settings: Any,
+) -> Sensitivities:
+    """d(q, q')(t)/dw along the motion of ``system`` from its initial state, for each name
+    w in ``wrt`` (a parameter, or a coordinate or velocity for its initial value), at
+    ``points`` times from 0 to ``t_end`` (default: the model's t_end); see
+    :mod:`lagrangian.integrate.sensitivity`.  ``settings``: the keywords of
+    :class:`RunSettings`; its ``backend`` is that of the state's own functions."""
+    run = RunSettings(**settings)
+    initial, params = run.values(system)
+    t_end = _model_t_end(system, t_end)
+    compiled, watch = run.compiled(system, t_end)
+    return sensitivities(
+        compiled, wrt=wrt, t_end=t_end, initial=initial, params=params, points=points,
+        rtol=run.rtol, atol=run.atol, watch=watch,
     )  # fmt: skip
 
 
