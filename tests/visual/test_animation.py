@@ -9,7 +9,13 @@ from PIL import Image, ImageSequence
 import lagrangian as lg
 from helpers import spring_bar_and_bob
 from lagrangian.model import Gravity, Particle
-from lagrangian.output.animation import Animation, animate, frame_plan, mechanism_view
+from lagrangian.output.animation import (
+    Animation,
+    animate,
+    frame_plan,
+    mechanism_view,
+    resample,
+)
 from lagrangian.output.geometry import ORIGIN, geometry, rods, zigzag
 from visual.pictures import color_mask, near, pixel_of
 
@@ -244,3 +250,46 @@ def test_the_moving_pivot_is_drawn_where_the_support_is():
     assert pivot.get_xdata()[0] == pytest.approx(0.3 * np.cos(6 * t), abs=1e-2)
     row, column = pixel_of(view.axes[0], 0.3 * np.cos(6 * t), 0.0, image.shape[0])
     assert near(image, row, column, 2).min() < 200  # the pivot's ring is drawn there
+
+
+def test_a_bead_is_drawn_on_its_hoop_or_wire_and_a_cart_on_its_rail():
+    # a bead on a hoop of radius R = 1.5 turning at omega about the vertical: its distance
+    # from the centre is constant, and it was drawn as a pendulum's rod from the origin
+    hoop = lg.System.from_particles(
+        ["theta"],
+        [
+            Particle(
+                "bead", "m", ("R*sin(theta)*cos(w*t)", "R*sin(theta)*sin(w*t)", "-R*cos(theta)")
+            )
+        ],
+        gravity=Gravity(g="g", direction=(0, 0, -1)),
+        parameters={"m": 1.0, "R": 1.5, "g": 9.81, "w": 5.0},
+        initial={"theta": 0.5},
+    )
+    view, plan = mechanism_view(hoop.simulate(t_end=1.0), hoop)
+    (curve,) = view.tracks  # (3, points, frames): the whole hoop at every frame
+    assert curve.shape[2] == plan.frames
+    assert np.allclose(np.linalg.norm(curve, axis=0), 1.5)
+    assert view.rods == ()
+    # the wire turning at omega = 1 through the origin, the bead on it at every frame
+    wire = lg.load("rotating_wire_bead")
+    run = wire.simulate(t_end=2.0)
+    view, plan = mechanism_view(run, wire)
+    (curve,) = view.tracks
+    angle = plan.times  # omega t
+    across = curve[0] * np.sin(angle) - curve[1] * np.cos(angle)
+    assert np.abs(across).max() < 1e-9
+    middle = curve[:, curve.shape[1] // 2, :]
+    (r,) = resample(run, plan.times)  # the frames' r, as the bead is drawn at them
+    assert np.allclose(middle, [r * np.cos(angle), r * np.sin(angle)], atol=1e-12)
+    # a pendulum keeps its rod and has no hoop; the cart-pole's cart runs on y = 0
+    assert (
+        mechanism_view(lg.load("simple_pendulum").simulate(t_end=1.0), lg.load("simple_pendulum"))[
+            0
+        ].tracks
+        == ()
+    )
+    cart_pole = lg.load("cart_pole")
+    view, _ = mechanism_view(cart_pole.simulate(t_end=1.0), cart_pole)
+    (rail,) = view.tracks
+    assert np.all(rail[1] == 0) and view.rods == ((0, 1),)

@@ -43,6 +43,7 @@ from ..model import System
 from ..trajectory import Trajectory
 from .geometry import geometry, rods
 from .mechanism import DEFAULT_DPI, DEFAULT_SIZE, MechanismView
+from .tracks import held, track_curves, tracks
 
 DEFAULT_FPS = 25
 #: At most this many frames (20 s of real time at 25 fps); longer runs play faster.
@@ -155,7 +156,14 @@ def mechanism_view(
     along_run = scene.at(t, samples)
     positions = scene.at(fine, resample(trajectory, fine))
     links = () if scene.coordinates_only else rods(along_run)
+    drawn, links = ([], links) if scene.coordinates_only else held(tracks(system), links)
     extent = _union(scene.extent(along_run, links), scene.extent(positions, links))
+    span = max(float(np.max(extent[:, 1] - extent[:, 0])), 1e-9)
+    curves = track_curves(scene, drawn, plan.times, resample(trajectory, plan.times), span)
+    for track, curve in zip(drawn, curves, strict=True):
+        if track.closed:  # a hoop whole in view (a rail is longer than any view)
+            points = curve.reshape(curve.shape[0], -1)
+            extent = _union(extent, np.column_stack([points.min(axis=1), points.max(axis=1)]))
     caption = "" if abs(plan.speed - 1) < 1e-9 else f"({plan.speed:.3g}x speed)"
     view = MechanismView(
         scene,
@@ -168,6 +176,7 @@ def mechanism_view(
         caption=caption,
         size=size,
         dpi=dpi,
+        tracks=curves,
     )
     return view, plan
 

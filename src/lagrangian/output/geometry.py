@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy
 
-from ..algebra import as_expression, is_zero
+from ..algebra import as_expression
 from ..errors import ModelError, setting
 from ..model import RigidBody, System
 from .solids import SolidShape, solid_points, solid_shape
@@ -330,41 +330,3 @@ def zigzag(a: np.ndarray, b: np.ndarray, *, coils: int = 8, width: float = 0.05)
 
 def axis_label(axis: int) -> str:
     return f"${AXIS_NAMES[axis]}$"
-
-
-@dataclass(frozen=True)
-class Track:
-    """A particle held to a curve: its position moves with one ``coordinate`` alone (an
-    index); ``moving``: the curve moves (the position has t: a turning hoop or wire);
-    ``closed``: it is 2π-periodic in the coordinate (a hoop, drawn whole)."""
-
-    particle: int
-    coordinate: int
-    moving: bool
-    closed: bool
-
-    def document(self) -> dict:
-        return {
-            "particle": self.particle,
-            "coordinate": self.coordinate,
-            "moving": self.moving,
-            "closed": self.closed,
-        }
-
-
-def tracks(system: System) -> tuple[Track, ...]:
-    """The :class:`Track` of each particle held to a curve.  The page draws the curve, a
-    hoop or a rail, where it moves or where no rod holds the particle: the bead on a turning
-    wire was a bare dot, the bead on a turning hoop a pendulum's rod."""
-    found = []
-    for k, particle in enumerate(system.particles):
-        position = [as_expression(x) for x in particle.position]
-        used = [i for i, c in enumerate(system.coordinates) if any(x.has(c.q) for x in position)]
-        if len(used) != 1:
-            continue
-        q = system.coordinates[used[0]].q
-        turned = {q: q + 2 * sympy.pi}
-        moving = any(x.has(system.time) for x in position)
-        closed = all(is_zero(x.xreplace(turned) - x) for x in position)
-        found.append(Track(k, used[0], moving, closed))
-    return tuple(found)

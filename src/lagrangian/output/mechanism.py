@@ -37,7 +37,7 @@ LARGEST_MARKER, SMALLEST_MARKER = 15.0, 5.0
 #: The colours of the parts, as hex (the page uses them as they are: no matplotlib to read
 #: them); the greys are matplotlib's "0.25" and "0.45" rounded to 8 bits, as it draws them.
 ROD_COLOR, SPRING_COLOR, BODY_COLOR, PIVOT_COLOR = "#404040", "#737373", "#8c564b", "#000000"
-#: The hoop or rail a particle is held to (the page draws it: geometry.tracks).
+#: The hoop or rail a particle is held to (:mod:`lagrangian.output.tracks`).
 TRACK_COLOR = "#9aa4ae"
 SOLID_COLOR = "#1f4e79"
 #: Opacity of the newest piece of the trail (the oldest is transparent).
@@ -65,11 +65,13 @@ class MechanismView:
         caption: str = "",
         size: float = DEFAULT_SIZE,
         dpi: int = DEFAULT_DPI,
+        tracks: Sequence[np.ndarray] = (),
     ):
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
 
         self.geometry = geometry
+        self.tracks = tuple(tracks)  # (D, S, frames): the hoops and rails (.tracks)
         self.positions = positions
         self.rods = tuple(rods)
         self.oversample = int(oversample)
@@ -137,6 +139,9 @@ class MechanismView:
             ]
         elif any(ORIGIN in rod for rod in self.rods) or self.stems:
             ax.plot([0], [0], "o", ms=6, mfc="white", mec=PIVOT_COLOR, mew=1.5, zorder=4)
+        panel["tracks"] = [
+            ax.plot([], [], "-", color=TRACK_COLOR, lw=1.2, zorder=1)[0] for _ in self.tracks
+        ]
         panel["springs"] = [
             ax.plot([], [], "-", color=SPRING_COLOR, lw=1.2, zorder=2)[0]
             for _ in geometry.system.springs
@@ -177,7 +182,8 @@ class MechanismView:
             ax.plot([], [], "o", ms=size, color=color, mec=_darker(color), mew=1.0, zorder=5)[0]
             for size, color in zip(self.marker_sizes, self.particle_colors, strict=True)
         ]
-        for kind in ("springs", "rods", "bodies", "centers", "stems", "particles", "pivot"):
+        kinds = ("tracks", "springs", "rods", "bodies", "centers", "stems", "particles", "pivot")
+        for kind in kinds:
             self._moving.extend(panel[kind])
         for lines in panel["solids"]:
             self._moving.extend(lines)
@@ -236,6 +242,8 @@ class MechanismView:
                 line.set_data([p.particles[i, a, j]], [p.particles[i, b, j]])
             for line in panel["pivot"]:
                 line.set_data([p.support[a, j]], [p.support[b, j]])
+            for line, curve in zip(panel["tracks"], self.tracks, strict=True):
+                line.set_data(curve[a, :, k], curve[b, :, k])
             for line, (i, n) in zip(panel["rods"], self.rods, strict=True):
                 first, second = p.point(i)[:, j], p.point(n)[:, j]
                 line.set_data([first[a], second[a]], [first[b], second[b]])

@@ -46,7 +46,7 @@ from ..errors import ModelError
 from ..model import RigidBody, System
 from ..model.values import check_parameter_values
 from .exercise import exercise_document, exercise_steps
-from .geometry import ROD_TOLERANCE, coordinates_drawn, geometry, tracks
+from .geometry import ROD_TOLERANCE, coordinates_drawn, geometry
 from .large import latex_printer
 from .latex import latex_equations, latex_steps
 from .mechanism import (
@@ -62,6 +62,7 @@ from .mechanism import (
 from .notation import latex_name, too_long_to_print, unicode_name
 from .page_results import results_script, results_section
 from .solids import EQUAL, FLAT, RIM_POINTS
+from .tracks import tracks
 
 #: Seconds each stage of the analysis may take for a page (the rest is said undecided).
 ANALYSIS_SECONDS = 5.0
