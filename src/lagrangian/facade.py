@@ -204,7 +204,8 @@ class System(ModelSystem):
         (``.values``, ``["y"]``, ``.save("points.csv")``, ``.plot()``).
 
         Options: axes (two names: coordinates, velocities, momenta p_q), section
-        ("x = 0") and direction ("+", "-", "both") or strobe (a period) and transient,
+        ("x = 0") and direction ("+", "-", "both") or strobe (a period; the points at
+        t = phase + k strobe, phase default 0, whatever the transient) and transient,
         energy and orbits (starts on an energy shell) or spread ({name: (low, high)}),
         t_end, rtol, atol, initial, params, backend, timeout (see
         :func:`lagrangian.simulation.poincare_of_system`).

@@ -223,6 +223,7 @@ def poincare_of_system(
     section: str | None = None,
     direction: str = "+",
     strobe: float | None = None,
+    phase: float | None = None,
     transient: float = 0.0,
     energy: float | None = None,
     orbits: int | None = None,
@@ -231,12 +232,13 @@ def poincare_of_system(
     **settings: Any,
 ) -> PoincareSection:
     """The Poincaré section of ``system`` (see :mod:`lagrangian.integrate.poincare`):
-    crossings of ``section`` ("x = 0") in ``direction``, or with ``strobe`` the state
-    every period after ``transient``, drawn on ``axes`` (coordinates, velocities or
-    momenta p_q).  The orbits start on the energy shell ``energy`` (``orbits`` of them,
-    default 10, see :func:`~lagrangian.integrate.poincare.shell_starts`), or from the
-    initial state with one value ``spread`` {name: (low, high)} over ``orbits`` starts,
-    or, with neither, from the initial state alone.  Each runs to ``t_end`` (default: the
+    crossings of ``section`` ("x = 0") in ``direction``, or with ``strobe`` the state at
+    t = ``phase`` + k ``strobe`` (default phase 0) after ``transient``, drawn on ``axes``
+    (coordinates, velocities or momenta p_q).  The orbits start on the energy shell
+    ``energy`` (``orbits`` of them, default 10, see
+    :func:`~lagrangian.integrate.poincare.shell_starts`), or from the initial state with
+    one value ``spread`` {name: (low, high)} over ``orbits`` starts, or, with neither,
+    from the initial state alone.  Each runs to ``t_end`` (default: the
     model's t_end).  ``settings``: the keywords of :class:`RunSettings`."""
     run = RunSettings(**settings)
     transient = transient_setting(transient)  # before the compilation
@@ -261,7 +263,7 @@ def poincare_of_system(
         starts = _spread_starts(compiled, initial, spread or {}, count)
     return poincare_section(
         compiled, starts, axes=axes, t_end=t_end, section=parsed, strobe=strobe,
-        transient=transient, params=params, rtol=run.rtol, atol=run.atol, watch=watch,
+        phase=phase, transient=transient, params=params, rtol=run.rtol, atol=run.atol, watch=watch,
     )  # fmt: skip
 
 

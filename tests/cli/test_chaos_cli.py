@@ -85,7 +85,22 @@ def test_poincare_json_with_a_strobe(capsys):
     summary = json.loads(out)
     assert summary["orbits"] == 1 and summary["points"] == 5
     assert summary["strobe"] == pytest.approx(9.42477796076938)
+    assert summary["phase"] == 0.0  # at whole periods from t = 0, not from the transient
     assert summary["method"] == "dop853"
+
+
+def test_poincare_at_a_phase(capsys, tmp_path):
+    # t = 4.712 + 9.425 k after the transient 10 up to 40: 14.1, 23.6, 33.0
+    table = tmp_path / "points.csv"
+    status, out, _ = run(
+        capsys, "poincare", "driven_damped_pendulum", "--strobe", "9.42477796076938",
+        "--phase", "4.71238898038469", "--transient", "10", "--t-end", "40",
+        "--axes", "theta,theta_dot", "--out", str(table),
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    assert out.startswith("Driven damped pendulum: strobe 9.42478 at phase 4.71239, 1 orbits")
+    times = [float(row.split(",")[1]) for row in table.read_text().splitlines()[1:]]
+    assert times == pytest.approx([4.71238898038469 + 9.42477796076938 * k for k in (1, 2, 3)])
 
 
 @pytest.mark.parametrize(
@@ -103,6 +118,8 @@ def test_poincare_json_with_a_strobe(capsys):
             "give from 1 to 100,000 orbits, not 10000000",
         ),
         (["--axes", "y,p_y", "--strobe", "1e-300"], "strobe times per orbit needs about"),
+        (["--axes", "y,p_y", "--section", "x = 0", "--phase", "1"], "--phase goes with --strobe"),
+        (["--axes", "y,p_y", "--strobe", "1", "--phase", "nan"], "the phase must be a finite time"),
     ],
 )
 def test_poincare_errors_are_one_line(capsys, argv, message):
@@ -124,6 +141,18 @@ def test_bifurcation_writes_points_and_picture(capsys, tmp_path):
     rows = table.read_text().splitlines()
     assert rows[0] == "A,t,theta_dot" and len(rows) == 1 + 3 * 2
     assert picture.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_bifurcation_at_a_phase(capsys):
+    status, out, _ = run(
+        capsys, "bifurcation", "driven_damped_pendulum", "--vary", "A=1.0:1.1:2",
+        "--strobe", "9.42477796076938", "--phase", "1.5", "--transient", "20", "--axis",
+        "theta_dot", "--samples", "2", "--steps-per-period", "50", "--json",
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    summary = json.loads(out)
+    assert summary["period"] == 9.42477796076938 and summary["phase"] == 1.5
+    assert summary["transient"] == 20.0 and summary["samples"] == 2
 
 
 def test_bifurcation_from_a_section(capsys, tmp_path):
@@ -151,6 +180,7 @@ def test_bifurcation_from_a_section(capsys, tmp_path):
         (["--vary", "A=1:2"], "expected NAME=LO:HI:N"),
         (["--vary", "A=1:2:3", "--out", "x.nc"], "must end in .csv"),
         (["--vary", "omega=1:2:3", "--axis", "x"], "'x' is not a coordinate or velocity"),
+        (["--vary", "A=1:2:3", "--phase", "inf"], "the phase must be a finite time, not inf"),
     ],
 )
 def test_bifurcation_errors_are_one_line(capsys, argv, message):

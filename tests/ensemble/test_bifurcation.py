@@ -28,7 +28,9 @@ def test_linear_oscillator_has_one_point_per_value_its_steady_state():
     )
     assert diagram.points.shape == (5, 4)
     np.testing.assert_allclose(diagram.values, drives)
-    assert diagram.settings["transient"] == pytest.approx(period * math.ceil(60.0 / period))
+    assert diagram.settings["transient"] == 60.0 and diagram.settings["phase"] == 0.0
+    # the first whole period after the transient, then every period
+    assert diagram.times[0] == pytest.approx(period * math.ceil(60.0 / period))
     np.testing.assert_allclose(np.diff(diagram.times), period, rtol=1e-12)
     phase = math.atan2(b * omega, 1 - omega**2)
     amplitude = drives / math.hypot(1 - omega**2, b * omega)

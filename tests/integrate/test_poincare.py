@@ -63,7 +63,9 @@ def test_strobe_of_a_driven_damped_oscillator_is_its_steady_state():
     period = 2 * math.pi / omega
     points = system.poincare(strobe=period, transient=80.0, axes=("x", "x_dot"), t_end=120)
     np.testing.assert_allclose(np.diff(points.times), period, rtol=1e-12)
-    assert points.times[0] == pytest.approx(80.0 + period)
+    # at whole periods from t = 0 (phase 0), the first one after the transient
+    assert points.times[0] == pytest.approx(period * math.ceil(80.0 / period))
+    assert points.settings["phase"] == 0.0
     amplitude = drive / math.hypot(1 - omega**2, b * omega)
     phase = math.atan2(b * omega, 1 - omega**2)
     angle = omega * points.times - phase

@@ -37,10 +37,24 @@ def section_options(command):
     )(command)
 
 
-def _one_section(section: str | None, strobe: float | None) -> None:
-    """A usage error unless exactly one of --section and --strobe is given."""
+def _one_section(section: str | None, strobe: float | None, phase: float | None) -> None:
+    """A usage error unless exactly one of --section and --strobe is given, and --phase
+    only with --strobe."""
     if (section is None) == (strobe is None):
         raise click.BadParameter("give --section or --strobe (one of them)", param_hint="--section")
+    if phase is not None and strobe is None:
+        raise click.BadParameter("--phase goes with --strobe", param_hint="--phase")
+
+
+def phase_option(command):
+    """--phase PHI: the strobe's times t = PHI + k PERIOD (poincare, bifurcation)."""
+    return click.option(
+        "--phase",
+        type=float,
+        metavar="PHI",
+        help="With --strobe: the points at t = PHI + k PERIOD from the start (default 0), "
+        "whatever --transient (which only drops points).",
+    )(command)
 
 
 def _check_outputs(out: str | None, suffixes: tuple[str, ...], picture: str | None) -> None:
@@ -175,6 +189,7 @@ def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
 )
 @section_options
 @click.option("--strobe", type=float, metavar="PERIOD", help="A stroboscopic section instead.")
+@phase_option
 @click.option(
     "--transient",
     type=float,
@@ -200,8 +215,8 @@ def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
 @options.as_json()
 @options.timeout
 def poincare(
-    model, axes, section, direction, strobe, transient, energy, orbits, spreads, t_end, rtol,
-    atol, assignments, definitions, backend, out, picture, as_json, timeout,
+    model, axes, section, direction, strobe, phase, transient, energy, orbits, spreads, t_end,
+    rtol, atol, assignments, definitions, backend, out, picture, as_json, timeout,
 ) -> None:  # fmt: skip
     """Poincaré section of MODEL: where its orbits cross --section, or --strobe PERIOD."""
     from ..facade import load
@@ -210,13 +225,13 @@ def poincare(
     names = tuple(name.strip() for name in axes.split(","))
     if len(names) != 2 or not all(names):
         raise click.BadParameter("give two names, e.g. y,p_y", param_hint="--axes")
-    _one_section(section, strobe)
+    _one_section(section, strobe, phase)
     _check_outputs(out, (".csv", ".nc"), picture)
     system, values = options.assignments(assignments, load(model))
     with options.progress_bar(enabled=not as_json) as progress:
         points = poincare_of_system(
             system, axes=names, section=section, direction=direction, strobe=strobe,
-            transient=transient, energy=energy, orbits=orbits, spread=_spread(spreads),
+            phase=phase, transient=transient, energy=energy, orbits=orbits, spread=_spread(spreads),
             t_end=t_end, rtol=rtol, atol=atol, assignments=values,
             progress=progress, definitions=options.definitions(definitions), backend=backend,
             timeout=timeout,
@@ -243,7 +258,9 @@ def poincare(
     }
     if options.echo_json(summary, as_json):
         return
-    where = f"strobe {strobe:g}" if strobe is not None else f"section {section}"
+    where = f"section {section}"
+    if strobe is not None:
+        where = f"strobe {strobe:g}" + (f" at phase {summary['phase']:g}" if phase else "")
     click.echo(
         f"{points.name}: {where}, {points.orbit_count} orbits to t = {summary['t_end']:g}, "
         f"{points.count} points ({counts.min()} to {counts.max()} per orbit)"
@@ -255,6 +272,7 @@ def poincare(
 @click.argument("model")
 @options.required("--vary", "NAME=LO:HI:N", "N values of the parameter NAME from LO to HI.")
 @click.option("--strobe", type=float, metavar="PERIOD", help="Strobe period.")
+@phase_option
 @section_options
 @options.required("--axis", "NAME", "The coordinate or velocity drawn.", dest="variable")
 @click.option("--transient", type=float, default=0.0, show_default=True, help="Time dropped first.")
@@ -278,7 +296,7 @@ def poincare(
 @options.as_json()
 @options.timeout
 def bifurcation(
-    model, vary, strobe, section, direction, variable, transient, samples, steps_per_period,
+    model, vary, strobe, phase, section, direction, variable, transient, samples, steps_per_period,
     t_end, dt, method, backend, assignments, definitions, out, picture, as_json, timeout,
 ) -> None:  # fmt: skip
     """Bifurcation diagram of MODEL: the --axis every --strobe PERIOD, or where the motion
@@ -288,7 +306,7 @@ def bifurcation(
     from ..simulation import split_assignments
     from .ensemble import _grids
 
-    _one_section(section, strobe)
+    _one_section(section, strobe, phase)
     if strobe is not None and (t_end is not None or dt is not None):
         raise click.BadParameter("--t-end and --dt go with --section", param_hint="--t-end")
     if section is not None and steps_per_period is not None:
@@ -299,7 +317,11 @@ def bifurcation(
     system, given = options.assignments(assignments, system)
     initial, params = split_assignments(system, given)
     sampling = {"samples": samples, "steps_per_period": steps_per_period, "t_end": t_end, "dt": dt}
-    where = {"period": strobe} if section is None else {"section": section, "direction": direction}
+    where = (
+        {"period": strobe, "phase": phase}
+        if section is None
+        else {"section": section, "direction": direction}
+    )
     with options.progress_bar(enabled=not as_json) as progress:
         diagram = bifurcation_of_system(
             system, vary={parameter: values}, variable=variable, **where, transient=transient,
@@ -329,7 +351,9 @@ def bifurcation(
     }
     if options.echo_json(summary, as_json):
         return
-    when = f"every {strobe:g}" if section is None else f"where {section} ({direction})"
+    when = f"where {section} ({direction})"
+    if section is None:
+        when = f"every {strobe:g}" + (f" at phase {settings['phase']:g}" if phase else "")
     each = f"{settings['samples']}" if section is None else f"at most {settings['samples']}"
     click.echo(
         f"{diagram.name}: {variable} {when} for {len(diagram.values)} values of "

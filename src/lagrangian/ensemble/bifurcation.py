@@ -4,10 +4,12 @@ one ensemble.
 Each value of the varied parameter is one member of an ensemble (any backend of
 :func:`~lagrangian.ensemble.run_ensemble`: numpy, numba, jax, cuda, dask), integrated
 by its fixed-step method from the same initial state.  With a strobe ``period`` the
-step is period / ``steps_per_period``, the states are kept every period (the
-ensemble's ``save_every``), the first ``transient`` time (rounded up to whole periods)
-is dropped, and the next ``samples`` states of ``variable`` are the diagram's points
-for that value: one point for a periodic response at the strobe period, two after a
+points are the states of ``variable`` at t = ``phase`` + k period (phase default 0;
+:mod:`lagrangian.integrate.strobe`), the first ``samples`` of them after ``transient``:
+the step is period / ``steps_per_period``, the states are kept every period (the
+ensemble's ``save_every``), and a phase > 0 is reached first by ``steps_per_period``
+shorter steps (the ensemble's ``lead``), so the points are those of one map whatever
+the transient.  One point for a periodic response at the strobe period, two after a
 period doubling, a smear where the motion is chaotic.  With a ``section`` ("x = 0",
 :mod:`lagrangian.integrate.section`) instead, every step is kept, the runs go on for
 ``t_end`` after the transient, and the points are ``variable`` at the first
@@ -18,7 +20,6 @@ whose motion crosses fewer times has NaN for the rest.
 
 from __future__ import annotations
 
-import math
 import os
 import warnings
 from collections.abc import Callable, Mapping
@@ -31,6 +32,7 @@ import numpy as np
 from ..errors import LagrangianWarning, ModelError, setting
 from ..files import write_csv
 from ..integrate.base import positive_setting, transient_setting
+from ..integrate.strobe import Strobe
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -81,6 +83,7 @@ def bifurcation_diagram(
     values: object,
     variable: str,
     period: float | None = None,
+    phase: float | None = None,
     section: str | None = None,
     direction: str = "+",
     transient: float = 0.0,
@@ -96,10 +99,10 @@ def bifurcation_diagram(
     **options: object,
 ) -> BifurcationDiagram:
     """The states of ``variable`` (a coordinate or velocity) after the transient, every
-    ``period`` or where the motion crosses ``section`` in ``direction`` ("+", "-",
-    "both"; ``t_end`` after the transient, step ``dt``: by default chosen for the
-    motion, :func:`~lagrangian.integrate.step_size.fixed_step_for`), for each of
-    ``values`` of ``parameter``; see the module docstring.  ``options`` go to
+    ``period`` (at t = ``phase`` + k period) or where the motion crosses ``section`` in
+    ``direction`` ("+", "-", "both"; ``t_end`` after the transient, step ``dt``: by
+    default chosen for the motion, :func:`~lagrangian.integrate.step_size.fixed_step_for`),
+    for each of ``values`` of ``parameter``; see the module docstring.  ``options`` go to
     :func:`~lagrangian.ensemble.run_ensemble` (chunk_size, precision, scheduler)."""
     from .core import run_ensemble  # xarray: loaded when a diagram is made, not to name one
 
@@ -111,6 +114,8 @@ def bifurcation_diagram(
         raise ModelError(f"unknown parameter '{parameter}' (parameters: {known})")
     if (period is None) == (section is None):
         raise ModelError("give a strobe period or a section (one of them)")
+    if phase is not None and period is None:
+        raise ModelError("a phase goes with a strobe period, not with a section")
     transient = transient_setting(transient)
     for name, number in (("samples", samples), ("steps_per_period", steps_per_period)):
         if int(number) != number or number < 1:
@@ -124,11 +129,12 @@ def bifurcation_diagram(
             compiled, parameter, values, variable, section, direction, transient,
             int(samples), t_end, dt, run,
         )  # fmt: skip
-    period = positive_setting("period", period)
-    dropped = math.ceil(transient / period - 1e-9)
+    strobe = Strobe.of(positive_setting("period", period), phase)
+    first = strobe.first(transient)
     result = run_ensemble(
-        compiled, t_end=(dropped + int(samples)) * period, dt=period / int(steps_per_period),
-        save_every=int(steps_per_period), **run,
+        compiled, t_end=float(strobe.time(first + int(samples) - 1)),
+        dt=strobe.period / int(steps_per_period), save_every=int(steps_per_period),
+        lead=strobe.phase, **run,
         memory_advice=(
             f"use fewer values of {setting('vary')}, fewer {setting('samples')} or a shorter "
             f"{setting('transient')}"
@@ -136,8 +142,13 @@ def bifurcation_diagram(
     )  # fmt: skip
     dataset = result.dataset
     path = dataset[f"path_{variable}"].values.reshape(-1, dataset.sizes["t"])
-    kept = slice(dropped + 1, dropped + 1 + int(samples))  # column 0 is t = 0
-    settings = {"period": period, "transient": dropped * period, "samples": int(samples)}
+    # column 0 is t = 0; then t_k at column k, or with a lead (a phase) at column k + 1
+    column = first + (1 if strobe.phase else 0)
+    kept = slice(column, column + int(samples))
+    settings = {
+        "period": strobe.period, "phase": strobe.phase, "transient": transient,
+        "samples": int(samples),
+    }  # fmt: skip
     return _diagram(
         compiled, result, parameter, values, variable, path[:, kept], dataset["t"].values[kept],
         settings,

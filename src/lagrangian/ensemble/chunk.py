@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, ClassVar
 import numpy as np
 
 from ..errors import ModelError
-from ..integrate.fixed_step import step_grid
+from ..integrate.fixed_step import led_grid
 from .choices import PRECISIONS
 from .observables import finish, stops_early
 
@@ -69,7 +69,10 @@ class Chunk:
     ``y0`` is (2n, B), one column per member; ``params`` is (P,) (shared) or (P, B) (per
     member); the run goes from t = 0 to ``t_end`` on the single run's step grid;
     ``names`` are the observables; ``save_every``: also keep every k-th step's state;
-    ``precision``: ``float64`` or ``float32`` (the backends that offer it).
+    ``precision``: ``float64`` or ``float32`` (the backends that offer it); ``lead``: with
+    ``save_every``, the first ``save_every`` steps span [0, lead] and the steps of dt
+    start there, so the states kept fall at lead + k save_every dt (0: no lead;
+    :func:`~lagrangian.integrate.fixed_step.led_grid`).
     """
 
     compiled: CompiledSystem
@@ -80,6 +83,7 @@ class Chunk:
     names: tuple[str, ...]
     save_every: int | None = None
     precision: str = "float64"
+    lead: float = 0.0
 
     def __post_init__(self) -> None:
         if self.precision not in PRECISIONS:
@@ -89,8 +93,8 @@ class Chunk:
 
     @cached_property
     def grid(self) -> np.ndarray:
-        """The single run's step times, the last one on t_end."""
-        return step_grid(0.0, float(self.t_end), self.integrator.dt)
+        """The single run's step times (after the lead, if any), the last one on t_end."""
+        return led_grid(float(self.t_end), self.integrator.dt, self.lead, self.every)
 
     @property
     def steps(self) -> int:

@@ -50,7 +50,7 @@ from ..budget import cpu_seconds
 from ..errors import LagrangianError, LagrangianWarning, ModelError, setting
 from ..integrate import method_class
 from ..integrate.base import check_time_span
-from ..integrate.fixed_step import AbstractFixedStepIntegrator, step_grid
+from ..integrate.fixed_step import AbstractFixedStepIntegrator, led_grid
 from ..integrate.memory import check_fits, count_text, step_count
 from ..integrate.start import constrained_start
 from ..integrate.step_size import fixed_step_for
@@ -97,6 +97,7 @@ def run_ensemble(
     progress: Callable[[float], None] | None = None,
     chunk_seconds: float | None = None,
     memory_advice: str | None = None,
+    lead: float = 0.0,
 ) -> EnsembleTrajectory:
     """Integrate every member from t = 0 to ``t_end``; see the module docstring.
 
@@ -111,6 +112,10 @@ def run_ensemble(
     ``memory_advice``: what to change when the ensemble would not fit in memory, in the
     settings of a caller that chose these for its user (a bifurcation diagram's values,
     samples and transient); by default the ensemble's own (members, dt, save_every).
+    ``lead`` (with ``save_every``; 0 <= lead <= t_end): the first ``save_every`` steps span
+    [0, lead] and the steps of ``dt`` start there, so the states kept after t = 0 fall at
+    lead + k save_every dt, a strobe at a phase
+    (:func:`~lagrangian.integrate.fixed_step.led_grid`).
     """
     t0, t1 = check_time_span((0.0, t_end))
     if method not in METHODS:
@@ -142,7 +147,8 @@ def run_ensemble(
         raise ModelError(f"save_every must be a whole number >= 1, not {save_every!r}")
     if int(chunk_size) != chunk_size or chunk_size < 1:
         raise ModelError(f"chunk_size must be a whole number >= 1, not {chunk_size!r}")
-    steps = step_count(t0, t1, integrator.dt)
+    lead = _lead_setting(lead, save_every, t1)
+    steps = _steps(t1, integrator.dt, lead, save_every)
 
     def fits(count: int) -> None:
         kept = f", keeping {count_text(steps // save_every + 1)} states each" if save_every else ""
@@ -160,24 +166,46 @@ def run_ensemble(
         batch = _projected(compiled, batch)
     # the step from the members' time scale (or the given one checked against it)
     integrator = fixed_step_for(type(integrator), compiled, (t0, t1), dt, batch.y0, batch.params)
-    steps = step_count(t0, t1, integrator.dt)
+    steps = _steps(t1, integrator.dt, lead, save_every)
     fits(batch.count)  # again with the step chosen
 
     def chunk(start: int, stop: int) -> Chunk:
         p = batch.params[:, start:stop] if batch.params.ndim == 2 else batch.params
         y0 = batch.y0[:, start:stop]
-        return Chunk(compiled, integrator, y0, p, t1, names, save_every, precision)
+        return Chunk(compiled, integrator, y0, p, t1, names, save_every, precision, lead)
 
     timed = None if kind.compiles_per_shape else chunk_seconds
     chunks = Chunks(chunk, batch.count, int(chunk_size), seconds=timed, clock=budget_clock(backend))
     start = time.perf_counter()
     parts = runner.run(chunks, progress)
     wall_time = time.perf_counter() - start
+    grid = led_grid(t1, integrator.dt, lead, int(save_every or 0))
     result = _assemble(
-        compiled, integrator, batch, parts, names, t1, backend, wall_time, save_every, precision
+        compiled, integrator, batch, parts, names, grid, backend, wall_time, save_every, precision
     )
     _report_failures(result, integrator)
     return result
+
+
+def _lead_setting(lead: float, save_every: int | None, t_end: float) -> float:
+    """``lead`` as a float, or ModelError when it is not a time in [0, t_end] or is given
+    without ``save_every`` (it places the states kept: without them it means nothing)."""
+    try:
+        number = float(lead)
+    except (TypeError, ValueError):
+        raise ModelError(f"the lead must be a time, not {lead!r}") from None
+    if not (np.isfinite(number) and 0.0 <= number <= t_end):
+        raise ModelError(f"the lead must be a time from 0 to t_end = {t_end:g}, not {lead!r}")
+    if number > 0.0 and not save_every:
+        raise ModelError("a lead places the states kept: give save_every with it")
+    return number
+
+
+def _steps(t_end: float, dt: float, lead: float, save_every: int | None) -> int:
+    """The steps of the run: those of dt from ``lead`` to t_end, and the lead's."""
+    if lead <= 0.0:
+        return step_count(0.0, t_end, dt)
+    return (step_count(lead, t_end, dt) if t_end > lead else 0) + int(save_every or 0)
 
 
 def _report_failures(result: EnsembleTrajectory, integrator: AbstractFixedStepIntegrator) -> None:
@@ -245,7 +273,7 @@ def budget_clock(backend: str) -> Callable[[], float]:
 
 
 def _assemble(
-    compiled, integrator, batch, parts, names, t_end, backend, wall_time, save_every, precision
+    compiled, integrator, batch, parts, names, grid, backend, wall_time, save_every, precision
 ):
     steps = int(parts[0]["steps"])
     data_vars = {}
@@ -264,14 +292,14 @@ def _assemble(
                 (*batch.dims, "t"),
                 paths[i].reshape(*batch.shape, count),
             )
-        coords["t"] = ("t", step_grid(0.0, t_end, integrator.dt)[::save_every][:count])
+        coords["t"] = ("t", grid[::save_every][:count])
     system = getattr(compiled.equations, "system", None)
     trajectory_steps = batch.count * steps
     attrs = {
         "model": getattr(system, "name", ""),
         "method": integrator.name,
         "dt": float(integrator.dt),
-        "t_end": float(t_end),
+        "t_end": float(grid[-1]),
         "backend": backend,
         "precision": precision,
         "members": batch.count,

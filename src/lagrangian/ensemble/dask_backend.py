@@ -110,11 +110,11 @@ def compiled_from_payload(key: str, payload: bytes) -> CompiledSystem:
 task_seconds = time.monotonic
 
 
-def _task(key, payload, integrator, y0, params, t_end, names, save_every):
+def _task(key, payload, integrator, y0, params, t_end, names, save_every, lead=0.0):
     """(the chunk's outputs, the seconds it took on the worker)."""
     started = task_seconds()
     compiled = compiled_from_payload(key, payload)
-    chunk = Chunk(compiled, integrator, y0, params, t_end, names, save_every)
+    chunk = Chunk(compiled, integrator, y0, params, t_end, names, save_every, lead=lead)
     return NumpyBackend().integrate(chunk), task_seconds() - started
 
 
@@ -272,7 +272,7 @@ class _Work:
             return None
         fields = (chunk.integrator, chunk.y0, chunk.params, chunk.t_end, chunk.names)
         future = self.client.submit(
-            _task, self.key, self.shared, *fields, chunk.save_every, pure=False
+            _task, self.key, self.shared, *fields, chunk.save_every, chunk.lead, pure=False
         )
         self.futures.append(future)
         self.made[future] = chunk

@@ -66,6 +66,23 @@ def step_grid(t0: float, t_end: float, dt: float) -> np.ndarray:
     return grid
 
 
+def led_grid(t_end: float, dt: float, lead: float = 0.0, lead_steps: int = 0) -> np.ndarray:
+    """The grid from t = 0 of an ensemble that keeps states at a phase: ``lead_steps``
+    equal steps over [0, ``lead``], then :func:`step_grid` from ``lead`` to ``t_end``
+    (steps of ``dt`` from ``lead``); without a lead, ``step_grid(0, t_end, dt)``.
+
+    With ``lead_steps`` = the states kept every so many steps and ``dt`` = period /
+    ``lead_steps``, the kept states fall at t = 0, then at lead + k period: a strobe at
+    the phase ``lead`` on a fixed step (:mod:`lagrangian.ensemble.bifurcation`).  The lead's
+    steps are no longer than ``dt`` when lead < period.  A lead of all of t_end is the
+    lead's steps alone."""
+    if lead <= 0.0:
+        return step_grid(0.0, t_end, dt)
+    head = lead * np.arange(lead_steps, dtype=float) / lead_steps
+    tail = step_grid(lead, t_end, dt) if t_end > lead else np.array([t_end], dtype=float)
+    return np.concatenate([head, tail])
+
+
 @dataclass(frozen=True)
 class AbstractFixedStepIntegrator(AbstractIntegrator):
     """A method taking steps of a fixed size ``dt`` (see the module docstring)."""

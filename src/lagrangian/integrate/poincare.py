@@ -7,8 +7,9 @@ dense output, located by SciPy's event finder to the integration tolerance
 (:func:`lagrangian.integrate.events.scipy_event`); where numba is installed, the same
 steps and roots are taken in DOP853's compiled loop with g generated beside the
 equations (:mod:`lagrangian.integrate.compiled_sections`).  A stroboscopic section instead
-keeps the state at t = transient + k * period, k = 1, 2, ..., from the same dense
-output: the Poincaré map of a system driven with that period.
+keeps the state at t = phase + k * period after the transient, from the same dense
+output: the Poincaré map of a system driven with that period, the same map whatever
+the transient (:mod:`lagrangian.integrate.strobe`).
 
 Start states are given, or sampled on an energy shell (:func:`shell_starts`): for a
 section ``q_c = c`` the other values of the start are the model's initial state, the
@@ -31,13 +32,14 @@ import numpy as np
 
 from ..errors import LagrangianWarning, ModelError, setting
 from ..files import write_atomically, write_csv
-from .base import Status, check_time_span, positive_setting, transient_setting
+from .base import Status, check_time_span, transient_setting
 from .compiled_sections import crossings, section_loop
 from .events import Event
 from .memory import check_fits, count_text, run_bytes
 from .scipy_methods import Dop853
 from .section import Section, axis_values, state_names
 from .start import constrained_start
+from .strobe import Strobe
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -120,6 +122,7 @@ def poincare_section(
     t_end: float,
     section: Section | None = None,
     strobe: float | None = None,
+    phase: float | None = None,
     transient: float = 0.0,
     params: Mapping[str, float] | None = None,
     rtol: float | None = None,
@@ -127,13 +130,16 @@ def poincare_section(
     watch: Callable[[float], None] | None = None,
 ) -> PoincareSection:
     """The section's points of the motions from ``starts`` (2n, N): the crossings of
-    ``section``, or with ``strobe`` the states every ``strobe`` after ``transient``.
+    ``section``, or with ``strobe`` the states at t = ``phase`` + k ``strobe`` (phase
+    default 0, taken modulo the period) after ``transient``.
 
     The crossings before ``transient`` are dropped as well.  ``watch`` is told the
     fraction of the work done (0 to 1) at every step.
     """
     if (section is None) == (strobe is None):
         raise ModelError("give a section or a strobe period (one of them)")
+    if phase is not None and strobe is None:
+        raise ModelError("a phase goes with a strobe period, not with a section")
     transient = transient_setting(transient)
     axes = tuple(axes)
     if len(axes) != 2:
@@ -153,17 +159,20 @@ def poincare_section(
     starts = np.asarray(starts, dtype=float).reshape(2 * n, -1)
     if compiled.has_constraints and compiled.project is not None:
         starts = constrained_start(compiled, t0, starts, p)  # as a single run's start
-    if strobe is not None:
-        strobe = positive_setting("strobe", strobe)
-        times = max(0.0, (t1 - transient) / strobe)
+    strobed = None if strobe is None else Strobe.of(strobe, phase)
+    if strobed is not None:
+        times = max(0.0, (t1 - transient) / strobed.period)
         check_fits(
             run_bytes(2 * n, 0, min(times, 1e300) * starts.shape[1]),
             f"{count_text(math.floor(min(times, 1e300)))} strobe times per orbit",
             f"give a longer strobe period or a shorter {setting('t_end')}",
         )
-        t_eval = np.arange(transient + strobe, t1 + 1e-12 * strobe, strobe)
+        t_eval = strobed.times(transient, t1)
         if t_eval.size == 0:
-            raise ModelError(f"no strobe time before t_end = {t1:g} (period {strobe:g})")
+            raise ModelError(
+                f"no strobe time ({strobed.describe()}) after the transient {transient:g} "
+                f"and before t_end = {t1:g}"
+            )
     else:
         events = (Event(section.function, section.direction, name="section"),)
     loop = None if section is None else section_loop(compiled, section)
@@ -204,7 +213,8 @@ def poincare_section(
         "t_end": t1,
         "section": None if section is None else section.text,
         "direction": None if section is None else section.direction,
-        "strobe": strobe,
+        "strobe": None if strobed is None else strobed.period,
+        "phase": None if strobed is None else strobed.phase,
         "transient": transient,
     }
     return PoincareSection(

@@ -37,6 +37,7 @@ def plot_bifurcation(diagram: BifurcationDiagram, *, size: float = 1.5) -> Figur
     strobed = "period" in settings
     where = (
         f"every {settings['period']:.6g}"
+        + (f" at phase {settings['phase']:.6g}" if settings.get("phase") else "")
         if strobed
         else f"where {settings['section']} ({settings['direction']})"
     )

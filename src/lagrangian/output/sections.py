@@ -40,7 +40,9 @@ def plot_section(points: PoincareSection, *, size: float = 3.0) -> Figure:
         pi_ticks(axis)
     settings = points.settings
     if settings.get("strobe") is not None:
-        where = f"every {settings['strobe']:.6g} after t = {settings['transient']:g}"
+        phase = settings.get("phase") or 0.0
+        at = f" at phase {phase:.6g}" if phase else ""
+        where = f"every {settings['strobe']:.6g}{at} after t = {settings['transient']:g}"
     else:
         sign = {1: ", upwards", -1: ", downwards"}.get(settings.get("direction"), "")
         where = f"{settings['section']}{sign}"
