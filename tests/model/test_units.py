@@ -293,7 +293,7 @@ x = "m"
         ),
         (
             model_with(potential="k*x^2/2*cos(w)"),
-            "potential: the argument of cos w is a rate (1/s), expected dimensionless",
+            "potential: the argument w of cos is a rate (1/s), expected dimensionless",
         ),
         (
             model_with(extra='dissipation = "b*x_dot/2"'),
@@ -309,7 +309,7 @@ x = "m"
         ),
         (
             model_with(potential="k*x^2/2 + exp(x)"),
-            "potential: the argument of exp x is a length (m), expected dimensionless",
+            "potential: the argument x of exp is a length (m), expected dimensionless",
         ),
     ],
 )
@@ -489,3 +489,20 @@ def test_initial_values_may_carry_units(tmp_path):
     assert str(caught.value).endswith(
         "initial.theta_dot: theta_dot is a rate (1/s) but the value is a length (m)"
     )
+
+
+@pytest.mark.parametrize(
+    "potential, message",
+    [
+        (
+            "k*x^2/2*atan2(x, w)",
+            "potential: the argument w of atan2 is a rate (1/s), the other argument is a "
+            "length (m)",
+        ),
+        (r"\\frac{1}{2} k x^2 + \\frac{1}{2} m x", r"potential: the term \\frac{1}{2} m x is of"),
+    ],
+)
+def test_arguments_and_latex_terms_are_named_as_written(tmp_path, potential, message):
+    with pytest.raises(ModelError) as caught:
+        load_text(tmp_path, model_with(potential=potential))
+    assert message.replace("\\\\", "\\") in str(caught.value)

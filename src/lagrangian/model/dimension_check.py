@@ -96,7 +96,7 @@ class _Requirement:
     field: str
     text: str
     node: Node
-    what: str  # "term", "argument of sin", ...
+    what: str  # "term", "argument of sin", ...: "the argument x of sin" names it
     others: int  # how many other terms share the expectation (0: a fixed one)
     torque: bool  # the expectation is a generalized force (an energy is a torque there)
 
@@ -186,20 +186,21 @@ class _Check:
         expected = self.solver.value(requirement.expected)
         written = _written(requirement.node, requirement.text)
         if term is None or expected is None:
-            message = (f"the {requirement.what} {written} has no dimension that fits the "
+            message = (f"the {_named(requirement.what, written)} has no dimension that fits the "
                        f"{'other terms' if requirement.others else 'field'}")  # fmt: skip
             raise ModelError(message, field=requirement.field)
-        torque = requirement.torque and expected == ENERGY
-        if requirement.others > 1 or (requirement.others == 1 and requirement.what != "term"):
-            said = "torques (N*m)" if torque else describe(expected, plural=True)
-            verb = "the other terms are" if requirement.what == "term" else "the others are"
-            wanted = f"{verb} {said}"
+        torque = requirement.torque and expected == ENERGY  # the force on an angle
+        one = "a torque (N*m)" if torque else describe(expected)
+        kind = requirement.what.partition(" of ")[0]  # term, argument
+        if requirement.others > 1:
+            many = "torques (N*m)" if torque else describe(expected, plural=True)
+            wanted = f"the other {kind}s are {many}"
         elif requirement.others == 1:
-            wanted = f"the other term is {'a torque (N*m)' if torque else describe(expected)}"
+            wanted = f"the other {kind} is {one}"
         else:
-            wanted = f"expected {'a torque (N*m)' if torque else describe(expected)}"
+            wanted = f"expected {one}"
         raise ModelError(
-            f"the {requirement.what} {written} is {describe(term)}, {wanted}",
+            f"the {_named(requirement.what, written)} is {describe(term)}, {wanted}",
             field=requirement.field,
         )
 
@@ -301,6 +302,12 @@ class _Check:
         for argument in args:  # a declared function: its arguments are free
             self.form(argument)
         return unknown(name)
+
+
+def _named(what: str, written: str) -> str:
+    """``argument x of sin`` (``what`` is ``argument of sin``), ``term k*x``."""
+    kind, of, rest = what.partition(" of ")
+    return f"{kind} {written} of {rest}" if of else f"{what} {written}"
 
 
 def _key(form: Form) -> tuple:
