@@ -146,3 +146,35 @@ def test_a_bead_is_drawn_on_its_hoop_or_wire_and_a_pendulum_on_its_rod(browser, 
     assert pendulum.evaluate("() => lagrangian.tracks()") == []
     assert pendulum.evaluate("() => lagrangian.rods()") == [["origin", "bob"]]
     pendulum.close()
+
+
+def test_the_page_refuses_a_mass_made_negative_as_the_command_line_does(browser, tmp_path):
+    model = tmp_path / "block.toml"
+    model.write_text(
+        'name = "block"\ncoordinates = ["x"]\npotential = "k*x^2/2"\n'
+        "[parameters]\nm = 2\nd = 1\nk = 1\n"
+        '[[particles]]\nname = "block"\nmass = "m - d"\nposition = ["x", "0"]\n'
+        "[initial]\nx = 1\n",
+        encoding="utf-8",
+    )
+    cli = subprocess.run(
+        [sys.executable, "-m", "lagrangian", "simulate", str(model), "--set", "d=3"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert cli.returncode == 2
+    expected = cli.stderr.strip().removeprefix("lagrangian: error: ")
+    assert expected.startswith("the mass of 'block' (particles[0].mass = -d + m) is -1")
+    opened = open_page(browser, _written(tmp_path, model))
+    page = opened.page
+    page.evaluate("() => lagrangian.pause()")
+    thrown = page.evaluate(
+        "() => { try { lagrangian.set('d', 3); } catch (e) { return e.message; } }"
+    )
+    assert thrown == expected
+    assert page.evaluate("() => lagrangian.parameters.d") == 1  # kept
+    page.evaluate("() => lagrangian.set('d', 1.5)")  # a mass of 0.5 is a mass
+    assert page.evaluate("() => lagrangian.parameters.d") == 1.5
+    assert opened.errors == []
+    page.close()

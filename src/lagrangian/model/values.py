@@ -99,7 +99,7 @@ def check_masses(system: System, values: Mapping[str, float | np.ndarray] | None
     """
     given_any = bool(values)
     values = values or {}
-    for field, what, expression, sign in _masses(system):
+    for field, what, expression, sign in masses(system):
         used = sorted(s.name for s in expression.free_symbols)
         names = [name for name in used if name in values]
         if given_any and not names:
@@ -118,8 +118,10 @@ def check_masses(system: System, values: Mapping[str, float | np.ndarray] | None
             )
 
 
-def _masses(system: System) -> Iterator[tuple[str, str, sympy.Expr, str]]:
-    """(field, what it is, expression, sign it must have) of each mass and planar inertia."""
+def masses(system: System) -> Iterator[tuple[str, str, sympy.Expr, str]]:
+    """(field, what it is, expression, sign it must have) of each mass and planar inertia:
+    the particles' masses, then each body's mass (and a planar body's moment of inertia),
+    in the model's order (the page checks a value given to it by the same rule)."""
     for i, particle in enumerate(system.particles):
         yield f"particles[{i}].mass", f"the mass of '{particle.name}'", particle.mass, "positive"
     for i, body in enumerate(system.bodies):

@@ -1038,12 +1038,36 @@ function lagrangianPage(model, code) {
   function refused(name, x) {
     const parameter = model.parameters.find((p) => p.name === name);
     const breaks = parameter && SIGN_BREAKS[parameter.sign];
-    if (!breaks || !breaks(x)) return null;
+    if (!breaks || !breaks(x)) return parameter ? massRefused(name, x) : null;
     const sign = parameter.sign;
     return (
       `parameter ${name} = ${pythonG(x)} breaks the model's assumption that ${name} is ${sign} (the equations were derived with it): ` +
       `give a value ${SIGN_RANGE[sign]}, or declare ${name} = {value = ..., sign = "real"} in the model`
     );
+  }
+
+  // lagrangian.model.values.check_masses at the value x of `name`: each mass (and planar
+  // moment of inertia) that uses it, from the scene routine at the values it would make
+  function massRefused(name, x) {
+    const entries = (model.masses || []).filter((entry) => entry.used.includes(name));
+    if (!entries.length) return null;
+    const trial = params.slice();
+    trial[parameterNames.indexOf(name)] = x;
+    let blocks;
+    try {
+      const [, , , , , , m, W, J] = code.scene(0, initialState(), trial, inputs);
+      blocks = { m, W, J };
+    } catch (error) {
+      return null;
+    }
+    for (const entry of entries) {
+      const [block, row, column] = entry.at;
+      const value = blocks[block][row][column];
+      if (SIGN_BREAKS[entry.sign](value)) {
+        return `${entry.what} is ${pythonG(value)} with ${name} = ${pythonG(x)}: it must be ${SIGN_RANGE[entry.sign]}`;
+      }
+    }
+    return null;
   }
 
   // Python's format(x, "g"): 6 significant digits, no trailing zeros, an exponent of two
