@@ -1,7 +1,7 @@
 """What the commands share: options, the parsers of their values, the progress bar.
 
-Used as ``options.choice(...)``, ``options.define``, ``options.assignments(values)``: an
-option that two commands take is written once here, and its choices come from a registry
+Used as ``options.choice(...)``, ``options.define``, ``options.assignments(values, system)``:
+an option that two commands take is written once here, and its choices come from a registry
 (:func:`choice`) so that the lists cannot drift.
 """
 
