@@ -99,6 +99,7 @@ SLOW_COMMANDS = (
     "bifurcation",
     "lyapunov",
     "poincare",
+    "sensitivity",
 )
 #: ``python docs/make_images.py [FILTER]`` remakes the pictures (every one: about a
 #: minute; the double pendulum's: half a minute): the test runs it, into a temporary

@@ -45,6 +45,8 @@ FLAGS = {
     "allow_host": "--allow-host",
     "count": "--count",
     "interval": "--interval",
+    "wrt": "--wrt",
+    "points": "--points",
 }
 
 
