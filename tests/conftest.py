@@ -10,13 +10,25 @@ Every test starts with ``random`` and NumPy's global generator seeded from its
 own node id, so a failure reproduces exactly when the test is run alone; the
 ``rng`` fixture is a ``random.Random`` seeded the same way.  Shared helpers
 live in ``tests/helpers.py`` (``import helpers``).
+
+The tests run in a random order (pytest-randomly, of the ``test`` extra): no test may
+depend on another having run before it.  The summary's last line names the order's seed
+(``pytest --randomly-seed=N`` repeats it; ``-p no:randomly`` keeps the files' order);
+each test's seeding stays the one above (randomly's own reseeding is turned off).
+
+Every cache of the package (generated modules and their numba files, kept pages) goes to
+one temporary folder made for the run, ``$LAGRANGIAN_CACHE``, shared by the xdist workers
+and inherited by every command a test runs: the user's cache is never written
+(tests/test_suite_hygiene.py checks it).
 """
 
 from __future__ import annotations
 
+import os
 import random
 import shutil
 import sys
+import tempfile
 import zlib
 from pathlib import Path
 
@@ -40,10 +52,55 @@ def _quick_tier_only(config: pytest.Config) -> bool:
     return not (config.getoption("--slow") or config.getoption("markexpr"))
 
 
-def pytest_report_header(config: pytest.Config) -> str:
+#: The variable that names the folder of every cache of the package (codegen/cache.py).
+CACHE_VARIABLE = "LAGRANGIAN_CACHE"
+#: Set by the run that made the suite's cache folder; a worker or a nested run keeps it.
+SUITE_CACHE_VARIABLE = "LAGRANGIAN_TEST_SUITE_CACHE"
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    if config.pluginmanager.hasplugin("randomly"):
+        config.option.randomly_reset_seed = False  # the per-test seeding below stays ours
+    if os.environ.get(SUITE_CACHE_VARIABLE) and hasattr(config, "workerinput"):
+        return  # an xdist worker: the controller's folder, inherited with its environment
+    folder = tempfile.mkdtemp(prefix="lagrangian-test-cache-")
+    config.stash[_made_cache] = folder
+    os.environ[CACHE_VARIABLE] = os.environ[SUITE_CACHE_VARIABLE] = folder
+
+
+_made_cache = pytest.StashKey[str]()
+
+
+def pytest_unconfigure(config: pytest.Config) -> None:
+    folder = config.stash.get(_made_cache, None)
+    if folder is not None:
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+def _randomly_seed(config: pytest.Config) -> int | None:
+    if not config.pluginmanager.hasplugin("randomly"):
+        return None
+    return config.getoption("randomly_seed", None)
+
+
+def pytest_report_header(config: pytest.Config) -> list[str]:
+    lines = []
     if _quick_tier_only(config):
-        return "the quick tier: the tests marked slow are left out (pytest --slow runs them too)"
-    return ""
+        lines.append(
+            "the quick tier: the tests marked slow are left out (pytest --slow runs them too)"
+        )
+    lines.append(f"the package's caches: {os.environ[CACHE_VARIABLE]} (removed at the end)")
+    return lines
+
+
+def pytest_terminal_summary(
+    terminalreporter: pytest.TerminalReporter, config: pytest.Config
+) -> None:
+    seed = _randomly_seed(config)
+    if seed is not None and config.getoption("randomly_reorganize", True):
+        terminalreporter.write_line(
+            f"the tests ran in a random order: --randomly-seed={seed} repeats it"
+        )
 
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
