@@ -17,9 +17,10 @@ depend on another having run before it.  The summary's last line names the order
 each test's seeding stays the one above (randomly's own reseeding is turned off).
 
 Every cache of the package (generated modules and their numba files, kept pages) goes to
-one temporary folder made for the run, ``$LAGRANGIAN_CACHE``, shared by the xdist workers
-and inherited by every command a test runs: the user's cache is never written
-(tests/test_suite_hygiene.py checks it).
+one temporary folder made for the run and removed after it, ``$LAGRANGIAN_CACHE``, shared
+by the xdist workers and inherited by every command a test runs: the user's cache is never
+written (tests/test_suite_hygiene.py checks it).  ``LAGRANGIAN_TEST_SUITE_CACHE=FOLDER``
+names a folder to use instead and keep, so that numba's machine code survives the run.
 """
 
 from __future__ import annotations
@@ -54,17 +55,19 @@ def _quick_tier_only(config: pytest.Config) -> bool:
 
 #: The variable that names the folder of every cache of the package (codegen/cache.py).
 CACHE_VARIABLE = "LAGRANGIAN_CACHE"
-#: Set by the run that made the suite's cache folder; a worker or a nested run keeps it.
+#: The suite's cache folder: set by the run that made it (xdist's workers inherit it), or
+#: given to keep the caches between runs (numba's machine code, compiled again otherwise).
 SUITE_CACHE_VARIABLE = "LAGRANGIAN_TEST_SUITE_CACHE"
 
 
 def pytest_configure(config: pytest.Config) -> None:
     if config.pluginmanager.hasplugin("randomly"):
         config.option.randomly_reset_seed = False  # the per-test seeding below stays ours
-    if os.environ.get(SUITE_CACHE_VARIABLE) and hasattr(config, "workerinput"):
-        return  # an xdist worker: the controller's folder, inherited with its environment
-    folder = tempfile.mkdtemp(prefix="lagrangian-test-cache-")
-    config.stash[_made_cache] = folder
+    folder = os.environ.get(SUITE_CACHE_VARIABLE)
+    if not folder:
+        folder = tempfile.mkdtemp(prefix="lagrangian-test-cache-")
+        config.stash[_made_cache] = folder
+    os.makedirs(folder, mode=0o700, exist_ok=True)
     os.environ[CACHE_VARIABLE] = os.environ[SUITE_CACHE_VARIABLE] = folder
 
 
@@ -89,7 +92,8 @@ def pytest_report_header(config: pytest.Config) -> list[str]:
         lines.append(
             "the quick tier: the tests marked slow are left out (pytest --slow runs them too)"
         )
-    lines.append(f"the package's caches: {os.environ[CACHE_VARIABLE]} (removed at the end)")
+    kept = "" if config.stash.get(_made_cache, None) else ", kept"
+    lines.append(f"the package's caches: {os.environ[CACHE_VARIABLE]}{kept}")
     return lines
 
 

@@ -34,10 +34,11 @@ def test_a_test_starts_with_the_generators_seeded_from_its_node_id(request):
     assert np.random.random() == np.random.RandomState(seed % 2**32).random()
 
 
-def test_the_package_caches_are_in_the_runs_own_folder():
-    folder = Path(os.environ["LAGRANGIAN_CACHE"])
-    assert folder.name.startswith("lagrangian-test-cache-") and folder.is_dir()
-    assert cache_root() == folder and cache_directory().parent == folder
+def test_the_package_caches_are_in_the_suites_folder(monkeypatch):
+    folder = Path(os.environ["LAGRANGIAN_TEST_SUITE_CACHE"])
+    assert folder.is_dir() and cache_root() == folder and cache_directory().parent == folder
+    monkeypatch.delenv("LAGRANGIAN_CACHE")
+    assert cache_root() != folder  # the user's cache, where the package keeps them for a user
 
 
 @pytest.mark.slow
