@@ -70,6 +70,7 @@ SMALLER = (
     ("--t-end 500 --plot lyapunov.png", "--t-end 5 --plot lyapunov.png"),
     ("--transient 100 --largest", "--transient 5 --t-end 5 --largest"),
     ("--orbits 12 ", "--orbits 2 --t-end 10 "),
+    ("--t-end 2000 --plot section.png", "--t-end 10 --plot section.png"),
     ("--orbits 16 ", "--orbits 2 --t-end 10 "),
     ("--t-end 500 --interval 2", "--t-end 6 --interval 2"),
     ("--transient 100 --t-end 1000", "--transient 5 --t-end 5"),

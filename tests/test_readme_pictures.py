@@ -1,0 +1,97 @@
+"""The README's chaos lines, run as written, draw what their comments promise.
+
+tests/test_docs.py runs every documented line, smaller, to check that it runs; these
+tests run three lines at their full size and count the points in the picture each one
+writes (read back from the figure as it is saved, and from the CSV where the line writes
+one): a section needs hundreds of points an orbit to show its curves and its chaotic sea,
+an attractor a thousand, a diagram its points for every value of the parameter.
+"""
+
+from __future__ import annotations
+
+import csv
+import re
+import shlex
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from lagrangian.cli import ExitStatus, main
+
+README = Path(__file__).resolve().parents[1] / "README.md"
+
+pytestmark = pytest.mark.slow  # full-size runs: about a minute of CPU together
+
+
+def readme_line(start: str) -> str:
+    """The command line of the README's shell blocks that starts with ``start``
+    (continuation lines joined), exactly one."""
+    text = README.read_text(encoding="utf-8")
+    blocks = re.findall(r"^```sh\n(.*?)^```", text, re.S | re.M)
+    joined = "\n".join(blocks).replace("\\\n", " ")
+    found = [line.strip() for line in joined.splitlines() if line.strip().startswith(start)]
+    assert len(found) == 1, f"{len(found)} README lines start with {start!r}"
+    return found[0]
+
+
+def drawn_points(figure: Figure) -> np.ndarray:
+    """Every point drawn in ``figure`` (scatter offsets, marker lines), NaN ones left out."""
+    parts = [np.empty((0, 2))]
+    for axis in figure.axes:
+        parts += [np.asarray(c.get_offsets(), dtype=float) for c in axis.collections]
+        parts += [line.get_xydata() for line in axis.get_lines() if line.get_marker() != "None"]
+    points = np.concatenate(parts)
+    return points[np.all(np.isfinite(points), axis=1)]
+
+
+def drawn_picture(line: str, folder: Path, monkeypatch) -> Figure:
+    """The README line through the CLI in ``folder``: the one figure it saved."""
+    saved: list[Figure] = []
+    save = Figure.savefig
+
+    def recorded(figure, *args, **kwargs):
+        saved.append(figure)
+        return save(figure, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", recorded)
+    monkeypatch.chdir(folder)
+    argv = shlex.split(line, comments=True)
+    assert argv[0] == "lagrangian"
+    assert main(argv[1:]) == ExitStatus.SUCCESS
+    (figure,) = saved
+    return figure
+
+
+def test_the_henon_heiles_section_draws_hundreds_of_points_an_orbit(tmp_path, monkeypatch):
+    line = readme_line("lagrangian poincare henon_heiles")
+    picture = drawn_picture(line, tmp_path, monkeypatch)
+    with open(tmp_path / "section.csv", newline="") as file:
+        rows = list(csv.DictReader(file))
+    per_orbit = Counter(row["orbit"] for row in rows)
+    assert len(per_orbit) == 12
+    assert min(per_orbit.values()) >= 200, per_orbit  # at t_end 200: about 30 each
+    assert len(drawn_points(picture)) == len(rows)
+    assert (tmp_path / "section.png").is_file()
+
+
+def test_the_driven_pendulums_strobe_draws_its_strange_attractor(tmp_path, monkeypatch):
+    line = readme_line("lagrangian poincare driven_damped_pendulum")
+    points = drawn_points(drawn_picture(line, tmp_path, monkeypatch))
+    assert (tmp_path / "attractor.png").is_file()
+    assert len(points) >= 1000  # at the model's t_end, 300: 21 points
+    # chaos, not a periodic response (which strobes to a few points): all points differ
+    assert len(np.unique(np.round(points, 6), axis=0)) == len(points)
+
+
+def test_the_bifurcation_from_a_section_draws_turning_points_for_every_drive(tmp_path, monkeypatch):
+    line = readme_line(
+        "lagrangian bifurcation driven_damped_pendulum --vary A=1.35:1.5:400 --section"
+    )
+    points = drawn_points(drawn_picture(line, tmp_path, monkeypatch))
+    assert (tmp_path / "turning.png").is_file()  # the line wrote nothing before
+    drives = np.unique(points[:, 0])
+    assert len(drives) == 400  # every run crossed θ̇ = 0 downwards after its transient
+    assert np.all(np.abs(points[:, 1]) <= np.pi)  # θ, wrapped
