@@ -170,6 +170,11 @@ class deadline:  # named as the function it was: ``with deadline(seconds, stage)
         self.previous_handler = signal.getsignal(SIGNAL)
         previous_delay, self.previous_interval = signal.getitimer(TIMER)
         self.outer = now + previous_delay if previous_delay > 0 else None
+        if self.outer is not None and _active:
+            # The timer tells what is left in whole ticks of the kernel's accounting, so
+            # an end read back from it drifts later at each deadline entered and left
+            # within a tick: an enclosing deadline's own end is exact.
+            self.outer = min(self.outer, min(end for end, _ in _active))
         self.armed = self.entered = True
         # A timer due at once (a deadline of microseconds, or the outer one) may fire
         # before the guarded block starts, with no __exit__ to follow: undone here.
@@ -209,12 +214,19 @@ class deadline:  # named as the function it was: ``with deadline(seconds, stage)
     def _leave(self) -> None:
         """Disarm: no signal of this deadline reaches anyone after this returns."""
         self.armed = self.entered = False  # first: a signal from here on is ignored
+        overdue = False
         with _disarmed(self.previous_handler):
             if any(error is self.error for _, error in _active):
                 _active.remove(next(a for a in _active if a[1] is self.error))
             if self.outer is not None:  # re-arm what was armed before
-                delay = max(self.outer - cpu_seconds(), 1e-6)
-                signal.setitimer(TIMER, delay, self.previous_interval)
+                left = self.outer - cpu_seconds()
+                overdue = left <= 0
+                signal.setitimer(TIMER, max(left, 1e-6), self.previous_interval)
+        if overdue:
+            # Its signal now, not a timer tick later: a deadline entered and left within
+            # that tick would re-arm it for a microsecond again, and a loop of short
+            # stages would push it on for ever.
+            signal.raise_signal(SIGNAL)
 
 
 def _leaving(frame) -> bool:

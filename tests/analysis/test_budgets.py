@@ -85,6 +85,54 @@ def test_an_inner_deadline_leaves_the_outer_one_armed():
     assert attempt("outer", 0.1, inner_then_spin)[1].stage == "outer"
 
 
+class LeftRunning(BaseException):
+    """Raised by a CPU-time guard of the test's own: the work under test never ended."""
+
+
+def _left_running(signum, frame):
+    raise LeftRunning
+
+
+def test_an_outer_deadline_ends_work_that_enters_and_leaves_many_inner_ones():
+    """Leaving an inner deadline re-arms the outer timer for what is left; once nothing is
+    left, the outer one ends there: re-armed for a microsecond each time, its signal was
+    pushed a timer tick later by every inner deadline left meanwhile, and never came."""
+
+    def many_inner():
+        while True:
+            attempt("inner", 10, lambda: None)
+
+    guard = timer_handler(signal.ITIMER_VIRTUAL, signal.SIGVTALRM, _left_running, 20)
+    with guard:  # user CPU seconds: fails the test rather than hang it
+        outcome = attempt("outer", 0.05, many_inner)
+    assert outcome == (None, Undecided("outer", "not decided within 0.05 s"))
+    assert remaining() is None
+
+
+def test_a_signal_as_an_inner_deadline_is_left_leaves_nothing_armed():
+    """The outer stage's signal comes just as the inner stage ends, in the inner deadline's
+    ``__exit__`` (where a handler may run, as Python calls it): the outer stage is decided
+    or undecided, never an OutOfTime out of ``attempt``, and nothing stays armed.  As a
+    generator, the deadline left its clean-up to a ``finally`` that never ran: the outer
+    stage's error escaped ``analyze`` (test_a_tiny_timeout... after a full analysis)."""
+    real = budget.deadline
+
+    class SignalAsLeft(real):
+        def __exit__(self, *exception):
+            if self.stage == "inner":
+                signal.raise_signal(budget.SIGNAL)
+            return super().__exit__(*exception)
+
+    handler = signal.getsignal(budget.SIGNAL)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(budget, "deadline", SignalAsLeft)
+        outcome = attempt("outer", 5, lambda: attempt("inner", 10, lambda: 42))
+    assert outcome in (((42, None), None), (None, Undecided("outer", "not decided within 5 s")))
+    assert remaining() is None
+    assert signal.getitimer(budget.TIMER) == (0.0, 0.0)
+    assert signal.getsignal(budget.SIGNAL) is handler
+
+
 class Alarm(Exception):
     pass
 
