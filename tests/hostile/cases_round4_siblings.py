@@ -79,3 +79,66 @@ CASES = [
         model=TRULY_SINGULAR,
     ),
 ]
+
+# An adaptive run keeps every step unless told output times; how many it takes is known
+# only as it goes (plot henon_heiles --t-end 1e7 grew to 7.8 GB in 2 minutes).  The loop
+# projects them from its pace after 8,192 steps and refuses what cannot fit; --samples
+# (new on plot and animate) keeps only the outputs, and the run then keeps its --timeout.
+# t_end = 1e9: about 5e9 steps, 1,700 GB, more than any machine has.
+KEPT = (
+    r"dop853 to t_end = 1e\+09, every step kept \(about [\d,]+ steps at the pace so far\) "
+    r"needs about [\d,.e+]+ GB of memory, more than the [\d,.]+ GB available[^:]*: "
+)
+PLOT_ADVICE = r"give --samples N \(N output times, not every step\) or a shorter --t-end$"
+CASES += [
+    *(
+        HostileCase(
+            f"plot-{kind}-t-end-1e9-refused-before-it-fills-memory",
+            ("plot", "henon_heiles", "--kind", kind, "--t-end", "1e9", "--out", "{dir}/a.png"),
+            error=KEPT + PLOT_ADVICE,
+        )
+        for kind in ("timeseries", "phase", "energy", "poincare")
+    ),
+    HostileCase(
+        "animate-t-end-1e9-refused-before-it-fills-memory",
+        ("animate", "henon_heiles", "--t-end", "1e9", "--out", "{dir}/a.gif"),
+        error=KEPT + PLOT_ADVICE,
+    ),
+    HostileCase(
+        "simulate-t-end-1e9-every-step-refused-before-it-fills-memory",
+        ("simulate", "henon_heiles", "--t-end", "1e9"),
+        error=KEPT + r"give --samples N \(N output times, not every step\), a shorter --t-end "
+        r"or a looser --rtol$",
+    ),
+    HostileCase(
+        "plot-samples-t-end-1e9-keeps-its-timeout",
+        (
+            "plot",
+            "henon_heiles",
+            "--t-end",
+            "1e9",
+            "--samples",
+            "1000",
+            "--timeout",
+            "1",
+            "--out",
+            "{dir}/a.png",
+        ),
+        # ended by its pace (projected) or at its 1 s, whichever a loaded machine reaches first
+        error=r"(at its pace so far the run would take about [\d,]+ (minutes|hours|days)"
+        r"|the run did not finish within 1 s)",
+    ),
+    HostileCase(
+        "plot-samples-of-a-trajectory-file-is-a-usage-error",
+        ("plot", "{dir}/run.csv", "--samples", "100", "--out", "{dir}/a.png"),
+        error=r"--t-end, --samples, --method, --set and --define apply to a MODEL, not a file",
+        setup=lambda folder: (folder / "run.csv").write_text("t,x,x_dot\n0,1,0\n1,0.5,0.1\n"),
+    ),
+    HostileCase(
+        "plot-samples-draws-the-run-at-those-times",
+        ("plot", "harmonic_oscillator", "--samples", "50", "--out", "{dir}/a.png"),
+        exit_code=0,
+        output=r"wrote .*a\.png",
+        slow=True,
+    ),
+]

@@ -188,13 +188,23 @@ CASES += [
     HostileCase(
         "simulate-t-end-1e12-refused-by-its-pace",
         # 1e12 (not 1e9): the compiled default loop would finish 1e9 in minutes on a quiet machine
-        ("simulate", "harmonic_oscillator", "--t-end", "1e12"),
+        # --samples: every step kept, the memory they would need is refused first
+        ("simulate", "harmonic_oscillator", "--t-end", "1e12", "--samples", "100"),
         error=r"at its pace so far the run would take about [\d,]+ (minutes|hours|days|years)",
     ),
     HostileCase(
         "simulate-over-its-timeout",
         # 1000 s of it may now finish in 0.3 s (the default compiles dop853's loop)
-        ("simulate", "double_pendulum", "--t-end", "100000", "--timeout", "0.3"),
+        (
+            "simulate",
+            "double_pendulum",
+            "--t-end",
+            "100000",
+            "--timeout",
+            "0.3",
+            "--samples",
+            "100",
+        ),
         error=r"did not finish within 0\.3 s: it reached t = ",
     ),
     HostileCase(

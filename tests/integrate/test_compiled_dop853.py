@@ -142,11 +142,68 @@ def test_the_time_budget_sees_the_compiled_loop_move():
     system = compiled("double_pendulum", "numba")
     simulate(system, t_end=1.0)  # compiled before the clock starts
     pace = RunPace((0.0, 1e9), 0.05)
-    with pytest.raises(RunTooLong):
-        simulate(system, t_end=1e9, watch=pace)
+    with pytest.raises(RunTooLong):  # two outputs: no steps kept, nothing for memory to refuse
+        simulate(system, t_end=1e9, watch=pace, n_out=2)
 
 
 def test_constrained_systems_keep_scipys_loop():
     system = compiled("cartesian_pendulum", "numba")
     assert system.has_constraints
     assert compiled_loop(system) is None
+
+
+# -- memory: an adaptive run's steps are known only as it goes ---------------------------
+CHAOTIC = {"theta1": 2.0, "theta2": 0.5}
+
+
+def _every_step(available=None, monkeypatch=None, **options):
+    from lagrangian.integrate import memory
+
+    if monkeypatch is not None:
+        monkeypatch.setattr(memory, "available_memory", lambda: available)
+    pendulum = compiled("double_pendulum", "numba")
+    return simulate(pendulum, t_end=1000.0, initial=CHAOTIC, **options)
+
+
+def test_a_run_keeping_every_step_is_refused_once_they_cannot_fit(monkeypatch):
+    """The steps kept so far and the latest stretch's pace project the whole run: refused
+    when it needs more than is available, run when it needs less (both by a factor 2)."""
+    from lagrangian.integrate import memory
+
+    whole = _every_step()
+    steps = whole.dataset.attrs["steps"]
+    assert steps > 4 * memory.PROJECT_AFTER_STEPS  # projected, then kept on
+    needed = memory.run_bytes(4, steps)
+    assert _every_step(2 * needed, monkeypatch).dataset.attrs["steps"] == steps
+    with pytest.raises(lg.ModelError) as refused:
+        _every_step(needed / 2, monkeypatch)
+    message = str(refused.value)
+    assert message.startswith("dop853 to t_end = 1000, every step kept (about "), message
+    projected = int(message.split("(about ")[1].split(" steps")[0].replace(",", ""))
+    assert steps / 2 < projected < 2 * steps
+    assert message.endswith(
+        "give n_out N (N output times, not every step), a shorter t_end or a looser rtol"
+    )
+
+
+@pytest.mark.slow  # 2 x 400,000 steps, under tracemalloc: 3-5 s
+def test_with_output_times_the_loop_keeps_no_steps():
+    """The outputs and the step count are those of the run that kept every step (its last
+    step is the state at t_end), and the memory it takes is not the steps': 400,000 steps
+    of 4 numbers are 13 MB; the chunks' buffers are 1 MB (NumPy reports to tracemalloc)."""
+    import tracemalloc
+
+    pendulum = compiled("double_pendulum", "numba")
+    options = {"t_end": 10_000.0, "initial": CHAOTIC}
+    whole = simulate(pendulum, **options)
+    steps = whole.dataset.attrs["steps"]
+    tracemalloc.start()
+    try:
+        sampled = simulate(pendulum, n_out=200, **options)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert sampled.t.shape == (200,)
+    assert sampled.dataset.attrs["steps"] == steps
+    np.testing.assert_array_equal(states(sampled)[:, -1], states(whole)[:, -1])
+    assert peak < 8 * 4 * steps / 2, (peak, steps)

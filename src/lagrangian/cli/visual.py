@@ -38,9 +38,15 @@ def _stem(source: str) -> str:
 
 
 def _run_options(function):
-    """--t-end, --method, --set, --define and --timeout, as ``simulate`` has them."""
+    """--t-end, --samples, --method, --set, --define and --timeout, as ``simulate`` has them."""
     decorators = [
         click.option("--t-end", type=float, help="End time (default: the model's t_end)."),
+        click.option(
+            "--samples",
+            type=int,
+            help="Draw the run at N equally spaced times from 0 to t_end (default: every "
+            "step; a long run keeps only these in memory).",
+        ),
         options.choice("--method", options.run_methods, "Integrator."),
         options.set_values(),
         options.define,
@@ -74,7 +80,7 @@ def _simulate(system, **settings):
 )
 @options.out("Write F.png, F.pdf or F.svg (default: <name>-<kind>.png).")
 @_run_options
-def plot(source, kind, out, t_end, method, assignments, definitions, timeout) -> None:
+def plot(source, kind, out, t_end, samples, method, assignments, definitions, timeout) -> None:
     """Plot a run of MODEL (simulated with its defaults) or a saved TRAJECTORY.
 
     The options of the run (--t-end, --method, --set, --define) apply to a MODEL.
@@ -89,9 +95,9 @@ def plot(source, kind, out, t_end, method, assignments, definitions, timeout) ->
     check_output_path(out)  # before the run: a typo in --out fails at once
     _headless()
     if source.lower().endswith(TRAJECTORY_SUFFIXES):
-        if t_end is not None or method is not None or assignments or definitions:
+        if any(x is not None for x in (t_end, samples, method)) or assignments or definitions:
             raise click.UsageError(
-                "--t-end, --method, --set and --define apply to a MODEL, not a file"
+                "--t-end, --samples, --method, --set and --define apply to a MODEL, not a file"
             )
         if kind == "modes":
             raise click.UsageError("--kind modes needs a MODEL, not a trajectory file")
@@ -101,6 +107,7 @@ def plot(source, kind, out, t_end, method, assignments, definitions, timeout) ->
     else:
         settings = {
             "t_end": t_end,
+            "n_out": samples,
             "method": method,
             "assignments": assignments,
             "definitions": options.definitions(definitions),
@@ -153,7 +160,9 @@ def _model_figure(model: str, kind: str, settings: dict):
     show_default=True,
     help="At most this many frames; longer runs play faster than real time.",
 )
-def animate(model, out, t_end, method, assignments, definitions, timeout, fps, max_frames) -> None:
+def animate(
+    model, out, t_end, samples, method, assignments, definitions, timeout, fps, max_frames
+) -> None:
     """Animate the mechanism of MODEL: a run played in real time."""
     from ..facade import load
     from ..output.animation import animate as write_animation
@@ -168,6 +177,7 @@ def animate(model, out, t_end, method, assignments, definitions, timeout, fps, m
     run = _simulate(
         system,
         t_end=t_end,
+        n_out=samples,
         method=method,
         assignments=values,
         definitions=options.definitions(definitions),

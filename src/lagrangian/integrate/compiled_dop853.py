@@ -50,6 +50,7 @@ from ..trajectory import EventRecord
 from .base import IntegrationResult, Run, Status
 from .events import scipy_event
 from .guard import UNDEFINED, describe_state, state_problem
+from .memory import PROJECT_AFTER_STEPS, check_kept_steps
 
 if TYPE_CHECKING:
     from types import ModuleType
@@ -217,6 +218,7 @@ def solve_compiled(
     watcher = _Events(events, params, t0, y, f) if events else None
     times, states = [np.array([t0])], [y[None, :].copy()]
     chunk, status = FIRST_CHUNK, 0
+    taken, projected_at = 0, PROJECT_AFTER_STEPS  # steps taken; the next memory projection
     while status == 0:
         ts, ys = np.empty(chunk), np.empty((chunk, size))
         olds = np.empty((chunk if dense else 0, size))
@@ -242,6 +244,14 @@ def solve_compiled(
                 status = -1
         times.append(ts)
         states.append(ys)
+        taken += ts.shape[0]
+        if t_eval is not None:  # the outputs are on the grid: the last two steps suffice
+            times, states = [np.concatenate(times)[-2:]], [np.concatenate(states)[-2:]]
+        elif taken >= projected_at:  # every step kept: will they fit?
+            check_kept_steps(
+                "dop853", size, taken, (float(clock[0]), t1), (steps, clock[0] - t_before)
+            )
+            projected_at = 2 * taken
         if watch is not None:
             watch(float(clock[0]))
         chunk = min(2 * chunk, LARGEST_CHUNK)
@@ -262,7 +272,7 @@ def solve_compiled(
         result_status = Status.FAILED
         message = state_problem(compiled, t_out[-2], y_out[:, -2], y_out[:, -1])
         t_out, y_out = t_out[:-1], y_out[:, :-1]
-    steps = t_out.shape[0] - 1
+    steps = taken - (status == 3)  # the failed step's state is not kept
     if t_eval is not None:
         reached = grid <= t_out[-1]
         t_kept, y_kept = grid[reached], out[reached].T

@@ -15,7 +15,7 @@ import os
 from collections.abc import Callable
 from pathlib import Path
 
-from ..errors import ModelError
+from ..errors import ModelError, choices, setting
 
 #: Bytes a single run holds per step it keeps, beyond 8 per state entry: the step lists
 #: (a float and an array object per step, about 150 bytes), the time arrays.
@@ -143,6 +143,36 @@ def check_fits(estimate: float, what: str, advice: str) -> None:
     raise ModelError(
         f"{what} needs about {_gigabytes(estimate)} GB of memory, more than the "
         f"{_gigabytes(available)} GB available{source}: {advice}"
+    )
+
+
+#: Steps an adaptive run keeps before its memory is first projected (its step size has
+#: settled by then); projected again each time the steps kept double.
+PROJECT_AFTER_STEPS = 8192
+KEEPING_ADVICE = "give " + choices(
+    f"{setting('n_out')} N (N output times, not every step)",
+    f"a shorter {setting('t_end')}",
+    f"a looser {setting('rtol')}",
+)
+
+
+def check_kept_steps(
+    method: str, state_size: int, kept: int, t_span: tuple[float, float], pace: tuple[int, float]
+) -> None:
+    """ModelError once an adaptive run that keeps every step shows it cannot fit: ``kept``
+    steps so far, and ``pace`` = (steps, time span) of its latest stretch projected to
+    t_end.  An adaptive method's steps are known only as it goes (an oscillator to
+    ``t_end = 1e7`` keeps 10^8 of them, 8 GB); the first projection comes after
+    ``PROJECT_AFTER_STEPS`` steps, milliseconds into the run."""
+    steps, span = pace
+    if span <= 0:
+        return
+    projected = kept + steps * max(t_span[1] - t_span[0], 0.0) / span
+    check_fits(
+        run_bytes(state_size, projected),
+        f"{method} to t_end = {t_span[1]:g}, every step kept (about "
+        f"{count_text(int(min(projected, 1e300)))} steps at the pace so far)",
+        KEEPING_ADVICE,
     )
 
 

@@ -32,7 +32,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import ModelError, setting
+from ..errors import ModelError, choices, setting
 from ..trajectory import Trajectory
 from .base import AbstractIntegrator, IntegrationResult, check_time_span
 from .events import Event
@@ -121,7 +121,7 @@ def _check_memory(integrator, t_span, state_size, outputs: int) -> None:
             run_bytes(state_size, steps, outputs),
             f"{settings['method']} with dt = {settings['dt']:g} to t_end = {t_span[1]:g} "
             f"({count_text(steps)} steps, every one kept)",
-            f"give a larger {setting('dt')} or a shorter {setting('t_end')}",
+            "give " + choices(f"a larger {setting('dt')}", f"a shorter {setting('t_end')}"),
         )
     check_fits(
         run_bytes(state_size, 0, outputs),
