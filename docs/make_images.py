@@ -24,6 +24,7 @@ from lagrangian.output.mode_shapes import plot_normal_modes
 from lagrangian.output.phase import phase_family, plot_phase_portrait
 from lagrangian.output.plots import new_figure, plot_energy_error, plot_timeseries, save_figure
 from lagrangian.output.poincare import plot_poincare, section_event
+from lagrangian.output.sensitivity import plot_sensitivities
 
 IMAGES = Path(__file__).resolve().parent / "images"
 LIMIT = 200_000  # bytes per picture
@@ -517,6 +518,13 @@ def driven_pendulum() -> None:
     save(diagram.plot(size=0.5), "driven_pendulum_bifurcation.png")
 
 
+def driven_pendulum_sensitivity() -> None:
+    """d theta(t) / d(b, l, theta(0)) of the driven pendulum in its regular regime."""
+    system = lg.load("driven_damped_pendulum")
+    result = system.sensitivities(["b", "l", "theta"], t_end=20.0, params={"A": 0.5})
+    save(plot_sensitivities(result), "driven_pendulum_sensitivity.png")
+
+
 PICTURES = (
     simple_pendulum,
     velocity_dependent_potential,
@@ -538,6 +546,7 @@ PICTURES = (
     serve_editor,
     henon_heiles,
     driven_pendulum,
+    driven_pendulum_sensitivity,
 )
 
 
