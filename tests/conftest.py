@@ -13,7 +13,8 @@ live in ``tests/helpers.py`` (``import helpers``).
 
 The tests run in a random order (pytest-randomly, of the ``test`` extra): no test may
 depend on another having run before it.  The summary's last line names the order's seed
-(``pytest --randomly-seed=N`` repeats it; ``-p no:randomly`` keeps the files' order);
+(``pytest -n 0 --randomly-seed=N`` runs that order again, in one process, where the
+xdist workers shared it out; ``-p no:randomly`` keeps the files' order);
 each test's seeding stays the one above (randomly's own reseeding is turned off).
 
 Every cache of the package (generated modules and their numba files, kept pages) goes to
@@ -103,7 +104,7 @@ def pytest_terminal_summary(
     seed = _randomly_seed(config)
     if seed is not None and config.getoption("randomly_reorganize", True):
         terminalreporter.write_line(
-            f"the tests ran in a random order: --randomly-seed={seed} repeats it"
+            f"the tests ran in a random order: -n 0 --randomly-seed={seed} repeats it"
         )
 
 
