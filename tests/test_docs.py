@@ -101,6 +101,7 @@ SLOW_COMMANDS = (
     "lyapunov",
     "poincare",
     "sensitivity",
+    "orbits",
 )
 #: ``python docs/make_images.py [FILTER]`` remakes the pictures (every one: about a
 #: minute; the double pendulum's: half a minute): the test runs it, into a temporary
@@ -108,6 +109,12 @@ SLOW_COMMANDS = (
 MAKE_IMAGES_FILTER = "modes"
 #: What the docs say a command prints: (command as in the docs, fragments of its output).
 PRINTS = {
+    "lagrangian orbits driven_damped_pendulum --strobe 9.42477796076938 --period 2 --set A=1.07 "
+    "--starts 5": [
+        "1 periodic orbit of period dividing 2",
+        "period 2, stable node, multipliers 0.471104, 0.000171299; (theta, theta_dot) at "
+        "(-2.47699, 1.1494), (-2.20769, 1.3461)",
+    ],
     "lagrangian derive rotating_wire_bead": ["r̈ = ω² r"],
     "lagrangian simulate double_pendulum": ["method: dop853 in SciPy's loop on"],
     "lagrangian simulate double_pendulum --t-end 1000": ["method: "],

@@ -42,6 +42,7 @@ PYTHON_SPELLING: Mapping[str, str] = {
     "allow_host": "allowed_hosts",
     "count": "count",
     "interval": "interval",
+    "strobe": "strobe",
 }
 _SETTING = re.compile(r"\u27e6([a-z_=]+)\u27e7")
 _CHOICES = re.compile(r"\u27ea([^\u27eb]*)\u27eb")

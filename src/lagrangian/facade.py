@@ -214,6 +214,20 @@ class System(ModelSystem):
 
         return poincare_of_system(self, **options)
 
+    def orbits(self, **options: object):
+        """Periodic orbits of the strobe map -> :class:`~lagrangian.integrate.orbits.
+        OrbitSearch` (``.orbits``: each with ``.points``, ``.multipliers``, ``.stable``,
+        ``.kind``).
+
+        Options: strobe (the drive's period), period (K: orbits of period dividing K),
+        phase, grid ({name: values}: starts), attractor (strobe points of the motion used
+        as starts, default 20), transient, rtol, atol, initial, params, backend, timeout
+        (see :func:`lagrangian.simulation.orbits_of_system`).
+        """
+        from .simulation import orbits_of_system
+
+        return orbits_of_system(self, **options)
+
     def bifurcation(self, **options: object):
         """A bifurcation diagram -> :class:`~lagrangian.ensemble.bifurcation.
         BifurcationDiagram` (``.points``, ``.to_csv(path)``, ``.plot()``).

@@ -20,6 +20,7 @@ from .integrate import method_class, simulate
 from .integrate.base import transient_setting
 from .integrate.choice import choose_run
 from .integrate.lyapunov import DEFAULT_INTERVAL, LyapunovSpectrum, lyapunov_spectrum
+from .integrate.orbits import MAX_STARTS, OrbitSearch, periodic_orbits
 from .integrate.pace import RunPace, watching
 from .integrate.poincare import MAX_ORBITS, PoincareSection, poincare_section, shell_starts
 from .integrate.section import parse_section
@@ -286,4 +287,60 @@ def _spread_starts(compiled, initial, spread: Mapping[str, tuple[float, float]],
                 field="spread",
             )
         starts[names.index(name)] = values
+    return starts
+
+
+def orbits_of_system(
+    system: System,
+    *,
+    strobe: float,
+    period: int,
+    phase: float | None = None,
+    grid: Mapping[str, object] | None = None,
+    attractor: int = 20,
+    transient: float | None = None,
+    **settings: Any,
+) -> OrbitSearch:
+    """The periodic orbits of ``system``'s strobe map (t = ``phase`` + k ``strobe``) of
+    period dividing ``period``, by Newton's method from ``attractor`` strobe points of
+    the motion from the initial state after ``transient`` (default 50 periods) and from
+    the starts of ``grid`` ({name: values} of coordinates or velocities, a value array or
+    a grid axis each, all combinations; the rest from the initial state); see
+    :mod:`lagrangian.integrate.orbits`.  ``settings``: the keywords of :class:`RunSettings`."""
+    run = RunSettings(**settings)
+    if transient is not None:
+        transient = transient_setting(transient)  # before the compilation
+    initial, params = run.values(system)
+    compiled, watch = run.compiled(
+        system, 1.0, describe=lambda done: f"{100 * done:.3g} % of the starts"
+    )
+    return periodic_orbits(
+        compiled, strobe=strobe, period=period, phase=phase,
+        starts=_grid_starts(compiled, initial, grid or {}), attractor=attractor,
+        transient=transient, initial=initial, params=params, rtol=run.rtol, atol=run.atol,
+        watch=watch,
+    )  # fmt: skip
+
+
+def _grid_starts(compiled, initial, grid: Mapping[str, object]) -> np.ndarray:
+    """The start states (2n, N) of every combination of the ``grid``'s values, the other
+    values from the initial state; (2n, 0) without a grid."""
+    if not grid:
+        return np.empty((2 * compiled.n, 0))
+    names = [*compiled.coordinate_names, *(f"{q}_dot" for q in compiled.coordinate_names)]
+    for name in grid:
+        if name not in names:
+            raise ModelError(f"'{name}' is not a coordinate or velocity", field="grid")
+    axes = [np.asarray(values, dtype=float) for values in grid.values()]
+    if len(axes) > 1 and all(axis.ndim <= 1 for axis in axes):  # plain lists: all pairs
+        axes = list(np.meshgrid(*axes, indexing="ij"))
+    values = np.broadcast_arrays(*axes)
+    count = values[0].size
+    if not 1 <= count <= MAX_STARTS:
+        raise ModelError(f"give from 1 to {MAX_STARTS:,} starts, not {count:,}", field="grid")
+    starts = np.repeat(compiled.state_vector(initial)[:, None], count, axis=1)
+    for name, column in zip(grid, values, strict=True):
+        starts[names.index(name)] = column.ravel()
+    if not np.all(np.isfinite(starts)):
+        raise ModelError("the grid's starts are not all finite numbers", field="grid")
     return starts

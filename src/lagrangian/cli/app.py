@@ -47,6 +47,7 @@ FLAGS = {
     "interval": "--interval",
     "wrt": "--wrt",
     "points": "--points",
+    "strobe": "--strobe",
 }
 
 

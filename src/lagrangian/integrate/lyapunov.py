@@ -130,7 +130,7 @@ def lyapunov_spectrum(
     problem = parameter_problem(compiled, 0.0, y0, p) or start_problem(compiled, 0.0, y0, p)
     if problem is not None:
         raise ModelError(problem)
-    flow = _Flow(compiled, p, count, rtol, atol, watch)
+    flow = VariationalFlow(compiled, p, count, rtol, atol, watch)
     y = flow.state(0.0, transient, y0)
     start = transient
     displacements = np.linalg.qr(np.random.default_rng(SEED).normal(size=(size, count)))[0]
@@ -175,7 +175,7 @@ def _orthonormalised(displacements: np.ndarray, t: float) -> tuple[np.ndarray, n
     return q, stretch
 
 
-class _Flow:
+class VariationalFlow:
     """The state alone, or with k displacements (the variational equations), by DOP853:
     in its compiled loop of the variational equations where numba is installed
     (:func:`~.compiled_dop853.tangent_loop`, J generated from the symbolic Jacobian),

@@ -1,0 +1,71 @@
+"""Periodic orbits as JSON and as text (``lagrangian orbits``)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from ..integrate.floquet import as_json
+
+if TYPE_CHECKING:
+    from ..integrate.orbits import OrbitSearch, PeriodicOrbit
+
+
+def orbits_json(search: OrbitSearch) -> dict[str, object]:
+    """The search as JSON: the settings, and ``orbits``, a list of ``{period, points
+    (name -> value maps, one per point), multipliers (a complex one as [re, im]), stable,
+    kind, residual}``."""
+    return {
+        "model": search.name,
+        **search.settings,
+        "period": search.period,
+        "starts": search.starts,
+        "orbits": [
+            {
+                "period": orbit.period,
+                "points": [
+                    dict(zip(search.names, map(float, point), strict=True))
+                    for point in orbit.points.T
+                ],
+                "multipliers": as_json(orbit.multipliers),
+                "stable": orbit.stable,
+                "kind": orbit.kind,
+                "residual": orbit.residual,
+            }
+            for orbit in search.orbits
+        ],
+    }
+
+
+def orbits_text(search: OrbitSearch) -> str:
+    """One line for the search, then one per orbit: its period, stability and kind, its
+    multipliers and its points."""
+    strobe = search.strobe
+    at = f" at phase {strobe.phase:.6g}" if strobe.phase else ""
+    count = len(search.orbits)
+    lines = [
+        f"{search.name}: {count} periodic orbit{'s' if count != 1 else ''} of period "
+        f"dividing {search.period} of the strobe every {strobe.period:.6g}{at}, from "
+        f"{search.starts} starts"
+    ]
+    names = ", ".join(search.names)
+    lines += [f"  {_orbit_line(orbit)}; ({names}) at {_points(orbit)}" for orbit in search.orbits]
+    return "\n".join(lines)
+
+
+def _orbit_line(orbit: PeriodicOrbit) -> str:
+    stability = "stable" if orbit.stable else "unstable"
+    values = ", ".join(_number(value) for value in orbit.multipliers)
+    return f"period {orbit.period}, {stability} {orbit.kind}, multipliers {values}"
+
+
+def _number(value: complex) -> str:
+    encoded = as_json([value])[0]
+    if isinstance(encoded, list):
+        return f"{encoded[0]:.6g}{encoded[1]:+.6g}i"
+    return f"{encoded:.6g}"
+
+
+def _points(orbit: PeriodicOrbit) -> str:
+    return ", ".join(
+        "(" + ", ".join(f"{value:.6g}" for value in point) + ")" for point in orbit.points.T
+    )
