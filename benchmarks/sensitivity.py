@@ -7,10 +7,11 @@
 - the double pendulum, d(state)/d(m2, l1, g) at 201 times over 10 s (its 3-parameter fit).
 
 Ours: ``System.sensitivities`` (the forward sensitivity equations with the motion, DOP853
-at rtol 1e-10, atol 1e-12).  The peer: central differences of 2k full runs
-(``System.simulate``, DOP853 at rtol 1e-12, atol 1e-14, step 1e-4 of each value), what
-a fit without sensitivities computes for its Jacobian.  Ours runs once untimed first
-(its kernels are compiled on the first call).  Printed: median wall-clock and CPU
+at rtol 1e-10, atol 1e-12), in the compiled loop (``backend="numba"``) and in SciPy's
+loop.  The peer: central differences of 2k full runs (``System.simulate``, DOP853 at
+rtol 1e-12, atol 1e-14, step 1e-4 of each value), what a fit without sensitivities
+computes for its Jacobian.  Ours runs once untimed first (the compiled loop is built or
+loaded, the kernels compiled).  Printed: median wall-clock and CPU
 seconds, the ratio, and the largest difference between the two over each series,
 relative to the series' largest size.  Nothing is asserted.
 """
@@ -59,17 +60,24 @@ def differences(system, wrt, t_end, points, params, initial) -> np.ndarray:
 
 
 def case(label, system, wrt, t_end, points, params, initial, repeat) -> None:
-    def ours():
-        return system.sensitivities(wrt, t_end=t_end, points=points, params=params, initial=initial)
+    def ours(backend):
+        return system.sensitivities(
+            wrt, t_end=t_end, points=points, params=params, initial=initial, backend=backend
+        )
 
-    ours()  # compiles the kernels
-    mine = timed(ours, repeat)
+    ours("numba")  # builds (or loads) the compiled loop
+    compiled = timed(lambda: ours("numba"), repeat)
+    ours(None)  # compiles the kernels
+    mine = timed(lambda: ours(None), repeat)
     peer = timed(lambda: differences(system, wrt, t_end, points, params, initial), 1)
     values, reference = mine[2].values, peer[2]
     scale = np.max(np.abs(reference), axis=0)
     worst = float(np.max(np.max(np.abs(values - reference), axis=0) / scale))
+    agree = float(np.max(np.abs(compiled[2].values - values)) / np.max(np.abs(values)))
     print(
-        f"{label}: ours {mine[0]:.2f} s (CPU {mine[1]:.2f} s), central differences "
+        f"{label}: compiled loop (numba) {compiled[0]:.2f} s (CPU {compiled[1]:.2f} s, "
+        f"{agree:.0e} from SciPy's loop); SciPy's loop "
+        f"{mine[0]:.2f} s (CPU {mine[1]:.2f} s), central differences "
         f"{peer[0]:.2f} s (CPU {peer[1]:.2f} s), ratio {mine[1] / peer[1]:.3f} in CPU; "
         f"largest relative difference {worst:.1e}",
         flush=True,

@@ -184,8 +184,9 @@ class System(ModelSystem):
         and velocities for their initial values) -> :class:`~lagrangian.integrate.
         sensitivity.Sensitivities` (``.values``, ``.of(state, w)``, ``.to_dataset()``).
 
-        From the forward sensitivity equations, integrated with the motion.  Options:
-        t_end, points (output times), rtol, atol, initial, params, backend, timeout (see
+        From the forward sensitivity equations, integrated with the motion (in the compiled
+        loop with backend="numba").  Options: t_end, points (output times), rtol, atol,
+        initial, params, backend, timeout (see
         :func:`lagrangian.simulation.sensitivities_of_system`).
 
         >>> import lagrangian as lg

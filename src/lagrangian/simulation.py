@@ -202,7 +202,8 @@ def sensitivities_of_system(
     w in ``wrt`` (a parameter, or a coordinate or velocity for its initial value), at
     ``points`` times from 0 to ``t_end`` (default: the model's t_end); see
     :mod:`lagrangian.integrate.sensitivity`.  ``settings``: the keywords of
-    :class:`RunSettings`; its ``backend`` is that of the state's own functions."""
+    :class:`RunSettings`; with ``backend="numba"`` the equations run in the compiled
+    DOP853 loop (:mod:`lagrangian.integrate.compiled_sensitivity`)."""
     run = RunSettings(**settings)
     initial, params = run.values(system)
     t_end = _model_t_end(system, t_end)

@@ -52,7 +52,8 @@ def _check_outputs(out: str | None, picture: str | None) -> None:
 @options.choice(
     "--backend",
     options.run_backends,
-    "Compiled code of the motion (default llvm where SymEngine has it, else numpy).",
+    "Compiled code (default llvm where SymEngine has it, else numpy; numba: the whole "
+    "loop compiled, seconds to build once, then cached).",
 )
 @options.out("Write the motion and its sensitivities to FILE.nc or FILE.csv.")
 @click.option(

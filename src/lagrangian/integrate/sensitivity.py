@@ -2,14 +2,16 @@
 
 The state y = [q, q'] and its sensitivities S (2n x k) to the k names asked for (the
 model's parameters, or initial values: a coordinate ``x`` for x(0), ``x_dot`` for
-x'(0)) are integrated together, z = [y, S], by SciPy's DOP853 over the forward
-sensitivity equations S' = J S + [dF/dp | 0], S(0) = [0 | I]
-(:mod:`lagrangian.codegen.sensitivity`; J and dF/dp are compiled symbolic derivatives,
-not finite differences).  The error control covers S as well as y, so S is as
-accurate as the tolerances, and is the exact derivative of the continuous motion
-(not of the discrete one): central differences of two full runs agree with it to
-their own truncation error.  Defaults (echoed in the result): rtol 1e-10, atol 1e-12,
-201 output times.  Constrained systems are refused.
+x'(0)) are integrated together, z = [y, S], by DOP853 over the forward sensitivity
+equations S' = J S + [dF/dp | 0], S(0) = [0 | I] (:mod:`lagrangian.codegen.sensitivity`;
+J and dF/dp are compiled symbolic derivatives, not finite differences): in SciPy's
+loop, or, on the ``numba`` backend, in the compiled loop (:mod:`.compiled_sensitivity`:
+the same steps, without Python per step; its first build takes seconds, then it is
+loaded from the code cache).  The error control covers S as well as y, so S is as
+accurate as the tolerances, and is the derivative of the continuous motion (not of
+the discrete one): central differences of two full runs agree with it to their own
+truncation error.  Defaults (echoed in the result): rtol 1e-10, atol 1e-12, 201
+output times.  Constrained systems are refused.
 """
 
 from __future__ import annotations
@@ -100,9 +102,7 @@ def sensitivities(
     ``initial`` and ``params`` as for :func:`~lagrangian.integrate.simulate`; ``watch`` is
     told the time reached and may end the run by raising (its time budget).
     """
-    from scipy.integrate import solve_ivp
-
-    from ..numeric.sensitivity import SensitivityFunctions
+    from .compiled_sensitivity import sensitivity_loop, solve_on_grid
 
     if compiled.has_constraints:
         raise ModelError("sensitivities of constrained systems are not supported")
@@ -118,44 +118,31 @@ def sensitivities(
     state_names = (*names, *(f"{q}_dot" for q in names))
     wrt = _checked_wrt(wrt, compiled.parameter_names, state_names)
     size = len(state_names)
-    functions = SensitivityFunctions(compiled, [w for w in wrt if w not in state_names])
-    by_parameter = [functions.wrt.index(w) if w not in state_names else -1 for w in wrt]
     y0 = compiled.state_vector(initial)
     p = np.ascontiguousarray(compiled.parameter_vector(params), dtype=float)
     problem = parameter_problem(compiled, 0.0, y0, p) or start_problem(compiled, 0.0, y0, p)
     if problem is not None:
         raise ModelError(problem)
+    # integrated with the parameters' columns first (the order the compiled loop takes)
+    parameters = [w for w in wrt if w not in state_names]
+    order = [*parameters, *(w for w in wrt if w in state_names)]
     start = np.zeros((size, len(wrt)))
-    for column, w in enumerate(wrt):
-        if w in state_names:
-            start[state_names.index(w), column] = 1.0
-    columns = [column for column, index in enumerate(by_parameter) if index >= 0]
-    taken = [by_parameter[column] for column in columns]
-
-    def function(t: float, z: np.ndarray) -> np.ndarray:
-        if watch is not None:
-            watch(t)
-        slope, jacobian, forcing = functions.derivatives(t, z[:size], p)
-        flow = jacobian @ z[size:].reshape(size, -1)
-        flow[:, columns] += forcing[:, taken]
-        return np.concatenate((slope, flow.ravel()))
-
+    for column, w in enumerate(order[len(parameters) :], len(parameters)):
+        start[state_names.index(w), column] = 1.0
+    z0 = np.concatenate((y0, start.ravel()))
     times = np.linspace(0.0, float(t_end), int(points))
-    solution = solve_ivp(
-        function, (0.0, float(t_end)), np.concatenate((y0, start.ravel())), method="DOP853",
-        t_eval=times, rtol=rtol, atol=atol,
-    )  # fmt: skip
-    if solution.status != 0 or not np.all(np.isfinite(solution.y)):
-        reached = solution.t[-1] if solution.t.size else 0.0
-        raise ModelError(
-            f"the integration failed at t = {reached:g}: "
-            + (solution.message if solution.status != 0 else "the state is not finite")
-        )
-    z = solution.y.T
+    # the compiled loop on the numba backend only: its first build takes seconds (then it is
+    # cached on disk), more than a SciPy run of the sizes a single call usually has
+    loop = sensitivity_loop(compiled, parameters) if compiled.backend == "numba" else None
+    if loop is not None:
+        z = solve_on_grid(loop, z0, p, times, rtol, atol, watch)
+    else:
+        z = _by_scipy(compiled, parameters, z0, p, times, rtol, atol, watch)
+    values = z[:, size:].reshape(len(times), size, len(wrt))[:, :, [order.index(w) for w in wrt]]
     return Sensitivities(
-        times=solution.t,
+        times=times,
         states=z[:, :size],
-        values=z[:, size:].reshape(len(times), size, len(wrt)),
+        values=values,
         state_names=state_names,
         wrt=wrt,
         initial=dict(zip(state_names, map(float, y0), strict=True)),
@@ -164,6 +151,37 @@ def sensitivities(
         atol=atol,
         name=compiled.equations.system.name if compiled.derived else "",
     )
+
+
+def _by_scipy(compiled, parameters, z0, p, times, rtol, atol, watch) -> np.ndarray:
+    """z at ``times`` by SciPy's DOP853 over the state and S, the ``parameters``' columns
+    first: S' = J S + [dF/dp | 0] from the lambdified derivatives."""
+    from scipy.integrate import solve_ivp
+
+    from ..numeric.sensitivity import SensitivityFunctions
+
+    functions = SensitivityFunctions(compiled, parameters)
+    size, count = 2 * compiled.n, len(parameters)
+
+    def function(t: float, z: np.ndarray) -> np.ndarray:
+        if watch is not None:
+            watch(t)
+        slope, jacobian, forcing = functions.derivatives(t, z[:size], p)
+        flow = jacobian @ z[size:].reshape(size, -1)
+        flow[:, :count] += forcing
+        return np.concatenate((slope, flow.ravel()))
+
+    solution = solve_ivp(
+        function, (times[0], times[-1]), z0, method="DOP853", t_eval=times, rtol=rtol,
+        atol=atol,
+    )  # fmt: skip
+    if solution.status != 0 or not np.all(np.isfinite(solution.y)):
+        reached = solution.t[-1] if solution.t.size else 0.0
+        raise ModelError(
+            f"the integration failed at t = {reached:g}: "
+            + (solution.message if solution.status != 0 else "the state is not finite")
+        )
+    return solution.y.T
 
 
 def _checked_wrt(
