@@ -109,6 +109,11 @@ SLOW_COMMANDS = (
 MAKE_IMAGES_FILTER = "modes"
 #: What the docs say a command prints: (command as in the docs, fragments of its output).
 PRINTS = {
+    "lagrangian orbits henon_heiles --section x = 0 --energy 0.125 --starts 10 --t-end 40": [
+        "6 periodic orbits of period dividing 1 of the section x = 0 at energy 0.125",
+        "period 1 (time 6.90059945), unstable saddle, multipliers 3.76069,",
+        "period 1 (time 7.54325941), stable elliptic",
+    ],
     "lagrangian orbits driven_damped_pendulum --strobe 9.42477796076938 --period 2 --set A=1.07 "
     "--starts 5": [
         "1 periodic orbit of period dividing 2",

@@ -294,9 +294,13 @@ def _spread_starts(compiled, initial, spread: Mapping[str, tuple[float, float]],
 def orbits_of_system(
     system: System,
     *,
-    strobe: float,
     period: int,
+    strobe: float | None = None,
     phase: float | None = None,
+    section: str | None = None,
+    direction: str = "+",
+    energy: float | None = None,
+    t_end: float | None = None,
     grid: Mapping[str, object] | None = None,
     attractor: int = 20,
     transient: float | None = None,
@@ -307,7 +311,13 @@ def orbits_of_system(
     the motion from the initial state after ``transient`` (default 50 periods) and from
     the starts of ``grid`` ({name: values} of coordinates or velocities, a value array or
     a grid axis each, all combinations; the rest from the initial state); see
-    :mod:`lagrangian.integrate.orbits`.  ``settings``: the keywords of :class:`RunSettings`."""
+    :mod:`lagrangian.integrate.orbits`.  Or, for an autonomous system, through the
+    ``section`` ("q = c", ``direction``) on the shell h = ``energy``, from ``attractor``
+    starts spread over the shell, returning within ``period`` crossings found up to
+    ``t_end`` (default: the model's): :mod:`lagrangian.integrate.shell_orbits`.
+    ``settings``: the keywords of :class:`RunSettings`."""
+    if (strobe is None) == (section is None):
+        raise ModelError("give a strobe period or a section (one of them)")
     run = RunSettings(**settings)
     if transient is not None:
         transient = transient_setting(transient)  # before the compilation
@@ -315,11 +325,46 @@ def orbits_of_system(
     compiled, watch = run.compiled(
         system, 1.0, describe=lambda done: f"{100 * done:.3g} % of the starts"
     )
+    if section is not None:
+        return _shell_orbits(
+            compiled, section, direction, energy, period, attractor, _model_t_end(system, t_end),
+            initial, params, run, watch,
+        )  # fmt: skip
     return periodic_orbits(
         compiled, strobe=strobe, period=period, phase=phase,
         starts=_grid_starts(compiled, initial, grid or {}), attractor=attractor,
         transient=transient, initial=initial, params=params, rtol=run.rtol, atol=run.atol,
         watch=watch,
+    )  # fmt: skip
+
+
+def _shell_orbits(
+    compiled, text, direction, energy, period, count, t_end, initial, params, run, watch
+) -> OrbitSearch:
+    """The orbits through the section ``text`` on the energy shell (see orbits_of_system)."""
+    from .integrate.shell_orbits import check_autonomous, shell_orbits
+
+    if energy is None:
+        raise ModelError("periodic orbits through a section need the energy of their shell")
+    check_autonomous(
+        compiled, compiled.state_vector(initial)[:, None], compiled.parameter_vector(params)
+    )
+    if compiled.n < 2:
+        raise ModelError(
+            "periodic orbits through a section need two or more coordinates (with one, every "
+            "motion on an energy shell is periodic)"
+        )
+    section = parse_section(compiled, text, direction)
+    if section.coordinate is None:
+        raise ModelError(f"the section must be 'coordinate = number', not {text!r}")
+    names = [*compiled.coordinate_names, *(f"{q}_dot" for q in compiled.coordinate_names)]
+    axis = next(n for n in names if n not in (section.coordinate, f"{section.coordinate}_dot"))
+    starts = shell_starts(
+        compiled, section, float(energy), int(count), axis, initial=initial, params=params
+    )
+    return shell_orbits(
+        compiled, section=section, energy=float(energy), period=period, starts=starts,
+        t_end=t_end, params=params, rtol=run.rtol, atol=run.atol, watch=watch,
     )  # fmt: skip
 
 

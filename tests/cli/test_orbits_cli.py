@@ -53,6 +53,18 @@ def test_orbits_text_names_each_orbit(capsys):
     )
 
 
+def test_orbits_through_a_section_json(capsys):
+    status, out, _ = run(
+        capsys, "orbits", "henon_heiles", "--section", "x = 0", "--energy", "0.125",
+        "--starts", "3", "--t-end", "40", "--json",
+    )  # fmt: skip
+    assert status == ExitStatus.SUCCESS
+    summary = json.loads(out)
+    assert summary["section"] == "x = 0" and summary["energy"] == 0.125
+    assert summary["orbits"] and all(orbit["time"] > 0 for orbit in summary["orbits"])
+    assert all(len(orbit["multipliers"]) == 4 for orbit in summary["orbits"])
+
+
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
@@ -63,6 +75,10 @@ def test_orbits_text_names_each_orbit(capsys):
         (["--strobe", DRIVE, "--phase", "nan"], "the phase must be a finite time, not nan"),
         (["--strobe", "0"], "strobe must be a finite number > 0"),
         (["--strobe", DRIVE, "--starts", "0"], "give from 1 to 100,000 starts, not 0"),
+        ([], "give --section or --strobe (one of them)"),
+        (["--strobe", DRIVE, "--energy", "1"], "--energy and --t-end go with --section"),
+        (["--section", "theta = 0", "--grid", "theta=0:1:2"], "--grid and --transient go with"),
+        (["--section", "theta = 0"], "need the energy of their shell"),
     ],
 )
 def test_orbits_errors_are_one_line(capsys, argv, message):

@@ -21,7 +21,10 @@ Numerical Explorations, 2nd ed. 1998, ch. 2):
   Hamiltonian orbit surrounded by invariant curves).
 
 Stable: every |mu| <= 1 (within :data:`UNIT`): the elliptic orbits of a Hamiltonian map
-are stable in this, linear, sense.
+are stable in this, linear, sense.  An orbit of an autonomous flow has ``trivial``
+multipliers 1 (along the flow; across the energy shell of a conserved energy): the ones
+closest to 1 are set aside before judging (a double 1 is a Jordan block, computed only to
+about the square root of the integration's accuracy, 1e-6 here).
 """
 
 from __future__ import annotations
@@ -40,14 +43,25 @@ def multipliers(monodromy: np.ndarray) -> np.ndarray:
     return values[np.argsort(-np.abs(values), kind="stable")]
 
 
-def is_stable(values: np.ndarray) -> bool:
-    """Whether every multiplier lies inside the unit circle or on it (within UNIT)."""
-    return bool(np.all(np.abs(values) <= 1.0 + UNIT))
-
-
-def kind(values: np.ndarray) -> str:
-    """The orbit's kind from its multipliers (see the module docstring)."""
+def nontrivial(values: np.ndarray, trivial: int = 0) -> np.ndarray:
+    """``values`` without the ``trivial`` ones closest to 1."""
     values = np.asarray(values, dtype=complex)
+    if trivial <= 0:
+        return values
+    keep = np.argsort(np.abs(values - 1.0), kind="stable")[trivial:]
+    return values[np.sort(keep)]
+
+
+def is_stable(values: np.ndarray, trivial: int = 0) -> bool:
+    """Whether every multiplier lies inside the unit circle or on it (within UNIT)."""
+    return bool(np.all(np.abs(nontrivial(values, trivial)) <= 1.0 + UNIT))
+
+
+def kind(values: np.ndarray, trivial: int = 0) -> str:
+    """The orbit's kind from its multipliers (see the module docstring)."""
+    values = nontrivial(values, trivial)
+    if values.size == 0:
+        return "neutral"
     moduli = np.abs(values)
     inside = bool(np.any(moduli < 1.0 - UNIT))
     outside = bool(np.any(moduli > 1.0 + UNIT))

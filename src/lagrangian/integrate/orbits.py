@@ -59,31 +59,35 @@ DEFAULT_RTOL, DEFAULT_ATOL = 1e-11, 1e-12
 class PeriodicOrbit:
     """One periodic orbit of the strobe map: its least ``period`` d, its d ``points``
     (2n, d) x, G(x), ..., the ``monodromy`` dG^d/dx at the first, its ``multipliers``
-    (complex, largest modulus first) and ``residual`` |G^d(x) - x|."""
+    (complex, largest modulus first) and ``residual`` |G^d(x) - x|; of a section's map
+    (:mod:`.shell_orbits`), d returns to the section in the ``time`` T, M = dphi_T/dx."""
 
     period: int
     points: np.ndarray
     monodromy: np.ndarray
     multipliers: np.ndarray
     residual: float
+    time: float | None = None
+    trivial: int = 0  # multipliers 1 by the flow's symmetry (2 on an energy shell)
 
     @property
     def stable(self) -> bool:
-        return floquet.is_stable(self.multipliers)
+        return floquet.is_stable(self.multipliers, self.trivial)
 
     @property
     def kind(self) -> str:
-        return floquet.kind(self.multipliers)
+        return floquet.kind(self.multipliers, self.trivial)
 
 
 @dataclass(frozen=True)
 class OrbitSearch:
     """The periodic orbits found (``orbits``, by period then by first point) of period
-    dividing ``period`` at the ``strobe``, from ``starts`` starts, on the state ``names``."""
+    dividing ``period`` at the ``strobe`` (None: of a section, named in ``settings``),
+    from ``starts`` starts, on the state ``names``."""
 
     orbits: tuple[PeriodicOrbit, ...]
     names: tuple[str, ...]
-    strobe: Strobe
+    strobe: Strobe | None
     period: int
     starts: int
     settings: Mapping[str, object] = field(default_factory=dict)

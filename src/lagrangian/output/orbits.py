@@ -30,6 +30,7 @@ def orbits_json(search: OrbitSearch) -> dict[str, object]:
                 "stable": orbit.stable,
                 "kind": orbit.kind,
                 "residual": orbit.residual,
+                **({} if orbit.time is None else {"time": orbit.time}),
             }
             for orbit in search.orbits
         ],
@@ -40,12 +41,16 @@ def orbits_text(search: OrbitSearch) -> str:
     """One line for the search, then one per orbit: its period, stability and kind, its
     multipliers and its points."""
     strobe = search.strobe
-    at = f" at phase {strobe.phase:.6g}" if strobe.phase else ""
+    if strobe is None:
+        settings = search.settings
+        where = f"the section {settings['section']} at energy {settings['energy']:.6g}"
+    else:
+        at = f" at phase {strobe.phase:.6g}" if strobe.phase else ""
+        where = f"the strobe every {strobe.period:.6g}{at}"
     count = len(search.orbits)
     lines = [
         f"{search.name}: {count} periodic orbit{'s' if count != 1 else ''} of period "
-        f"dividing {search.period} of the strobe every {strobe.period:.6g}{at}, from "
-        f"{search.starts} starts"
+        f"dividing {search.period} of {where}, from {search.starts} starts"
     ]
     names = ", ".join(search.names)
     lines += [f"  {_orbit_line(orbit)}; ({names}) at {_points(orbit)}" for orbit in search.orbits]
@@ -55,7 +60,8 @@ def orbits_text(search: OrbitSearch) -> str:
 def _orbit_line(orbit: PeriodicOrbit) -> str:
     stability = "stable" if orbit.stable else "unstable"
     values = ", ".join(_number(value) for value in orbit.multipliers)
-    return f"period {orbit.period}, {stability} {orbit.kind}, multipliers {values}"
+    time = "" if orbit.time is None else f" (time {orbit.time:.9g})"
+    return f"period {orbit.period}{time}, {stability} {orbit.kind}, multipliers {values}"
 
 
 def _number(value: complex) -> str:
