@@ -118,3 +118,51 @@ def test_exported_code_says_its_units_in_its_header(pendulum):
     assert line in text.splitlines()[:8]
     assert "params[1] = l  (0.5)" in text  # 50 cm, in the unit the header says
     assert "Units" not in export_code(lg.load("simple_pendulum"), "c")
+
+
+def test_latex_of_derive_and_analyze_says_the_units(capsys, pendulum):
+    units = (
+        r"&\text{Units (SI): } \theta\ [\mathrm{rad}]\ \text{(inferred)},\ m\ [\mathrm{kg}],"
+        r"\ l\ [\mathrm{m}],\ g\ [\mathrm{m/s^2}]"
+    )
+    for argv in (("derive",), ("derive", "--steps"), ("analyze",)):
+        latex = run(capsys, argv[0], pendulum, "--latex", *argv[1:]).splitlines()
+        assert latex[:2] == [r"\begin{align*}", units + r" \\"], argv
+    omega = math.sqrt(9.81 / 0.5)  # small oscillations of a pendulum of 50 cm
+    at_bottom = (
+        r"&\quad\text{at } g = 9.81\ \mathrm{m/s^2},\ l = 0.5\ \mathrm{m}: \ \omega^2 = 19.62\ "
+        rf"\mathrm{{1/s^2}};\ \omega = {omega:.6g}\ \mathrm{{rad/s}};\ \text{{periods }} "
+        rf"{2 * math.pi / omega:.6g}\ \mathrm{{s}} \\"
+    )
+    assert at_bottom in run(capsys, "analyze", pendulum, "--latex").splitlines()
+
+
+def test_a_unit_in_latex_is_upright_with_dots_and_grouped_exponents():
+    from lagrangian.output.units import latex_unit
+
+    assert latex_unit("kg*m^2") == r"\mathrm{kg\cdot m^2}"
+    assert latex_unit("kg/(m*s^2)") == r"\mathrm{kg/(m\cdot s^2)}"
+    assert latex_unit("m^(1/2)/s^12") == r"\mathrm{m^{1/2}/s^{12}}"
+
+
+def test_latex_of_a_model_without_units_is_as_it_was(capsys):
+    assert run(capsys, "analyze", "simple_pendulum", "--latex") == (
+        "\\begin{align*}\n"
+        r"h &= \frac{l^{2} m \dot{\theta}^{2}}{2} - g l m \cos{\left(\theta \right)} + g l m \\"
+        "\n"
+        r"H &= - g l m \cos{\left(\theta \right)} + g l m + \frac{p_{\theta}^{2}}{2 l^{2} m} \\"
+        "\n"
+        r"&\theta = 0: \ \omega^2 \in \{\frac{g}{l}\}\ \text{(stable)} \\"
+        "\n"
+        r"&\theta = \pi: \ \omega^2 \in \{- \frac{g}{l}\}\ \text{(unstable)}"
+        "\n\\end{align*}\n"
+    )
+    assert run(capsys, "derive", "simple_pendulum", "--latex") == (
+        "\\begin{align*}\n"
+        r"L &= \frac{l^{2} m \dot{\theta}^{2}}{2} + g l m \cos{\left(\theta \right)} - g l m \\"
+        "\n"
+        r"0 &= l \ddot{\theta} + g \sin{\left(\theta \right)} \\"
+        "\n"
+        r"\ddot{\theta} &= - \frac{g \sin{\left(\theta \right)}}{l}"
+        "\n\\end{align*}\n"
+    )

@@ -15,6 +15,9 @@ from .units import (
     PERIOD,
     bracketed,
     expression_unit,
+    latex_mode_numbers,
+    latex_unit,
+    latex_units_row,
     name_unit,
     units_line,
     units_section,
@@ -364,7 +367,8 @@ def latex_analysis(analysis: Analysis, *, values_given: bool = False) -> str:
     system = analysis.equations.system
     show = _readable(latex_printer(system))
     conserved = analysis.conservation.conserved if analysis.conservation is not None else ()
-    rows = [
+    rows = [row for row in (latex_units_row(system),) if row is not None]
+    rows += [
         rf"{_latex_quantity(q.name)} &= {show(q.expression)}"
         + _latex_unit(expression_unit(system, q.expression))
         for q in conserved
@@ -390,6 +394,9 @@ def latex_analysis(analysis: Analysis, *, values_given: bool = False) -> str:
             + rf"\ \text{{({e.modes.stability.value})}}"
             + remark
         )
+        numbers = modes_at_values(e.modes, system) if system.units is not None else None
+        if numbers is not None:  # the text's "at g = 9.81 m/s^2: ω² = ..." with its units
+            rows.append(latex_mode_numbers(numbers, system))
         if getattr(e, "at_defaults", False):
             row = rf"&\quad\text{{stability {at}}}"
             if e.stability_condition is not None:
@@ -405,7 +412,7 @@ def latex_analysis(analysis: Analysis, *, values_given: bool = False) -> str:
 
 def _latex_unit(unit: str | None) -> str:
     r"""``\quad [\mathrm{J}]`` after a quantity of a dimensioned model, else nothing."""
-    return rf"\quad [\mathrm{{{unit}}}]" if unit else ""
+    return rf"\quad [{latex_unit(unit)}]" if unit else ""
 
 
 def _name(name: str) -> str:

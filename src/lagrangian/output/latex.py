@@ -8,6 +8,7 @@ from ..derive import EquationsOfMotion
 from ..model import System
 from .large import latex_printer, printed
 from .notation import DotLatexPrinter, declared_functions, equality, latex_name, step_terms
+from .units import latex_units_row
 
 
 def latex_expression(expr: sympy.Expr, system: System | None = None) -> str:
@@ -24,7 +25,8 @@ def latex_equations(eom: EquationsOfMotion) -> str:
     system = eom.system
     show = latex_printer(system)  # linear-time printing for large systems
     shown = printed(eom)
-    rows = [rf"L &= {show(shown.lagrangian)}"]
+    rows = [row for row in (latex_units_row(system),) if row is not None]
+    rows.append(rf"L &= {show(shown.lagrangian)}")
     rows += [rf"0 &= {show(equation)}" for equation in shown.equations]
     if eom.accelerations is not None:
         rows += [
@@ -52,7 +54,7 @@ def latex_steps(eom: EquationsOfMotion) -> str:
     """The derivation step by step as LaTeX (one ``align*`` block)."""
     system = eom.system
     show = latex_printer(system)  # linear-time printing for large systems
-    rows = []
+    rows = [row for row in (latex_units_row(system),) if row is not None]
     if system.kinetic is not None:
         rows += [rf"T &= {show(system.kinetic)}", rf"V &= {show(system.potential)}"]
     rows.append(rf"L &= {show(system.lagrangian)}")

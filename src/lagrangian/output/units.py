@@ -9,12 +9,14 @@ here says nothing (None, or an empty section), and the outputs are as they were.
 
 from __future__ import annotations
 
+import re
 from typing import TYPE_CHECKING
 
 import sympy
 
 from ..algebra import as_expression
 from ..model.dimensions import ENERGY, RATE, dimension_of, power, unit_text
+from .notation import latex_name
 
 if TYPE_CHECKING:
     from ..model.system import System
@@ -82,3 +84,53 @@ def units_line(system: System) -> str | None:
 def bracketed(unit: str | None) -> str:
     """`` [J]`` after a quantity, or nothing."""
     return f" [{unit}]" if unit else ""
+
+
+def latex_unit(unit: str) -> str:
+    r"""A unit as upright LaTeX: ``kg*m^2`` -> ``\mathrm{kg\cdot m^2}``, ``m^(1/2)`` ->
+    ``\mathrm{m^{1/2}}``, ``s^12`` -> ``\mathrm{s^{12}}`` (a bare ``*`` would print as a
+    star, and ``^12`` raises only the 1)."""
+    text = re.sub(r"\^(?:\((\d+/\d+)\)|(\d\d+))", lambda m: f"^{{{m[1] or m[2]}}}", unit)
+    text = text.replace("*", r"\cdot ")
+    return rf"\mathrm{{{text}}}"
+
+
+def latex_units_row(system: System) -> str | None:
+    r"""The ``Units (SI)`` line of the text output as a row of an ``align*`` block
+    (``&\text{Units (SI): } \theta\ [\mathrm{rad}]\ \text{(inferred)}, ...``); None for a
+    model without units."""
+    section = units_section(system)
+    if section is None:
+        return None
+    inferred = set(section["inferred"])
+    shown = [
+        rf"{latex_name(name)}\ [{latex_unit(unit)}]"
+        + (r"\ \text{(inferred)}" if name in inferred else "")
+        for name, unit in section["names"].items()
+        if not name.endswith("_dot")
+    ]
+    return r"&\text{Units (SI): } " + r",\ ".join(shown)
+
+
+def latex_mode_numbers(numbers: dict, system: System) -> str:
+    r"""An ``align*`` row of the numbers of :func:`~lagrangian.output.analysis.modes_at_values`
+    in SI units: ``&\quad\text{at } g = 9.81\ \mathrm{m/s^2}: \ \omega^2 = 19.62\
+    \mathrm{1/s^2};\ \omega = ...``, as the text output's ``at g = 9.81 m/s^2: ω² = ...``."""
+
+    def quantity(value: float | None, unit: str | None, digits: str = ".6g") -> str:
+        shown = "-" if value is None else format(value, digits)
+        return shown + (rf"\ {latex_unit(unit)}" if unit else "")
+
+    at = r",\ ".join(
+        f"{latex_name(n)} = {quantity(v, name_unit(system, n), 'g')}"
+        for n, v in numbers["parameters"].items()
+    )
+    parts = [
+        r"\omega^2 = " + ", ".join(quantity(w2, OMEGA_SQUARED) for w2 in numbers["omega_squared"])
+    ]
+    if any(w is not None for w in numbers["omega"]):
+        parts.append(r"\omega = " + ", ".join(quantity(w, OMEGA) for w in numbers["omega"]))
+        parts.append(
+            r"\text{periods } " + ", ".join(quantity(p, PERIOD) for p in numbers["periods"])
+        )
+    return rf"&\quad\text{{at }} {at}: \ " + r";\ ".join(parts)
