@@ -156,8 +156,10 @@ def page_content(
         "sections": _sections(eom, analysis, results),
         "dop853": _dop853(),
     }
-    if system.units is not None:  # the readouts' units: t, the energy, each conserved one
-        names = ["t", "energy", *(q.name for q in conserved)]
+    if system.units is not None:  # the readouts' units: t, the energy, each conserved one;
+        # the plots' axes: t, each coordinate and its rate
+        rates = [f"{q}_dot" for q in system.coordinate_names]
+        names = ["t", "energy", *(q.name for q in conserved), *system.coordinate_names, *rates]
         document["units"] = {n: u for n in names if (u := system.units.column_unit(n))}
     if exercise:
         document["exercise"] = exercise_document(eom, exercise_steps(exercise))

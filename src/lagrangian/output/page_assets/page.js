@@ -593,11 +593,17 @@ function lagrangianPage(model, code) {
     const every = Math.ceil(window20.length / PLOT_POINTS);
     const recent = window20.filter((_, i) => i % every === 0 || i === window20.length - 1);
     const shown = (name) => model.symbols[name] ?? name; // theta1_dot as θ̇₁
-    lagrangianPlot(ui.phase, [{ color: "#1f77b4", points: recent.map((s) => [s.y[k], s.y[n + k]]) }], [shown(names[k]), shown(rates[k])]);
+    // A dimensioned model's axes say their SI units: "θ₁ [rad]", "t [s]"; else the name.
+    const inUnit = (label, unit) => (unit ? `${label} [${unit}]` : label);
+    const unitOf = (name) => (model.units ? model.units[name] : undefined);
+    const axis = (name) => inUnit(shown(name), unitOf(name));
+    // several coordinates on one axis "q": a unit only where they all have the same one
+    const shared = names.every((q) => unitOf(q) === unitOf(names[0])) ? unitOf(names[0]) : undefined;
+    lagrangianPlot(ui.phase, [{ color: "#1f77b4", points: recent.map((s) => [s.y[k], s.y[n + k]]) }], [axis(names[k]), axis(rates[k])]);
     lagrangianPlot(
       ui.series,
       names.map((q, i) => ({ label: shown(q), color: scene.palette[i % scene.palette.length], points: recent.map((s) => [s.t, s.y[i]]) })),
-      ["t", names.length === 1 ? shown(names[0]) : "q"],
+      [axis("t"), names.length === 1 ? axis(names[0]) : inUnit("q", shared)],
     );
   }
 
