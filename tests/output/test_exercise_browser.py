@@ -127,7 +127,10 @@ def test_a_student_types_checks_and_sees_the_solution(pages):
         "wrong: Wrong: the term m1*x_dot^2/2 should be x_dot^2*(m1 + m2)/2"
     )
     assert answer("kinetic", "(m1 + m2)*x_dot^2/2") == "right: Right: right"
-    assert answer("potential", "m1*g*(x") == "error: Cannot read this: expected ')' at position 8"
+    assert answer("potential", "m1*g*(x") == (
+        "error: Cannot read this: expected ')' to close '(' at position 6, found end of expression "
+        "at position 8"  # the parser's words (lagrangian.parsing)
+    )
     assert answer("potential", "(m2 - m1)*g*x + 4") == (
         "equivalent: Right, equivalently: right up to a constant, which changes no motion"
     )

@@ -6,7 +6,8 @@ simulation of the model (:mod:`lagrangian.output.page_content` makes what the pa
 shows and runs; in ``page_assets``, ``integrators.js`` steps the motion, ``plots.js``
 draws the phase portrait and time series, ``results.js`` the equilibria and modes with
 their numbers, ``share.js`` the share link and embed mode, ``page.js`` draws the
-mechanism and wires the controls; with an exercise, ``expressions.js``, ``check.js`` and
+mechanism and wires the controls; with an exercise, ``tokens.js`` (plain text, Unicode and
+LaTeX read as lagrangian.parsing reads them), ``expressions.js``, ``check.js`` and
 ``exercise.js`` check the student's answers).
 
 It works from the disk, offline, with no server: every script, style and font is
@@ -119,6 +120,7 @@ _PAGE_SCRIPTS = (
     "results.js",
     "share.js",
     "page.js",
+    "tokens.js",
     "expressions.js",
     "check.js",
     "exercise.js",

@@ -347,12 +347,12 @@ function exerciseChecker(data) {
       if (!(step in steps) || !(step === "equations" ? data.equations : data[step])) throw new Error(`no such step in this exercise: ${step}`);
       try {
         let tree;
-        if (step === "equations") {
-          const sides = text.split("=");
-          if (sides.length > 2 || sides.some((side) => !side.trim())) throw new Error("an equation is 'lhs = rhs' or one expression (= 0)");
-          tree = sides.length === 1 ? exerciseParse(text, known) : ["+", exerciseParse(sides[0], known), ["*", ["n", -1], exerciseParse(sides[1], known)]];
-        } else {
-          tree = exerciseParse(text, known);
+        const sides = text.split("=");
+        if (step !== "equations" || sides.length === 1) tree = exerciseParse(text, known);
+        else if (sides.length > 2 || sides.some((side) => !side.trim())) throw new Error("an equation is 'lhs = rhs' or one expression (= 0)");
+        else { // each side read with the other blanked out, as check does: positions in the whole text
+          const [lhs, rhs] = sides;
+          tree = ["+", exerciseParse(lhs + " ".repeat(rhs.length + 1), known), ["*", ["n", -1], exerciseParse(" ".repeat(lhs.length + 1) + rhs, known)]];
         }
         return steps[step](tree);
       } catch (error) {

@@ -14,98 +14,191 @@ const EXERCISE_FUNCTIONS = {
   sinh: 1, cosh: 1, tanh: 1, exp: 1, log: 1, sqrt: 1, Abs: 1, sign: 1,
 };
 
+// lagrangian/parsing/parser.py's grammar on the tokens of tokens.js; in LaTeX a factor
+// written after another multiplies, "^" takes one signed primary, \frac, \sqrt[n]{x} and
+// \sin^2\theta are read, and a name before a group is a product whose group alone takes a
+// power: k (r - l)^2 is k*(r - l)^2 (builder.py, commit c226dad)
 function exerciseParse(text, known) {
-  const tokens = [];
-  const pattern = /\s*(?:(\d+\.?\d*(?:[eE][+-]?\d+)?|\.\d+(?:[eE][+-]?\d+)?)|([A-Za-z][A-Za-z0-9_]*)|(\*\*|[-+*/^(),]))/y;
-  let at = 0;
-  while (at < text.length) {
-    if (/^\s*$/.test(text.slice(at))) break;
-    pattern.lastIndex = at;
-    const found = pattern.exec(text);
-    if (!found) throw new Error(`unexpected character '${text.slice(at).trim()[0]}' at position ${at + text.slice(at).search(/\S/) + 1}`);
-    const start = found.index + found[0].search(/\S/);
-    if (found[1] !== undefined) tokens.push({ kind: "number", value: Number(found[1]), at: start });
-    else if (found[2] !== undefined) tokens.push({ kind: "name", value: found[2], at: start });
-    else tokens.push({ kind: found[3] === "**" ? "^" : found[3], at: start });
-    at = pattern.lastIndex;
-  }
-  tokens.push({ kind: "end", at: text.length });
+  const latex = text.includes("\\") || text.includes("{");
+  const tokens = exerciseTokens(text, latex);
   let index = 0;
   const peek = () => tokens[index];
+  const next = () => (tokens[index].kind === "end" ? tokens[index] : tokens[index++]);
   const where = (token) => `at position ${token.at + 1}`;
-  const expect = (kind) => {
-    const token = tokens[index++];
-    if (token.kind !== kind) throw new Error(`expected '${kind}' ${where(token)}`);
-    return token;
+  const shown = (token) => (token.kind === "end" ? "end of expression" : `'${token.text}'`);
+  const closers = { "(": ")", "[": "]", "{": "}" };
+  const starts = new Set(["number", "name", "function", "(", "[", "{", "frac", "sqrt"]);
+  const expectClose = (opening) => {
+    const token = peek();
+    if (token.kind !== closers[opening.kind]) {
+      throw new Error(`expected '${closers[opening.kind]}' to close '${opening.text}' at position ${opening.at + 1}, found ${shown(token)} ${where(token)}`);
+    }
+    next();
+  };
+  const unexpected = (token) => new Error(`unexpected ${token.kind === "end" ? "end of expression" : shown(token)} ${where(token)}`);
+  // a LaTeX name before a one-argument group: ["j", name, group] until power() or settle()
+  const settle = (tree) => (tree[0] === "j" ? ["*", tree[1], tree[2]] : tree);
+  const negate = (tree) => ["*", ["n", -1], tree];
+  // names are resolved once the whole text is read, as builder.py does after the parser: a
+  // text with a syntax error is refused for that first
+  let unresolved = null;
+  const unresolve = (message, token) => {
+    unresolved ??= new Error(`${message} ${where(token)}`);
+    return ["n", NaN];
   };
   function sum() {
-    const terms = [product()];
+    const terms = [term()];
     while (peek().kind === "+" || peek().kind === "-") {
-      const negative = tokens[index++].kind === "-";
-      const term = product();
-      terms.push(negative ? ["*", ["n", -1], term] : term);
+      const negative = next().kind === "-";
+      const t = term();
+      terms.push(negative ? negate(t) : t);
     }
     return terms.length === 1 ? terms[0] : ["+", ...terms];
   }
-  function product() {
+  function term() {
     const factors = [unary()];
-    while (peek().kind === "*" || peek().kind === "/") {
-      const divide = tokens[index++].kind === "/";
-      const factor = unary();
-      factors.push(divide ? ["^", factor, ["n", -1]] : factor);
+    for (;;) {
+      const token = peek();
+      if (token.kind === "*" || token.kind === "/") {
+        next();
+        const factor = unary();
+        factors.push(token.kind === "/" ? ["^", factor, ["n", -1]] : factor);
+      } else if (starts.has(token.kind)) {
+        const previous = tokens[index - 1];
+        if (!latex) {
+          if (previous.kind === "number" && token.kind === "(") throw new Error(`'${previous.text}' is not a function: write '${previous.text}*(...)' to multiply ${where(previous)}`);
+          throw new Error(`implicit multiplication is not allowed: write '${previous.text}*${token.text}' ${where(token)}`);
+        }
+        if (token.kind === "number") throw new Error(`write '\\cdot' before the number ${shown(token)}, or put the number first ${where(token)}`);
+        factors.push(power());
+      } else break;
     }
     return factors.length === 1 ? factors[0] : ["*", ...factors];
   }
   function unary() {
-    if (peek().kind === "-") {
-      index++;
-      return ["*", ["n", -1], unary()];
-    }
-    if (peek().kind === "+") {
-      index++;
-      return unary();
-    }
-    return power();
+    const token = peek();
+    if (token.kind !== "+" && token.kind !== "-") return power();
+    next();
+    const operand = unary();
+    return token.kind === "-" ? negate(operand) : operand;
   }
   function power() {
     const base = primary();
-    if (peek().kind !== "^") return base;
-    index++;
-    return ["^", base, unary()];
+    const caret = peek();
+    if (caret.kind !== "^") return settle(base);
+    next();
+    const exponent = latex ? signedPrimary() : unary();
+    if (latex && peek().kind === "^") throw new Error(`double superscript: use braces, as in x^{a^b} ${where(peek())}`);
+    return base[0] === "j" ? ["*", base[1], ["^", base[2], exponent]] : ["^", base, exponent];
+  }
+  // a LaTeX superscript: x^2, x^{a+b}, x^-1
+  function signedPrimary() {
+    const sign = peek();
+    if (sign.kind !== "+" && sign.kind !== "-") return settle(primary());
+    next();
+    const operand = settle(primary());
+    return sign.kind === "-" ? negate(operand) : operand;
+  }
+  function group() {
+    const opening = next();
+    const inside = sum();
+    expectClose(opening);
+    return inside;
   }
   function primary() {
-    const token = tokens[index++];
-    if (token.kind === "number") return ["n", token.value];
-    if (token.kind === "(") {
-      const inside = sum();
-      expect(")");
-      return inside;
+    const token = peek();
+    if (token.kind === "number") { next(); return ["n", token.value]; }
+    if (token.kind === "name") { next(); return name(token); }
+    if (token.kind in closers && (latex || token.kind === "(")) return group();
+    if (token.kind === "frac") return fraction();
+    if (token.kind === "sqrt") return root();
+    if (token.kind === "function") return command();
+    throw unexpected(token);
+  }
+  function call(name, args, token) {
+    if (args.length !== EXERCISE_FUNCTIONS[name]) {
+      const n = EXERCISE_FUNCTIONS[name];
+      throw new Error(`${name}() takes ${n} argument${n === 1 ? "" : "s"} (${args.length} given) ${where(token)}`);
     }
-    if (token.kind !== "name") {
-      throw new Error(token.kind === "end" ? "unexpected end of expression" : `unexpected '${token.kind}' ${where(token)}`);
-    }
+    return name === "sqrt" ? ["^", args[0], ["n", 0.5]] : ["f", name, ...args];
+  }
+  function name(token) {
     const name = token.value;
     if (peek().kind === "(") {
-      if (!(name in EXERCISE_FUNCTIONS)) throw new Error(`unknown function '${name}' ${where(token)}`);
-      index++;
-      const args = [sum()];
-      while (peek().kind === ",") {
-        index++;
-        args.push(sum());
-      }
-      expect(")");
-      if (args.length !== EXERCISE_FUNCTIONS[name]) throw new Error(`${name}() takes ${EXERCISE_FUNCTIONS[name]} argument(s) ${where(token)}`);
-      return name === "sqrt" ? ["^", args[0], ["n", 0.5]] : ["f", name, ...args];
+      const args = callArguments(next());
+      if (name in EXERCISE_FUNCTIONS) return call(name, args, token);
+      if (latex && args.length === 1) return ["j", symbol(token), args[0]]; // LaTeX m(a + b)
+      return unresolve(known.has(name) ? `'${name}' is not a function` : `unknown function '${name}'`, token);
     }
-    if (name === "pi") return ["n", Math.PI];
-    if (name === "E") return ["n", Math.E];
     if (name in EXERCISE_FUNCTIONS) throw new Error(`'${name}' is a function: write ${name}(...) ${where(token)}`);
-    if (!known.has(name)) throw new Error(`unknown symbol '${name}' ${where(token)}`);
-    return ["s", name];
+    return symbol(token);
   }
-  if (peek().kind === "end") throw new Error("empty expression");
+  function symbol(token) {
+    if (token.value === "pi") return ["n", Math.PI];
+    if (token.value === "E") return ["n", Math.E];
+    return known.has(token.value) ? ["s", token.value] : unresolve(`unknown symbol '${token.value}'`, token);
+  }
+  function callArguments(opening) {
+    const args = [];
+    if (peek().kind !== ")") {
+      args.push(sum());
+      while (peek().kind === ",") { next(); args.push(sum()); }
+    }
+    expectClose(opening);
+    return args;
+  }
+  // the argument of \frac or \sqrt: a braced group or one primary (never a number of two digits)
+  function argument(command) {
+    const token = peek();
+    if (token.kind === "{") return group();
+    if (token.kind === "number" && token.text.length > 1) throw new Error(`ambiguous argument ${shown(token)} of '${command.text}': use braces, as in \\frac{1}{2} ${where(token)}`);
+    return settle(primary());
+  }
+  function fraction() {
+    const command = next();
+    const numerator = argument(command);
+    return ["*", numerator, ["^", argument(command), ["n", -1]]];
+  }
+  function root() {
+    const command = next();
+    let degree = null;
+    if (peek().kind === "[") {
+      const opening = next();
+      degree = sum();
+      expectClose(opening);
+    }
+    const radicand = argument(command);
+    return degree === null ? ["^", radicand, ["n", 0.5]] : ["^", radicand, ["^", degree, ["n", -1]]];
+  }
+  // \sin x, \sin(x), \sin^2 x (sin(x)^2), \sin x^2 (sin(x^2))
+  function command() {
+    const token = next();
+    let exponent = null, caret = null;
+    if (peek().kind === "^") {
+      caret = next();
+      exponent = signedPrimary();
+      const negated = exponent[0] === "*" && exponent.length === 3 && exponent[1][0] === "n" && exponent[1][1] === -1; // only negate() makes a literal -1
+      if (negated) throw new Error(`'${token.text}^{-1}' is ambiguous: write the inverse function or (${token.text} x)^{-1} ${where(caret)}`);
+    }
+    let args;
+    if (peek().kind === "(") args = callArguments(next());
+    else {
+      const first = peek();
+      const operand = unary();
+      if (operand[0] === "n" && first.kind === "number" && starts.has(peek().kind)) {
+        throw new Error(`ambiguous argument of '${token.text}': use parentheses, as in ${token.text}(${first.text} x) ${where(first)}`);
+      }
+      args = [operand];
+    }
+    const tree = call(token.value, args, token);
+    return exponent === null ? tree : ["^", tree, exponent];
+  }
+  if (peek().kind === "end") throw new Error("empty expression at position 1");
   const tree = sum();
-  if (peek().kind !== "end") throw new Error(`unexpected '${peek().value ?? peek().kind}' ${where(peek())}`);
+  const left = peek();
+  if (left.kind === ")" || left.kind === "]" || left.kind === "}") throw new Error(`unmatched ${shown(left)} ${where(left)}`);
+  if (left.kind !== "end") throw unexpected(left);
+  if (unresolved) throw unresolved;
   return tree;
 }
 
