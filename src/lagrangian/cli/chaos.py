@@ -150,13 +150,13 @@ def lyapunov(
         from ..output.lyapunov import plot_lyapunov
         from ..output.plots import save_figure
 
-        save_figure(plot_lyapunov(spectrum), picture, dpi=120)
-    summary = lyapunov_summary(spectrum)
+        save_figure(plot_lyapunov(spectrum, system), picture, dpi=120)
+    summary = lyapunov_summary(spectrum, system)
     if options.echo_json(
         {**summary, **({"plot": picture} if picture is not None else {})}, as_json
     ):
         return
-    click.echo(lyapunov_text(spectrum))
+    click.echo(lyapunov_text(spectrum, system))
     _wrote(picture)
 
 

@@ -58,9 +58,18 @@ class BifurcationDiagram:
     name: str = ""
     system: object = field(default=None, repr=False, compare=False)  # the model, if known
 
+    def unit(self, name: str) -> str | None:
+        """The SI unit of the parameter, t or the variable for a dimensioned model, else
+        None."""
+        units = getattr(self.system, "units", None)
+        return None if units is None else units.column_unit(name)
+
     def to_csv(self, path: str | os.PathLike) -> Path:
-        """The points as CSV: columns the parameter, t and the variable, atomically."""
-        return write_csv(path, self.table(), (self.parameter, "t", self.variable))
+        """The points as CSV: columns the parameter, t and the variable, atomically; a
+        column with a unit is headed ``name [unit]``, as simulate's CSV."""
+        names = (self.parameter, "t", self.variable)
+        headers = [f"{name} [{unit}]" if (unit := self.unit(name)) else name for name in names]
+        return write_csv(path, self.table(), headers)
 
     def table(self) -> np.ndarray:
         """(K, 3): parameter value, time, value of the variable, one row per point, value

@@ -86,9 +86,19 @@ class PoincareSection:
         """(K, columns) of the points, in the order of :meth:`columns`."""
         return np.column_stack([self.orbits, self.times, *self.values, self.energies])
 
+    def unit(self, name: str) -> str | None:
+        """The SI unit of the column ``name`` for a dimensioned model (``rad``, ``m/s``,
+        ``J``), else None."""
+        units = getattr(self.system, "units", None)
+        return None if units is None else units.column_unit(name)
+
     def to_csv(self, path: str | os.PathLike) -> Path:
-        """The points as CSV (orbit numbered from 0, full float precision), atomically."""
-        return write_csv(path, self.table(), self.columns())
+        """The points as CSV (orbit numbered from 0, full float precision), atomically; a
+        column with a unit is headed ``name [unit]``, as simulate's CSV."""
+        headers = [
+            f"{name} [{unit}]" if (unit := self.unit(name)) else name for name in self.columns()
+        ]
+        return write_csv(path, self.table(), headers)
 
     def to_netcdf(self, path: str | os.PathLike) -> Path:
         """The points as netCDF-3 (dimension ``point``; the starts and settings in
@@ -103,6 +113,10 @@ class PoincareSection:
             **{key: str(value) for key, value in self.settings.items()},
         }
         dataset = xarray.Dataset(data, coords={"t": ("point", self.times)}, attrs=attrs)
+        for name in dataset.variables:  # CF conventions: a units attribute where known
+            unit = self.unit(str(name))
+            if unit is not None:
+                dataset[name].attrs["units"] = unit
         return write_atomically(path, lambda target: dataset.to_netcdf(target, engine="scipy"))
 
     def save(self, path: str | os.PathLike) -> Path:

@@ -30,8 +30,9 @@ def plot_bifurcation(diagram: BifurcationDiagram, *, size: float = 1.5) -> Figur
     )
     if angle:
         pi_ticks(axis, "y")
-    axis.set_xlabel(math(diagram.parameter))
-    axis.set_ylabel(math(diagram.variable))
+    for label, name in ((axis.set_xlabel, diagram.parameter), (axis.set_ylabel, diagram.variable)):
+        unit = diagram.unit(name)  # a dimensioned model's: [N], [rad]
+        label(math(name) + (f" [{unit}]" if unit else ""))
     axis.grid(True, alpha=0.3)
     settings = diagram.settings
     strobed = "period" in settings

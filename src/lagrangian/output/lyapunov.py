@@ -19,9 +19,16 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
-def lyapunov_summary(spectrum: LyapunovSpectrum) -> dict[str, object]:
-    """The JSON form: exponents (largest first), their sum, the settings and the state."""
-    return {
+def _rate_unit(system) -> str | None:
+    """``1/s`` for a dimensioned model (its times are in s), else None."""
+    return None if getattr(system, "units", None) is None else "1/s"
+
+
+def lyapunov_summary(spectrum: LyapunovSpectrum, system=None) -> dict[str, object]:
+    """The JSON form: exponents (largest first), their sum, the settings and the state;
+    ``units`` (``{"exponents": "1/s", "t": "s"}``) for a dimensioned ``system``."""
+    unit = _rate_unit(system)
+    return ({"units": {"exponents": unit, "t": "s"}} if unit else {}) | {
         "model": spectrum.name,
         "exponents": [float(x) for x in spectrum.exponents],
         "sum": float(np.sum(spectrum.exponents)),
@@ -32,13 +39,16 @@ def lyapunov_summary(spectrum: LyapunovSpectrum) -> dict[str, object]:
     }
 
 
-def lyapunov_text(spectrum: LyapunovSpectrum) -> str:
-    """Lines for a terminal: one exponent a line, then the sum and the settings."""
+def lyapunov_text(spectrum: LyapunovSpectrum, system=None) -> str:
+    """Lines for a terminal: one exponent a line, then the sum and the settings (in 1/s
+    and s for a dimensioned ``system``)."""
+    unit = _rate_unit(system)
+    seconds = " s" if unit else ""
     count = spectrum.count
     what = "largest Lyapunov exponent" if count == 1 else f"{count} Lyapunov exponents"
     lines = [
-        f"{spectrum.name}: {what} over t = {spectrum.t_end:g} "
-        f"(after a transient of {spectrum.transient:g}), 1 / time unit:"
+        f"{spectrum.name}: {what} over t = {spectrum.t_end:g}{seconds} "
+        f"(after a transient of {spectrum.transient:g}{seconds}), {unit or '1 / time unit'}:"
     ]
     lines += [f"  lambda{i} = {value: .6g}" for i, value in enumerate(spectrum.exponents, 1)]
     if count > 1:
@@ -50,8 +60,10 @@ def lyapunov_text(spectrum: LyapunovSpectrum) -> str:
     return "\n".join(lines)
 
 
-def plot_lyapunov(spectrum: LyapunovSpectrum) -> Figure:
-    """The running estimate of each exponent against the averaging time (log scale)."""
+def plot_lyapunov(spectrum: LyapunovSpectrum, system=None) -> Figure:
+    """The running estimate of each exponent against the averaging time (log scale), in
+    1/s against s for a dimensioned ``system``."""
+    unit = _rate_unit(system)
     figure, axes = new_figure(height=4.4)
     axis = axes[0, 0]
     elapsed = spectrum.times - spectrum.transient
@@ -59,8 +71,8 @@ def plot_lyapunov(spectrum: LyapunovSpectrum) -> Figure:
         axis.plot(elapsed, spectrum.history[:, i], label=rf"$\lambda_{{{i + 1}}}$")
     axis.axhline(0.0, color="0.5", lw=0.8)
     axis.set_xscale("log")
-    axis.set_xlabel("averaging time $t$")
-    axis.set_ylabel("estimate (1 / time unit)")
+    axis.set_xlabel("averaging time $t$" + (" [s]" if unit else ""))
+    axis.set_ylabel(f"estimate [{unit}]" if unit else "estimate (1 / time unit)")
     axis.grid(True, alpha=0.3)
     axis.legend(loc="upper right", fontsize=8, ncols=2 if spectrum.count > 4 else 1)
     final = ", ".join(f"{x:.3g}" for x in spectrum.exponents)

@@ -33,8 +33,9 @@ def plot_section(points: PoincareSection, *, size: float = 3.0) -> Figure:
 
         colours = colormaps["turbo"](points.orbits / max(1, count - 1))
     axis.scatter(first, second, s=size, c=colours, linewidths=0, rasterized=True)
-    axis.set_xlabel(math(points.axes[0]))
-    axis.set_ylabel(math(points.axes[1]))
+    for label, name in ((axis.set_xlabel, points.axes[0]), (axis.set_ylabel, points.axes[1])):
+        unit = points.unit(name)  # a dimensioned model's: [rad], [m/s]
+        label(math(name) + (f" [{unit}]" if unit else ""))
     axis.grid(True, alpha=0.3)
     if points.axes[0] in angles:
         pi_ticks(axis)
