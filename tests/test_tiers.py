@@ -33,9 +33,10 @@ def suite(tmp_path_factory) -> Path:
     return folder
 
 
-#: Collect only, in one process, without the plugins this suite loads that take a second.
+#: Collect only, in one process, without the plugins this suite loads that take a second,
+#: in the files' order (pytest-randomly would shuffle the lists compared).
 PYTEST = ["-m", "pytest", "--collect-only", "-q", "-p", "no:cacheprovider", "-p", "no:xdist"]
-PYTEST += ["-p", "no:hypothesispytest", "--strict-markers"]
+PYTEST += ["-p", "no:hypothesispytest", "-p", "no:randomly", "--strict-markers"]
 
 
 def collected(suite: Path, *arguments: str) -> tuple[list[str], str]:
