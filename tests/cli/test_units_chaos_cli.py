@@ -135,3 +135,46 @@ def test_bifurcation_csv_and_axes_carry_units(capsys, driven, tmp_path):
     )  # fmt: skip
     axis = plot_bifurcation(found).axes[0]
     assert (axis.get_xlabel(), axis.get_ylabel()) == ("$A$ [J]", r"$\theta$ [rad]")
+
+
+def _drawn_figure(capsys, monkeypatch, tmp_path, *argv):
+    """The figure an ``ensemble ... --out map.png`` saves (its labels are not in the PNG)."""
+    import lagrangian.output.plots as plots
+
+    saved = []
+    monkeypatch.setattr(plots, "save_figure", lambda figure, path, **_: saved.append(figure))
+    run(capsys, "ensemble", *argv, "--out", str(tmp_path / "map.png"))
+    (figure,) = saved
+    return figure
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    ("observable", "colour_bar"),
+    [("lyapunov", "lyapunov [1/s]"), ("final_state", "final theta [rad]")],
+)
+def test_ensemble_maps_say_their_units(
+    capsys, monkeypatch, tmp_path, driven, observable, colour_bar
+):
+    grid = ("--grid", "theta=-1:1:3", "--grid", "A=1:1.5:2", "--t-end", "0.5")
+    figure = _drawn_figure(capsys, monkeypatch, tmp_path, driven, *grid, "--observable", observable)
+    axis, bar = figure.axes
+    assert (axis.get_xlabel(), axis.get_ylabel()) == ("$A$ [J]", r"$\theta$ [rad]")
+    assert bar.get_ylabel() == colour_bar
+    line = _drawn_figure(
+        capsys, monkeypatch, tmp_path, driven, "--grid", "A=1:1.5:3", "--t-end", "0.5",
+        "--observable", observable,
+    ).axes[0]  # fmt: skip
+    assert line.get_ylabel() == colour_bar  # against the members: no unit
+
+
+@pytest.mark.slow
+def test_a_unitless_ensemble_map_is_as_it_was(capsys, monkeypatch, tmp_path):
+    figure = _drawn_figure(
+        capsys, monkeypatch, tmp_path, "driven_damped_pendulum", "--grid", "theta=-1:1:3",
+        "--grid", "A=1:1.5:2", "--t-end", "0.5", "--observable", "lyapunov",
+    )  # fmt: skip
+    axis, bar = figure.axes
+    assert (axis.get_xlabel(), axis.get_ylabel(), bar.get_ylabel()) == (
+        "$A$", r"$\theta$", "lyapunov"
+    )  # fmt: skip

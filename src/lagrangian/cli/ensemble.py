@@ -190,6 +190,11 @@ def _draw(result, observable: str, path: str) -> None:
     figure, axes = new_figure(width=6.5 if len(dims) == 2 else 7.5, height=5.5)
     axis = axes[0, 0]
     label = variable.replace("_", " ")
+
+    def in_unit(text: str, name: str) -> str:  # a dimensioned model's unit (CF attribute)
+        unit = dataset[name].attrs.get("units")
+        return f"{text} [{unit}]" if unit else text
+
     if len(dims) == 2:
         from matplotlib.colors import LogNorm
 
@@ -202,13 +207,13 @@ def _draw(result, observable: str, path: str) -> None:
             norm = LogNorm(vmin=low, vmax=max(float(data.max()), low * 1.0001))
             data = np.ma.masked_less_equal(data, 0) if positive.count() else data
         image = axis.pcolormesh(x, y, data, shading="auto", norm=norm, cmap="viridis")
-        figure.colorbar(image, ax=axis, label=label)
-        axis.set_xlabel(math(dims[1]))
-        axis.set_ylabel(math(dims[0]))
+        figure.colorbar(image, ax=axis, label=in_unit(label, variable))
+        axis.set_xlabel(in_unit(math(dims[1]), dims[1]))
+        axis.set_ylabel(in_unit(math(dims[0]), dims[0]))
     else:
         axis.plot(dataset[dims[0]].values, values.values)
-        axis.set_xlabel(math(dims[0]))
-        axis.set_ylabel(label)
+        axis.set_xlabel(in_unit(math(dims[0]), dims[0]))
+        axis.set_ylabel(in_unit(label, variable))
     attrs = result.attrs
     title = f"{attrs['model']}: {label}, {attrs['method']} dt={attrs['dt']:g}"
     if variable == "flip_time" and len(dims) == 2:
