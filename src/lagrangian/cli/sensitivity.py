@@ -82,15 +82,15 @@ def sensitivity(
     if out is not None:
         from ..output.sensitivity import write_sensitivities
 
-        write_sensitivities(result, out)
+        write_sensitivities(result, out, system)
     if picture is not None:
         from ..output.plots import save_figure
         from ..output.sensitivity import plot_sensitivities
 
-        save_figure(plot_sensitivities(result), picture, dpi=120)
+        save_figure(plot_sensitivities(result, system), picture, dpi=120)
     written = {key: path for key, path in (("out", out), ("plot", picture)) if path is not None}
-    if options.echo_json({**sensitivity_summary(result), **written}, as_json):
+    if options.echo_json({**sensitivity_summary(result, system), **written}, as_json):
         return
-    click.echo(sensitivity_text(result))
+    click.echo(sensitivity_text(result, system))
     for path in written.values():
         click.echo(f"wrote {path}")
