@@ -51,7 +51,7 @@ def finite_difference_jacobian(rhs):
 
 
 def _system(name, coordinates, defaults, initial, functions, **flags) -> CompiledSystem:
-    equations = SimpleNamespace(system=SimpleNamespace(name=name, initial=dict(initial)))
+    equations = SimpleNamespace(system=SimpleNamespace(name=name, initial=dict(initial), units=None))
     return CompiledSystem(
         equations=equations,
         backend="numpy",
