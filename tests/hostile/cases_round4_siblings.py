@@ -86,10 +86,10 @@ CASES = [
 # (new on plot and animate) keeps only the outputs, and the run then keeps its --timeout.
 # t_end = 1e9: about 5e9 steps, 1,700 GB, more than any machine has.
 KEPT = (
-    r"dop853 to t_end = 1e\+09, every step kept \(about [\d,]+ steps at the pace so far\) "
+    r"dop853 to t_end = 1e\+09 keeping every step \(about [\d,]+ at the pace so far\) "
     r"needs about [\d,.e+]+ GB of memory, more than the [\d,.]+ GB available[^:]*: "
 )
-PLOT_ADVICE = r"give --samples N \(N output times, not every step\) or a shorter --t-end$"
+PLOT_ADVICE = r"give --samples N \(N output times\) or a shorter --t-end$"
 CASES += [
     *(
         HostileCase(
@@ -107,7 +107,7 @@ CASES += [
     HostileCase(
         "simulate-t-end-1e9-every-step-refused-before-it-fills-memory",
         ("simulate", "henon_heiles", "--t-end", "1e9"),
-        error=KEPT + r"give --samples N \(N output times, not every step\), a shorter --t-end "
+        error=KEPT + r"give --samples N \(N output times\), a shorter --t-end "
         r"or a looser --rtol$",
     ),
     HostileCase(

@@ -55,6 +55,11 @@ def report(model, to, out, assignments, definitions, no_figures: bool, timeout: 
         raise click.UsageError(f"choose the format with --to ({', '.join(FORMATS)})")
     name = Path(model).stem if model.endswith(".toml") else Path(model).name
     out = out or f"{name}{FORMATS[to].suffixes[0]}"
+    if to is None and not any(Path(out).suffix.lower() in f.suffixes for f in FORMATS.values()):
+        raise click.UsageError(
+            f"choose the format with --to ({', '.join(FORMATS)}),"
+            " or an --out ending in .tex, .md or .html"
+        )
     chosen = report_format(to, out)
     check_output_path(out)  # before the work: a typo in --out fails at once
     system, values = options.assignments(assignments, load(model))  # units converted

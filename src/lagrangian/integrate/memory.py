@@ -150,7 +150,7 @@ def check_fits(estimate: float, what: str, advice: str) -> None:
 #: settled by then); projected again each time the steps kept double.
 PROJECT_AFTER_STEPS = 8192
 KEEPING_ADVICE = "give " + choices(
-    f"{setting('n_out')} N (N output times, not every step)",
+    f"{setting('n_out')} N (N output times)",
     f"a shorter {setting('t_end')}",
     f"a looser {setting('rtol')}",
 )
@@ -170,8 +170,8 @@ def check_kept_steps(
     projected = kept + steps * max(t_span[1] - t_span[0], 0.0) / span
     check_fits(
         run_bytes(state_size, projected),
-        f"{method} to t_end = {t_span[1]:g}, every step kept (about "
-        f"{count_text(int(min(projected, 1e300)))} steps at the pace so far)",
+        f"{method} to t_end = {t_span[1]:g} keeping every step (about "
+        f"{count_text(int(min(projected, 1e300)))} at the pace so far)",
         KEEPING_ADVICE,
     )
 

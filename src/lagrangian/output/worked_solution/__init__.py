@@ -57,8 +57,8 @@ def report_format(to: str | None, path: str | os.PathLike | None) -> ReportForma
         found = [f for f in FORMATS.values() if suffix in f.suffixes]
         if not found:
             raise ModelError(
-                f"choose the format with --to ({', '.join(FORMATS)}),"
-                " or an --out ending in .tex, .md or .html"
+                f"choose the format ({', '.join(FORMATS)}),"
+                " or a file name ending in .tex, .md or .html"
             )
         return found[0]
     if to not in FORMATS:
