@@ -51,7 +51,8 @@ def finite_difference_jacobian(rhs):
 
 
 def _system(name, coordinates, defaults, initial, functions, **flags) -> CompiledSystem:
-    equations = SimpleNamespace(system=SimpleNamespace(name=name, initial=dict(initial), units=None))
+    system = SimpleNamespace(name=name, initial=dict(initial), units=None)  # as a unitless System
+    equations = SimpleNamespace(system=system)
     return CompiledSystem(
         equations=equations,
         backend="numpy",
