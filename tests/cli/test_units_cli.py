@@ -82,6 +82,20 @@ def test_a_value_of_the_wrong_dimension_is_one_line(capsys, spring, argv, messag
     assert err.count("\n") == 1 and out == ""
 
 
+def test_an_angles_rate_given_in_the_wrong_unit_is_said_in_rad_per_s(capsys, tmp_path):
+    path = tmp_path / "pendulum.toml"
+    path.write_text(
+        'name = "pendulum"\ncoordinates = ["theta"]\nkinetic = "m*l^2*theta_dot^2/2"\n'
+        'potential = "-m*g*l*cos(theta)"\n[parameters]\nm = "2 kg"\nl = "50 cm"\n'
+        'g = "9.81 m/s^2"\n'
+    )
+    status, out, err = run(capsys, "simulate", str(path), "--set", "theta_dot=2m/s")
+    assert status == ExitStatus.BAD_INPUT and out == ""
+    assert err.endswith(
+        "--set theta_dot=2m/s: theta_dot is an angular rate (rad/s) but 2m/s is a velocity (m/s)\n"
+    )
+
+
 def test_a_unit_on_a_model_without_units_makes_it_dimensioned(capsys):
     status, _, err = run(capsys, "simulate", "simple_pendulum", "--set", "l=3kg", "--t-end", "1")
     assert status == ExitStatus.BAD_INPUT

@@ -487,8 +487,26 @@ def test_initial_values_may_carry_units(tmp_path):
     with pytest.raises(ModelError) as caught:
         load_text(tmp_path, text.replace('"60 rpm"', '"3 m"'))
     assert str(caught.value).endswith(
-        "initial.theta_dot: theta_dot is a rate (1/s) but the value is a length (m)"
+        "initial.theta_dot: theta_dot is an angular rate (rad/s) but the value is a length (m)"
     )
+
+
+@pytest.mark.parametrize(
+    "force, message",
+    [
+        ("A*cos(omega*t) - theta_dot",
+         "the term theta_dot is an angular rate (rad/s), the other term is a torque (N*m)"),
+        ("A*cos(omega*t) - b*theta_dot - theta_dot",
+         "the term theta_dot is an angular rate (rad/s), the other terms are torques (N*m)"),
+        ("A*cos(omega*t) - omega",  # a parameter's rate is not an angle's velocity
+         "the term omega is a rate (1/s), the other term is a torque (N*m)"),
+    ],
+)  # fmt: skip
+def test_an_angles_rate_is_said_in_radians_per_second(tmp_path, force, message):
+    text = PENDULUM_WITH_UNITS.replace('"A*cos(omega*t) - b*theta_dot"', f'"{force}"')
+    with pytest.raises(ModelError) as caught:
+        load_text(tmp_path, text)
+    assert str(caught.value).endswith(f"forces.theta: {message}")
 
 
 @pytest.mark.parametrize(

@@ -199,9 +199,25 @@ class _Check:
             wanted = f"the other {kind} is {one}"
         else:
             wanted = f"expected {one}"
+        angular = self._angle_rate(requirement.node)
         raise ModelError(
-            f"the {_named(requirement.what, written)} is {describe(term)}, {wanted}",
+            f"the {_named(requirement.what, written)} is {describe(term, angular=angular)}, "
+            f"{wanted}",
             field=requirement.field,
+        )
+
+    def _angle_rate(self, node: Node) -> bool:
+        """Whether ``node`` is (minus) the velocity of an angle, a coordinate without
+        dimension: its 1/s is said as rad/s."""
+        while isinstance(node, Negate):
+            node = node.operand
+        if not isinstance(node, Name):
+            return False
+        base = node.name.removesuffix(VELOCITY_SUFFIX)
+        return (
+            base != node.name
+            and base in self.coordinates
+            and self.solver.value(self.name(base)) == DIMENSIONLESS
         )
 
     def alike(self, nodes: list[Node], what: str) -> Form | None:

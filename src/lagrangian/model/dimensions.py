@@ -118,9 +118,17 @@ def unit_text(value: Dimension, *, angle: bool = False) -> str:
     return f"{numerator}/{denominator}"
 
 
-def describe(value: Dimension, *, plural: bool = False) -> str:
+#: An angle's rate described: its dimension is 1/s, but it is said in rad/s.
+ANGULAR_RATE = ("an angular rate", "angular rates", "rad/s")
+
+
+def describe(value: Dimension, *, plural: bool = False, angular: bool = False) -> str:
     """A dimension in words with its SI unit: ``a force (N)``, ``energies (J)``,
-    ``dimensionless``, ``of dimension kg*m/s^3``."""
+    ``dimensionless``, ``of dimension kg*m/s^3``; ``angular``: the quantity is an angle's
+    rate (a velocity of a coordinate without dimension), ``an angular rate (rad/s)``."""
+    if angular and value == RATE:
+        singular, many, unit = ANGULAR_RATE
+        return f"{many if plural else singular} ({unit})"
     if value == DIMENSIONLESS:
         return "dimensionless"
     if value in KINDS:

@@ -78,6 +78,11 @@ class Units:
             raise ModelError(f"unknown name '{name}'")
         return unit_text(value, angle=self._angular(name))
 
+    def describe(self, name: str) -> str:
+        """``name``'s dimension in words: ``a length (m)``; an angle's rate ``an angular
+        rate (rad/s)``, not ``a rate (1/s)``."""
+        return describe(self.dimension(name), angular=self._angular(name))
+
     def momentum(self, name: str) -> Dimension | None:
         """The dimension of ``p_q``, the momentum dL/dq_dot of a coordinate q, or None."""
         if not (name.startswith("p_") and name[2:] in self.coordinates):
@@ -221,7 +226,7 @@ def dimensioned(
     for name, quantity in (initial or {}).items():
         if quantity.unit.dimension != units.dimension(name):
             raise ModelError(
-                f"{name} is {describe(units.dimension(name))} but the value is "
+                f"{name} is {units.describe(name)} but the value is "
                 f"{describe(quantity.unit.dimension)}",
                 field=f"initial.{name}",
             )
@@ -267,7 +272,7 @@ def values_given(
         expected = system.units.dimension(name)
         if expected != quantity.unit.dimension:
             raise ModelError(
-                f"{name} is {describe(expected)} but {text.strip()} is "
+                f"{name} is {system.units.describe(name)} but {text.strip()} is "
                 f"{describe(quantity.unit.dimension)}",
                 field=f"{where} {name}={text.strip()}",
             )
