@@ -5,10 +5,11 @@
 simulation of the model (:mod:`lagrangian.output.page_content` makes what the page
 shows and runs; in ``page_assets``, ``integrators.js`` steps the motion, ``plots.js``
 draws the phase portrait and time series, ``results.js`` the equilibria and modes with
-their numbers, ``share.js`` the share link and embed mode, ``page.js`` draws the
-mechanism and wires the controls; with an exercise, ``tokens.js`` (plain text, Unicode and
-LaTeX read as lagrangian.parsing reads them), ``expressions.js``, ``check.js`` and
-``exercise.js`` check the student's answers).
+their numbers, ``share.js`` the share link and embed mode, ``inertia.js`` refuses a 3-D
+body's impossible inertia, ``page.js`` draws the mechanism and wires the controls; with
+an exercise, ``tokens.js`` (plain text, Unicode and LaTeX read as lagrangian.parsing
+reads them), ``expressions.js``, ``check.js`` and ``exercise.js`` check the student's
+answers).
 
 It works from the disk, offline, with no server: every script, style and font is
 inline, and its Content-Security-Policy allows nothing else (no network request, no
@@ -119,6 +120,7 @@ _PAGE_SCRIPTS = (
     "plots.js",
     "results.js",
     "share.js",
+    "inertia.js",
     "page.js",
     "tokens.js",
     "expressions.js",

@@ -44,7 +44,7 @@ from ..codegen.javascript import JavaScriptTarget
 from ..derive import EquationsOfMotion, derive
 from ..errors import ModelError
 from ..model import RigidBody, System
-from ..model.values import check_parameter_values, masses
+from ..model.values import check_parameter_values
 from .exercise import exercise_document, exercise_steps
 from .geometry import ROD_TOLERANCE, coordinates_drawn, geometry
 from .large import latex_printer
@@ -60,6 +60,7 @@ from .mechanism import (
     TRAIL_ALPHA,
 )
 from .notation import latex_name, too_long_to_print, unicode_name
+from .page_bodies import inertia_entries, mass_entries
 from .page_results import results_script, results_section
 from .solids import EQUAL, FLAT, RIM_POINTS
 from .tracks import tracks
@@ -171,7 +172,8 @@ def page_content(
         )
         return PageContent(document, None, decided=not analysis.undecided)
     document["scene"] = _scene(system, values)
-    document["masses"] = _masses(system)
+    document["masses"] = mass_entries(system)
+    document["inertias"] = inertia_entries(system)
     script = _script(code, system, conserved)
     script += results_script(code, expressions)
     return PageContent(document, script, decided=not analysis.undecided)
@@ -298,33 +300,6 @@ def _quantity_latex(name: str) -> str:
 
 def _drawn(system: System) -> System:
     return coordinates_drawn(system) if not system.particles and not system.bodies else system
-
-
-def _masses(system: System) -> list[dict]:
-    """Each mass (and planar moment of inertia) as ``check_masses`` checks it: its words,
-    its expression's text, the parameters it uses, its sign, and where the page's scene
-    routine gives its value (m: a particle's, W: a planar body's [mass, inertia], J: a
-    3-D body's [mass, ...]); a value given in the page that breaks it is refused in the
-    command line's words."""
-    places = [("m", i, 0) for i in range(len(system.particles))]
-    planar = solid = 0
-    for body in system.bodies:
-        if isinstance(body, RigidBody):
-            places.append(("J", solid, 0))
-            solid += 1
-        else:
-            places += [("W", planar, 0), ("W", planar, 1)]
-            planar += 1
-    entries = []
-    for (field, what, expression, sign), (block, row, column) in zip(
-        masses(system), places, strict=True
-    ):
-        used = sorted(s.name for s in expression.free_symbols)
-        formula = f" ({field} = {expression})" if used else ""
-        entries.append(
-            {"what": what + formula, "used": used, "sign": sign, "at": [block, row, column]}
-        )
-    return entries
 
 
 def _scene(system: System, values: Mapping[str, float]) -> dict:

@@ -1044,7 +1044,7 @@ function lagrangianPage(model, code) {
   function refused(name, x) {
     const parameter = model.parameters.find((p) => p.name === name);
     const breaks = parameter && SIGN_BREAKS[parameter.sign];
-    if (!breaks || !breaks(x)) return parameter ? massRefused(name, x) : null;
+    if (!breaks || !breaks(x)) return parameter ? bodyRefused(name, x) : null;
     const sign = parameter.sign;
     return (
       `parameter ${name} = ${pythonG(x)} breaks the model's assumption that ${name} is ${sign} (the equations were derived with it): ` +
@@ -1052,11 +1052,14 @@ function lagrangianPage(model, code) {
     );
   }
 
-  // lagrangian.model.values.check_masses at the value x of `name`: each mass (and planar
-  // moment of inertia) that uses it, from the scene routine at the values it would make
-  function massRefused(name, x) {
+  // lagrangian.model.values.check_parameter_values' checks of the bodies at the value x of
+  // `name`, in its order: each 3-D body's inertia (inertia.js), then each mass (and planar
+  // moment of inertia) that uses it; the values from the scene routine at the parameters x
+  // would make
+  function bodyRefused(name, x) {
+    const inertias = (model.inertias || []).filter((entry) => entry.used.includes(name));
     const entries = (model.masses || []).filter((entry) => entry.used.includes(name));
-    if (!entries.length) return null;
+    if (!inertias.length && !entries.length) return null;
     const trial = params.slice();
     trial[parameterNames.indexOf(name)] = x;
     let blocks;
@@ -1065,6 +1068,10 @@ function lagrangianPage(model, code) {
       blocks = { m, W, J };
     } catch (error) {
       return null;
+    }
+    for (const entry of inertias) {
+      const problem = inertiaProblem(entry, blocks.J[entry.row], pythonG);
+      if (problem) return `${entry.field}: ${problem} (with ${name} = ${pythonG(x)})`;
     }
     for (const entry of entries) {
       const [block, row, column] = entry.at;
