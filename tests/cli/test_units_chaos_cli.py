@@ -62,9 +62,13 @@ def test_lyapunov_plot_axes_say_seconds(driven):
     from lagrangian.output.lyapunov import plot_lyapunov
 
     system = lg.load(driven)
-    axis = plot_lyapunov(system.lyapunov(t_end=3.0), system).axes[0]
-    assert (axis.get_xlabel(), axis.get_ylabel()) == ("averaging time $t$ [s]", "estimate [1/s]")
-    plain = plot_lyapunov(system.lyapunov(t_end=3.0)).axes[0]
+    spectrum = system.lyapunov(t_end=3.0)
+    for figure in (plot_lyapunov(spectrum, system), spectrum.plot()):  # the spectrum's model
+        axis = figure.axes[0]
+        assert (axis.get_xlabel(), axis.get_ylabel()) == (
+            "averaging time $t$ [s]", "estimate [1/s]"
+        )  # fmt: skip
+    plain = lg.load("driven_damped_pendulum").lyapunov(t_end=3.0).plot().axes[0]
     assert (plain.get_xlabel(), plain.get_ylabel()) == (
         "averaging time $t$", "estimate (1 / time unit)"
     )  # fmt: skip

@@ -25,7 +25,7 @@ Defaults (echoed in the result): rtol 1e-9, atol 1e-11, interval 1.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -68,6 +68,7 @@ class LyapunovSpectrum:
     rtol: float
     atol: float
     name: str = ""
+    system: object = field(default=None, repr=False, compare=False)  # the model, if known
 
     @property
     def largest(self) -> float:
@@ -160,6 +161,7 @@ def lyapunov_spectrum(
         rtol=rtol,
         atol=atol,
         name=compiled.equations.system.name if compiled.derived else "",
+        system=compiled.equations.system if compiled.derived else None,
     )
 
 

@@ -19,15 +19,17 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
-def _rate_unit(system) -> str | None:
-    """``1/s`` for a dimensioned model (its times are in s), else None."""
-    return None if getattr(system, "units", None) is None else "1/s"
+def _rate_unit(spectrum: LyapunovSpectrum, system) -> str | None:
+    """``1/s`` for a dimensioned model (``system``, else the spectrum's own: its times are
+    in s), else None."""
+    model = system if system is not None else spectrum.system
+    return None if getattr(model, "units", None) is None else "1/s"
 
 
 def lyapunov_summary(spectrum: LyapunovSpectrum, system=None) -> dict[str, object]:
     """The JSON form: exponents (largest first), their sum, the settings and the state;
     ``units`` (``{"exponents": "1/s", "t": "s"}``) for a dimensioned ``system``."""
-    unit = _rate_unit(system)
+    unit = _rate_unit(spectrum, system)
     return ({"units": {"exponents": unit, "t": "s"}} if unit else {}) | {
         "model": spectrum.name,
         "exponents": [float(x) for x in spectrum.exponents],
@@ -42,7 +44,7 @@ def lyapunov_summary(spectrum: LyapunovSpectrum, system=None) -> dict[str, objec
 def lyapunov_text(spectrum: LyapunovSpectrum, system=None) -> str:
     """Lines for a terminal: one exponent a line, then the sum and the settings (in 1/s
     and s for a dimensioned ``system``)."""
-    unit = _rate_unit(system)
+    unit = _rate_unit(spectrum, system)
     seconds = " s" if unit else ""
     count = spectrum.count
     what = "largest Lyapunov exponent" if count == 1 else f"{count} Lyapunov exponents"
@@ -63,7 +65,7 @@ def lyapunov_text(spectrum: LyapunovSpectrum, system=None) -> str:
 def plot_lyapunov(spectrum: LyapunovSpectrum, system=None) -> Figure:
     """The running estimate of each exponent against the averaging time (log scale), in
     1/s against s for a dimensioned ``system``."""
-    unit = _rate_unit(system)
+    unit = _rate_unit(spectrum, system)
     figure, axes = new_figure(height=4.4)
     axis = axes[0, 0]
     elapsed = spectrum.times - spectrum.transient
