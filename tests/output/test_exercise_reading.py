@@ -73,6 +73,14 @@ REFUSED = [
 SCRIPTS = ("tokens.js", "expressions.js")
 
 
+#: Unknown names, with the parser's guess of the one meant (parsing/suggest.py) or none.
+MISSPELT = [
+    "xdot", "thetadot", "dx", "d_x", "x_dd", "ddtheta", "THETAdot", "theta_dott", "thetta",
+    "thtea", "omegaa", "omga", "lamda", r"\dot{y}", "theta3", "Omega", "q", "sinn(x)",
+    "cso(x)", "foo(x)", "m(x, y)", "atan3(x, y)", "theta1_dddot",
+]  # fmt: skip
+
+
 @pytest.fixture(scope="module")
 def reader():
     with chromium() as browser:
@@ -102,7 +110,7 @@ def test_the_page_reads_a_text_as_the_parser_does(reader, text):
     assert math.isclose(found, expected, rel_tol=1e-12), (found, expected)
 
 
-@pytest.mark.parametrize("text", REFUSED)
+@pytest.mark.parametrize("text", REFUSED + MISSPELT)
 def test_the_page_refuses_a_text_in_the_parsers_words(reader, text):
     found = reader.evaluate(
         """([t, names]) => {

@@ -128,7 +128,9 @@ function exerciseParse(text, known) {
       const args = callArguments(next());
       if (name in EXERCISE_FUNCTIONS) return call(name, args, token);
       if (latex && args.length === 1) return ["j", symbol(token), args[0]]; // LaTeX m(a + b)
-      return unresolve(known.has(name) ? `'${name}' is not a function` : `unknown function '${name}'`, token);
+      if (known.has(name)) return unresolve(`'${name}' is not a function`, token);
+      const meant = tokenLikelyMeant(name, Object.keys(EXERCISE_FUNCTIONS));
+      return unresolve(`unknown function '${name}'${meant ? ` (did you mean '${meant}'?)` : ""}`, token);
     }
     if (name in EXERCISE_FUNCTIONS) throw new Error(`'${name}' is a function: write ${name}(...) ${where(token)}`);
     return symbol(token);
@@ -136,7 +138,9 @@ function exerciseParse(text, known) {
   function symbol(token) {
     if (token.value === "pi") return ["n", Math.PI];
     if (token.value === "E") return ["n", Math.E];
-    return known.has(token.value) ? ["s", token.value] : unresolve(`unknown symbol '${token.value}'`, token);
+    if (known.has(token.value)) return ["s", token.value];
+    const meant = tokenLikelyMeant(token.value, known);
+    return unresolve(`unknown symbol '${token.value}'${meant ? ` (did you mean '${meant}'?)` : ""}`, token);
   }
   function callArguments(opening) {
     const args = [];

@@ -264,3 +264,40 @@ function exerciseTokens(text, latex) {
   tokens.push({ kind: "end", at: text.length, text: "" });
   return tokens;
 }
+
+// lagrangian/parsing/suggest.likely_meant: the known name a misspelt one most likely means,
+// or null: another spelling of a velocity or an acceleration (xdot, dx, thetaddot), or one
+// edit away (not of a digit or a letter's case) from a known name of 4 characters or more
+const TOKEN_VELOCITY_FORMS = ["{q}dot", "{q}_d", "{q}d", "{q}dott", "{q}_dott", "d{q}", "d_{q}", "{q}dt", "{q}_dt", "d{q}dt", "{q}prime", "{q}_prime"];
+const TOKEN_ACCELERATION_FORMS = ["{q}ddot", "{q}_dd", "{q}dd", "{q}ddott", "{q}_ddott", "dd{q}", "dd_{q}", "d2{q}", "{q}_dddot", "{q}dddot"];
+
+function tokenLikelyMeant(name, known) {
+  const candidates = [...new Set(known)].filter((n) => n !== name).sort();
+  const folded = name.toLowerCase();
+  for (const candidate of candidates) {
+    for (const [suffix, forms] of [["_dot", TOKEN_VELOCITY_FORMS], ["_ddot", TOKEN_ACCELERATION_FORMS]]) {
+      if (!candidate.endsWith(suffix)) continue;
+      const base = candidate.slice(0, -suffix.length);
+      if (suffix === "_dot" && base.endsWith("_d")) continue; // x_ddot: an acceleration
+      if (forms.some((f) => f.replace("{q}", base).toLowerCase() === folded)) return candidate;
+    }
+  }
+  return candidates.find((c) => c.length >= 4 && tokenOneSlipApart(name, c)) ?? null;
+}
+
+function tokenOneSlipApart(a, b) {
+  if (Math.abs(a.length - b.length) > 1 || a === b) return false;
+  let start = 0;
+  while (start < Math.min(a.length, b.length) && a[start] === b[start]) start++;
+  if (a.length === b.length) {
+    if (a.slice(start + 1) === b.slice(start + 1)) { // one replaced character
+      const [x, y] = [a[start], b[start]];
+      return !((tokenDigit(x) && tokenDigit(y)) || x.toLowerCase() === y.toLowerCase());
+    }
+    const swapped = a.slice(start, start + 2) === [...b.slice(start, start + 2)].reverse().join("");
+    return swapped && a.slice(start + 2) === b.slice(start + 2);
+  }
+  const [longer, shorter] = a.length > b.length ? [a, b] : [b, a];
+  if (longer.slice(start + 1) !== shorter.slice(start)) return false;
+  return !tokenDigit(longer[start]); // one inserted character
+}
