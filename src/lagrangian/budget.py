@@ -160,6 +160,7 @@ class deadline:  # named as the function it was: ``with deadline(seconds, stage)
     def __init__(self, seconds: float | None, stage: str):
         self.seconds, self.stage = seconds, stage
         self.armed = self.entered = False  # raising from its handler; to be cleared
+        self.fired = False  # its error was raised inside the block
 
     def __enter__(self) -> None:
         if self.seconds is None or not _can_arm():
@@ -187,9 +188,14 @@ class deadline:  # named as the function it was: ``with deadline(seconds, stage)
             self._leave()
             raise
 
-    def __exit__(self, *exception) -> bool:
+    def __exit__(self, kind, error, traceback) -> bool:
         if self.entered:
             self._leave()
+        if kind is None and self.fired:
+            # Its error was raised in the block and lost on the way (in a gc callback or
+            # a __del__, where Python prints it as unraisable, or caught by the work): the
+            # work went on past its end, which is still not within the deadline.
+            raise self.error
         return False  # an OutOfTime goes on to attempt() or the caller
 
     def _expired(self, signum, frame) -> None:
@@ -209,6 +215,7 @@ class deadline:  # named as the function it was: ``with deadline(seconds, stage)
         signal.setitimer(TIMER, REPEAT_SECONDS)
         if isinstance(sys.exc_info()[1], OutOfTime) or _leaving(frame):
             return  # already on its way out, or in a clean-up that must run whole
+        self.fired = True  # should this error be lost, leaving the block raises it
         raise self.error
 
     def _leave(self) -> None:
