@@ -135,7 +135,7 @@ def bounded_config(app) -> uvicorn.Config:
     )
     # after the Config, which sets up uvicorn's loggers; one filter of a server's own
     # (an earlier server's in this process, a test's, is replaced with its counts)
-    once = OncePerInterval()
+    once = OncePerInterval(LOG_INTERVAL_SECONDS)
     for name in RATE_LIMITED_LOGGERS:
         logger = logging.getLogger(name)
         for earlier in [each for each in logger.filters if isinstance(each, OncePerInterval)]:
