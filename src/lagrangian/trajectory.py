@@ -66,6 +66,19 @@ class EventRecord:
 
 
 @dataclass(frozen=True, eq=False)
+class ImpactRecord:
+    """One impact of a run with contacts (``[[impacts]]``): its time ``t``, the ``contact``'s
+    name, the velocities q' before and after (n,) and the energy before and after."""
+
+    t: float
+    contact: str
+    velocities_before: np.ndarray
+    velocities_after: np.ndarray
+    energy_before: float
+    energy_after: float
+
+
+@dataclass(frozen=True, eq=False)
 class Trajectory:
     """A simulated motion; see the module docstring for the layout of ``dataset``.
 
@@ -90,6 +103,7 @@ class Trajectory:
         events: Sequence[EventRecord] = (),
         attrs: Mapping[str, object] | None = None,
         system: System | None = None,
+        impacts: Sequence[ImpactRecord] | None = None,
     ) -> Trajectory:
         """A trajectory from arrays: ``y`` (2n, T) holds q then q' at the times ``t`` (T,)."""
         import xarray as xr
@@ -125,6 +139,11 @@ class Trajectory:
             "events": ",".join(record.name for record in events),
         }
         meta.update(_netcdf_attrs(attrs or {}))
+        if impacts is not None:  # a model with contacts: its impacts, even none
+            meta["contacts"] = ",".join(contact.name for contact in system.impacts)
+            data_vars.update(_impact_variables(impacts, meta["contacts"]))
+            if impacts:
+                coords["velocity"] = velocities
         dataset = xr.Dataset(data_vars, coords=coords, attrs=meta)
         units = system.units if system is not None else None
         if units is not None:  # CF conventions: a units attribute on each variable
@@ -185,6 +204,29 @@ class Trajectory:
             states = self.dataset[f"{dim}__y"].transpose("state", dim).values
             records[name] = EventRecord(name, self[f"{dim}__t"], states)
         return records
+
+    @property
+    def contacts(self) -> tuple[str, ...]:
+        """The names of the model's contacts (``[[impacts]]``); empty without any."""
+        return name_list(self.dataset.attrs.get("contacts", ""))
+
+    @property
+    def impacts(self) -> list[ImpactRecord]:
+        """Every impact of the run, in order of time (empty without contacts)."""
+        if "impact__t" not in self.dataset:
+            return []
+        d, contacts = self.dataset, self.contacts
+        return [
+            ImpactRecord(
+                float(d["impact__t"].values[i]),
+                contacts[int(d["impact__contact"].values[i])],
+                d["impact__velocities_before"].values[:, i],
+                d["impact__velocities_after"].values[:, i],
+                float(d["impact__energy_before"].values[i]),
+                float(d["impact__energy_after"].values[i]),
+            )
+            for i in range(d["impact__t"].shape[0])
+        ]
 
     def drift(self, name: str) -> float:
         """max_t |X(t) - X(0)| of the variable ``name``, divided by |X(0)| when |X(0)| > 1e-12.
@@ -252,6 +294,16 @@ class Trajectory:
         document["wall_time"] = float(attrs.get("wall_time", 0.0))
         document["status"] = self.status
         document["events"] = {name: r.times.tolist() for name, r in self.events.items()}
+        if self.contacts:  # additive: a model with contacts (issue 34)
+            document["impacts"] = [
+                {"t": r.t, "contact": r.contact, "energy_before": r.energy_before,
+                 "energy_after": r.energy_after}
+                for r in self.impacts
+            ]  # fmt: skip
+            holds = json.loads(str(attrs.get("holds", "[]")))
+            document["held_contacts"] = [
+                {"contact": name, "t_from": start, "t_to": end} for name, start, end in holds
+            ]
         return document
 
     # -- pictures: plot, animate and _repr_html_ are added by lagrangian.facade, above
@@ -296,6 +348,31 @@ class Trajectory:
         folder) is a :class:`~lagrangian.errors.FileError` naming it and what is wrong.
         """
         return cls(_by_suffix(path, {".csv": read_csv, ".nc": read_netcdf})(path))
+
+
+def _impact_variables(impacts: Sequence[ImpactRecord], contacts: str) -> dict[str, object]:
+    """The data variables of the impacts along their dimension ``impact`` (none if empty:
+    netCDF-3 has no empty dimensions, and the ``contacts`` attribute says there were some)."""
+    if not impacts:
+        return {}
+    index = {name: i for i, name in enumerate(name_list(contacts))}
+    return {
+        "impact__t": ("impact", np.array([r.t for r in impacts], dtype=float)),
+        "impact__contact": (
+            "impact",
+            np.array([index[r.contact] for r in impacts], dtype=np.int32),
+        ),
+        "impact__velocities_before": (
+            ("velocity", "impact"),
+            np.stack([r.velocities_before for r in impacts], axis=-1),
+        ),
+        "impact__velocities_after": (
+            ("velocity", "impact"),
+            np.stack([r.velocities_after for r in impacts], axis=-1),
+        ),
+        "impact__energy_before": ("impact", np.array([r.energy_before for r in impacts])),
+        "impact__energy_after": ("impact", np.array([r.energy_after for r in impacts])),
+    }
 
 
 def _by_suffix(path: str | os.PathLike, table: Mapping[str, Callable]) -> Callable:

@@ -33,11 +33,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError, choices, setting
+from ..numeric.impacts import contact_functions
 from ..trajectory import Trajectory
 from .base import AbstractIntegrator, IntegrationResult, check_time_span
 from .events import Event
 from .fixed_step import AbstractFixedStepIntegrator
 from .guard import parameter_problem
+from .impacts import ImpactRun
 from .memory import check_fits, count_text, run_bytes
 from .registry import method_class
 from .start import constrained_start
@@ -101,12 +103,21 @@ def simulate(
     # them would only repeat that, several lines long.
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         start = time.perf_counter()
-        result = integrator.solve(
-            compiled, t_span, y0, p, t_eval=outputs, events=events, watch=watch
-        )
+        contacts = contact_functions(compiled)
+        impacts = None
+        if contacts is None:
+            result = integrator.solve(
+                compiled, t_span, y0, p, t_eval=outputs, events=events, watch=watch
+            )
+        else:  # segments between impacts (integrate.impacts)
+            run = ImpactRun(integrator, compiled, contacts, p, t_span, events, watch)
+            result = run.run(y0, outputs)
+            impacts = (run.pieces.impacts, run.pieces.holds)
         wall_time = time.perf_counter() - start
         values = dict(zip(compiled.parameter_names, p.tolist(), strict=True))
-        trajectory = trajectory_of(compiled, result, p, parameters=values, wall_time=wall_time)
+        trajectory = trajectory_of(
+            compiled, result, p, parameters=values, wall_time=wall_time, impacts=impacts
+        )
     if choice is not None:
         trajectory.dataset.attrs["choice"] = choice
     return trajectory
@@ -182,8 +193,10 @@ def trajectory_of(
     *,
     parameters: Mapping[str, float] | None = None,
     wall_time: float = 0.0,
+    impacts: tuple[list, list] | None = None,
 ) -> Trajectory:
-    """A Trajectory of one result (y (2n, T)): energy, invariants and multipliers added."""
+    """A Trajectory of one result (y (2n, T)): energy, invariants and multipliers added;
+    ``impacts``: (the impact records, the held contacts' spans) of a run with contacts."""
     t, y = result.t, result.y
     causes, conserved_here = _causes_at(compiled, params)
     invariants = {name: along(f, t, y, params) for name, f in compiled.invariants.items()}
@@ -207,6 +220,12 @@ def trajectory_of(
         "parameters": dict(parameters or {}),
         **causes,
     }
+    if impacts is not None:
+        attrs["holds"] = json.dumps(impacts[1])
+        lost = sum(r.energy_before - r.energy_after for r in impacts[0])
+        scale = max((abs(r.energy_before) for r in impacts[0]), default=0.0)
+        if "energy_not_conserved" not in attrs and lost > 1e-9 * max(scale, 1e-300):
+            attrs["energy_not_conserved"] = "the impacts take energy (restitution below 1)"
     return Trajectory.build(
         t=t,
         coordinates=compiled.coordinate_names,
@@ -217,6 +236,7 @@ def trajectory_of(
         events=result.events,
         attrs=attrs,
         system=compiled.equations.system,
+        impacts=None if impacts is None else impacts[0],
     )
 
 

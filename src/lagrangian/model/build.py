@@ -35,6 +35,7 @@ from ..symbols import (
 )
 from .components import Gravity, RigidBody, Spring
 from .energy import conservative_potential, gravity_potential, kinetic_energy, spring_potential
+from .impacts import check_initial_gaps, check_restitutions, resolve_impacts
 from .inputs import assemble_inputs, input_entries, input_parameters, with_input_forces
 from .limits import check_kinetic_work
 from .naming import RESERVED, coordinates_named, parameter_entry, warn_of_likely_typos
@@ -80,6 +81,8 @@ def build_system(spec: ModelSpec) -> System:
                 "too costly to assemble"
             )
         check_masses(system)
+        check_restitutions(system)
+        check_initial_gaps(system, {}, {})
         if declared is not None:
             system = dimensioned(system, spec, declared, initial, trees)
         return replace(system, spec=given)
@@ -354,6 +357,12 @@ class _Builder:
             inputs=inputs,
             dissipation=resolved.get("dissipation", sympy.Integer(0)),
             constraints=tuple(resolved[f"constraints[{i}]"] for i in range(len(spec.constraints))),
+            impacts=resolve_impacts(
+                spec.impacts,
+                resolved,
+                tuple(c.q for c in self.coordinates),
+                set(self.names) | {p.name for p in self.parameters},
+            ),
             particles=particles,
             bodies=bodies,
             springs=springs,

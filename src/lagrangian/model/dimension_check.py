@@ -61,6 +61,7 @@ _FIELD_DIMENSIONS = tuple(
         (r"springs\[\d+\]\.stiffness", STIFFNESS),
         (r"springs\[\d+\]\.(rest_length|ends.*)", LENGTH),
         (r"gravity\.g", ACCELERATION),
+        (r"impacts\[\d+\]\.restitution", DIMENSIONLESS),
     )
 )
 #: A generalized force: the coordinate it acts on is the last part of the field.

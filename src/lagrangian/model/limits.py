@@ -42,6 +42,7 @@ MAX_COUNTS: Mapping[str, int] = MappingProxyType(
         "bodies": 500,
         "springs": 500,
         "constraints": 200,
+        "impacts": 200,
         "functions": 100,
         "forces": 200,
         "conservative_forces": 200,

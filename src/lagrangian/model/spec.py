@@ -6,6 +6,7 @@ from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 
 from .components import ExprLike, Gravity, Particle, RigidBody, RigidBody2D, Spring
+from .impacts import Impact, impact_fields
 from .inputs import input_fields
 from .limits import check_counts, check_expression_text
 
@@ -43,6 +44,7 @@ class ModelSpec:
     conservative_forces: Mapping[str, ExprLike] = field(default_factory=dict)
     dissipation: ExprLike | None = None
     constraints: tuple[ExprLike, ...] = ()
+    impacts: tuple[Impact, ...] = ()  # see .impacts
     functions: Mapping[str, Sequence[str]] = field(default_factory=dict)
     inputs: Mapping[str, object] = field(default_factory=dict)  # see .inputs
     initial: Mapping[str, float] = field(default_factory=dict)
@@ -62,6 +64,7 @@ def check_size(spec: ModelSpec) -> None:
         "bodies": spec.bodies,
         "springs": spec.springs,
         "constraints": spec.constraints,
+        "impacts": spec.impacts,
         "functions": spec.functions,
         "forces": spec.forces,
         "conservative_forces": spec.conservative_forces,
@@ -121,3 +124,4 @@ def expression_fields(spec: ModelSpec) -> Iterator[tuple[str, object, frozenset[
         yield f"constraints[{i}]", value, STATE_AND_TIME
     for where, value in input_fields(spec.inputs):
         yield where, value, STATE_AND_TIME
+    yield from impact_fields(spec.impacts, CONFIGURATION, CONSTANT)

@@ -15,6 +15,7 @@ from .components import ExprLike, Gravity, Particle, RigidBody, RigidBody2D, Spr
 from .limits import check_plain_text
 
 if TYPE_CHECKING:
+    from .impacts import Impact
     from .inputs import Input
     from .spec import ModelSpec
     from .units import Units
@@ -85,6 +86,7 @@ class System:
     inputs: tuple[Input, ...] = ()
     dissipation: sympy.Expr = sympy.S.Zero
     constraints: tuple[sympy.Expr, ...] = ()
+    impacts: tuple[Impact, ...] = ()  # unilateral contacts, see .impacts
     particles: tuple[Particle, ...] = ()
     bodies: tuple[RigidBody2D | RigidBody, ...] = ()
     springs: tuple[Spring, ...] = ()

@@ -19,6 +19,7 @@ from pathlib import Path
 from ..errors import ModelError
 from .build import ModelSpec, build_system
 from .components import Gravity, Particle, RigidBody, RigidBody2D, Spring
+from .impacts import read_impact
 from .limits import (
     MAX_FILE_BYTES,
     check_counts,
@@ -41,7 +42,7 @@ TOP_LEVEL_KEYS = frozenset(
         "name", "description", "coordinates", "parameters", "lagrangian", "kinetic",
         "potential", "particles", "bodies", "springs", "gravity", "forces",
         "conservative_forces", "dissipation", "constraints", "functions", "initial",
-        "simulate", "inputs", "units",
+        "simulate", "inputs", "units", "impacts",
     }
 )  # fmt: skip
 SIMULATE_KEYS = frozenset({"t_end", "dt", "rtol", "atol", "method", "steps"})
@@ -63,7 +64,7 @@ def _check_simulate_value(key: str, value: object) -> None:
 
 _COUNTED = (
     "coordinates", "parameters", "particles", "bodies", "springs", "constraints", "functions",
-    "forces", "conservative_forces", "initial", "inputs", "units",
+    "forces", "conservative_forces", "initial", "inputs", "units", "impacts",
 )  # fmt: skip
 
 
@@ -174,6 +175,7 @@ def _spec(data: Mapping[str, object], source: str | None) -> ModelSpec:
         forces=_table(data, "forces"),
         conservative_forces=_table(data, "conservative_forces"),
         constraints=tuple(_list(data, "constraints")),
+        impacts=tuple(read_impact(t, i) for i, t in enumerate(_tables(data, "impacts"))),
         functions=_table(data, "functions"),
         inputs=_table(data, "inputs"),
         initial=_table(data, "initial"),

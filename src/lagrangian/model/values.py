@@ -25,6 +25,7 @@ import sympy
 
 from ..errors import ModelError
 from .components import RigidBody, RigidBody2D
+from .impacts import check_restitutions
 from .rigid_body import check_inertia
 from .system import System
 
@@ -74,6 +75,7 @@ def check_parameter_values(system: System, values: Mapping[str, float | np.ndarr
         if isinstance(body, RigidBody):
             _check_body(system, body, f"bodies[{i}].inertia", values)
     check_masses(system, values)
+    check_restitutions(system, values)
 
 
 def with_values(system: System, values: Mapping[str, float]) -> System:

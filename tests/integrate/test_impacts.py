@@ -1,0 +1,202 @@
+"""Runs with contacts: impact times and velocities against closed forms, the impact law's
+invariants, chattering into a held contact, its release, and Newton's cradle."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import lagrangian as lg
+from helpers import slow_where
+from lagrangian.model.impacts import Impact
+from lagrangian.numeric import compile_equations
+from lagrangian.simulation import simulate_system
+
+
+def ball(e: float = 0.9, h0: float = 1.0, **options) -> lg.System:
+    return lg.System.from_energies(
+        "m*y_dot**2/2", "m*g*y", coordinates=["y"],
+        parameters={"m": 1.0, "g": 9.81, "e": e},
+        impacts=(Impact(gap="y", restitution="e", name="floor"),),
+        initial={"y": h0}, **options,
+    )  # fmt: skip
+
+
+def analytic_times(count: int, e: float, h0: float, g: float) -> np.ndarray:
+    """t_1 = sqrt(2 h0 / g), t_{k+1} = t_k + 2 e^k v0 / g with v0 = sqrt(2 g h0)."""
+    v0 = math.sqrt(2 * g * h0)
+    times = [math.sqrt(2 * h0 / g)]
+    for k in range(1, count):
+        times.append(times[-1] + 2 * e**k * v0 / g)
+    return np.array(times)
+
+
+def test_the_first_bounces_of_the_ball_are_the_analytic_ones():
+    trajectory = simulate_system(ball(0.9), t_end=3.0, backend="llvm")
+    times = np.array([r.t for r in trajectory.impacts])
+    assert times.size == 4
+    np.testing.assert_allclose(times, analytic_times(4, 0.9, 1.0, 9.81), rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("backend", slow_where(["llvm", "numba"], lambda name: name == "numba"))
+def test_the_bouncing_ball_follows_the_analytic_sequence_into_a_held_contact(backend):
+    e, h0, g = 0.9, 1.0, 9.81
+    trajectory = simulate_system(ball(e, h0), t_end=12.0, backend=backend)
+    impacts = trajectory.impacts
+    times = np.array([r.t for r in impacts])
+    expected = analytic_times(len(impacts), e, h0, g)
+    speeds = np.array([-r.velocities_before[0] for r in impacts])
+    fast = speeds > 1e-3  # every impact but the last few tens before the contact is held
+    assert fast.sum() > 60
+    np.testing.assert_allclose(times[fast], expected[fast], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(times, expected, rtol=0, atol=5e-9)
+    # heights h_n = e^(2n) h0 from the speeds after each impact, and each impact's energy law
+    after = np.array([r.velocities_after[0] for r in impacts])
+    n = np.arange(1, len(impacts) + 1)
+    heights = after**2 / (2 * g)
+    bounces = slice(0, -1)  # the last impact is plastic: the contact is held from there
+    np.testing.assert_allclose(heights[bounces], e ** (2 * n[bounces]) * h0, rtol=0, atol=1e-12)
+    energy_before = np.array([r.energy_before for r in impacts])
+    energy_after = np.array([r.energy_after for r in impacts])
+    np.testing.assert_allclose(
+        energy_after[bounces], e**2 * energy_before[bounces], rtol=0, atol=1e-12
+    )
+    assert after[-1] == 0.0 and energy_after[-1] < 1e-9
+    # the chattering ends in a held contact from just before the accumulation time to t_end
+    t_rest = expected[0] + 2 * e * math.sqrt(2 * g * h0) / g / (1 - e)
+    (hold,) = trajectory.summary()["held_contacts"]
+    assert hold["contact"] == "floor" and hold["t_to"] == 12.0
+    assert t_rest - 1e-3 < hold["t_from"] < t_rest
+    assert abs(trajectory.final_state["y"]) < 1e-12
+    assert abs(trajectory.final_state["y_dot"]) < 1e-12
+    assert trajectory.status == "success"
+    assert "impacts take energy" in trajectory.energy_not_conserved
+
+
+def test_energy_is_conserved_between_impacts():
+    trajectory = simulate_system(ball(0.8), t_end=3.0, backend="llvm")
+    impacts = trajectory.impacts
+    t, energy = trajectory.t, trajectory["energy"]
+    edges = [0.0, *(r.t for r in impacts), 3.0]
+    levels = [impacts[0].energy_before, *(r.energy_after for r in impacts)]
+    for start, end, level in zip(edges, edges[1:], levels, strict=False):
+        inside = (t > start) & (t < end)
+        assert inside.any()
+        np.testing.assert_allclose(energy[inside], level, rtol=1e-9)
+
+
+def test_outputs_on_a_grid_are_the_grid_and_impacts_are_kept_apart():
+    trajectory = simulate_system(ball(0.9), t_end=2.0, n_out=41, backend="llvm")
+    np.testing.assert_array_equal(trajectory.t, np.linspace(0, 2, 41))
+    assert len(trajectory.impacts) == 3
+    assert np.all(trajectory["y"] >= -1e-12)
+
+
+def oblique(e: float) -> lg.System:
+    """A particle under gravity in the plane above the inclined floor n . r >= 0, with
+    n = (sin b, cos b) (a wall not along the coordinate axes)."""
+    return lg.System.from_energies(
+        "m*(x_dot**2 + y_dot**2)/2", "m*g*y", coordinates=["x", "y"],
+        parameters={"m": 2.0, "g": 9.81, "e": e, "b": 0.3},
+        impacts=(Impact(gap="x*sin(b) + y*cos(b)", restitution="e"),),
+        initial={"x": 0.2, "y": 1.0, "x_dot": 0.7},
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize("e", [1.0, 0.6])
+def test_an_oblique_impact_reflects_the_normal_velocity_and_keeps_the_tangential(e):
+    trajectory = simulate_system(oblique(e), t_end=0.6, backend="llvm")
+    first = trajectory.impacts[0]
+    normal = np.array([math.sin(0.3), math.cos(0.3)])
+    tangent = np.array([math.cos(0.3), -math.sin(0.3)])
+    before, after = first.velocities_before, first.velocities_after
+    # the textbook law for a point mass, written independently of the mass metric
+    expected = before - (1 + e) * (normal @ before) * normal
+    np.testing.assert_allclose(after, expected, rtol=1e-12, atol=1e-12)
+    assert after @ tangent == pytest.approx(before @ tangent, rel=1e-12)
+    kinetic = lambda v: 2.0 * (v @ v) / 2  # noqa: E731
+    lost = kinetic(before) - kinetic(after)
+    assert lost == pytest.approx((1 - e**2) * 2.0 * (normal @ before) ** 2 / 2, abs=1e-10)
+    assert first.energy_before - first.energy_after == pytest.approx(lost, abs=1e-10)
+
+
+def test_the_law_in_a_non_diagonal_metric_keeps_the_momenta_orthogonal_to_the_contact():
+    """A double pendulum whose lower bob hits a wall x = d: the mass matrix couples the
+    angles, so the impulse is along M^-1 G^T, not along G."""
+    system = lg.System.from_particles(
+        coordinates=["a", "b"],
+        particles=(
+            lg.Particle("p", "m1", ("l*sin(a)", "-l*cos(a)")),
+            lg.Particle("q", "m2", ("l*sin(a) + l*sin(b)", "-l*cos(a) - l*cos(b)")),
+        ),
+        gravity=lg.Gravity("g"),
+        parameters={"m1": 1.0, "m2": 0.5, "l": 1.0, "g": 9.81, "e": 0.5, "d": 1.2},
+        impacts=(Impact(gap="d - l*sin(a) - l*sin(b)", restitution="e"),),
+        initial={"a": 0.3, "b": 0.2, "a_dot": 1.5, "b_dot": 2.5},
+    )
+    trajectory = simulate_system(system, t_end=0.5, backend="llvm")
+    first = trajectory.impacts[0]
+    # at the impact: the configuration from the gap, the law's invariants checked directly
+    compiled = compile_equations(system.equations_of_motion())
+    p = compiled.parameter_vector()
+    k = int(np.argmin(np.abs(trajectory.t - first.t)))
+    q = np.array([trajectory["a"][k], trajectory["b"][k]])
+    mass = compiled.mass_matrix(first.t, q, first.velocities_before, p)
+    gradient = np.array([-math.cos(q[0]), -math.cos(q[1])])
+    assert gradient @ first.velocities_after == pytest.approx(
+        -0.5 * (gradient @ first.velocities_before), rel=1e-6
+    )
+    orthogonal = np.array([gradient[1], -gradient[0]])  # G u = 0
+    momentum = lambda v: orthogonal @ (mass @ v)  # noqa: E731
+    assert momentum(first.velocities_after) == pytest.approx(
+        momentum(first.velocities_before), rel=1e-6
+    )
+
+
+def cradle(e: float = 1.0) -> lg.System:
+    """Three equal balls of radius r on a line; the last two touch at rest."""
+    return lg.System.from_energies(
+        "m*(x1_dot**2 + x2_dot**2 + x3_dot**2)/2", "0", coordinates=["x1", "x2", "x3"],
+        parameters={"m": 1.0, "r": 0.5, "e": e},
+        impacts=(
+            Impact(gap="x2 - x1 - 2*r", restitution="e", name="left"),
+            Impact(gap="x3 - x2 - 2*r", restitution="e", name="right"),
+        ),
+        initial={"x1": -1.0, "x2": 1.0, "x3": 2.0, "x1_dot": 2.0},
+    )  # fmt: skip
+
+
+def test_newtons_cradle_passes_the_momentum_through_the_touching_balls():
+    trajectory = simulate_system(cradle(1.0), t_end=2.0, backend="llvm")
+    final = trajectory.final_state
+    assert [final[f"x{i}_dot"] for i in (1, 2, 3)] == pytest.approx([0.0, 0.0, 2.0], abs=1e-12)
+    assert [r.contact for r in trajectory.impacts] == ["left", "right"]
+    assert trajectory.impacts[0].t == pytest.approx(0.5, abs=1e-12)
+    momentum = sum(final[f"x{i}_dot"] for i in (1, 2, 3))
+    assert momentum == pytest.approx(2.0, rel=1e-14)
+    assert trajectory.impacts[-1].energy_after == pytest.approx(2.0, rel=1e-14)
+    assert final["x3"] == pytest.approx(2.0 + 2.0 * 1.5, rel=1e-12)
+
+
+def test_a_held_contact_is_released_when_its_multiplier_would_pull():
+    """A block resting on the floor, pulled up by a force A t: the floor pushes with
+    lambda = m g - A t, and lets go at t = m g / A."""
+    system = lg.System.from_energies(
+        "m*y_dot**2/2",
+        "m*g*y",
+        coordinates=["y"],
+        parameters={"m": 1.0, "g": 9.81, "A": 4.0, "e": 0.5},
+        forces={"y": "A*t"},
+        impacts=(Impact(gap="y", restitution="e", name="floor"),),
+    )
+    trajectory = simulate_system(system, t_end=4.0, backend="llvm")
+    (hold,) = trajectory.summary()["held_contacts"]
+    assert hold["t_from"] == 0.0
+    assert hold["t_to"] == pytest.approx(9.81 / 4.0, rel=1e-9)
+    # free afterwards: y = A (t^3 - t0^3)/6 - ... integrated from rest at t0 = m g / A
+    t0, t = 9.81 / 4.0, 4.0
+    expected = 4.0 * (t**3 - t0**3) / 6 - 4.0 * t0**2 * (t - t0) / 2 - 9.81 * (t - t0) ** 2 / 2
+    assert trajectory.final_state["y"] == pytest.approx(expected, rel=1e-8)
+    assert trajectory.impacts == []
