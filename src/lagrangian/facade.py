@@ -229,6 +229,19 @@ class System(ModelSystem):
 
         return orbits_of_system(self, **options)
 
+    def continuation(self, **options: object):
+        """Periodic orbits followed in a parameter -> :class:`~lagrangian.integrate.
+        continuation.Continuation` (``.branches``: each with ``.points`` and
+        ``.bifurcations``).
+
+        Options: vary ({parameter: (low, high, count)}), strobe, period, phase,
+        max_doublings (default 3), grid, attractor, transient, rtol, atol, initial, params,
+        backend, timeout (see :func:`lagrangian.simulation.continuation_of_system`).
+        """
+        from .simulation import continuation_of_system
+
+        return continuation_of_system(self, **options)
+
     def bifurcation(self, **options: object):
         """A bifurcation diagram -> :class:`~lagrangian.ensemble.bifurcation.
         BifurcationDiagram` (``.points``, ``.to_csv(path)``, ``.plot()``).

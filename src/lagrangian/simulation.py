@@ -19,6 +19,7 @@ from .errors import ModelError, setting
 from .integrate import method_class, simulate
 from .integrate.base import transient_setting
 from .integrate.choice import choose_run
+from .integrate.continuation import DEFAULT_DOUBLINGS, Continuation, continue_orbits
 from .integrate.lyapunov import DEFAULT_INTERVAL, LyapunovSpectrum, lyapunov_spectrum
 from .integrate.orbits import MAX_STARTS, OrbitSearch, periodic_orbits
 from .integrate.pace import RunPace, watching
@@ -332,6 +333,40 @@ def orbits_of_system(
         )  # fmt: skip
     return periodic_orbits(
         compiled, strobe=strobe, period=period, phase=phase,
+        starts=_grid_starts(compiled, initial, grid or {}), attractor=attractor,
+        transient=transient, initial=initial, params=params, rtol=run.rtol, atol=run.atol,
+        watch=watch,
+    )  # fmt: skip
+
+
+def continuation_of_system(
+    system: System,
+    *,
+    vary: Mapping[str, tuple[float, float, int]],
+    strobe: float,
+    period: int = 1,
+    phase: float | None = None,
+    max_doublings: int = DEFAULT_DOUBLINGS,
+    grid: Mapping[str, object] | None = None,
+    attractor: int = 20,
+    transient: float | None = None,
+    **settings: Any,
+) -> Continuation:
+    """The branches of ``system``'s periodic orbits (period dividing ``period``, found at
+    the low end as :func:`orbits_of_system` finds them) followed over ``vary`` ({parameter:
+    (low, high, count)}) by pseudo-arclength continuation, the period doublings followed
+    to ``max_doublings``; see :mod:`lagrangian.integrate.continuation`."""
+    if len(vary) != 1:
+        raise ModelError("vary one parameter: {name: (low, high, count)}", field=setting("vary"))
+    ((parameter, (low, high, count)),) = vary.items()
+    run = RunSettings(**settings)
+    if transient is not None:
+        transient = transient_setting(transient)  # before the compilation
+    initial, params = run.values(system)
+    compiled, watch = run.compiled(system, 1.0, describe=lambda done: f"{100 * done:.3g} %")
+    return continue_orbits(
+        compiled, parameter=parameter, low=low, high=high, count=count, strobe=strobe,
+        period=period, phase=phase, max_doublings=max_doublings,
         starts=_grid_starts(compiled, initial, grid or {}), attractor=attractor,
         transient=transient, initial=initial, params=params, rtol=run.rtol, atol=run.atol,
         watch=watch,

@@ -137,7 +137,7 @@ def sensitivities(
     if loop is not None:
         z = solve_on_grid(loop, z0, p, times, rtol, atol, watch)
     else:
-        z = _by_scipy(compiled, parameters, z0, p, times, rtol, atol, watch)
+        z = scipy_on_grid(compiled, parameters, z0, p, times, rtol, atol, watch)
     values = z[:, size:].reshape(len(times), size, len(wrt))[:, :, [order.index(w) for w in wrt]]
     return Sensitivities(
         times=times,
@@ -153,7 +153,7 @@ def sensitivities(
     )
 
 
-def _by_scipy(compiled, parameters, z0, p, times, rtol, atol, watch) -> np.ndarray:
+def scipy_on_grid(compiled, parameters, z0, p, times, rtol, atol, watch) -> np.ndarray:
     """z at ``times`` by SciPy's DOP853 over the state and S, the ``parameters``' columns
     first: S' = J S + [dF/dp | 0] from the lambdified derivatives."""
     from scipy.integrate import solve_ivp
