@@ -22,11 +22,12 @@ echoed as ``rtol`` and ``atol``) sets the order and the step.  The order heyoka
 picks grows as -ln(tol)/2 (20 at machine epsilon, 346 at 1e-300, which builds for
 minutes), so tolerances below machine epsilon, which double precision cannot
 deliver, are refused (:data:`MIN_TOL`); the build counts against the run's time
-budget (``watch`` is told the start time before it).  Measured (benchmarks/simulate.py --taylor): at
-1e-15 it is 2-3 orders of magnitude faster than DOP853 for the same or smaller
-error, at 1e-10 still about 100x.  Outputs are heyoka's steps, or with
-``t_eval`` its dense output there.  Not handled: constraints, events, batches (use
-dop853, radau or rk4).  The compiled integrator is kept per system and tolerance
+budget (``watch`` is told the start time before it).  Outputs are heyoka's steps,
+or with ``t_eval`` its grid propagation there, run in chunks of thousands of steps
+with no Python per step (:mod:`.taylor_propagate`): the double pendulum's t = 1000 at
+1e-10 takes heyoka's own time within 1.1-1.5x (benchmarks/taylor_path.py; it took
+10-15x with a Python callback per step).  Not handled: constraints, events, batches
+(use dop853, radau or rk4).  The compiled integrator is kept per system and tolerance
 (its first build takes 0.1 s for the double pendulum, about 1.5 s for a 10-link
 chain).  A run fails with status ``failed`` where heyoka meets a state or a
 derivative that is not finite, naming the last finite state.
@@ -34,7 +35,6 @@ derivative that is not finite, naming the last finite state.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
@@ -52,6 +52,7 @@ from .base import (
     tolerance_setting,
 )
 from .guard import UNDEFINED, describe_state
+from .taylor_propagate import propagate
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -108,36 +109,20 @@ class Taylor(AbstractIntegrator):
         _check_definite(compiled, t0, y0, params)
         if watch is not None:  # the budget's clock starts before the build, which counts
             watch(t0)
-        integrator = _integrator(compiled, self.tol)
+        integrator, constants = _integrator(compiled, self.tol)
         if watch is not None:
             watch(t0)
         integrator.time = t0
         integrator.state[:] = y0
-        integrator.pars[:] = params
-        last = _LastState(t0, y0, watch)
-        if run.t_eval is not None:
-            grid = run.t_eval
-            outcome, _, _, steps, _, states = integrator.propagate_grid(grid, callback=last)
-            times, values = grid, np.asarray(states).T
-            if outcome != hy.taylor_outcome.time_limit:
-                reached = int(np.searchsorted(grid, last.t, side="right"))
-                times, values = grid[:reached], values[:, :reached]
-        else:
-            times, values, steps, outcome = [t0], [y0], 0, hy.taylor_outcome.time_limit
-            while integrator.time < t1:
-                outcome, _ = integrator.step(max_delta_t=t1 - integrator.time)
-                steps += 1
-                if outcome not in (hy.taylor_outcome.success, hy.taylor_outcome.time_limit):
-                    break
-                last(integrator)
-                times.append(integrator.time)
-                values.append(np.array(integrator.state))
-            times, values = np.array(times), np.stack(values, axis=-1)
+        integrator.pars[:] = constants(params)
+        reached = propagate(integrator, t1, run.t_eval, watch)
+        times, values, steps = reached.times, reached.values, reached.steps
+        outcome = reached.outcome
         if outcome in (hy.taylor_outcome.success, hy.taylor_outcome.time_limit):
             return self._result(
                 compiled, times, values, Status.SUCCESS, "reached the end time", steps
             )
-        where = f"t = {last.t:.6g} ({describe_state(compiled, last.y)})"
+        where = f"t = {reached.last_t:.6g} ({describe_state(compiled, reached.last_y)})"
         if outcome == hy.taylor_outcome.err_nf_state:
             message = (
                 f"the state is not finite after {where}: {UNDEFINED}, "
@@ -162,7 +147,8 @@ class Taylor(AbstractIntegrator):
 
 
 def _integrator(compiled: CompiledSystem, tol: float):
-    """heyoka's compiled integrator of ``compiled`` at ``tol`` (built once, then kept)."""
+    """(heyoka's compiled integrator of ``compiled`` at ``tol``, the function of the
+    parameters that gives its ``pars``), built once, then kept."""
     build = lambda: _build(compiled, tol)  # noqa: E731
     return built(compiled.forms.fingerprint, "heyoka", build, tol)
 
@@ -172,8 +158,12 @@ def _build(compiled: CompiledSystem, tol: float):
 
     ode = HeyokaTarget().load(compiled.program)
     n = compiled.n
-    state, parameters = np.zeros(2 * n), np.zeros(len(compiled.program.forms.parameters))
-    return hy.taylor_adaptive(ode, state, tol=tol, pars=parameters, compact_mode=n > 2)
+    state = np.zeros(2 * n)
+    parameters = ode.constants(np.zeros(len(compiled.program.forms.parameters)))
+    integrator = hy.taylor_adaptive(
+        ode.equations, state, tol=tol, pars=np.zeros(parameters.shape), compact_mode=n > 2
+    )
+    return integrator, ode.constants
 
 
 def _tolerance(name: str, value: float) -> float:
@@ -204,20 +194,3 @@ def indefinite_mass(
         f"matrix M (as a kinetic energy gives), and M at the initial state is not "
         f"(eigenvalues from {eigenvalues[0]:.3g} to {eigenvalues[-1]:.3g}): use dop853"
     )
-
-
-class _LastState:
-    """heyoka's step callback: keeps the last finite (time, state) reached, which names
-    where a failed run stopped (heyoka leaves NaN there), and tells ``watch`` the time (an
-    exception it raises ends the propagation and reaches the caller)."""
-
-    def __init__(self, t: float, y: np.ndarray, watch: Callable[[float], None] | None):
-        self.t, self.y, self.watch = float(t), np.array(y, dtype=float), watch
-
-    def __call__(self, integrator) -> bool:
-        state = np.array(integrator.state, dtype=float)
-        if np.isfinite(integrator.time) and np.all(np.isfinite(state)):
-            self.t, self.y = float(integrator.time), state
-        if self.watch is not None:
-            self.watch(integrator.time)
-        return True

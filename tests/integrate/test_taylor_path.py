@@ -1,0 +1,155 @@
+"""The taylor method's propagation in chunks (issue 36): the same answers as heyoka run by
+hand, on systems the project does not ship, without Python per step."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import lagrangian as lg
+from lagrangian.integrate import taylor_propagate
+from lagrangian.integrate.taylor import Taylor
+from lagrangian.numeric import compile_equations
+
+hy = pytest.importorskip("heyoka")
+
+K, R0, W0 = 1.5, 1.0, 1.4  # Kepler: k/r potential, periapsis r0, angular rate there
+
+
+def kepler():
+    system = lg.System.from_lagrangian(
+        "(r_dot**2 + r**2*phi_dot**2)/2 + k/r", coordinates=["r", "phi"], parameters={"k": K}
+    )
+    return compile_equations(system.equations_of_motion())
+
+
+def kepler_by_hand(tol):
+    """heyoka's integrator of the same orbit, its equations written by hand."""
+    r, phi, vr, vphi = hy.make_vars("r", "phi", "vr", "vphi")
+    equations = [
+        (r, vr), (phi, vphi), (vr, r * vphi**2 - K / r**2), (vphi, -2.0 * vr * vphi / r)
+    ]  # fmt: skip
+    return hy.taylor_adaptive(equations, [R0, 0.0, 0.0, W0], tol=tol)
+
+
+def duffing():
+    """x'' + d x' + a x + b x^3 = G cos(w t): damped and driven (time in the equations)."""
+    system = lg.System.from_lagrangian(
+        "x_dot**2/2 - a*x**2/2 - b*x**4/4",
+        coordinates=["x"],
+        parameters={"a": -1.0, "b": 1.0, "d": 0.3, "G": 0.5, "w": 1.2},
+        forces={"x": "-d*x_dot + G*cos(w*t)"},
+    )
+    return compile_equations(system.equations_of_motion())
+
+
+def duffing_by_hand(tol):
+    x, v = hy.make_vars("x", "v")
+    force = -0.3 * v + 0.5 * hy.cos(1.2 * hy.time) + x - x**3
+    return hy.taylor_adaptive([(x, v), (v, force)], [0.5, 0.0], tol=tol)
+
+
+def test_kepler_outputs_lie_on_the_analytic_ellipse():
+    compiled = kepler()
+    y0 = np.array([R0, 0.0, 0.0, W0])
+    result = Taylor(tol=1e-15).solve(compiled, (0.0, 60.0), y0, compiled.parameter_vector())
+    assert result.success and result.steps > 100
+    r, phi = result.y[0], result.y[1]
+    h = R0**2 * W0  # angular momentum per mass
+    p = h**2 / K  # semi-latus rectum; e from r(0) = p / (1 + e) at periapsis
+    e = p / R0 - 1
+    np.testing.assert_allclose(r * (1 + e * np.cos(phi)), p, rtol=1e-12)
+    np.testing.assert_allclose(r**2 * result.y[3], h, rtol=1e-12)
+
+
+def test_every_step_and_a_grid_equal_heyoka_run_by_hand():
+    compiled = kepler()
+    y0 = np.array([R0, 0.0, 0.0, W0])
+    params = compiled.parameter_vector()
+    taylor = Taylor(tol=1e-15)
+    steps = taylor.solve(compiled, (0.0, 60.0), y0, params)
+    by_hand = kepler_by_hand(1e-15)
+    output = by_hand.propagate_until(60.0, c_output=True)[4]
+    assert steps.t[-1] == 60.0
+    np.testing.assert_allclose(steps.y[:, -1], by_hand.state, rtol=0, atol=1e-12)
+    assert abs(steps.steps - (output.times.size - 1)) <= 2  # the same method, rounding aside
+    grid = np.linspace(0.0, 60.0, 241)
+    on_grid = taylor.solve(compiled, (0.0, 60.0), y0, params, t_eval=grid)
+    np.testing.assert_allclose(on_grid.y.T, output(grid), rtol=0, atol=1e-12)
+
+
+def test_a_driven_damped_duffing_oscillator_equals_heyoka_run_by_hand():
+    compiled = duffing()
+    grid = np.linspace(0.0, 50.0, 101)
+    result = Taylor(tol=1e-14).solve(
+        compiled, (0.0, 50.0), [0.5, 0.0], compiled.parameter_vector(), t_eval=grid
+    )
+    by_hand = duffing_by_hand(1e-14)
+    expected = by_hand.propagate_grid(grid)[-1]
+    np.testing.assert_allclose(result.y.T, expected, rtol=0, atol=1e-12)
+
+
+def test_outputs_that_begin_after_the_start_time():
+    # heyoka's grid must begin at the integrator's time: this raised ValueError
+    compiled = duffing()
+    grid = np.linspace(10.0, 50.0, 41)
+    result = Taylor(tol=1e-14).solve(
+        compiled, (0.0, 50.0), [0.5, 0.0], compiled.parameter_vector(), t_eval=grid
+    )
+    by_hand = duffing_by_hand(1e-14)
+    expected = by_hand.propagate_grid(np.concatenate([[0.0], grid]))[-1][1:]
+    np.testing.assert_array_equal(result.t, grid)
+    np.testing.assert_allclose(result.y.T, expected, rtol=0, atol=1e-12)
+
+
+def test_small_chunks_give_the_same_run_and_tell_watch_as_it_goes(monkeypatch):
+    compiled = kepler()
+    y0, params = np.array([R0, 0.0, 0.0, W0]), compiled.parameter_vector()
+    grid = np.linspace(0.0, 60.0, 121)
+    whole = Taylor(tol=1e-13).solve(compiled, (0.0, 60.0), y0, params)
+    whole_grid = Taylor(tol=1e-13).solve(compiled, (0.0, 60.0), y0, params, t_eval=grid)
+    monkeypatch.setattr(taylor_propagate, "FIRST_CHUNK", 7)
+    monkeypatch.setattr(taylor_propagate, "CHUNK_SECONDS", 0.0)  # every chunk 7 steps
+    seen = []
+    chunked = Taylor(tol=1e-13).solve(compiled, (0.0, 60.0), y0, params, watch=seen.append)
+    np.testing.assert_array_equal(chunked.t, whole.t)
+    np.testing.assert_array_equal(chunked.y, whole.y)
+    assert chunked.steps == whole.steps
+    assert len(seen) >= whole.steps // 7 and seen == sorted(seen)
+    chunked_grid = Taylor(tol=1e-13).solve(compiled, (0.0, 60.0), y0, params, t_eval=grid)
+    # heyoka's grid propagation does not take exactly the same steps when it starts
+    # again between two output times: equal to rounding, not to the bit
+    np.testing.assert_allclose(chunked_grid.y, whole_grid.y, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("chunk", [4096, 5])
+def test_a_failure_on_a_grid_names_the_last_finite_state(monkeypatch, chunk):
+    monkeypatch.setattr(taylor_propagate, "FIRST_CHUNK", chunk)
+    monkeypatch.setattr(taylor_propagate, "CHUNK_SECONDS", 0.0)
+    system = lg.System.from_lagrangian("x_dot**2/2 - sqrt(x)", coordinates=["x"])
+    # x'' = 1/(2 sqrt(x)) < 0 ... x reaches 0 at t = 1.8856 (as in test_taylor's failure)
+    grid = np.linspace(0.0, 3.0, 31)
+    trajectory = system.simulate(t_end=3.0, method="taylor", initial={"x": 1.0}, t_eval=grid)
+    assert trajectory.status == "failed"
+    message = trajectory.dataset.attrs["message"]
+    assert message.startswith("the state is not finite after t = 1.8856")
+    assert "x_dot = -1.4142" in message
+    np.testing.assert_array_equal(trajectory["t"], grid[:19])
+
+
+def test_parameters_made_of_parameters_follow_the_values_given():
+    # l1*l2*m2, m1 + m2, ... are runtime parameters of their own: a run with other values
+    # (after one that built the integrator) must recompute them
+    system = lg.load("double_pendulum")
+    compiled = compile_equations(system.equations_of_motion())
+    y0 = compiled.state_vector({"theta1": 0.3, "theta2": 0.2})
+    Taylor(tol=1e-14).solve(compiled, (0.0, 1.0), y0, compiled.parameter_vector())
+    values = {"m1": 2.0, "l2": 0.7, "g": 3.7}
+    params = compiled.parameter_vector(values)
+    taylor = Taylor(tol=1e-14).solve(compiled, (0.0, 10.0), y0, params)
+    reference = system.simulate(
+        t_end=10.0, method="dop853", rtol=1e-13, atol=1e-13, params=values,
+        initial={"theta1": 0.3, "theta2": 0.2},
+    )  # fmt: skip
+    final = np.array(list(reference.final_state.values()))
+    np.testing.assert_allclose(taylor.y[:, -1], final, rtol=0, atol=1e-9)
