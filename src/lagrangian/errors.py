@@ -43,6 +43,7 @@ PYTHON_SPELLING: Mapping[str, str] = {
     "count": "count",
     "interval": "interval",
     "strobe": "strobe",
+    "observe=": "observe={NAME: EXPR}",
 }
 _SETTING = re.compile(r"\u27e6([a-z_=]+)\u27e7")
 _CHOICES = re.compile(r"\u27ea([^\u27eb]*)\u27eb")

@@ -200,6 +200,32 @@ class System(ModelSystem):
 
         return sensitivities_of_system(self, wrt=wrt, **options)
 
+    def fit(self, data, vary, **options: object):
+        """The parameters (and initial values) that make the motion fit measured ``data`` ->
+        :class:`~lagrangian.integrate.fit_result.FitResult` (``.parameters`` {name: (value,
+        stderr)}, ``.correlation``, ``.rms``, ``.chi2_per_dof``, ``.warnings``,
+        ``.residuals``).
+
+        ``data``: a CSV or NetCDF path, an xarray Dataset, a pandas DataFrame or a mapping
+        with a column ``t`` and columns named for coordinates, velocities or the names of
+        ``observe``; ``vary``: names (``"k"``, ``"theta"`` for theta's initial value), with
+        start guesses as ``"k=2.5"`` or a mapping.  Weighted least squares with the exact
+        Jacobian of the sensitivity equations (see :mod:`lagrangian.integrate.fit`).
+        Options: observe, starts, noise, seed, rtol, atol, initial, params, assignments,
+        definitions, backend (see :func:`lagrangian.fitting.fit_of_system`).
+
+        >>> import numpy as np, lagrangian as lg
+        >>> spring = lg.System.from_lagrangian("m*x_dot**2/2 - k*x**2/2", coordinates=["x"])
+        >>> t = np.linspace(0, 3, 61)
+        >>> result = spring.fit({"t": t, "x": np.cos(2 * t)}, ["k=3"], params={"m": 1},
+        ...                     initial={"x": 1.0}, backend="llvm")
+        >>> round(result.parameters["k"][0], 6)  # omega = sqrt(k/m) = 2
+        4.0
+        """
+        from .fitting import fit_of_system
+
+        return fit_of_system(self, data, vary=vary, **options)
+
     def poincare(self, **options: object):
         """A Poincaré section -> :class:`~lagrangian.integrate.poincare.PoincareSection`
         (``.values``, ``["y"]``, ``.save("points.csv")``, ``.plot()``).

@@ -48,6 +48,10 @@ FLAGS = {
     "wrt": "--wrt",
     "points": "--points",
     "strobe": "--strobe",
+    "observe": "--observe",
+    "observe=": "--observe 'NAME = EXPR'",
+    "noise": "--noise",
+    "starts": "--starts",
 }
 
 

@@ -153,14 +153,19 @@ def sensitivities(
     )
 
 
-def scipy_on_grid(compiled, parameters, z0, p, times, rtol, atol, watch) -> np.ndarray:
+def scipy_on_grid(
+    compiled, parameters, z0, p, times, rtol, atol, watch, functions=None
+) -> np.ndarray:
     """z at ``times`` by SciPy's DOP853 over the state and S, the ``parameters``' columns
-    first: S' = J S + [dF/dp | 0] from the lambdified derivatives."""
+    first: S' = J S + [dF/dp | 0] from the lambdified derivatives (``functions``, the
+    :class:`~lagrangian.numeric.sensitivity.SensitivityFunctions` of ``parameters``, made
+    here unless given)."""
     from scipy.integrate import solve_ivp
 
     from ..numeric.sensitivity import SensitivityFunctions
 
-    functions = SensitivityFunctions(compiled, parameters)
+    if functions is None:
+        functions = SensitivityFunctions(compiled, parameters)
     size, count = 2 * compiled.n, len(parameters)
 
     def function(t: float, z: np.ndarray) -> np.ndarray:
@@ -182,6 +187,76 @@ def scipy_on_grid(compiled, parameters, z0, p, times, rtol, atol, watch) -> np.n
             + (solution.message if solution.status != 0 else "the state is not finite")
         )
     return solution.y.T
+
+
+class SensitivitySolver:
+    """The forward sensitivity equations of ``compiled`` for the names ``wrt``, made once
+    and solved for any start, parameters and output times (a fit solves them at every
+    step of its search: the compiled loop, or SciPy's functions, are built here only).
+
+    ``solve(y0, p, times)`` -> (states (m, 2n), values (m, 2n, k)), values[i, j, l] =
+    d state_j / d wrt_l at times[i], the run starting at times[0].
+    """
+
+    def __init__(
+        self,
+        compiled: CompiledSystem,
+        wrt: Sequence[str],
+        *,
+        rtol: float = DEFAULT_RTOL,
+        atol: float = DEFAULT_ATOL,
+    ):
+        from .compiled_sensitivity import sensitivity_loop
+
+        if compiled.has_constraints:
+            raise ModelError("sensitivities of constrained systems are not supported")
+        names = compiled.coordinate_names
+        self.state_names = (*names, *(f"{q}_dot" for q in names))
+        self.wrt = _checked_wrt(wrt, compiled.parameter_names, self.state_names)
+        self.compiled, self.rtol, self.atol = compiled, rtol, atol
+        # integrated with the parameters' columns first (the order the compiled loop takes)
+        self._parameters = [w for w in self.wrt if w not in self.state_names]
+        self._order = [*self._parameters, *(w for w in self.wrt if w in self.state_names)]
+        # the compiled loop on the numba backend only, as in sensitivities()
+        self._loop = (
+            sensitivity_loop(compiled, self._parameters) if compiled.backend == "numba" else None
+        )
+        self._functions = None
+        if self._loop is None:
+            from ..numeric.sensitivity import SensitivityFunctions
+
+            self._functions = SensitivityFunctions(compiled, self._parameters)
+
+    @property
+    def compiled_loop(self) -> bool:
+        """Whether the equations run in the compiled loop (numba), not SciPy's."""
+        return self._loop is not None
+
+    def solve(
+        self,
+        y0: np.ndarray,
+        p: np.ndarray,
+        times: np.ndarray,
+        watch: Callable[[float], None] | None = None,
+    ) -> tuple[np.ndarray, np.ndarray]:
+        from .compiled_sensitivity import solve_on_grid
+
+        size, count = len(self.state_names), len(self.wrt)
+        start = np.zeros((size, count))
+        for column, w in enumerate(self._order[len(self._parameters) :], len(self._parameters)):
+            start[self.state_names.index(w), column] = 1.0
+        z0 = np.concatenate((np.asarray(y0, dtype=float), start.ravel()))
+        p = np.ascontiguousarray(p, dtype=float)
+        if self._loop is not None:
+            z = solve_on_grid(self._loop, z0, p, times, self.rtol, self.atol, watch)
+        else:
+            z = scipy_on_grid(
+                self.compiled, self._parameters, z0, p, times, self.rtol, self.atol, watch,
+                self._functions,
+            )  # fmt: skip
+        columns = [self._order.index(w) for w in self.wrt]
+        values = z[:, size:].reshape(len(times), size, count)[:, :, columns]
+        return z[:, :size], values
 
 
 def _checked_wrt(
