@@ -8,7 +8,9 @@ The dataset has one dimension ``t`` (the output times) and the data variables
 - the Lagrange multipliers ``lambda1, ...`` of a constrained system,
 
 and the attributes ``model``, ``method``, ``status``, ``message``, ``steps``,
-``rhs_evaluations``, ``wall_time`` (seconds), the settings of the method
+``rhs_evaluations``, ``wall_time`` (seconds), ``compile_time`` (CPU seconds spent making
+or loading the run's compiled code: its y' and, for DOP853's compiled loop, the loop)
+and ``compiled`` (what, in words, where a compiled loop ran), the settings of the method
 (``rtol``/``atol`` or ``dt``, ...), ``parameters`` (a JSON object of the
 parameter values used) and the comma-separated name lists ``coordinate_names``
 (not ``coordinates``, which netCDF's CF conventions reserve), ``invariants``,
@@ -292,6 +294,12 @@ class Trajectory:
                 document[key] = float(attrs[key])
         document["steps"] = int(attrs.get("steps", 0))
         document["wall_time"] = float(attrs.get("wall_time", 0.0))
+        # CPU seconds the run spent making (or loading) its compiled code, and what it made
+        # (integrate.simulate): every run of simulate has them, a trajectory built by hand not
+        if "compile_time" in attrs:
+            document["compile_time"] = float(attrs["compile_time"])
+        if "compiled" in attrs:
+            document["compiled"] = str(attrs["compiled"])
         document["status"] = self.status
         document["events"] = {name: r.times.tolist() for name, r in self.events.items()}
         if self.contacts:  # additive: a model with contacts (issue 34)

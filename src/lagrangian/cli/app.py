@@ -343,6 +343,8 @@ def simulate(
     )
     if "choice" in summary:
         click.echo(f"method: {summary['choice']}")
+    if "compiled" in summary:
+        click.echo(f"compiled: {summary['compiled']}, {summary['compile_time']:.2g} s of CPU")
     click.echo("final state:")
     units = summary.get("units", {})
     for name, value in summary["final_state"].items():

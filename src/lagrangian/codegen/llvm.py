@@ -63,6 +63,15 @@ class LLVMTarget(
         return _lambdified(_converted(program))
 
 
+def llvm_blocks(program: Program):
+    """:meth:`LLVMTarget.load` of ``program``, made once per process for its equations:
+    shared by the llvm backend's functions and DOP853's loop over them
+    (:func:`lagrangian.integrate.compiled_dop853.linked_loop`)."""
+    from .cache import built
+
+    return built(program.forms.fingerprint, "llvm", lambda: LLVMTarget().load(program))
+
+
 def load_jacobian(program: Program):
     """symengine.Lambdify of G = d(f - M a)/d(q, q') row by row (n x 2n) over
     [t, q, q', a, params], or None where SymEngine (or its LLVM) cannot hold it."""

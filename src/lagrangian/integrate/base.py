@@ -126,6 +126,13 @@ class AbstractIntegrator(abc.ABC):
     def settings(self) -> dict[str, object]:
         """Every setting of this instance (defaults included), for results and files."""
 
+    def prepare(self, compiled: CompiledSystem, y0: np.ndarray, params: np.ndarray) -> str | None:
+        """Make (or load from the code cache) the compiled code a run of ``compiled`` needs
+        besides its right-hand side, before the run, so that its cost is measured apart
+        (the run's ``compile_time``); what it made, in words, or None where nothing
+        (default)."""
+        return None
+
     def kept_steps(self, t_span: tuple[float, float]) -> int | None:
         """How many steps ``solve`` keeps over ``t_span`` (None: unknown before the run)."""
         return None

@@ -11,6 +11,12 @@ tolerances given) differ in what they cost before the first step and per step
   seconds of numba compilation the first time a system runs (its machine code is
   then cached on disk and loads in a fraction of a second), then about 1 us per
   step for small systems: 100-400x SciPy's loop;
+- the same compiled loop over the ``llvm`` backend's code of M and f
+  (:func:`.compiled_dop853.linked_loop`): nothing compiled for the system but
+  SymEngine's code (milliseconds), the loop loaded from the code cache (it is compiled
+  once on a machine), then 1.2-1.4x the steps' time of the loop above: a new system's
+  long run starts at once, and the system's own loop is compiled only for a run long
+  enough to pay for it (millions of steps);
 - ``taylor`` (heyoka, where installed and applicable: no events, no constraints, a
   definite mass matrix), at tol = min(rtol, atol): its import and build take a
   fraction of a second for small systems, more for large ones, and it then runs
@@ -40,7 +46,13 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError
-from .compiled_dop853 import compiled_loop, compiled_ready, method_ready, numba_installed
+from .compiled_dop853 import (
+    compiled_loop,
+    compiled_ready,
+    linked_applies,
+    method_ready,
+    numba_installed,
+)
 from .guard import start_problem
 from .scipy_methods import MIN_RTOL, Dop853
 
@@ -75,6 +87,20 @@ def numba_start_seconds(n: int, cached: bool, method_cached: bool = True) -> flo
     return (2.0 if method_cached else 7.0) + 0.035 * n * n
 
 
+def linked_step_seconds(n: int) -> float:
+    """Seconds per step of the compiled loop over the llvm backend's M and f: the values
+    and entries copied, the solve for any n (2.1 against 1.5 us for the double pendulum,
+    17 against 14 us for a 10-link chain, benchmarks/first_run.py)."""
+    return 1.3 * compiled_step_seconds(n)
+
+
+def linked_start_seconds(n: int, method_cached: bool = True) -> float:
+    """Seconds before that loop's first step: the method loaded from the code cache (as
+    the system's own loop loads, 0.25-0.3 s quiet) and SymEngine's code (milliseconds,
+    0.05 s for a 10-link chain); the first time on a machine the method compiled too."""
+    return (0.8 if method_cached else 6.0) + 0.0005 * n * n
+
+
 def taylor_start_seconds(n: int) -> float:
     """Seconds to import heyoka (about 0.3 s) and build its integrator (0.1-0.3 s for the
     double pendulum, 1.3-1.6 s for a 10-link chain)."""
@@ -104,6 +130,7 @@ class RunChoice:
     rtol: float | None
     atol: float | None
     reason: str
+    linked: bool = False  # dop853's compiled loop over the llvm backend's M and f
 
 
 def choose_run(
@@ -163,8 +190,12 @@ def choose_run(
         return scipy_loop(f"{scipy}, too short for a compiled way (start ~{quickest:.2g} s)")
     if numba_installed():
         fast = compiled_on("numba")
-        start = numba_start_seconds(n, compiled_ready(fast), method_ready())
+        ready, method_cached = compiled_ready(fast), method_ready()
+        start = numba_start_seconds(n, ready, method_cached)
         costs["compiled loop"] = start + steps * compiled_step_seconds(n)
+        if not ready and linked_applies(quick):  # the loop over the llvm backend's code
+            start = linked_start_seconds(n, method_cached)
+            costs["compiled loop on llvm"] = start + steps * linked_step_seconds(n)
     else:
         notes.append("numba is not installed (the compiled loop)")
     if method is None and importlib.util.find_spec("heyoka") is not None:
@@ -182,6 +213,9 @@ def choose_run(
     why = f"about {_count(steps)} steps: {estimates}" + "".join(f"; {note}" for note in notes)
     if best == "scipy":
         return scipy_loop(why)
+    if best == "compiled loop on llvm":
+        how = "dop853 with its loop compiled (numba) over the llvm backend's M and f"
+        return RunChoice(quick, "dop853", rtol, atol, f"{how}: {why}", linked=True)
     if best == "compiled loop":
         try:  # the loop's text is generated now (its compilation waits for the run)
             compiled_loop(fast)

@@ -10,7 +10,12 @@ same method (SciPy's coefficients, initial step, error norm and step-size contro
 partial pivoting), so it takes the steps SciPy takes and gives its answers to
 rounding.  The method is compiled once for every system (its machine code kept in the
 code cache) and takes the system's y' as a function pointer: a new system compiles only
-its own y', about a second, where the whole loop took 4-5 s more.
+its own y', about a second, where the whole loop took 4-5 s more.  :func:`linked_loop`
+compiles nothing for the system in numba: the method's ``linked_derivative`` calls the
+code SymEngine's LLVM makes of M and f in milliseconds (the llvm backend's), at 1.2-1.4x
+the time per step of the system's own y'; :mod:`.choice` takes it for a new system's
+long run, and the system's own loop where it is in the code cache or the run is long
+enough to pay for compiling it (benchmarks/README.md, "The first run of a new system").
 
 Why this and not the other ways to an adaptive method without Python per step
 (measured, benchmarks/user_paths.py, figures in benchmarks/README.md):
@@ -39,16 +44,16 @@ Applies to unconstrained systems with derived equations where numba is installed
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import ctypes
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..codegen.cache import built, built_already, filled_template, package_text
-from ..trajectory import EventRecord
 from .base import IntegrationResult, Run, Status
-from .events import scipy_event
+from .compiled_events import StepEvents
 from .guard import UNDEFINED, describe_state, state_problem
 from .memory import PROJECT_AFTER_STEPS, check_kept_steps
 
@@ -63,28 +68,52 @@ FIRST_CHUNK, LARGEST_CHUNK = 64, 4096
 REACHED = "The solver successfully reached the end of the integration interval."
 TERMINATED = "A termination event occurred."
 TOO_SMALL_STEP = "Required step size is less than spacing between numbers."
-_EPS = float(np.finfo(float).eps)
 MIN_FACTOR = 0.2  # SciPy's smallest shrink of a rejected step
+
+
+_NO_LINK = np.empty(0, dtype=np.int64)
 
 
 @dataclass(frozen=True)
 class Loop:
     """The compiled DOP853 method (:mod:`.numba_dop853`, one for every system) with one
-    system's y' (its ``derivative`` of :mod:`.numba_derivative`, in a typed list of one)."""
+    system's y' (in a typed list of one): its generated ``derivative`` of
+    :mod:`.numba_derivative`, or the method's ``linked_derivative`` with the ``link``
+    (address, user data, parameter count) of SymEngine's compiled M and f, ``code``, kept
+    alive with the loop (:func:`linked_loop`)."""
 
     method: ModuleType
     y_prime: object
     n: int
     tangent: bool
+    link: np.ndarray = field(default_factory=lambda: _NO_LINK)
+    code: object = None
 
     def advance(self, *arguments: object) -> int:
-        """The method's ``advance`` on this system: its arguments after ``y_prime``, ``n``
-        and ``tangent``."""
-        return self.method.advance(self.y_prime, self.n, self.tangent, *arguments)
+        """The method's ``advance`` on this system: its arguments after ``y_prime``, ``n``,
+        ``tangent`` and ``link``."""
+        return self.method.advance(self.y_prime, self.n, self.tangent, self.link, *arguments)
 
     def slope(self, t: float, y: np.ndarray, p: np.ndarray, out: np.ndarray, flags) -> None:
         """out = y' at (t, y) (flags[0] = 1 where it is not finite)."""
-        self.method.slope(self.y_prime, self.n, self.tangent, t, y, p, out, flags)
+        self.method.slope(self.y_prime, self.n, self.tangent, self.link, t, y, p, out, flags)
+
+    def y_prime_at(self, t: float, y: np.ndarray, p: np.ndarray) -> np.ndarray:
+        """y' at (t, y), a new array (inf or NaN where it is not finite)."""
+        out = np.empty(y.shape[0])
+        self.slope(t, np.ascontiguousarray(y, dtype=float), p, out, np.zeros(1, dtype=np.int64))
+        return out
+
+    def prepare(self, size: int, parameters: int) -> None:
+        """Make (or load from the code cache) ``advance`` for a run of vectors of ``size``
+        and ``parameters`` values, by a call that takes no step, so that its cost is paid,
+        and measured, before the run."""
+        empty, rows = np.zeros(0), np.zeros((0, size))
+        self.advance(
+            np.zeros(2), np.zeros(size), np.zeros(size), np.zeros(parameters), 0.0, 1.0, 1.0,
+            True, empty, rows, empty, rows, rows, np.zeros((0, 7, size)),
+            np.zeros(4, dtype=np.int64), np.zeros(1, dtype=np.int64),
+        )  # fmt: skip
 
 
 def compiled_loop(compiled: CompiledSystem) -> Loop | None:
@@ -103,6 +132,55 @@ def tangent_loop(compiled: CompiledSystem) -> Loop | None:
     return built(
         compiled.forms.fingerprint, "dop853-tangent", lambda: _build(compiled, tangent=True)
     )
+
+
+def linked_loop(compiled: CompiledSystem) -> Loop | None:
+    """The DOP853 loop of ``compiled`` with nothing compiled for the system by numba: the
+    method's ``linked_derivative`` over SymEngine's LLVM code of M and f (made in
+    milliseconds), or None where it does not apply (as :func:`compiled_loop`, or SymEngine
+    cannot hold the equations).  The method's machine code is the same for every system."""
+    if not loop_applies(compiled):
+        return None
+    return built(compiled.forms.fingerprint, "dop853-linked", lambda: _build_linked(compiled))
+
+
+def linked_applies(compiled: CompiledSystem) -> bool:
+    """Whether :func:`linked_loop` serves ``compiled``: as :func:`loop_applies`, on the llvm
+    backend, with equations SymEngine's LLVM holds (its code is made now, in milliseconds,
+    where the llvm backend's functions have not made it already)."""
+    from ..codegen.llvm import llvm_blocks
+
+    if compiled.backend != "llvm" or not loop_applies(compiled):
+        return False
+    return llvm_blocks(compiled.program) is not None
+
+
+def _build_linked(compiled: CompiledSystem) -> Loop | None:
+    from ..codegen.llvm import llvm_blocks
+
+    code = llvm_blocks(compiled.program)
+    if code is None:
+        return None
+    function, user_data = code.as_ctypes()
+    address = ctypes.cast(function, ctypes.c_void_p).value
+    parameters = len(compiled.forms.parameters)
+    link = np.array([address, user_data.value, parameters], dtype=np.int64)
+    method = method_module()
+    return Loop(method, method.y_prime(method.linked_derivative), compiled.n, False, link, code)
+
+
+def what_is_compiled(compiled: CompiledSystem, *, linked: bool) -> str:
+    """What making the loop of ``compiled`` (:func:`linked_loop` with ``linked``, else
+    :func:`compiled_loop`) compiles now, in words, for the run's summary."""
+    fingerprint = compiled.forms.fingerprint if compiled.forms is not None else ""
+    if built_already(fingerprint, "dop853-linked" if linked else "dop853"):
+        return "nothing: the loop was made earlier in this process"
+    if not linked and compiled_ready(compiled):
+        return "nothing: the loop and the right-hand side from the code cache"
+    right_hand_side = "the right-hand side by " + ("LLVM" if linked else "numba")
+    if method_ready():
+        return f"{right_hand_side} (the loop from the code cache)"
+    return f"the DOP853 loop (its first run on this machine) and {right_hand_side}"
 
 
 def method_module() -> ModuleType:
@@ -207,15 +285,15 @@ def solve_compiled(
     y = np.array(run.y0, dtype=float)
     p = np.ascontiguousarray(params, dtype=float)
     size = y.shape[0]
-    f = np.asarray(compiled.rhs(t0, y, p), dtype=float).copy()
-    h = first_step(lambda t, y: compiled.rhs(t, y, p), t0, y, f, t1, rtol, atol)
+    f = loop.y_prime_at(t0, y, p)  # the loop's own y': its steps depend on its code only
+    h = first_step(lambda t, y: loop.y_prime_at(t, y, p), t0, y, f, t1, rtol, atol)
     clock = np.array([t0, h])
     counts = np.array([2, 0, 0, 0], dtype=np.int64)  # f at t0 and in first_step, as SciPy
     flags = np.zeros(1, dtype=np.int64)
     dense = t_eval is not None or bool(events)
     grid = np.zeros(0) if t_eval is None else np.ascontiguousarray(t_eval, dtype=float)
     out = np.empty((grid.shape[0], size))
-    watcher = _Events(events, params, t0, y, f) if events else None
+    watcher = StepEvents(events, params, t0, y, f) if events else None
     times, states = [np.array([t0])], [y[None, :].copy()]
     chunk, status = FIRST_CHUNK, 0
     taken, projected_at = 0, PROJECT_AFTER_STEPS  # steps taken; the next memory projection
@@ -311,78 +389,3 @@ def first_step(rhs, t0, y0, f0, t_end, rtol, atol) -> float:
 
 def _rms(x: np.ndarray) -> float:
     return float(np.linalg.norm(x) / x.size**0.5)
-
-
-def interpolate(t: float, t_old: float, h: float, y_old: np.ndarray, slopes: np.ndarray):
-    """The step's 7th-order interpolant (SciPy's ``Dop853DenseOutput``) at ``t``."""
-    x = (t - t_old) / h
-    y = np.zeros_like(y_old)
-    for i, row in enumerate(slopes[::-1]):
-        y += row
-        y *= x if i % 2 == 0 else 1 - x
-    return y + y_old
-
-
-class _Events:
-    """SciPy's event handling (``solve_ivp``: find_active_events, handle_events) over the
-    steps of a chunk: sign changes of g at the step ends, roots by Brent's method on the
-    step's interpolant, the run stopped at the first terminal one."""
-
-    def __init__(self, events, params, t0, y0, f0):
-        self.events = tuple(events)
-        self.functions = [scipy_event(e, params, t0, y0, f0) for e in self.events]
-        self.values = [function(t0, y0) for function in self.functions]
-        self.times: list[list[float]] = [[] for _ in self.events]
-        self.states: list[list[np.ndarray]] = [[] for _ in self.events]
-
-    def steps(self, t_start, ts, ys, olds, slopes) -> tuple[int, tuple[float, np.ndarray]] | None:
-        """(index of the step that stops, (t, y) where) at the first terminal event, or None."""
-        from scipy.optimize import brentq
-
-        t_old = t_start
-        for k in range(ts.shape[0]):
-            t, y = float(ts[k]), ys[k]
-            new = [function(t, y) for function in self.functions]
-            active = [
-                i for i, event in enumerate(self.events)
-                if _crosses(self.values[i], new[i], event.direction)
-            ]  # fmt: skip
-            self.values = new
-            if active:
-                h = t - t_old
-
-                def at(s, k=k, t_old=t_old, h=h):
-                    return interpolate(s, t_old, h, olds[k], slopes[k])
-
-                roots = []
-                for i in active:
-                    function = self.functions[i]
-                    root = brentq(
-                        lambda s, g=function: g(s, at(s)), t_old, t, xtol=4 * _EPS, rtol=4 * _EPS
-                    )
-                    roots.append((root, i))
-                roots.sort()
-                for root, i in roots:
-                    self.times[i].append(root)
-                    self.states[i].append(at(root))
-                    if self.events[i].terminal:
-                        return k, (root, at(root))
-            t_old = t
-        return None
-
-    def records(self, size: int) -> tuple[EventRecord, ...]:
-        return tuple(
-            EventRecord(
-                event.name,
-                np.array(times, dtype=float),
-                np.stack(states, axis=-1) if states else np.empty((size, 0)),
-            )
-            for event, times, states in zip(self.events, self.times, self.states, strict=True)
-        )
-
-
-def _crosses(before: float, after: float, direction: int) -> bool:
-    """SciPy's find_active_events: g <= 0 <= g_new up, g >= 0 >= g_new down."""
-    up = before <= 0 <= after
-    down = before >= 0 >= after
-    return (up and direction > 0) or (down and direction < 0) or ((up or down) and direction == 0)

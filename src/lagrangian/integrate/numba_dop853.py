@@ -10,9 +10,15 @@ function pointer of that signature (``DERIVATIVE``), not for each system's funct
 a new system compiles only its y' (about a second, where the whole loop took 4-5 s more
 for each system and each loop).
 
-    advance(y_prime, n, tangent, clock, y, f, p, t_end, rtol, atol, dense, t_eval, out,
-            ts, ys, olds, slopes, counts, flags) -> status
-    slope(y_prime, n, tangent, t, y, p, out, flags)      out = y' at (t, y), for Python
+    advance(y_prime, n, tangent, link, clock, y, f, p, t_end, rtol, atol, dense, t_eval,
+            out, ts, ys, olds, slopes, counts, flags) -> status
+    slope(y_prime, n, tangent, link, t, y, p, out, flags)  out = y' at (t, y), for Python
+
+``link`` is empty for a system's generated y'; for ``linked_derivative`` (the y' of any
+system, over the machine code SymEngine's LLVM made of its M and f, called by address:
+:mod:`lagrangian.integrate.numba_address`) it is (address, user data, parameter count),
+and a new system then compiles nothing in numba at all (see
+:func:`lagrangian.integrate.compiled_dop853.linked_loop`).
 
 is SciPy's ``DOP853._step_impl`` (scipy/integrate/_ivp/rk.py, BSD-3-Clause) for one
 state, repeated: the same coefficients, error norm and step-size control.  It takes
@@ -43,6 +49,7 @@ from numba import njit, types
 from numba.typed import List
 
 from lagrangian.integrate.dop853_tableau import E3, E5, A, B, C, D
+from lagrangian.integrate.numba_address import call_address
 
 SAFETY = 0.9  # SciPy's step-size controller (scipy/integrate/_ivp/rk.py)
 MIN_FACTOR = 0.2
@@ -51,8 +58,9 @@ EXPONENT = -1.0 / 8.0  # -1 / (error estimator order + 1)
 STAGES = 12
 
 _1D, _2D = types.float64[::1], types.float64[:, ::1]
-#: The arrays a system's ``derivative`` works in (``workspace(n, tangent)``).
-WORK = types.Tuple((_2D, _1D, _2D, _1D, _1D))
+#: The arrays a system's ``derivative`` works in (``workspace(n, tangent)``, or
+#: ``linked_workspace(n, link)`` for ``linked_derivative``); the last holds the link.
+WORK = types.Tuple((_2D, _1D, _2D, _1D, _1D, types.int64[::1]))
 #: derivative(t, y, p, work, out, flags): the type every system's y' is called as.
 DERIVATIVE = types.FunctionType(types.void(types.float64, _1D, _1D, WORK, _1D, types.int64[::1]))
 
@@ -72,17 +80,98 @@ def y_prime(derivative):  # pragma: no cover - compiled by numba
 
 @njit(cache=True)
 def workspace(n, tangent):  # pragma: no cover - compiled by numba
-    """(M, f, a copy of M, G row by row, a column): the arrays ``derivative`` works in, for
-    n coordinates (the last three for the variational equations only)."""
+    """(M, f, a copy of M, G row by row, a column, no link): the arrays a system's
+    generated ``derivative`` works in, for n coordinates (the copy, G and the column for
+    the variational equations only)."""
+    link = np.empty(0, dtype=np.int64)
     if tangent:
-        return np.empty((n, n)), np.empty(n), np.empty((n, n)), np.empty(2 * n * n), np.empty(n)
-    return np.empty((n, n)), np.empty(n), np.empty((0, 0)), np.empty(0), np.empty(0)
+        return (
+            np.empty((n, n)), np.empty(n), np.empty((n, n)), np.empty(2 * n * n), np.empty(n),
+            link,
+        )  # fmt: skip
+    return np.empty((n, n)), np.empty(n), np.empty((0, 0)), np.empty(0), np.empty(0), link
 
 
 @njit(cache=True)
-def slope(y_prime, n, tangent, t, y, p, out, flags):  # pragma: no cover - compiled by numba
+def linked_workspace(n, link):  # pragma: no cover - compiled by numba
+    """(M, f, nothing, the values [t, y, p], the entries [M row by row, f], the link): the
+    arrays ``linked_derivative`` works in, for n coordinates and the ``link`` (address,
+    user data, parameter count) of SymEngine's function of M and f."""
+    values = np.empty(1 + 2 * n + link[2])
+    return np.empty((n, n)), np.empty(n), np.empty((0, 0)), values, np.empty(n * n + n), link
+
+
+@njit(cache=True, _nrt=False)
+def linked_derivative(t, y, p, work, out, flags):  # pragma: no cover - compiled by numba
+    """out = y' = [q', q''] at (t, y) from SymEngine's compiled M and f at the address of
+    ``work``'s link (:mod:`lagrangian.integrate.numba_address`): the y' of any system,
+    compiled once on a machine; flags[0] = 1 where it is not finite."""
+    mass, force, values, entries, link = work[0], work[1], work[3], work[4], work[5]
+    n = mass.shape[0]
+    values[0] = t
+    for i in range(2 * n):
+        values[1 + i] = y[i]
+    for i in range(p.shape[0]):
+        values[1 + 2 * n + i] = p[i]
+    call_address(link[0], link[1], entries, values)
+    for i in range(n):
+        for j in range(n):
+            mass[i, j] = entries[i * n + j]
+        force[i] = entries[n * n + i]
+        out[i] = y[n + i]
+    eliminate(mass, force, out, n)
+    for i in range(y.shape[0]):
+        if not math.isfinite(out[i]):
+            flags[0] = 1
+
+
+@njit(cache=True, _nrt=False)
+def eliminate(a, b, x, offset):  # pragma: no cover - compiled by numba
+    """x[offset:offset + n] with a x = b for an n x n ``a`` of any n: the printed
+    ``eliminate`` of :func:`lagrangian.codegen.steps.elimination` (Gaussian elimination with
+    partial pivoting, the same operations in the same order), with n read from ``a``."""
+    n = a.shape[0]
+    singular = 0
+    for k in range(n):
+        for i in range(k + 1, n):
+            if abs(a[i, k]) > abs(a[k, k]):
+                for j in range(n):
+                    swap = a[k, j]
+                    a[k, j] = a[i, j]
+                    a[i, j] = swap
+                swap = b[k]
+                b[k] = b[i]
+                b[i] = swap
+        pivot = a[k, k]
+        if (abs(pivot) == 0.0) or ((pivot - pivot) != 0.0):
+            singular = 1
+        a[k, k] = 1.0 / pivot
+        for i in range(k + 1, n):
+            factor = a[i, k] * a[k, k]
+            for j in range(k + 1, n):
+                a[i, j] = a[i, j] - (factor * a[k, j])
+            b[i] = b[i] - (factor * b[k])
+    for k in range(n):
+        row = n - 1 - k
+        total = b[row]
+        for j in range(row + 1, n):
+            total = total - (a[row, j] * x[offset + j])
+        x[offset + row] = total * a[row, row]
+    return singular
+
+
+@njit(cache=True)
+def slope(y_prime, n, tangent, link, t, y, p, out, flags):  # pragma: no cover - compiled by numba
     """out = y' at (t, y), for Python (the size of a first step)."""
-    y_prime[0](t, y, p, workspace(n, tangent), out, flags)
+    y_prime[0](t, y, p, work_for(n, tangent, link), out, flags)
+
+
+@njit(cache=True)
+def work_for(n, tangent, link):  # pragma: no cover - compiled by numba
+    """The arrays of the system's y': ``workspace``, or with a link ``linked_workspace``."""
+    if link.shape[0]:
+        return linked_workspace(n, link)
+    return workspace(n, tangent)
 
 
 @njit(cache=True)
@@ -219,10 +308,10 @@ def accept(clock, y, f, y_new, stages, t_new, h_next, counts):  # pragma: no cov
 
 @njit(cache=True)
 def advance(
-    y_prime, n, tangent, clock, y, f, p, t_end, rtol, atol, dense, t_eval, out, ts, ys, olds,
+    y_prime, n, tangent, link, clock, y, f, p, t_end, rtol, atol, dense, t_eval, out, ts, ys, olds,
     slopes, counts, flags,
 ):  # pragma: no cover - compiled by numba  # fmt: skip
-    derivative, work = y_prime[0], workspace(n, tangent)
+    derivative, work = y_prime[0], work_for(n, tangent, link)
     size = y.shape[0]
     stages, stage, y_new, interpolant = buffers(size)
     capacity = ts.shape[0]

@@ -40,7 +40,13 @@ from .base import (
     positive_setting,
     tolerance_setting,
 )
-from .compiled_dop853 import compiled_loop, solve_compiled
+from .compiled_dop853 import (
+    compiled_loop,
+    linked_loop,
+    loop_applies,
+    solve_compiled,
+    what_is_compiled,
+)
 from .events import scipy_event
 from .guard import UNDEFINED, describe_state, state_problem
 
@@ -241,9 +247,30 @@ class Dop853(AbstractScipyIntegrator):
     order: ClassVar[int] = 8
     scipy_method: ClassVar[str] = "DOP853"
 
+    #: On the llvm backend, the compiled loop too (:func:`.compiled_dop853.linked_loop`:
+    #: the method compiled once on a machine, over SymEngine's M and f), not SciPy's loop.
+    linked: bool = False
+
     def compiled_loop(self, compiled: CompiledSystem) -> Loop | None:
-        """On the numba backend, the whole loop compiled (:mod:`.compiled_dop853`)."""
-        return compiled_loop(compiled) if compiled.backend == "numba" else None
+        """On the numba backend, the whole loop compiled (:mod:`.compiled_dop853`); on
+        llvm with ``linked``, the same loop over the LLVM code of M and f."""
+        if compiled.backend == "numba":
+            return compiled_loop(compiled)
+        if self.linked and compiled.backend == "llvm":
+            return linked_loop(compiled)
+        return None
+
+    def prepare(self, compiled: CompiledSystem, y0: np.ndarray, params: np.ndarray) -> str | None:
+        """The compiled loop made, or loaded from the code cache (see the base class)."""
+        linked = compiled.backend == "llvm" and self.linked
+        if not (linked or compiled.backend == "numba") or not loop_applies(compiled):
+            return None
+        paid = what_is_compiled(compiled, linked=linked)
+        loop = self.compiled_loop(compiled)
+        if loop is None:
+            return None
+        loop.prepare(np.shape(y0)[0], np.shape(params)[0])
+        return paid
 
 
 @dataclass(frozen=True)

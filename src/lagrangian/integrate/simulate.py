@@ -89,7 +89,9 @@ def simulate(
     p = compiled.parameter_vector(params)
     if compiled.has_constraints and compiled.project is not None:
         y0 = constrained_start(compiled, t_span[0], y0, p)
+    began = time.process_time()  # the first call of y' makes its code (or loads it)
     problem = parameter_problem(compiled, t_span[0], y0, p)
+    compile_time = time.process_time() - began
     if problem is not None:
         raise ModelError(problem)
     if isinstance(integrator, AbstractFixedStepIntegrator) and not isinstance(
@@ -99,6 +101,11 @@ def simulate(
     requested = {"n_out": n_out, "t_eval": t_eval, "dt_out": dt_out}
     _check_memory(integrator, t_span, 2 * compiled.n, output_count(t_span, **requested))
     outputs = output_times(t_span, **requested)
+    if watch is not None:  # the budget's clock starts before a compile, which counts
+        watch(t_span[0])
+    began = time.process_time()
+    compiled_now = integrator.prepare(compiled, y0, p)
+    compile_time += time.process_time() - began
     # Non-finite values are found and reported (integrate.guard): NumPy's warnings about
     # them would only repeat that, several lines long.
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -120,6 +127,9 @@ def simulate(
         )
     if choice is not None:
         trajectory.dataset.attrs["choice"] = choice
+    trajectory.dataset.attrs["compile_time"] = compile_time
+    if compiled_now is not None:
+        trajectory.dataset.attrs["compiled"] = compiled_now
     return trajectory
 
 

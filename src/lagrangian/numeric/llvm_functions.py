@@ -25,7 +25,7 @@ from typing import Any
 
 import numpy as np
 
-from ..codegen.llvm import LLVMTarget, load_jacobian
+from ..codegen.llvm import llvm_blocks, load_jacobian
 from ..codegen.program import Program
 from .backends import solve_one
 from .compiled import CompiledSystem
@@ -65,7 +65,7 @@ class _Kernel:
 
     def function(self):
         """[M, f] over [t, q, q', params] (None where LLVM cannot hold it)."""
-        return self._loaded("blocks", LLVMTarget().load)
+        return self._loaded("blocks", llvm_blocks)
 
     def jacobian(self):
         """G = d(f - M a)/d(q, q') over [t, q, q', a, params] (None where LLVM cannot)."""
