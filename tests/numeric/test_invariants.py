@@ -57,10 +57,12 @@ def test_invariants_of_the_examples():
 
 
 CONSTANT_MASS = {
+    "bouncing_ball",
     "cartesian_pendulum",
     "driven_damped_pendulum",
     "harmonic_oscillator",
     "henon_heiles",
+    "impact_oscillator",
     "planar_particle_forces",
     "rolling_disc",
     "rotating_wire_bead",
@@ -71,6 +73,7 @@ CONSTANT_MASS = {
 #: L = q'^T M q' / 2 - V(q), M constant, no forces: the bead's L = m (r'^2 + omega^2 r^2) / 2
 #: has no t once sin^2 + cos^2 = 1; the charge has velocity-linear terms.
 SEPARABLE = {
+    "bouncing_ball",
     "harmonic_oscillator",
     "henon_heiles",
     "rotating_wire_bead",

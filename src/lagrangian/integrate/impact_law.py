@@ -83,8 +83,18 @@ def resolve(
 def held_multipliers(mass, forcing, gradient, rate, curvature, gaps, v):
     """(q'' with the held contacts' forces, their multipliers lambda) for the rows given."""
     free = np.linalg.solve(mass, forcing)
+    if not gradient.shape[0]:
+        return free, np.empty(0)
     response = np.linalg.solve(mass, gradient.T)  # n x k
     speed = gradient @ v + rate
     target = -2.0 * HOLD_RATE * speed - HOLD_RATE**2 * gaps
     multipliers = np.linalg.solve(gradient @ response, target - gradient @ free - curvature)
     return free + response @ multipliers, multipliers
+
+
+def plastic(mass: np.ndarray, gradient: np.ndarray, rate: np.ndarray, v: np.ndarray):
+    """(q'+, the impulses) of a plastic impact of the contacts given at once: q' projected
+    in the mass metric onto G q' + g_t = 0 (the rows given), by the impulses G^T P."""
+    response = np.linalg.solve(mass, gradient.T)  # n x k
+    impulses = np.linalg.solve(gradient @ response, -(gradient @ v + rate))
+    return v + response @ impulses, impulses

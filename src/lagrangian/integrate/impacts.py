@@ -22,6 +22,7 @@ contact, velocities before and after and energy before and after, and each hold'
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -32,7 +33,7 @@ from ..errors import ModelError
 from ..trajectory import EventRecord, ImpactRecord
 from .base import AbstractIntegrator, IntegrationResult, Status
 from .events import Event, named
-from .impact_law import held_multipliers, resolve, touching
+from .impact_law import held_multipliers, plastic, resolve, touching
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -112,10 +113,11 @@ class ImpactRun:
                 status, message = status[kind], which
                 break
             t, y = stop
-            if kind == "release":
+            if kind == "release":  # the others held or not as the contact set says
                 self._release(which, t)
-                continue
-            y = self._settle(t, y, (which,))
+                y = self._settle(t, y, (), released=which)
+            else:
+                y = self._settle(t, y, (which,))
             if len(self.pieces.impacts) > MAX_IMPACTS:
                 status, message = Status.FAILED, f"more than {MAX_IMPACTS:,} impacts"
                 break
@@ -225,8 +227,12 @@ class ImpactRun:
         return float(self._accelerations(t, y, rows)[1][list(rows).index(j)])
 
     # -- impacts ---------------------------------------------------------------
-    def _settle(self, t: float, y: np.ndarray, hit: tuple[int, ...]) -> np.ndarray:
-        """The state after the impacts at (t, y): ``hit`` the contacts whose events fired."""
+    def _settle(
+        self, t: float, y: np.ndarray, hit: tuple[int, ...], released: int | None = None
+    ) -> np.ndarray:
+        """The state after the impacts at (t, y), and the contacts held from there: ``hit``
+        the contacts whose events fired, ``released`` one whose multiplier just fell to 0
+        (not held again at once)."""
         n, compiled, p = self.compiled.n, self.compiled, self.params
         q, v = y[:n], y[n:]
         gaps = self.contacts.gap_values(t, y, p)
@@ -248,27 +254,74 @@ class ImpactRun:
         v = resolve(mass, gradient, rate, v, restitution, closed, on_impact)
         for k in struck:
             self.last[k] = t
-            if restitution[k] == 0.0 and not self.held[k]:
-                self.held[k], self.held_since[k] = True, t
+        chattering &= closed  # closed again within the chatter interval of their last impact
+        if np.count_nonzero(chattering) > 1:  # one after the other they would never settle
+            v = self._plastic(t, y, mass, gradient, rate, v, np.flatnonzero(chattering))
         y = np.concatenate([q, v])
         speed = gradient @ v + rate
-        resting = closed & ~self.held & (np.abs(speed) <= 1e-12 * (1 + np.max(np.abs(v))))
-        if resting.any():  # closed at rest: held where the free motion would penetrate
-            rows = np.flatnonzero(resting)
-            free = np.linalg.solve(mass, np.asarray(compiled.forcing(t, q, v, p), dtype=float))
-            _, _, curvature = self.contacts.geometry(t, y, p)
-            pressing = rows[(gradient[rows] @ free + curvature[rows]) < 0]
-            self.held[pressing], self.held_since[pressing] = True, t
-        for k in np.flatnonzero(self.held):  # a held contact the impacts opened is released
-            if speed[k] > 1e-12 * (1 + np.max(np.abs(v))):
-                self._release(int(k), t)
-        while self.held.any():  # a held contact that would pull is released
-            rows = np.flatnonzero(self.held)
-            _, multipliers = self._accelerations(t, y, rows)
-            if multipliers.min() >= 0:
-                break
-            self._release(int(rows[np.argmin(multipliers)]), t)
+        resting = closed & (np.abs(speed) <= 1e-12 * (1 + np.max(np.abs(v))))
+        if released is not None:
+            resting[released] = False
+        chosen = self._contact_set(t, y, np.flatnonzero(resting))
+        for k in np.flatnonzero(self.held & ~chosen):  # opened by an impact, or would pull
+            self._release(int(k), t)
+        for k in np.flatnonzero(chosen & ~self.held):
+            self.held[k], self.held_since[k] = True, t
         return y
+
+    def _plastic(self, t, y, mass, gradient, rate, v, rows):
+        """A plastic impact of the contacts ``rows`` together (chattering at once: a block
+        landing flat), on the largest set of them whose impulses are >= 0 and after which
+        the others do not approach."""
+        scale = 1e-12 * (1 + np.max(np.abs(v)))
+        for size in range(rows.size, 0, -1):
+            for chosen in itertools.combinations(rows.tolist(), size):
+                chosen = np.array(chosen, dtype=int)
+                after, impulses = plastic(mass, gradient[chosen], rate[chosen], v)
+                others = np.setdiff1d(rows, chosen)
+                if impulses.min() >= -scale and np.all(
+                    gradient[others] @ after + rate[others] >= -scale
+                ):
+                    before, n = v, self.compiled.n
+                    energy = [
+                        float(self.compiled.energy(t, np.concatenate([y[:n], w]), self.params))
+                        for w in (before, after)
+                    ]
+                    for k in chosen:
+                        self.pieces.impacts.append(
+                            ImpactRecord(
+                                t, self.contacts.names[k], before.copy(), after.copy(), *energy
+                            )
+                        )
+                    return after
+        return v
+
+    def _contact_set(self, t: float, y: np.ndarray, resting: np.ndarray) -> np.ndarray:
+        """Which of the closed contacts at rest (``resting``) are held: the set S whose
+        multipliers are all >= 0 while every other one of them separates (g'' >= 0), the
+        complementarity conditions of unilateral contact, found by trying the sets (largest
+        first; the solution is unique where the contacts' gradients are independent)."""
+        chosen = np.zeros(self.contacts.count, dtype=bool)
+        if not resting.size:
+            return chosen
+        gradient, _, curvature = self.contacts.geometry(t, y, self.params)
+        tol = 1e-9
+        for size in range(resting.size, -1, -1):
+            for rows in itertools.combinations(resting.tolist(), size):
+                rows = np.array(rows, dtype=int)
+                if rows.size:
+                    acceleration, multipliers = self._accelerations(t, y, rows)
+                    if multipliers.min() < -tol * (1 + np.abs(multipliers).max()):
+                        continue
+                else:
+                    acceleration = self._accelerations(t, y, rows)[0]
+                others = np.setdiff1d(resting, rows)
+                approach = gradient[others] @ acceleration + curvature[others]
+                if np.all(approach >= -tol * (1 + np.abs(acceleration).max())):
+                    chosen[rows] = True
+                    return chosen
+        chosen[resting] = True  # dependent contacts without a solution found: hold them all
+        return chosen
 
     def _release(self, k: int, t: float, end: bool = False) -> None:
         self.pieces.holds.append((self.contacts.names[k], float(self.held_since[k]), float(t)))
