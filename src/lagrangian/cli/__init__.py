@@ -5,9 +5,9 @@
 (one line on stderr naming the problem), 1 on an internal error.
 
 :mod:`.app` holds the click group, its shared options and the core commands;
-:mod:`.chaos`, :mod:`.check`, :mod:`.ensemble`, :mod:`.export`, :mod:`.fit`, :mod:`.orbits`,
-:mod:`.report`, :mod:`.sensitivity`, :mod:`.server` and :mod:`.visual` add theirs to it
-when they are imported, here (never the other way round: ``lint-imports`` checks it).
+:mod:`.basins`, :mod:`.chaos`, :mod:`.check`, :mod:`.ensemble`, :mod:`.export`, :mod:`.fit`,
+:mod:`.orbits`, :mod:`.report`, :mod:`.sensitivity`, :mod:`.server` and :mod:`.visual` add
+theirs to it when they are imported, here (never the other way round: ``lint-imports`` checks it).
 """
 
 from __future__ import annotations
@@ -22,7 +22,19 @@ import click
 
 from ..budget import OutOfTime
 from ..errors import LagrangianError, LagrangianWarning, Spelled
-from . import chaos, check, ensemble, export, fit, orbits, report, sensitivity, server, visual  # noqa: F401  (each registers its commands)
+from . import (  # noqa: F401  (each registers its commands)
+    basins,
+    chaos,
+    check,
+    ensemble,
+    export,
+    fit,
+    orbits,
+    report,
+    sensitivity,
+    server,
+    visual,
+)
 from .app import FLAGS, app
 
 

@@ -1,5 +1,6 @@
 """`ensemble_of_system`: `System` -> `EnsembleTrajectory` with the model's defaults;
-`bifurcation_of_system`: `System` -> `BifurcationDiagram`."""
+`bifurcation_of_system`: `System` -> `BifurcationDiagram`; `basins_of_system`: `System`
+-> `BasinMap`."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from .result import EnsembleTrajectory
 
 if TYPE_CHECKING:
     from ..model import System
+    from .basins import BasinMap
 
 #: The share of a time budget one chunk of members should take (chunks sized by time).
 CHUNK_SHARE = 0.015
@@ -119,3 +121,31 @@ def _compiled_runs(system, definitions, timeout, progress, options: dict):
         options.setdefault("chunk_seconds", CHUNK_SHARE * pace.seconds)
     compiled = compile_equations(derive(system), definitions=definitions)
     return compiled, watching(pace, progress)
+
+
+def basins_of_system(
+    system: System,
+    *,
+    grid: Mapping[str, object],
+    interval: float | None = None,
+    definitions: Mapping[str, str] | None = None,
+    timeout: float | None = RUN_SECONDS,
+    progress: Callable[[float], None] | None = None,
+    **options: object,
+) -> BasinMap:
+    """The basin map of ``system`` over ``grid`` (options as
+    :func:`~lagrangian.ensemble.basins.basins_of_attraction`: period, phase, params,
+    steps, cells, max_iterations); without a strobe period the flow is sampled every
+    ``interval`` (default: the model's t_end / 100); ``timeout`` as for an ensemble, the
+    share of the starts labelled being the progress."""
+    from ..simulation import DEFAULT_T_END
+    from .basins import basins_of_attraction
+
+    if options.get("period") is None and interval is None:
+        interval = float(system.simulate_settings.get("t_end", DEFAULT_T_END)) / 100.0
+    compiled, progress = _compiled_runs(
+        system, definitions, timeout, progress, {"backend": "numba"}
+    )
+    return basins_of_attraction(
+        compiled, grid=grid, interval=interval, progress=progress, **options
+    )

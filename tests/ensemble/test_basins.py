@@ -1,0 +1,110 @@
+"""Basins of attraction (lagrangian.ensemble.basins) against independently computed ones."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+from lagrangian.derive import derive
+from lagrangian.ensemble.basins import basins_of_attraction
+from lagrangian.facade import load
+from lagrangian.numeric import compile_equations
+
+pytest.importorskip("numba")
+
+#: A damped particle in the double well V = -x^2/2 + x^4/4: two point attractors x = +-1,
+#: the basins' boundary the stable manifold of the saddle at 0 (not a model of the project).
+DOUBLE_WELL = """
+name = "Damped double well"
+coordinates = ["x"]
+kinetic = "x_dot^2/2"
+potential = "-x^2/2 + x^4/4"
+
+[parameters]
+d = 0.3
+
+[forces]
+x = "-d*x_dot"
+
+[initial]
+x = 0.1
+
+[simulate]
+t_end = 100.0
+"""
+
+
+@pytest.fixture(scope="module")
+def well(tmp_path_factory):
+    path = tmp_path_factory.mktemp("well") / "double_well.toml"
+    path.write_text(DOUBLE_WELL)
+    return compile_equations(derive(load(str(path))))
+
+
+def _reference_side(x, v, d=0.3, t_end=200.0):
+    """The well a start ends in (+1 or -1), by scipy's DOP853 of the equations written
+    by hand (x'' = x - x^3 - d x'), integrated long after every start has settled."""
+    solution = solve_ivp(
+        lambda t, y: [y[1], y[0] - y[0] ** 3 - d * y[1]], (0.0, t_end), [x, v],
+        method="DOP853", rtol=1e-10, atol=1e-12,
+    )  # fmt: skip
+    return np.sign(solution.y[0, -1])
+
+
+@pytest.mark.slow
+def test_double_well_basins_match_long_scipy_runs(well):
+    grid = {"x": (-2.0, 2.0, 40), "x_dot": (-2.0, 2.0, 40)}
+    basins = basins_of_attraction(well, grid=grid, interval=1.0)
+    assert [a.kind for a in basins.attractors] == ["fixed point", "fixed point"]
+    wells = {a.label: np.sign(a.points[0, 0]) for a in basins.attractors}
+    for a in basins.attractors:  # the equilibria (+-1, 0), to the cells' resolution at least
+        assert abs(abs(a.points[0, 0]) - 1.0) < 1e-3 and abs(a.points[1, 0]) < 1e-3
+    assert sorted(wells.values()) == [-1.0, 1.0]
+    assert basins.counts()[-1] == 0
+    xs, vs = basins.axes
+    agree = sum(
+        wells[int(basins.labels[i, j])] == _reference_side(x, v)
+        for i, x in enumerate(xs)
+        for j, v in enumerate(vs)
+    )
+    assert agree / basins.labels.size >= 0.995
+    # the map is symmetric under (x, v) -> (-x, -v): so must the basins be, where the
+    # grid is (it is symmetric about 0)
+    flipped = np.vectorize(wells.get)(basins.labels[::-1, ::-1])
+    assert np.mean(np.vectorize(wells.get)(basins.labels) == -flipped) >= 0.995
+
+
+@pytest.mark.slow
+def test_starts_that_leave_the_box_get_minus_one(well):
+    # both attractors (+-1, 0) lie outside the box |x| <= 0.6: every start is lost
+    grid = {"x": (-0.6, 0.6, 8), "x_dot": (-0.6, 0.6, 8)}
+    basins = basins_of_attraction(well, grid=grid, interval=1.0)
+    assert basins.attractors == ()
+    assert np.all(basins.labels == -1) and basins.counts() == {-1: 64}
+
+
+@pytest.mark.slow
+def test_driven_pendulum_period_two_attractors_repeat_under_scipy():
+    compiled = compile_equations(derive(load("driven_damped_pendulum")))
+    period = 3 * np.pi  # the drive's, omega = 2/3
+    grid = {"theta": (-np.pi, np.pi, 16), "theta_dot": (-3.0, 3.0, 16)}
+    basins = basins_of_attraction(compiled, grid=grid, period=period, params={"A": 1.073})
+    assert [(a.kind, a.period) for a in basins.attractors] == [("periodic", 2)] * 2
+    for attractor in basins.attractors:
+        start = attractor.points[:, 0]
+        solution = solve_ivp(
+            lambda t, y: [y[1], -np.sin(y[0]) - 0.5 * y[1] + 1.073 * np.cos(2 * t / 3)],
+            (0.0, 2 * period), start, method="DOP853", rtol=1e-11, atol=1e-12,
+            t_eval=[period, 2 * period],
+        )  # fmt: skip
+        turned = np.angle(np.exp(1j * (solution.y[0] - start[0])))
+        assert abs(turned[1]) < 1e-3 and abs(solution.y[1, 1] - start[1]) < 1e-3
+        assert abs(turned[0]) > 0.05  # not a fixed point: period 2
+
+
+def test_a_grid_must_cover_the_state(well):
+    from lagrangian.errors import ModelError
+
+    with pytest.raises(ModelError, match=r"the grid must cover the whole state \(x, x_dot\)"):
+        basins_of_attraction(well, grid={"x": (-1.0, 1.0, 4)}, interval=1.0)
