@@ -51,6 +51,37 @@ from .chaos import _one_section, backend_option, phase_option, section_options
 )
 @click.option("--transient", type=float, help="Time before those points (default 50 periods).")
 @options.tolerances("Relative tolerance (default 1e-11).", "Absolute tolerance (default 1e-12).")
+@click.option(
+    "--vary",
+    metavar="NAME=LO:HI:N",
+    help="Follow each orbit found at NAME = LO to HI by pseudo-arclength continuation (steps "
+    "of at most (HI - LO)/(N - 1)): its branch, bifurcations and doubled branches.",
+)
+@click.option(
+    "--max-doublings",
+    type=click.IntRange(0, 8),
+    default=3,
+    show_default=True,
+    help="With --vary: how many period doublings to follow.",
+)
+@click.option(
+    "--axis",
+    "variable",
+    metavar="NAME",
+    help="With --vary: the coordinate or velocity drawn (default: the first velocity).",
+)
+@click.option(
+    "--out",
+    "outputs",
+    multiple=True,
+    type=click.Path(dir_okay=False),
+    help="With --vary: draw the branches to F.png, or write them to F.csv (repeatable).",
+)
+@click.option(
+    "--no-background",
+    is_flag=True,
+    help="With --vary: draw the branches without the brute-force bifurcation diagram.",
+)
 @options.set_values()
 @options.define
 @backend_option
@@ -58,11 +89,12 @@ from .chaos import _one_section, backend_option, phase_option, section_options
 @options.timeout
 def orbits(
     model, strobe, phase, section, direction, energy, t_end, period, grids, attractor,
-    transient, rtol, atol, assignments, definitions, backend, as_json, timeout,
+    transient, rtol, atol, vary, max_doublings, variable, outputs, no_background, assignments,
+    definitions, backend, as_json, timeout,
 ) -> None:  # fmt: skip
     """Periodic orbits of MODEL's strobe map (or through --section on the --energy shell
     of an autonomous MODEL), by Newton's method with the monodromy matrix: their points,
-    Floquet multipliers, stability and kind."""
+    Floquet multipliers, stability and kind; with --vary, followed in a parameter."""
     from ..facade import load
     from ..output.orbits import orbits_json, orbits_text
     from ..simulation import orbits_of_system
@@ -71,12 +103,31 @@ def orbits(
     _one_section(section, strobe, phase)
     if section is not None and (grids or transient is not None):
         raise click.BadParameter("--grid and --transient go with --strobe", param_hint="--section")
+    if section is not None and vary is not None:
+        raise click.BadParameter("--vary goes with --strobe", param_hint="--section")
     if strobe is not None and (energy is not None or t_end is not None):
         raise click.BadParameter("--energy and --t-end go with --section", param_hint="--strobe")
+    given = {
+        "--out": bool(outputs),
+        "--axis": variable is not None,
+        "--no-background": no_background,
+    }
+    for flag in (flag for flag, used in given.items() if used and vary is None):
+        raise click.BadParameter(f"{flag} goes with --vary", param_hint=flag)
     system = load(model)
     grid = {}
     if grids:
         system, grid = _grids(grids, system, "--grid")
+    if vary is not None:
+        system, varied = _varied(vary, system)
+        _continued(
+            system, varied, strobe=strobe, phase=phase, period=period, grid=grid,
+            attractor=attractor, transient=transient, rtol=rtol, atol=atol,
+            max_doublings=max_doublings, variable=variable, outputs=outputs,
+            background=not no_background, assignments=assignments, definitions=definitions,
+            backend=backend, as_json=as_json, timeout=timeout,
+        )  # fmt: skip
+        return
     system, values = options.assignments(assignments, system)
     with options.progress_bar(enabled=not as_json) as progress:
         search = orbits_of_system(
@@ -88,3 +139,124 @@ def orbits(
     if options.echo_json(orbits_json(search), as_json):
         return
     click.echo(orbits_text(search))
+
+
+#: The brute-force diagram behind the drawn branches: its transient (in strobe periods)
+#: and its points per value.
+BACKGROUND_PERIODS, BACKGROUND_SAMPLES = 300, 40
+
+
+def _varied(text: str, system):
+    """(the system, {name: (low, high, count)}) from --vary NAME=LO:HI:N: a usage error
+    naming the problem (not a parameter, LO >= HI, N < 2); LO and HI may carry units."""
+    ((name, spec),) = options.pairs((text,), "--vary", "NAME=LO:HI:N").items()
+    parts = spec.split(":")
+    if len(parts) != 3:
+        raise click.BadParameter(f"expected NAME=LO:HI:N, got {text!r}", param_hint="--vary")
+    names = [parameter.name for parameter in system.parameters]
+    if name not in names:
+        raise click.BadParameter(
+            f"'{name}' is not a parameter of the model (parameters: {', '.join(names) or 'none'})",
+            param_hint="--vary",
+        )
+    try:
+        count = int(parts[2])
+    except ValueError:
+        count = 0
+    if count < 2:
+        raise click.BadParameter(
+            f"N must be a whole number >= 2 (the number of values of {name} the steps are "
+            f"sized by), got {parts[2]!r}",
+            param_hint="--vary",
+        )
+    system, lows = options.given_values({name: parts[0]}, system, "--vary")
+    system, highs = options.given_values({name: parts[1]}, system, "--vary")
+    low, high = float(lows[name]), float(highs[name])
+    if not low < high:
+        raise click.BadParameter(
+            f"'{name}' from {low:g} to {high:g}: LO must be below HI", param_hint="--vary"
+        )
+    return system, {name: (low, high, count)}
+
+
+def _continued(
+    system, varied, *, strobe, phase, period, grid, attractor, transient, rtol, atol,
+    max_doublings, variable, outputs, background, assignments, definitions, backend, as_json,
+    timeout,
+) -> None:  # fmt: skip
+    """--vary: the branches followed, as text or JSON, drawn or written to --out."""
+    from ..output.continuation import (
+        continuation_json,
+        continuation_text,
+        plot_continuation,
+        write_continuation_csv,
+    )
+    from ..simulation import continuation_of_system
+    from .chaos import _png, _wrote
+
+    if strobe is None:
+        raise click.BadParameter("--vary follows the orbits of a --strobe", param_hint="--vary")
+    for path in outputs:
+        if path.endswith(".png"):
+            _png(path, "--out")
+        elif path.endswith(".csv"):
+            from ..files import check_output_path
+
+            check_output_path(path)
+        else:
+            raise click.BadParameter("the output file must end in .png or .csv", param_hint="--out")
+    coordinates = [coordinate.name for coordinate in system.coordinates]
+    names = [*coordinates, *(f"{q}_dot" for q in coordinates)]
+    variable = f"{coordinates[0]}_dot" if variable is None else variable
+    if variable not in names:
+        raise click.BadParameter(
+            f"'{variable}' is not a coordinate or velocity ({', '.join(names)})",
+            param_hint="--axis",
+        )
+    system, values = options.assignments(assignments, system)
+    with options.progress_bar(enabled=not as_json) as progress:
+        result = continuation_of_system(
+            system, vary=varied, strobe=strobe, phase=phase, period=period, grid=grid,
+            attractor=attractor, transient=transient, rtol=rtol, atol=atol,
+            max_doublings=max_doublings, assignments=values, progress=progress,
+            definitions=options.definitions(definitions), backend=backend, timeout=timeout,
+        )  # fmt: skip
+    pictures = [path for path in outputs if path.endswith(".png")]
+    diagram = None
+    if pictures and background:
+        diagram = _background(system, result, variable, values, definitions, timeout)
+    for path in outputs:
+        if path.endswith(".csv"):
+            write_continuation_csv(result, path)
+    if pictures:
+        from ..output.plots import save_figure
+
+        figure = plot_continuation(result, variable, diagram)
+        for path in pictures:
+            save_figure(figure, path, dpi=150)
+    summary = continuation_json(result)
+    if outputs:
+        summary["out"] = list(outputs)
+    if options.echo_json(summary, as_json):
+        return
+    click.echo(continuation_text(result))
+    _wrote(*outputs)
+
+
+def _background(system, result, variable, values, definitions, timeout):
+    """The brute-force bifurcation diagram over the same values of the parameter."""
+    import numpy as np
+
+    from ..ensemble import bifurcation_of_system
+    from ..integrate.compiled_dop853 import numba_installed
+    from ..simulation import split_assignments
+
+    settings = result.settings
+    initial, params = split_assignments(system, values)
+    return bifurcation_of_system(
+        system, vary={result.parameter: np.linspace(result.low, result.high, settings["values"])},
+        variable=variable, period=result.strobe.period, phase=result.strobe.phase,
+        transient=BACKGROUND_PERIODS * result.strobe.period, samples=BACKGROUND_SAMPLES,
+        initial=initial, params=params, backend="numba" if numba_installed() else "numpy",
+        definitions=options.definitions(definitions), timeout=timeout,
+    )  # fmt: skip

@@ -17,9 +17,9 @@ corrector fails (no convergence in 8 iterations, or a point farther than h from 
 prediction: a jump to another branch) and grows by half when it converges within 3, up
 to the span of A over the number of values asked for less one; the branch ends at the
 ends of the range (its last point exactly there), after :data:`POINTS_PER_VALUE` points
-per value asked for, or where h falls below 1e-5 of its largest.  The bifurcations between consecutive points are found
-and located by :mod:`.branch_points`; at a period doubling the doubled branch is followed
-from there (to ``max_doublings`` doublings).
+per value asked for, or where h falls below 1e-5 of its largest.  The bifurcations
+between consecutive points are found and located by :mod:`.branch_points`; at a period
+doubling the doubled branch is followed from there (to ``max_doublings`` doublings).
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ from .parameter_map import ParameterMap
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
+    from .orbits import OrbitSearch
     from .strobe import Strobe
 
 #: The most points of one branch, per value of A asked for.
@@ -82,7 +83,8 @@ class Branch:
 @dataclass(frozen=True)
 class Continuation:
     """The ``branches`` of periodic orbits of the strobe map followed in ``parameter``
-    from ``low`` to ``high``, on the state ``names``."""
+    from ``low`` to ``high``, on the state ``names``; ``search``: the orbits found at
+    ``low``, where the branches start."""
 
     parameter: str
     low: float
@@ -92,6 +94,7 @@ class Continuation:
     strobe: Strobe
     settings: Mapping[str, object] = field(default_factory=dict)
     name: str = ""
+    search: OrbitSearch | None = field(default=None, repr=False)
 
 
 def continue_orbits(
@@ -200,6 +203,7 @@ def continue_orbits(
             "map_runs": strobe_map.runs,
         },
         name=search.name,
+        search=search,
     )
 
 

@@ -59,12 +59,12 @@ def orbits_text(search: OrbitSearch) -> str:
 
 def _orbit_line(orbit: PeriodicOrbit) -> str:
     stability = "stable" if orbit.stable else "unstable"
-    values = ", ".join(_number(value) for value in orbit.multipliers)
+    values = ", ".join(multiplier_text(value) for value in orbit.multipliers)
     time = "" if orbit.time is None else f" (time {orbit.time:.9g})"
     return f"period {orbit.period}{time}, {stability} {orbit.kind}, multipliers {values}"
 
 
-def _number(value: complex) -> str:
+def multiplier_text(value: complex) -> str:
     encoded = as_json([value])[0]
     if isinstance(encoded, list):
         return f"{encoded[0]:.6g}{encoded[1]:+.6g}i"
