@@ -139,6 +139,10 @@ class MechanismView:
             ]
         elif any(ORIGIN in rod for rod in self.rods) or self.stems:
             ax.plot([0], [0], "o", ms=6, mfc="white", mec=PIVOT_COLOR, mew=1.5, zorder=4)
+        if geometry.system.impacts:  # the walls and floors of the contacts
+            from .contacts import contact_lines, draw_contact_lines
+
+            draw_contact_lines(ax, contact_lines(geometry.system, geometry.parameters), axes)
         panel["tracks"] = [
             ax.plot([], [], "-", color=TRACK_COLOR, lw=1.2, zorder=1)[0] for _ in self.tracks
         ]

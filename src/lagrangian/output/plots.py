@@ -122,10 +122,26 @@ def plot_timeseries(trajectory: Trajectory, system: System | None = None) -> Fig
             ax.legend(loc="best", fontsize=8)
     for ax in axes[-1]:
         ax.set_xlabel(axis_label(trajectory, "t"))
+    mark_impacts(axes.ravel(), trajectory)
     left_out = len(trajectory.coordinates) - len(coordinates)
     note = f" (first {len(coordinates)} of {len(trajectory.coordinates)} coordinates)"
     figure.suptitle(f"{model_name(trajectory, system)}: time series" + (note if left_out else ""))
     return figure
+
+
+#: Impacts marked on a plot at most (the first ones; a ball coming to rest has hundreds).
+MAX_IMPACT_MARKS = 400
+
+
+def mark_impacts(axes, trajectory: Trajectory) -> None:
+    """A thin vertical line at each impact's time (a model with contacts), on every axis."""
+    times = [record.t for record in trajectory.impacts[:MAX_IMPACT_MARKS]]
+    for ax in axes:
+        for k, t in enumerate(times):
+            label = "impacts" if k == 0 and ax is axes[0] else None
+            ax.axvline(t, color="0.55", lw=0.6, ls=":", zorder=0, label=label)
+    if times:
+        axes[0].legend(loc="best", fontsize=8)
 
 
 def drift_curve(values: np.ndarray) -> tuple[np.ndarray, bool]:
