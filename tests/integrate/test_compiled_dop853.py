@@ -146,10 +146,14 @@ def test_the_time_budget_sees_the_compiled_loop_move():
         simulate(system, t_end=1e9, watch=pace, n_out=2)
 
 
-def test_constrained_systems_keep_scipys_loop():
+def test_constrained_systems_run_in_the_loop_with_their_projection():
+    # the checks of the motion are tests/integrate/test_constrained_compiled.py's
     system = compiled("cartesian_pendulum", "numba")
     assert system.has_constraints
-    assert compiled_loop(system) is None
+    loop = compiled_loop(system)
+    assert loop is not None and loop.n == 3  # the solve of [q''; lambda]: 2 + 1 unknowns
+    assert len(loop.y_prime) == 2  # y' and the projection
+    assert len(compiled_loop(compiled("double_pendulum", "numba")).y_prime) == 1
 
 
 # -- memory: an adaptive run's steps are known only as it goes ---------------------------

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -109,9 +110,11 @@ def test_simulate_with_numba_equals_numpy(name, rng):
         assert abs(runs[1].final_state[coordinate] - runs[0].final_state[coordinate]) <= 1e-10
 
 
-def test_constrained_systems_keep_numpy_with_a_warning():
+def test_constrained_systems_keep_the_numpy_functions_without_a_warning():
+    # their dop853 runs in the compiled loop (tests/integrate/test_constrained_compiled.py)
     name = CONSTRAINED[0]
-    with pytest.warns(UserWarning, match="does not handle constraints yet"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
         fast = jitted(name)
     assert fast.backend == "numba"
     assert fast.rhs is not compiled(name).rhs

@@ -30,6 +30,7 @@ names never do.
 from __future__ import annotations
 
 import hashlib
+import math
 from collections.abc import Collection, Mapping, Sequence
 from types import ModuleType
 
@@ -261,7 +262,8 @@ def load_functions(
 
     ``functions``: [(name, [(output array, entries)])] over the symbols of
     ``forms``; each becomes ``name(t, y, p, *scalars, *vector, *arrays)`` filling the
-    arrays (``arrays`` named in ``matrices`` as n x n, entries row by row).
+    arrays (``arrays`` named in ``matrices`` as square matrices, n x n or as many entries as
+    given, row by row).
     ``scalars[name]``: extra scalar arguments of that function, symbols named
     ``_x`` passed as ``x``; ``vectors[name] = (a, symbols)``: one more array argument
     ``a`` whose entries are the symbols (named ``_x``) in order.  ``label`` names the
@@ -296,7 +298,6 @@ class _FunctionsText:
 
     def __str__(self) -> str:
         forms, label, functions, scalars, matrices, vectors = self._arguments
-        n = forms.n
         parts = [_FUNCTIONS_HEADER.format(version=GENERATOR_VERSION, label=label)]
         for name, outputs in functions:
             extra = scalars.get(name, ())
@@ -306,7 +307,8 @@ class _FunctionsText:
             targets, expressions = [], []
             for array, entries in outputs:
                 if array in matrices:
-                    targets += [f"{array}[{i}, {j}] = " for i in range(n) for j in range(n)]
+                    side = math.isqrt(len(entries))
+                    targets += [f"{array}[{i}, {j}] = " for i in range(side) for j in range(side)]
                 else:
                     targets += [f"{array}[{i}] = " for i in range(len(entries))]
                 expressions += [rename(entry) for entry in entries]

@@ -27,6 +27,11 @@ from .solve import CRAMER_MAX_SIZE, solve_linear
 
 #: Largest Schur complement A M^-1 A^T (in operations) whose solution is tidied.
 SCHUR_MAX_OPS = 120
+#: Largest entry (in operations, untidied) of the Schur complement and of beta - A M^-1 f
+#: that trigonometric identities are tried on.  Those of a four-bar linkage's loop closure
+#: (51-53 operations) took 0.8-3.2 s each in trigsimp and came out longer (78-94); the
+#: Cartesian pendulum's and the rolling disc's (5-7) are where the identities pay.
+SCHUR_TRIG_MAX_OPS = 40
 
 
 @dataclass(frozen=True)
@@ -107,6 +112,7 @@ def solve_constrained(
     lambda is its LU solution, untidied.  Tidying into one fraction is what costs
     there: a chain of three particles in Cartesian coordinates (181 operations) took
     5 s for multipliers of 11,000 characters, untidied 0.04 s and 2,000 characters.
+    Trigonometric identities are tried only on short entries (:data:`SCHUR_TRIG_MAX_OPS`).
     """
     columns = [sympy.Matrix(forcing)] + [
         sympy.Matrix(forms.matrix.row(j)).T for j in range(forms.matrix.rows)
@@ -118,10 +124,12 @@ def solve_constrained(
             return None
         solved.append(sympy.Matrix(x))
     free, response = solved[0], sympy.Matrix.hstack(*solved[1:])
-    schur = (forms.matrix * response).applyfunc(lambda e: tidy(e, state, trig=True))
-    residual = (sympy.Matrix(forms.bias) - forms.matrix * free).applyfunc(
-        lambda e: tidy(e, state, trig=True)
-    )
+
+    def tidied(entry: sympy.Expr) -> sympy.Expr:
+        return tidy(entry, state, trig=sympy.count_ops(entry) <= SCHUR_TRIG_MAX_OPS)
+
+    schur = (forms.matrix * response).applyfunc(tidied)
+    residual = (sympy.Matrix(forms.bias) - forms.matrix * free).applyfunc(tidied)
     small = schur.rows <= CRAMER_MAX_SIZE
     if not small or sum(sympy.count_ops(entry) for entry in schur) > SCHUR_MAX_OPS:
         multipliers = schur.LUsolve(residual)

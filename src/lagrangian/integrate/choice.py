@@ -31,7 +31,9 @@ The estimate is deterministic for a given system, state and tolerance, except th
 loop found in the code cache costs less to start.  The cheapest runs; the reason is
 one line, echoed in the run's summary (``choice``).  Where a way does not apply
 (constraints: the SciPy loop integrates the stabilised equations; numba or heyoka
-not installed; events for heyoka), that line says so.
+not installed; events or constraints for heyoka), that line says so.  A constrained system
+runs in SciPy's loop on the stabilised equations, or in the compiled loop, which projects
+every step onto its constraints as well (:mod:`.compiled_dop853`).
 """
 
 from __future__ import annotations
@@ -45,7 +47,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import LagrangianWarning, ModelError
 from .compiled_dop853 import (
     compiled_loop,
     compiled_ready,
@@ -55,6 +57,7 @@ from .compiled_dop853 import (
 )
 from .guard import start_problem
 from .scipy_methods import MIN_RTOL, Dop853
+from .start import constrained_start
 
 if TYPE_CHECKING:
     from ..derive import EquationsOfMotion
@@ -175,11 +178,13 @@ def choose_run(
             quick, "dop853", rtol, atol, f"dop853 in SciPy's loop on {quick.backend}: {why}"
         )
 
-    if quick.has_constraints:
-        return scipy_loop("the compiled loop and taylor do not take constraints")
     if quick.program is None:
         return scipy_loop("functions given by hand, no code to generate")
     y0, p = quick.state_vector(initial), quick.parameter_vector(params)
+    if quick.has_constraints:  # the probe starts where the run will: on the constraints
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", LagrangianWarning)  # the run itself says so
+            y0 = constrained_start(quick, 0.0, y0, p)
     steps = estimated_steps(quick, (0.0, float(t_end)), y0, p, rtol, atol)
     n = quick.n
     costs = {"scipy": steps * scipy_step_seconds(n)}
@@ -230,12 +235,7 @@ def choose_run(
 
 def _compiled_loop_applies(method: str, compiled: CompiledSystem) -> bool:
     """Whether dop853 on ``compiled`` runs the compiled loop (without building it)."""
-    return (
-        method == "dop853"
-        and compiled.backend == "numba"
-        and not compiled.has_constraints
-        and compiled.program is not None
-    )
+    return method == "dop853" and compiled.backend == "numba" and compiled.program is not None
 
 
 def estimated_steps(
@@ -282,6 +282,8 @@ def _taylor_problem(compiled, y0, params, events) -> str | None:
     """Why the taylor method does not apply to this run, or None."""
     from .taylor import indefinite_mass
 
+    if compiled.has_constraints:
+        return "does not take constraints"
     if events:
         return "does not watch events"
     with np.errstate(all="ignore"):

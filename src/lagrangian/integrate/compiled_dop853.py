@@ -38,8 +38,16 @@ progress bar still sees the run move.  Failures read as SciPy's path reads them
 below the spacing of floating-point numbers (after a right-hand side that was not
 finite, saying so), an accepted state that is not finite.
 
-Applies to unconstrained systems with derived equations where numba is installed
-(:func:`compiled_loop` returns None otherwise and SciPy's loop runs).
+Constrained systems (:func:`compiled_loop` only; the linked loop, the sections,
+sensitivities and variational equations refuse them) integrate the equations SciPy's loop
+integrates, the augmented system with Baumgarte's stabilisation
+(:mod:`lagrangian.codegen.numba_constrained`), and every accepted state and every output is
+projected onto the constraint manifold in the loop (positions by Gauss-Newton in the mass
+metric, velocities exactly, as :mod:`lagrangian.numeric.projection`): the residual stays at
+rounding level however long the run, where SciPy's loop lets it wander at the tolerance.
+
+Applies to systems with derived equations where numba is installed (:func:`compiled_loop`
+returns None otherwise and SciPy's loop runs).
 """
 
 from __future__ import annotations
@@ -51,8 +59,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..codegen.cache import built, built_already, filled_template, package_text
+from ..codegen.cache import built, built_already, package_text
 from .base import IntegrationResult, Run, Status
+from .compiled_derivatives import derivative_text, jacobian_filler
 from .compiled_events import StepEvents
 from .guard import UNDEFINED, describe_state, state_problem
 from .memory import PROJECT_AFTER_STEPS, check_kept_steps
@@ -118,10 +127,17 @@ class Loop:
 
 def compiled_loop(compiled: CompiledSystem) -> Loop | None:
     """The jitted DOP853 loop of ``compiled`` (built once, machine code cached on disk), or
-    None where it does not apply: constraints, functions given by hand, numba missing."""
-    if not loop_applies(compiled):
+    None where it does not apply: functions given by hand, numba missing.  A constrained
+    system's loop projects onto its constraints (see the module docstring)."""
+    if not loop_applies(compiled, constraints=True):
         return None
-    return built(compiled.forms.fingerprint, "dop853", lambda: _build(compiled))
+    fingerprint = compiled.forms.fingerprint
+    return built(fingerprint, "dop853", lambda: _build(compiled), _alpha(compiled))
+
+
+def _alpha(compiled: CompiledSystem) -> float:
+    """Baumgarte's rate in the constrained loop's y' (the forms' fingerprint has it not)."""
+    return compiled.baumgarte if compiled.has_constraints else 0.0
 
 
 def tangent_loop(compiled: CompiledSystem) -> Loop | None:
@@ -173,7 +189,8 @@ def what_is_compiled(compiled: CompiledSystem, *, linked: bool) -> str:
     """What making the loop of ``compiled`` (:func:`linked_loop` with ``linked``, else
     :func:`compiled_loop`) compiles now, in words, for the run's summary."""
     fingerprint = compiled.forms.fingerprint if compiled.forms is not None else ""
-    if built_already(fingerprint, "dop853-linked" if linked else "dop853"):
+    key = ("dop853-linked",) if linked else ("dop853", _alpha(compiled))
+    if built_already(fingerprint, *key):
         return "nothing: the loop was made earlier in this process"
     if not linked and compiled_ready(compiled):
         return "nothing: the loop and the right-hand side from the code cache"
@@ -195,10 +212,13 @@ def _method_text() -> tuple[str, str]:
     return package_text(Path(__file__).with_name("numba_dop853.py"))
 
 
-def loop_applies(compiled: CompiledSystem) -> bool:
-    """Whether the compiled loops serve ``compiled``: derived equations without constraints,
-    and numba installed."""
-    return not compiled.has_constraints and compiled.program is not None and numba_installed()
+def loop_applies(compiled: CompiledSystem, *, constraints: bool = False) -> bool:
+    """Whether the compiled loops serve ``compiled``: derived equations, without constraints
+    unless ``constraints`` (the DOP853 loop projects, the others do not), and numba
+    installed."""
+    if compiled.has_constraints and not constraints:
+        return False
+    return compiled.program is not None and numba_installed()
 
 
 def numba_installed() -> bool:
@@ -216,9 +236,9 @@ def compiled_ready(compiled: CompiledSystem) -> bool:
 
     if compiled.program is None:
         return False
-    if built_already(compiled.forms.fingerprint, "dop853"):
+    if built_already(compiled.forms.fingerprint, "dop853", _alpha(compiled)):
         return True
-    return method_ready() and compiled_on_disk(_derivative_text(compiled)[0], "derivative")
+    return method_ready() and compiled_on_disk(derivative_text(compiled)[0], "derivative")
 
 
 def method_ready() -> bool:
@@ -233,44 +253,15 @@ def _build(compiled: CompiledSystem, *, tangent: bool = False) -> Loop:
     from ..codegen.cache import load_text
     from ..codegen.numba import NumbaTarget
 
-    NumbaTarget().load(compiled.program)  # the fillers' module, imported by the system's
-    jacobian = _jacobian_filler(compiled).__name__ if tangent else None
     method = method_module()
-    system = load_text(*_derivative_text(compiled, jacobian))
+    if compiled.has_constraints:  # the fillers are loaded as its text is made
+        system = load_text(*derivative_text(compiled))
+        pointers = method.projected_y_prime(system.derivative, system.project)
+        return Loop(method, pointers, compiled.n + len(compiled.constraint_names), False)
+    NumbaTarget().load(compiled.program)  # the fillers' module, imported by the system's
+    jacobian = jacobian_filler(compiled).__name__ if tangent else None
+    system = load_text(*derivative_text(compiled, jacobian))
     return Loop(method, method.y_prime(system.derivative), compiled.n, tangent)
-
-
-def _jacobian_filler(compiled: CompiledSystem) -> ModuleType:
-    """The generated ``jacobian(t, y, p, a, G)``: G = d(f - M a)/d(q, q') (n x 2n, row by
-    row) with the accelerations a as an argument (see :mod:`lagrangian.numeric.dynamics`)."""
-    import sympy
-
-    from ..codegen.numba import load_functions
-
-    forms = compiled.forms
-    accelerations = tuple(sympy.Symbol(f"_a{i}") for i in range(forms.n))
-    residual = sympy.Matrix(forms.forcing) - forms.mass_matrix * sympy.Matrix(accelerations)
-    entries = list(residual.jacobian([*forms.coordinates, *forms.velocities]))
-    return load_functions(
-        forms, "tangent", [("jacobian", [("G", entries)])],
-        vectors={"jacobian": ("a", accelerations)},
-    )  # fmt: skip
-
-
-def _derivative_text(compiled: CompiledSystem, jacobian: str | None = None) -> tuple[str, str]:
-    """(sha256, text) of the module of the system's y': the template with N and the
-    fillers' imports (with ``jacobian``, the module of G: the variational equations)."""
-    from ..codegen.cache import module_name, usable_directory
-    from ..codegen.numba import generated_source
-
-    fillers = module_name(usable_directory() / f"{generated_source(compiled.forms)[0]}.py")
-    generated = [
-        f"N = {compiled.n}",
-        f"TANGENT = {jacobian is not None}",
-        f"from {fillers} import eliminate, fill",
-        f"from {jacobian} import jacobian" if jacobian else "jacobian = None",
-    ]
-    return filled_template(Path(__file__).with_name("numba_derivative.py"), generated)
 
 
 def solve_compiled(
@@ -318,6 +309,8 @@ def solve_compiled(
             hit = watcher.steps(t_before, ts, ys, olds, slopes)
             if hit is not None:
                 k, (t_stop, y_stop) = hit
+                if compiled.project is not None:  # the interpolant's state, onto the manifold
+                    y_stop = np.asarray(compiled.project(t_stop, y_stop, p), dtype=float)
                 ts, ys = np.append(ts[:k], t_stop), np.vstack([ys[:k], y_stop])
                 status = -1
         times.append(ts)

@@ -16,7 +16,20 @@ The vector has any length: with ``TANGENT`` it is the state followed by K displa
 (2N x K, row by row) of the variational equations W' = J W
 (:mod:`lagrangian.integrate.lyapunov`), whose Jacobian comes from the generated
 ``jacobian`` G = d(f - M a)/d(q, q') at a = q'' (J's lower rows are M^-1 G, solved column
-by column: no solved accelerations are differentiated).  This module itself is never run.
+by column: no solved accelerations are differentiated).
+
+With constraints (``SOLVED`` = N + the constraints) ``fill`` is the generated
+``augmented`` of :mod:`lagrangian.codegen.numba_constrained`: M and f bordered by the
+constraint rows, solved for [q''; lambda] in ``work``'s own arrays (of size SOLVED), and
+
+    project(t, y, p, work, out, flags)
+        out = y moved onto the constraint manifold (out may be y): Gauss-Newton steps on
+        the positions in the mass metric (the generated ``positions``) until a step is
+        below STEP_TOLERANCE (relative to 1 + |q|) or after PROJECTION_STEPS, then the
+        velocities exactly (``velocities``), as
+        :meth:`lagrangian.numeric.projection.ConstraintFunctions.project`
+
+which the method calls after every accepted step.  This module itself is never run.
 """
 
 import math
@@ -25,8 +38,12 @@ from numba import njit
 
 # -- generated: begin (each generated module has its own values here) ----------------
 N = 1
+SOLVED = 1  # unknowns of the linear solve: N, or N + the constraints (q'' and lambda)
 TANGENT = False  # whether the vector integrated carries displacements after the state
 fill = eliminate = jacobian = None  # the system's M and f, the printed solve, G (tangent)
+positions = velocities = None  # the projection's systems (constraints only)
+HOLONOMIC = False  # whether a constraint has a position level
+PROJECTION_STEPS, STEP_TOLERANCE = 50, 1e-13  # the Gauss-Newton steps on the positions
 # -- generated: end ------------------------------------------------------------------
 
 
@@ -40,11 +57,16 @@ def derivative(t, y, p, work, out, flags):  # pragma: no cover - compiled by num
     fill(t, y, p, mass, force)
     for i in range(N):
         out[i] = y[N + i]
-    if TANGENT:
+    if SOLVED > N:  # [q''; lambda] of the augmented system, in place
+        eliminate(mass, force, force, 0)
         for i in range(N):
-            for j in range(N):
-                copy[i, j] = mass[i, j]
-    eliminate(mass, force, out, N)
+            out[N + i] = force[i]
+    else:
+        if TANGENT:
+            for i in range(N):
+                for j in range(N):
+                    copy[i, j] = mass[i, j]
+        eliminate(mass, force, out, N)
     if TANGENT and y.shape[0] > 2 * N:
         tangent(t, y, p, work, out)
     for i in range(y.shape[0]):
@@ -72,3 +94,29 @@ def tangent(t, y, p, work, out):  # pragma: no cover - compiled by numba
         eliminate(mass, column, column, 0)
         for i in range(N):
             out[size + (N + i) * count + j] = column[i]
+
+
+@njit(cache=True, _nrt=False)
+def project(t, y, p, work, out, flags):  # pragma: no cover - compiled by numba
+    """out = y moved onto the constraint manifold (see the module docstring)."""
+    matrix, vector = work[0], work[1]
+    for i in range(2 * N):
+        out[i] = y[i]
+    if HOLONOMIC:
+        for _ in range(PROJECTION_STEPS):
+            positions(t, out, p, matrix, vector)
+            eliminate(matrix, vector, vector, 0)
+            step, largest = 0.0, 0.0
+            for i in range(N):
+                out[i] += vector[i]
+                step = max(step, abs(vector[i]))
+                largest = max(largest, abs(out[i]))
+            if not step > STEP_TOLERANCE * (1.0 + largest):  # converged, or not finite
+                break
+    velocities(t, out, p, matrix, vector)
+    eliminate(matrix, vector, vector, 0)
+    for i in range(N):
+        out[N + i] += vector[i]
+    for i in range(2 * N):
+        if not math.isfinite(out[i]):
+            flags[0] = 1

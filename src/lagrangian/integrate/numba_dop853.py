@@ -33,7 +33,10 @@ covers into ``out``.  ``counts[0]`` adds the right-hand side's evaluations,
 ``counts[3]`` is 1 while the current step has been rejected; ``flags[0]`` is set to 1
 where an evaluation was not finite.  Status: 0 ``ts`` full, 1 t_end reached, 2 the
 step size fell below 10 ulp of t (SciPy's "Required step size is less than spacing
-between numbers."), 3 an accepted state is not finite.
+between numbers."), 3 an accepted state is not finite.  With a second function in
+``y_prime`` (a constrained system's ``project``, :func:`projected_y_prime`) every accepted
+state and every output is projected onto the constraint manifold, and y' is evaluated again
+at the projected state (one evaluation more per step): the next step starts on the manifold.
 
 The pieces of a step (``step``, ``interpolation``, ``interpolate``, ``accept``) are
 functions of their own, so that other loops (the sections of
@@ -78,10 +81,22 @@ def y_prime(derivative):  # pragma: no cover - compiled by numba
     return pointers
 
 
+@njit(types.ListType(DERIVATIVE)(DERIVATIVE, DERIVATIVE), cache=True)
+def projected_y_prime(derivative, project):  # pragma: no cover - compiled by numba
+    """[derivative, project]: the y' of a constrained system and its projection onto the
+    constraint manifold (``project(t, y, p, work, out, flags)``, out = y projected), which
+    ``advance`` applies to every accepted state and every output."""
+    pointers = List.empty_list(DERIVATIVE)
+    pointers.append(derivative)
+    pointers.append(project)
+    return pointers
+
+
 @njit(cache=True)
 def workspace(n, tangent):  # pragma: no cover - compiled by numba
     """(M, f, a copy of M, G row by row, a column, no link): the arrays a system's
-    generated ``derivative`` works in, for n coordinates (the copy, G and the column for
+    generated ``derivative`` works in, for a linear solve of size n (the coordinates, or
+    with constraints the coordinates and the multipliers; the copy, G and the column for
     the variational equations only)."""
     link = np.empty(0, dtype=np.int64)
     if tangent:
@@ -312,6 +327,7 @@ def advance(
     slopes, counts, flags,
 ):  # pragma: no cover - compiled by numba  # fmt: skip
     derivative, work = y_prime[0], work_for(n, tangent, link)
+    projected = len(y_prime) > 1
     size = y.shape[0]
     stages, stage, y_new, interpolant = buffers(size)
     capacity = ts.shape[0]
@@ -337,7 +353,14 @@ def advance(
                     slopes[k, r, i] = interpolant[r, i]
             while counts[2] < t_eval.shape[0] and t_eval[counts[2]] <= t_new:
                 interpolate(interpolant, (t_eval[counts[2]] - t) / h, y, out[counts[2]])
+                if projected:
+                    row = out[counts[2]]
+                    y_prime[1](t_eval[counts[2]], row, p, work, row, flags)
                 counts[2] += 1
+        if projected:  # onto the manifold, and y' there (the last stage was off it)
+            y_prime[1](t_new, y_new, p, work, y_new, flags)
+            counts[0] += 1
+            derivative(t_new, y_new, p, work, stages[STAGES], flags)
         finite = accept(clock, y, f, y_new, stages, t_new, h_next, counts)
         for i in range(size):
             ys[k, i] = y_new[i]

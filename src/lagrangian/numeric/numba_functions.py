@@ -12,7 +12,10 @@ kernel divides by zero (numba raises ZeroDivisionError: a zero pivot of M, or
 1/x at x = 0) the NumPy function answers instead, with the NumPy backend's
 result: inf or NaN, which the integrators report, or its singular-matrix error.
 
-Constrained systems keep the NumPy functions for now (a warning says so).
+A constrained system keeps the NumPy functions of one state (its y' solves the augmented
+system, see :mod:`lagrangian.numeric.dynamics`): on this backend its ``dop853`` runs in the
+compiled loop, which generates the constrained y' and the projection itself
+(:mod:`lagrangian.integrate.compiled_dop853`).
 numba is imported only when a numba function is first called with one state,
 or by :meth:`~lagrangian.codegen.numba.NumbaTarget.check` (``pip install ".[numba]"``).
 """
@@ -21,7 +24,6 @@ from __future__ import annotations
 
 import dataclasses
 import threading
-import warnings
 from collections.abc import Callable
 from typing import Any
 
@@ -29,7 +31,6 @@ import numpy as np
 
 from ..codegen.numba import NumbaTarget
 from ..codegen.program import Program
-from ..errors import LagrangianWarning
 from .compiled import CompiledSystem
 
 #: The CompiledSystem fields the numba kernels provide, with their argument form.
@@ -46,14 +47,9 @@ SCALARS = (
 def with_numba_functions(compiled: CompiledSystem) -> CompiledSystem:
     """``compiled`` (NumPy functions) with the numba kernels of its program put in.
 
-    A constrained system keeps the NumPy functions (a warning says so).
+    A constrained system keeps the NumPy functions (see the module docstring).
     """
     if compiled.has_constraints:
-        warnings.warn(
-            "backend 'numba' does not handle constraints yet: the NumPy functions are used",
-            LagrangianWarning,
-            stacklevel=3,
-        )
         return dataclasses.replace(compiled, backend="numba")
     names = (*STATE_FUNCTIONS, *SPLIT_FUNCTIONS)
     fallbacks = {name: getattr(compiled, name) for name in names}
