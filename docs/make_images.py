@@ -257,6 +257,38 @@ def heavy_top() -> None:
     save(plot_timeseries(run, system), "heavy_top_timeseries.png")
 
 
+def film(system, run, name: str, size: float = 2.6, **options) -> None:
+    """An animation of ``run`` as a small GIF (under the size limit)."""
+    result = animate(run, system, IMAGES / name, size=size, dpi=50, **options)
+    print(f"  {name:34s} {result.path.stat().st_size / 1000:6.1f} kB  ({result.plan.description})")
+    if result.path.stat().st_size > LIMIT:
+        raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+
+
+def linkages() -> None:
+    """The four-bar (free; driven, with its joint reactions) and the slider-crank."""
+    free = lg.load("four_bar")
+    film(free, free.simulate(t_end=3.0, n_out=301), "four_bar.gif", trail=0.5)
+    driven = lg.load("four_bar_driven")
+    run = driven.simulate(t_end=1.0, n_out=401)
+    film(driven, run, "four_bar_driven.gif", trail=0.3, reactions=True)
+    still(driven, run, "four_bar_driven_frame.png", 10, reactions=True, trail=0.3)
+    figure, axes = new_figure(2, 1, width=6.0, height=5.0)
+    for joint in "ABCD":
+        magnitude = np.hypot(run[f"R_{joint}_x"], run[f"R_{joint}_y"])
+        axes[0, 0].plot(run.t, magnitude, label=f"|R_{joint}|")
+    axes[0, 0].set_ylabel("joint force (N)")
+    axes[0, 0].legend(loc="upper right", fontsize=8, ncols=4)
+    axes[1, 0].plot(run.t, run["tau_A"], color="C3")
+    axes[1, 0].set_ylabel("driving torque τ_A (N m)")
+    axes[1, 0].set_xlabel("t (s): one turn of the crank")
+    figure.suptitle("Four-bar linkage, driven crank: joint reactions over one turn")
+    save(figure, "four_bar_reactions.png")
+    slider = lg.load("slider_crank")
+    run = slider.simulate(t_end=1.0, n_out=401)
+    film(slider, run, "slider_crank.gif", size=4.0, trail=0.2)
+
+
 def double_pendulum_page() -> None:
     """A screenshot of ``lagrangian page double_pendulum`` in headless Chromium after a few
     seconds of play (Debian's chromium, driven by Playwright)."""
@@ -542,6 +574,7 @@ PICTURES = (
     planar_particle_forces,
     rotating_wire_bead,
     heavy_top,
+    linkages,
     cart_pole,
     serve_editor,
     henon_heiles,

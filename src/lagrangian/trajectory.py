@@ -6,6 +6,8 @@ The dataset has one dimension ``t`` (the output times) and the data variables
 - ``energy``, the energy function h = q'.dL/dq' - L (the Jacobi integral),
 - every conserved quantity of the system (names from ``compiled.invariants``),
 - the Lagrange multipliers ``lambda1, ...`` of a constrained system,
+- a linkage's joint reactions ``R_<joint>_x, R_<joint>_y`` (and ``M_``, ``tau_``, ``F_``;
+  :mod:`lagrangian.model.linkage_reactions`),
 
 and the attributes ``model``, ``method``, ``status``, ``message``, ``steps``,
 ``rhs_evaluations``, ``wall_time`` (seconds), ``compile_time`` (CPU seconds spent making
@@ -14,12 +16,12 @@ and ``compiled`` (what, in words, where a compiled loop ran), the settings of th
 (``rtol``/``atol`` or ``dt``, ...), ``parameters`` (a JSON object of the
 parameter values used) and the comma-separated name lists ``coordinate_names``
 (not ``coordinates``, which netCDF's CF conventions reserve), ``invariants``,
-``multipliers`` and ``events``.  Each event ``e`` adds the
+``multipliers``, ``reactions`` and ``events``.  Each event ``e`` adds the
 variables ``event__e__t`` (its times) and ``event__e__y`` (the states there)
 along their own dimension ``event__e`` (and ``state``: q..., q_dot...).
 
 Files (DESIGN section 5): ``to_csv`` writes the columns
-``t, <q...>, <q_dot...>, energy`` then the invariants and multipliers, one row
+``t, <q...>, <q_dot...>, energy`` then the invariants, multipliers and reactions, one row
 per output time; ``to_netcdf`` writes the whole dataset (SciPy's netCDF-3
 writer, no extra dependency).  Both write atomically: a temporary file in the
 same directory, renamed over the target only when complete
@@ -102,6 +104,7 @@ class Trajectory:
         energy: np.ndarray,
         invariants: Mapping[str, np.ndarray] | None = None,
         multipliers: Mapping[str, np.ndarray] | None = None,
+        reactions: Mapping[str, np.ndarray] | None = None,
         events: Sequence[EventRecord] = (),
         attrs: Mapping[str, object] | None = None,
         system: System | None = None,
@@ -120,7 +123,8 @@ class Trajectory:
         columns["energy"] = np.asarray(energy, dtype=float)
         invariants = {k: v for k, v in (invariants or {}).items() if k not in columns}
         multipliers = dict(multipliers or {})
-        for name, values in [*invariants.items(), *multipliers.items()]:
+        reactions = dict(reactions or {})
+        for name, values in [*invariants.items(), *multipliers.items(), *reactions.items()]:
             if name in columns:
                 raise ValueError(f"two data variables named '{name}'")
             columns[name] = np.asarray(values, dtype=float)
@@ -138,6 +142,7 @@ class Trajectory:
             "coordinate_names": ",".join(coordinates),
             "invariants": ",".join(invariants),
             "multipliers": ",".join(multipliers),
+            "reactions": ",".join(reactions),
             "events": ",".join(record.name for record in events),
         }
         meta.update(_netcdf_attrs(attrs or {}))
@@ -175,6 +180,11 @@ class Trajectory:
     @property
     def multipliers(self) -> tuple[str, ...]:
         return name_list(self.dataset.attrs.get("multipliers", ""))
+
+    @property
+    def reactions(self) -> tuple[str, ...]:
+        """A linkage's joint reactions (``R_B_x``, ...; see :mod:`.model.linkage_reactions`)."""
+        return name_list(self.dataset.attrs.get("reactions", ""))
 
     @property
     def status(self) -> str:
@@ -285,6 +295,11 @@ class Trajectory:
         }
         if units:  # additive: a dimensioned model's units (issue 31)
             document["units"] = units
+        if self.reactions:  # additive: a linkage's joint reactions (issue 34)
+            document["reactions"] = {
+                name: {"final": float(self[name][-1]), "max_abs": float(np.max(np.abs(self[name])))}
+                for name in self.reactions
+            }
         document["method"] = attrs.get("method")
         for key in ("backend", "choice"):  # which code ran and why (integrate.choice)
             if key in attrs:
@@ -319,13 +334,15 @@ class Trajectory:
 
     # -- files --------------------------------------------------------------------
     def columns(self) -> list[str]:
-        """The CSV columns after ``t``: q..., q_dot..., energy, invariants, multipliers."""
+        """The CSV columns after ``t``: q..., q_dot..., energy, invariants, multipliers,
+        joint reactions."""
         return [
             *self.coordinates,
             *self.velocities,
             "energy",
             *self.invariants,
             *self.multipliers,
+            *self.reactions,
         ]
 
     def to_csv(self, path: str | os.PathLike) -> Path:

@@ -173,6 +173,7 @@ def _check_netcdf(path, dataset) -> None:
         "energy",
         *name_list(attrs.get("invariants", "")),
         *name_list(attrs.get("multipliers", "")),
+        *name_list(attrs.get("reactions", "")),
     ]
     for name in expected:
         if name not in dataset.data_vars:

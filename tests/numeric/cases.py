@@ -19,7 +19,7 @@ from lagrangian.examples import example_names
 from lagrangian.numeric import DEFAULT_BAUMGARTE, CompiledSystem, compile_equations
 
 EXAMPLES = example_names()
-CONSTRAINED = ("cartesian_pendulum", "rolling_disc")
+CONSTRAINED = ("cartesian_pendulum", "rolling_disc", "four_bar", "four_bar_driven", "slider_crank")
 
 #: The unspecified functions of velocity_dependent_potential, as text for the compiler ...
 DEFINITIONS = {
@@ -39,8 +39,23 @@ ORACLE_FUNCTIONS = {
         "C": lambda x, y, z: x * y * z / 3 + sympy.cos(x),
     }
 }
+#: The linkages' loops near their closed configuration (far off them, projecting onto them
+#: is a slow Gauss-Newton iteration whose stopping differs between a batch and one state).
+_FOUR_BAR = {
+    "a": (0.28, 0.32), "b": (0.95, 1.05), "c": (0.75, 0.85), "d": (0.95, 1.05),
+    "theta_crank": (0.95, 1.05), "theta_coupler": (0.55, 0.65), "theta_rocker": (1.5, 1.6),
+}  # fmt: skip
 #: Where points are drawn: away from r = 0 and the poles theta = 0, pi.
 RANGES = {
+    "four_bar": _FOUR_BAR,
+    "four_bar_driven": _FOUR_BAR,
+    "slider_crank": {
+        "r": (0.09, 0.11),
+        "l": (0.38, 0.42),
+        "theta": (0.45, 0.55),
+        "x": (0.46, 0.5),
+        "phi": (-0.14, -0.1),
+    },
     "central_force": {"r": (0.5, 2.0)},
     "free_particle_spherical": {"r": (0.5, 2.0), "theta": (0.3, 2.8)},
     "spherical_pendulum": {"theta": (0.3, 2.8)},

@@ -160,10 +160,26 @@ def _model_figure(model: str, kind: str, settings: dict):
     show_default=True,
     help="At most this many frames; longer runs play faster than real time.",
 )
+@click.option(
+    "--reactions",
+    is_flag=True,
+    help="Draw a linkage's joint reactions as arrows (the force on each joint's second side).",
+)
 def animate(
-    model, out, t_end, samples, method, assignments, definitions, timeout, fps, max_frames
+    model,
+    out,
+    t_end,
+    samples,
+    method,
+    assignments,
+    definitions,
+    timeout,
+    fps,
+    max_frames,
+    reactions: bool,
 ) -> None:
     """Animate the mechanism of MODEL: a run played in real time."""
+    from ..errors import ModelError
     from ..facade import load
     from ..output.animation import animate as write_animation
     from ..output.animation import check_animation_path
@@ -183,7 +199,13 @@ def animate(
         definitions=options.definitions(definitions),
         timeout=timeout,
     )
-    result = write_animation(run, system, out, fps=fps, max_frames=max_frames)
+    if reactions and not run.reactions:
+        raise ModelError(
+            "the model has no joint reactions to draw (no [[links]] and [[joints]], or other "
+            "masses move with them)",
+            field="--reactions",
+        )
+    result = write_animation(run, system, out, fps=fps, max_frames=max_frames, reactions=reactions)
     click.echo(f"wrote {out}: {result.plan.description}")
 
 

@@ -40,6 +40,7 @@ from .events import Event
 from .fixed_step import AbstractFixedStepIntegrator
 from .guard import parameter_problem
 from .impacts import ImpactRun
+from .linkage_outputs import reactions_along
 from .memory import check_fits, count_text, run_bytes
 from .registry import method_class
 from .start import constrained_start
@@ -216,6 +217,7 @@ def trajectory_of(
     if compiled.has_constraints and compiled.multipliers is not None:
         values = along(compiled.multipliers, t, y, params).reshape(-1, t.shape[0])
         multipliers = dict(zip(compiled.constraint_names, values, strict=True))
+    reactions = reactions_along(compiled, t, y, params, multipliers)
     system = getattr(compiled.equations, "system", None)
     attrs: dict[str, object] = {
         "model": getattr(system, "name", ""),
@@ -243,6 +245,7 @@ def trajectory_of(
         energy=along(compiled.energy, t, y, params),
         invariants=invariants,
         multipliers=multipliers,
+        reactions=reactions,
         events=result.events,
         attrs=attrs,
         system=compiled.equations.system,

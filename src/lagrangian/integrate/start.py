@@ -38,6 +38,7 @@ def constrained_start(
     y0 = np.asarray(y0, dtype=float)
     if y0.ndim == 2 and y0.shape[1] == 1:  # one motion: said as one
         return constrained_start(compiled, t, y0[:, 0], params)[:, None]
+    y0 = _linkage_assembled(compiled, t, y0, params)
     with np.errstate(all="ignore"):
         try:
             moved = np.asarray(compiled.project(t, y0, params), dtype=float)
@@ -57,6 +58,31 @@ def constrained_start(
         first = int(np.argmax(failed))
         raise ModelError(_singular(compiled, y0[:, first], f" of motion {first}"))
     _warn_moved(compiled, y0, moved)
+    return moved
+
+
+def _linkage_assembled(
+    compiled: CompiledSystem, t: float, y0: np.ndarray, params: np.ndarray
+) -> np.ndarray:
+    """``y0`` with a linkage's dependent coordinates solved onto its loops, its held ones
+    kept (:mod:`lagrangian.model.linkage_assembly`): what the linkage says is no move, and
+    the projection that follows finds it on the constraints."""
+    system = getattr(compiled.equations, "system", None)
+    if getattr(system, "linkage", None) is None:
+        return y0
+    from ..model.linkage_assembly import assembled
+
+    order = [compiled.parameter_names.index(name) for name in system.parameter_names]
+    positions = [compiled.coordinate_names.index(name) for name in system.coordinate_names]
+    n = compiled.n
+    moved = np.array(y0, dtype=float)
+    columns = [moved] if moved.ndim == 1 else [moved[:, k] for k in range(moved.shape[1])]
+    for k, y in enumerate(columns):
+        p = params if np.ndim(params) == 1 else params[:, k]
+        q, v = assembled(system, t, y[:n][positions], y[n:][positions], np.asarray(p)[order])
+        y[:n][positions], y[n:][positions] = q, v
+        if moved.ndim == 2:
+            moved[:, k] = y
     return moved
 
 

@@ -38,6 +38,8 @@ from .energy import conservative_potential, gravity_potential, kinetic_energy, s
 from .impacts import check_initial_gaps, check_restitutions, resolve_impacts
 from .inputs import assemble_inputs, input_entries, input_parameters, with_input_forces
 from .limits import check_kinetic_work
+from .linkage_reactions import with_reactions
+from .linkages import build_linkage, link_bodies
 from .naming import RESERVED, coordinates_named, parameter_entry, warn_of_likely_typos
 from .rigid_body import moving_with, resolve_body
 from .spec import (
@@ -286,6 +288,11 @@ class _Builder:
             )
             for i, b in enumerate(spec.bodies)
         )
+        linkage = None
+        if spec.links or spec.joints:
+            coordinates = {c.name: c.q for c in self.coordinates}
+            linkage = build_linkage(spec.links, spec.joints, resolved, coordinates)
+            bodies += link_bodies(linkage)
         dimension = self._dimension(particles, bodies)
         points = {p.name: p.position for p in particles} | {b.name: b.center for b in bodies}
         if len(points) != len(particles) + len(bodies):
@@ -294,6 +301,12 @@ class _Builder:
             self._spring(i, s, resolved, points, dimension) for i, s in enumerate(spec.springs)
         )
         gravity = self._gravity(resolved, dimension)
+        constraints = tuple(resolved[f"constraints[{i}]"] for i in range(len(spec.constraints)))
+        if linkage is not None:
+            linkage = with_reactions(
+                linkage, len(constraints), self.coordinates, gravity, particles, bodies, springs
+            )
+            constraints += linkage.constraints
 
         time = time_symbol()
         self._check_kinetic_work(particles, bodies)
@@ -356,7 +369,8 @@ class _Builder:
             forces=with_input_forces(self._by_coordinate(spec.forces, "forces", resolved), inputs),
             inputs=inputs,
             dissipation=resolved.get("dissipation", sympy.Integer(0)),
-            constraints=tuple(resolved[f"constraints[{i}]"] for i in range(len(spec.constraints))),
+            constraints=constraints,
+            linkage=linkage,
             impacts=resolve_impacts(
                 spec.impacts,
                 resolved,

@@ -41,6 +41,8 @@ MAX_COUNTS: Mapping[str, int] = MappingProxyType(
         "particles": 500,
         "bodies": 500,
         "springs": 500,
+        "links": 100,  # each closing joint adds two constraints
+        "joints": 100,
         "constraints": 200,
         "impacts": 200,
         "functions": 100,

@@ -9,6 +9,7 @@ from .components import ExprLike, Gravity, Particle, RigidBody, RigidBody2D, Spr
 from .impacts import Impact, impact_fields
 from .inputs import input_fields
 from .limits import check_counts, check_expression_text
+from .linkages import Joint, Link, link_fields
 
 # What an expression field may depend on.
 COORDINATES, VELOCITIES, TIME, PARAMETERS = "coordinates", "velocities", "t", "parameters"
@@ -39,6 +40,8 @@ class ModelSpec:
     particles: tuple[Particle, ...] = ()
     bodies: tuple[RigidBody2D | RigidBody, ...] = ()
     springs: tuple[Spring, ...] = ()
+    links: tuple[Link, ...] = ()  # planar linkages (:mod:`.linkages`)
+    joints: tuple[Joint, ...] = ()
     gravity: Gravity | None = None
     forces: Mapping[str, ExprLike] = field(default_factory=dict)
     conservative_forces: Mapping[str, ExprLike] = field(default_factory=dict)
@@ -63,6 +66,8 @@ def check_size(spec: ModelSpec) -> None:
         "particles": spec.particles,
         "bodies": spec.bodies,
         "springs": spec.springs,
+        "links": spec.links,
+        "joints": spec.joints,
         "constraints": spec.constraints,
         "impacts": spec.impacts,
         "functions": spec.functions,
@@ -112,6 +117,7 @@ def expression_fields(spec: ModelSpec) -> Iterator[tuple[str, object, frozenset[
             if not isinstance(end, str):
                 for k, x in enumerate(end):
                     yield f"springs[{i}].ends[{e}][{k}]", x, CONSTANT_OR_TIME
+    yield from link_fields(spec.links, spec.joints, CONSTANT, CONSTANT_OR_TIME)
     if spec.gravity is not None:
         yield "gravity.g", spec.gravity.g, CONSTANT
         for k, x in enumerate(spec.gravity.direction or ()):

@@ -17,6 +17,7 @@ from .limits import check_plain_text
 if TYPE_CHECKING:
     from .impacts import Impact
     from .inputs import Input
+    from .linkages import Linkage
     from .spec import ModelSpec
     from .units import Units
 
@@ -97,6 +98,7 @@ class System:
     source: str | None = None
     units: Units | None = None
     spec: ModelSpec | None = field(default=None, repr=False)
+    linkage: Linkage | None = field(default=None, repr=False)  # links and joints, if any
 
     def __post_init__(self) -> None:
         for name in ("forces", "initial", "simulate_settings"):

@@ -27,6 +27,7 @@ from .limits import (
     check_toml_keys,
     file_size_problem,
 )
+from .linkage_io import read_joints, read_links
 from .system import System
 
 _KINDS = {
@@ -42,7 +43,7 @@ TOP_LEVEL_KEYS = frozenset(
         "name", "description", "coordinates", "parameters", "lagrangian", "kinetic",
         "potential", "particles", "bodies", "springs", "gravity", "forces",
         "conservative_forces", "dissipation", "constraints", "functions", "initial",
-        "simulate", "inputs", "units", "impacts",
+        "simulate", "inputs", "units", "impacts", "links", "joints",
     }
 )  # fmt: skip
 SIMULATE_KEYS = frozenset({"t_end", "dt", "rtol", "atol", "method", "steps"})
@@ -64,7 +65,7 @@ def _check_simulate_value(key: str, value: object) -> None:
 
 _COUNTED = (
     "coordinates", "parameters", "particles", "bodies", "springs", "constraints", "functions",
-    "forces", "conservative_forces", "initial", "inputs", "units", "impacts",
+    "forces", "conservative_forces", "initial", "inputs", "units", "impacts", "links", "joints",
 )  # fmt: skip
 
 
@@ -171,6 +172,8 @@ def _spec(data: Mapping[str, object], source: str | None) -> ModelSpec:
         particles=tuple(_particle(p, i) for i, p in enumerate(_tables(data, "particles"))),
         bodies=tuple(_body(b, i) for i, b in enumerate(_tables(data, "bodies"))),
         springs=tuple(_spring(s, i) for i, s in enumerate(_tables(data, "springs"))),
+        links=read_links(data.get("links", [])),
+        joints=read_joints(data.get("joints", [])),
         gravity=_gravity(data["gravity"]) if "gravity" in data else None,
         forces=_table(data, "forces"),
         conservative_forces=_table(data, "conservative_forces"),

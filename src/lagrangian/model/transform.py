@@ -109,6 +109,7 @@ def change_coordinates(
         name=name or system.name,
         units=None,  # the new coordinates' units are not known
         spec=None,
+        linkage=None,  # its poses and reactions are in the old coordinates
         coordinates=new,
         parameters=parameters,
         lagrangian=move(system.lagrangian),

@@ -42,6 +42,7 @@ from ..files import write_atomically
 from ..model import System
 from ..trajectory import Trajectory
 from .geometry import geometry, rods
+from .linkage_drawing import linkage_frames
 from .mechanism import DEFAULT_DPI, DEFAULT_SIZE, MechanismView
 from .tracks import held, track_curves, tracks
 
@@ -140,8 +141,10 @@ def mechanism_view(
     trail: float = DEFAULT_TRAIL,
     size: float = DEFAULT_SIZE,
     dpi: int = DEFAULT_DPI,
+    reactions: bool = False,
 ) -> tuple[MechanismView, FramePlan]:
-    """The :class:`MechanismView` of ``trajectory`` and its :class:`FramePlan`."""
+    """The :class:`MechanismView` of ``trajectory`` and its :class:`FramePlan`; with
+    ``reactions``, a linkage's joint reactions drawn as arrows."""
     scene = geometry(system, trajectory.parameters)
     missing = [q for q in system.coordinate_names if q not in trajectory.coordinates]
     if missing:
@@ -155,9 +158,14 @@ def mechanism_view(
     samples = np.stack([trajectory[q] for q in system.coordinate_names])
     along_run = scene.at(t, samples)
     positions = scene.at(fine, resample(trajectory, fine))
+    linkage = linkage_frames(
+        system, trajectory, fine, resample(trajectory, fine), scene.parameters, reactions=reactions
+    )
     links = () if scene.coordinates_only else rods(along_run)
     drawn, links = ([], links) if scene.coordinates_only else held(tracks(system), links)
     extent = _union(scene.extent(along_run, links), scene.extent(positions, links))
+    if linkage is not None:
+        extent = _union(extent, linkage.extent())
     span = max(float(np.max(extent[:, 1] - extent[:, 0])), 1e-9)
     curves = track_curves(scene, drawn, plan.times, resample(trajectory, plan.times), span)
     for track, curve in zip(drawn, curves, strict=True):
@@ -177,6 +185,7 @@ def mechanism_view(
         size=size,
         dpi=dpi,
         tracks=curves,
+        linkage=linkage,
     )
     return view, plan
 
@@ -243,17 +252,26 @@ def animate(
     trail: float = DEFAULT_TRAIL,
     size: float = DEFAULT_SIZE,
     dpi: int = DEFAULT_DPI,
+    reactions: bool = False,
 ) -> Animation:
     """Animate ``trajectory`` of ``system``; write ``path`` (.gif, .html, .mp4) when given.
 
-    Without a path the result holds the HTML player and shows in Jupyter.
+    Without a path the result holds the HTML player and shows in Jupyter.  ``reactions``:
+    a linkage's joint reactions as arrows (:mod:`.linkage_drawing`).
     A model without particles or bodies is drawn as its coordinates (one dot per
     coordinate moving along its own line).  Errors: an unknown suffix, MP4
     without ffmpeg.
     """
     suffix = check_animation_path(path) if path is not None else None
     view, plan = mechanism_view(
-        trajectory, system, fps=fps, max_frames=max_frames, trail=trail, size=size, dpi=dpi
+        trajectory,
+        system,
+        fps=fps,
+        max_frames=max_frames,
+        trail=trail,
+        size=size,
+        dpi=dpi,
+        reactions=reactions,
     )
     if suffix is None:
         return Animation(None, plan, html=_player(view, plan))

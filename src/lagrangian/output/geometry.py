@@ -210,8 +210,12 @@ def geometry(system: System, parameters: Mapping[str, float] | None = None) -> G
         for b in solids
     )
     body_lengths = []
+    links = {link.name for link in system.linkage.links} if system.linkage else set()
     for body in planar:
         mass, inertia = number(body.mass, body.name), number(body.inertia, body.name)
+        if body.name in links:  # drawn from its start to its end (output.linkage_drawing)
+            body_lengths.append(0.0)
+            continue
         body_lengths.append(np.sqrt(12 * inertia / mass) if mass > 0 and inertia > 0 else 0.0)
     vertical = dimension - 1
     if system.gravity is not None and system.gravity.direction is not None:

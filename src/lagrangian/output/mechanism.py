@@ -27,6 +27,8 @@ from .geometry import ORIGIN, Geometry, Positions, axis_label, solid_pivots, zig
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+    from .linkage_drawing import LinkageFrames
+
 #: Largest side of the drawing area, inches; pixels per inch of the frames.
 DEFAULT_SIZE = 5.0
 DEFAULT_DPI = 80
@@ -66,12 +68,14 @@ class MechanismView:
         size: float = DEFAULT_SIZE,
         dpi: int = DEFAULT_DPI,
         tracks: Sequence[np.ndarray] = (),
+        linkage: LinkageFrames | None = None,
     ):
         from matplotlib.backends.backend_agg import FigureCanvasAgg
         from matplotlib.figure import Figure
 
         self.geometry = geometry
         self.tracks = tuple(tracks)  # (D, S, frames): the hoops and rails (.tracks)
+        self.linkage = linkage  # links, joints, pins and reactions (.linkage_drawing)
         self.positions = positions
         self.rods = tuple(rods)
         self.oversample = int(oversample)
@@ -189,6 +193,11 @@ class MechanismView:
         kinds = ("tracks", "springs", "rods", "bodies", "centers", "stems", "particles", "pivot")
         for kind in kinds:
             self._moving.extend(panel[kind])
+        if self.linkage is not None:
+            from .linkage_drawing import linkage_panel, moving_artists
+
+            panel["linkage"] = linkage_panel(ax, self.linkage, self.spring_width / 0.025)
+            self._moving.extend(moving_artists(panel["linkage"]))
         for lines in panel["solids"]:
             self._moving.extend(lines)
         self._moving.append(trail)
@@ -262,6 +271,10 @@ class MechanismView:
                 for dot, n in zip(dots, range(ends.shape[0]), strict=True):
                     dot.set_data([p.centers[n, 0, j]], [p.centers[n, 1, j]])
             self._update_solids(panel, j)
+            if self.linkage is not None:
+                from .linkage_drawing import update_linkage
+
+                update_linkage(panel["linkage"], self.linkage, j)
             start = max(0, j - self.trail_points)
             xy = np.column_stack([tracked[a, start : j + 1], tracked[b, start : j + 1]])
             segments = np.stack([xy[:-1], xy[1:]], axis=1) if len(xy) > 1 else np.empty((0, 2, 2))
