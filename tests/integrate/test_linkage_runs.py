@@ -251,3 +251,81 @@ def test_joint_reactions_match_newton_euler_on_each_link(which, driven, free):
             assert got == pytest.approx(expected[2 * j : 2 * j + 2], rel=1e-7, abs=1e-7)
         if which == "driven":
             assert run["tau_A"][k] == pytest.approx(expected[8], rel=1e-7, abs=1e-7)
+
+
+def test_slider_crank_reactions_match_newton_euler(slider):
+    """The prismatic joint P (a tree joint, cut along its normal and in angle) and the
+    revolute ones against Newton-Euler on the crank, the rod and the piston."""
+    system, run = slider
+    p = values(system)
+    eom = system.equations_of_motion()
+    names = ["theta", "x", "phi"]
+    accelerations = [eom.accelerations[n] for n in names]
+    found = {s.name: s for e in accelerations for s in e.free_symbols}
+    arguments = [found.get(n, sympy.Symbol(n)) for n in ["t", *names, *(f"{n}_dot" for n in names)]]
+    numbers = {found[n]: v for n, v in p.items() if n in found}
+    function = sympy.lambdify(arguments, [e.subs(numbers) for e in accelerations])
+    r, rod, g = p["r"], p["l"], G
+    for k in (5, 40, 70):
+        theta, x, phi = (run[n][k] for n in names)
+        w_theta, w_x, w_phi = (run[f"{n}_dot"][k] for n in names)
+        a_theta, a_x, a_phi = function(run.t[k], theta, x, phi, w_theta, w_x, w_phi)
+        u, n = np.array([np.cos(phi), np.sin(phi)]), np.array([-np.sin(phi), np.cos(phi)])
+        A = r * np.array([np.cos(theta), np.sin(theta)])
+        B = np.array([x, 0.0])
+        centre = A + rod / 2 * u
+        a_rod = r * (a_theta * np.array([-np.sin(theta), np.cos(theta)])
+                     - w_theta**2 * np.array([np.cos(theta), np.sin(theta)]))  # fmt: skip
+        a_rod = a_rod + rod / 2 * (a_phi * n - w_phi**2 * u)
+
+        def cross(v, w):
+            return v[0] * w[1] - v[1] * w[0]
+
+        # unknowns: R_O (0, 1), R_A (2, 3), R_B (4, 5), N (6), M (7)
+        rows, rhs = [], []
+        m_c, m_r, m_p = p["m_crank"], p["m_rod"], p["m_piston"]
+        for axis in range(2):  # the crank: centre of mass at the pivot O, at rest
+            row = np.zeros(8)
+            row[0 + axis], row[2 + axis] = 1, -1
+            rows.append(row), rhs.append(m_c * g * (axis == 1))
+        row = np.zeros(8)
+        row[2], row[3] = -cross(A, [1, 0]), -cross(A, [0, 1])
+        rows.append(row), rhs.append(p["I_flywheel"] * a_theta)
+        for axis in range(2):  # the rod
+            row = np.zeros(8)
+            row[2 + axis], row[4 + axis] = 1, -1
+            rows.append(row), rhs.append(m_r * a_rod[axis] + m_r * g * (axis == 1))
+        row = np.zeros(8)
+        row[2], row[3] = cross(A - centre, [1, 0]), cross(A - centre, [0, 1])
+        row[4], row[5] = -cross(B - centre, [1, 0]), -cross(B - centre, [0, 1])
+        rows.append(row), rhs.append(m_r * rod**2 / 12 * a_phi)
+        for axis in range(2):  # the piston: at B, sliding along x, not turning
+            row = np.zeros(8)
+            row[4 + axis] = 1
+            row[6] = 1.0 * (axis == 1)
+            rows.append(row), rhs.append(m_p * a_x * (axis == 0) + m_p * g * (axis == 1))
+        row = np.zeros(8)
+        row[7] = 1.0
+        rows.append(row), rhs.append(0.0)
+        matrix, rhs = np.array(rows), np.array(rhs)
+        solution, *_ = np.linalg.lstsq(matrix, rhs, rcond=None)
+        assert np.max(np.abs(matrix @ solution - rhs)) < 1e-8
+        got = [run[c][k] for c in ("R_O_x", "R_O_y", "R_A_x", "R_A_y", "R_B_x", "R_B_y")]
+        assert got == pytest.approx(solution[:6], rel=1e-7, abs=1e-7)
+        assert run["R_P_x"][k] == pytest.approx(0.0, abs=1e-7)
+        assert run["R_P_y"][k] == pytest.approx(solution[6], rel=1e-7, abs=1e-7)
+        assert run["M_P"][k] == pytest.approx(solution[7], abs=1e-7)
+
+
+def test_reactions_reach_the_files_and_the_summary(driven, tmp_path):
+    _, run = driven
+    summary = run.summary()["reactions"]
+    assert summary["tau_A"]["final"] == run["tau_A"][-1]
+    assert summary["R_C_y"]["max_abs"] == np.max(np.abs(run["R_C_y"]))
+    header = run.to_csv(tmp_path / "run.csv").read_text().splitlines()[0].split(",")
+    assert header[-9:] == [
+        "R_A_x", "R_A_y", "tau_A", "R_B_x", "R_B_y", "R_D_x", "R_D_y", "R_C_x", "R_C_y"
+    ]  # fmt: skip
+    back = lg.Trajectory.load(run.to_netcdf(tmp_path / "run.nc"))
+    assert back.reactions == run.reactions
+    assert np.array_equal(back["R_B_x"], run["R_B_x"])

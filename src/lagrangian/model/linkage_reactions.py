@@ -105,7 +105,9 @@ def _reactions(linkage: Linkage, gravity, rates) -> dict[str, sympy.Expr]:
         if joint.drive_constraint is not None:
             name = "tau" if joint.kind == "revolute" else "F"
             columns[f"{name}_{joint.name}"] = lam[joint.drive_constraint]
-    return columns
+    kinds = (("R", "_x"), ("R", "_y"), ("M", ""), ("tau", ""), ("F", ""))
+    order = [f"{kind}_{j.name}{axis}" for j in linkage.joints for kind, axis in kinds]
+    return {name: columns[name] for name in order if name in columns}  # joint by joint
 
 
 def _normal(joint, linkage: Linkage) -> tuple[sympy.Expr, sympy.Expr]:
