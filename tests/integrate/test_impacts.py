@@ -200,3 +200,38 @@ def test_a_held_contact_is_released_when_its_multiplier_would_pull():
     expected = 4.0 * (t**3 - t0**3) / 6 - 4.0 * t0**2 * (t - t0) / 2 - 9.81 * (t - t0) ** 2 / 2
     assert trajectory.final_state["y"] == pytest.approx(expected, rel=1e-8)
     assert trajectory.impacts == []
+
+
+def test_the_impacts_are_in_simulate_json_and_survive_a_netcdf_file(tmp_path, capsys):
+    import json
+
+    from lagrangian.cli import main
+    from lagrangian.trajectory import Trajectory
+
+    path = tmp_path / "ball.nc"
+    status = main(["simulate", "bouncing_ball", "--t-end", "2", "--json", "--out", str(path)])
+    document = json.loads(capsys.readouterr().out)
+    assert status == 0
+    impacts = document["impacts"]
+    assert [entry["contact"] for entry in impacts] == ["floor"] * 3
+    np.testing.assert_allclose(
+        [entry["t"] for entry in impacts], analytic_times(3, 0.9, 1.0, 9.81), atol=1e-12
+    )
+    for entry in impacts:
+        assert set(entry) == {"t", "contact", "energy_before", "energy_after"}
+        # the ball's horizontal motion keeps its energy: only the vertical part is scaled
+        vertical = entry["energy_before"] - 0.3**2 / 2
+        assert entry["energy_after"] - 0.3**2 / 2 == pytest.approx(0.81 * vertical, rel=1e-12)
+    assert document["held_contacts"] == []
+    loaded = Trajectory.load(path)
+    assert loaded.contacts == ("floor",)
+    assert [r.t for r in loaded.impacts] == [entry["t"] for entry in impacts]
+    np.testing.assert_allclose(
+        loaded.impacts[0].velocities_after, [0.3, 0.9 * math.sqrt(2 * 9.81)], rtol=1e-12
+    )
+
+
+def test_a_model_without_contacts_keeps_its_json():
+    trajectory = simulate_system(lg.load("harmonic_oscillator"), t_end=1.0)
+    assert "impacts" not in trajectory.summary()
+    assert trajectory.impacts == [] and trajectory.contacts == ()
