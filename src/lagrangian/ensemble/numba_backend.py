@@ -15,8 +15,12 @@ iteration; a member asking only for ``flip_time`` stops when it has flipped.  Fo
 displacement from the generated variational equations, renormalised after every step,
 as the numpy backend's :class:`~lagrangian.integrate.lyapunov.TangentFlow`.
 
+A constrained system runs rk4 in the loop of :mod:`.numba_projected` instead: its
+generated y' (the augmented system) and projection, those of the compiled DOP853 loop
+(:func:`lagrangian.integrate.compiled_dop853.compiled_loop`), each member projected onto
+the constraints after every step, as the numpy backend projects.
+
 numba is imported here only (``pip install ".[numba]"``).
-Constrained systems are not handled (use the numpy backend).
 """
 
 from __future__ import annotations
@@ -64,6 +68,8 @@ class NumbaBackend(AbstractEnsembleBackend):
     name: ClassVar[str] = "numba"
 
     def integrate(self, chunk: Chunk, progress: Progress | None = None) -> Outputs:
+        if chunk.compiled.has_constraints:
+            return projected_members(chunk)
         scheme = chunk.scheme(self.name)
         lyapunov = "lyapunov" in chunk.names
         if lyapunov:
@@ -98,3 +104,41 @@ def tangent_scheme(scheme: str, method: str) -> str:
     if scheme != "rk4":
         raise ModelError(f"the lyapunov observable needs an explicit method (rk4), not {method}")
     return "rk4-tangent"
+
+
+def projected_members(chunk: Chunk) -> Outputs:
+    """The chunk of a constrained system: rk4 and a projection every step, per member, in
+    the shared loop of :mod:`.numba_projected` (see the module docstring)."""
+    from pathlib import Path
+
+    from ..codegen.cache import load_text, package_text
+    from ..integrate import tableaus
+    from ..integrate.compiled_dop853 import compiled_loop
+
+    compiled = chunk.compiled
+    if chunk.scheme("numba") != "rk4":
+        raise ModelError(
+            f"backend 'numba' integrates a constrained system with rk4, not {chunk.integrator.name}"
+        )
+    if "lyapunov" in chunk.names:
+        raise ModelError("the lyapunov observable does not take constrained systems")
+    if compiled.forms is None:
+        raise ModelError(
+            "backend 'numba' generates code from derived equations, not given functions"
+        )
+    _numba()
+    loop = compiled_loop(compiled)
+    module = load_text(*package_text(Path(__file__).with_name("numba_projected.py")))
+    count = chunk.count
+    states = np.ascontiguousarray(np.asarray(chunk.y0, dtype=float).T)
+    p = np.asarray(chunk.params, dtype=float)
+    per_member = np.ascontiguousarray(p.T if p.ndim == 2 else np.broadcast_to(p, (count, p.size)))
+    final, flips = np.empty_like(states), np.empty(count)
+    paths = np.empty((count, states.shape[1], chunk.saved) if chunk.every else (1, 1, 1))
+    tableau = tableaus.RK4
+    module.run(
+        loop.y_prime, loop.n, states, per_member, chunk.grid, np.ascontiguousarray(tableau.a),
+        np.ascontiguousarray(tableau.b), np.ascontiguousarray(tableau.c), chunk.track,
+        chunk.stop, chunk.every, final, flips, paths,
+    )  # fmt: skip
+    return chunk.result(final.T, flips, np.transpose(paths, (1, 0, 2)))
