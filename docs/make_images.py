@@ -20,6 +20,7 @@ import lagrangian as lg
 from lagrangian.integrate import simulate
 from lagrangian.numeric import compile_equations
 from lagrangian.output.animation import animate, mechanism_view
+from lagrangian.output.continuation import plot_continuation
 from lagrangian.output.mode_shapes import plot_normal_modes
 from lagrangian.output.phase import phase_family, plot_phase_portrait
 from lagrangian.output.plots import new_figure, plot_energy_error, plot_timeseries, save_figure
@@ -550,6 +551,21 @@ def driven_pendulum() -> None:
     save(diagram.plot(size=0.5), "driven_pendulum_bifurcation.png")
 
 
+def driven_pendulum_continuation() -> None:
+    """The period-doubling cascade followed by continuation, over the brute-force diagram
+    (what ``lagrangian orbits --vary A=1.05:1.084:35 --out F.png`` draws, with a
+    background of 300 values)."""
+    system = lg.load("driven_damped_pendulum")
+    result = system.continuation(
+        vary={"A": (1.05, 1.084, 35)}, strobe=DRIVE_PERIOD, attractor=3, timeout=None
+    )
+    diagram = system.bifurcation(
+        vary={"A": np.linspace(1.05, 1.084, 300)}, variable="theta_dot", period=DRIVE_PERIOD,
+        transient=300 * DRIVE_PERIOD, samples=40, backend="numba", timeout=None,
+    )  # fmt: skip
+    save(plot_continuation(result, "theta_dot", diagram), "driven_pendulum_continuation.png")
+
+
 def driven_pendulum_sensitivity() -> None:
     """d theta(t) / d(b, l, theta(0)) of the driven pendulum in its regular regime."""
     system = lg.load("driven_damped_pendulum")
@@ -579,6 +595,7 @@ PICTURES = (
     serve_editor,
     henon_heiles,
     driven_pendulum,
+    driven_pendulum_continuation,
     driven_pendulum_sensitivity,
 )
 

@@ -77,6 +77,9 @@ SMALLER = (
     ("--t-end 10000 --axes", "--t-end 40 --axes"),
     ("9.42477796076938 --transient 100 ", "9.42477796076938 --transient 10 --t-end 40 "),
     ("A=1.35:1.5:400", "A=1.35:1.5:2"),
+    # the continuation drawn (branches over a diagram of 200 values): a shorter range, and
+    # its text (checked in PRINTS) as written
+    ("A=1.05:1.084:35 \\", "A=1.05:1.07:11 \\"),
     ("--transient 300 --axis", "--transient 10 --samples 2 --steps-per-period 50 --axis"),
     ("A=1.35:1.5:300", "A=1.35:1.5:2"),
     ("--transient 300 --samples 60 ", "--transient 10 --samples 2 --steps-per-period 50 "),
@@ -119,6 +122,14 @@ PRINTS = {
         "1 periodic orbit of period dividing 2",
         "period 2, stable node, multipliers 0.471104, 0.000171299; (theta, theta_dot) at "
         "(-2.47699, 1.1494), (-2.20769, 1.3461)",
+    ],
+    "lagrangian orbits driven_damped_pendulum --strobe 9.42477796076938 --vary A=1.05:1.084:35 "
+    "--starts 3": [
+        "4 branches of periodic orbits of the strobe every 9.42478 followed in A from 1.05",
+        "period doubling at A = 1.066372862",
+        "period doubling at A = 1.079313906",
+        "period doubling at A = 1.082084384",
+        "period doubling at A = 1.082678353",
     ],
     "lagrangian derive rotating_wire_bead": ["r̈ = ω² r"],
     "lagrangian simulate double_pendulum": ["method: dop853 in SciPy's loop on"],

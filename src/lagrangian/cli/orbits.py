@@ -141,9 +141,9 @@ def orbits(
     click.echo(orbits_text(search))
 
 
-#: The brute-force diagram behind the drawn branches: its transient (in strobe periods)
-#: and its points per value.
-BACKGROUND_PERIODS, BACKGROUND_SAMPLES = 300, 40
+#: The brute-force diagram behind the drawn branches: its transient (in strobe periods),
+#: its points per value, and at least this many values (the continuation's N if more).
+BACKGROUND_PERIODS, BACKGROUND_SAMPLES, BACKGROUND_VALUES = 300, 40, 200
 
 
 def _varied(text: str, system):
@@ -243,18 +243,20 @@ def _continued(
     _wrote(*outputs)
 
 
-def _background(system, result, variable, values, definitions, timeout):
-    """The brute-force bifurcation diagram over the same values of the parameter."""
+def _background(system, result, variable, assigned, definitions, timeout):
+    """The brute-force bifurcation diagram over the continuation's range (its N values, at
+    least BACKGROUND_VALUES), from the initial state, by the numba ensemble where numba is
+    installed."""
     import numpy as np
 
     from ..ensemble import bifurcation_of_system
     from ..integrate.compiled_dop853 import numba_installed
     from ..simulation import split_assignments
 
-    settings = result.settings
-    initial, params = split_assignments(system, values)
+    initial, params = split_assignments(system, assigned)
+    count = max(result.settings["values"], BACKGROUND_VALUES)
     return bifurcation_of_system(
-        system, vary={result.parameter: np.linspace(result.low, result.high, settings["values"])},
+        system, vary={result.parameter: np.linspace(result.low, result.high, count)},
         variable=variable, period=result.strobe.period, phase=result.strobe.phase,
         transient=BACKGROUND_PERIODS * result.strobe.period, samples=BACKGROUND_SAMPLES,
         initial=initial, params=params, backend="numba" if numba_installed() else "numpy",
