@@ -153,3 +153,62 @@ def test_parameters_made_of_parameters_follow_the_values_given():
     )  # fmt: skip
     final = np.array(list(reference.final_state.values()))
     np.testing.assert_allclose(taylor.y[:, -1], final, rtol=0, atol=1e-9)
+
+
+def chain(links: int) -> lg.System:
+    """``links`` unit pendulums hanging one from the other."""
+    particles, x, y = [], "0", "0"
+    for i in range(1, links + 1):
+        x, y = f"{x} + sin(theta{i})", f"{y} - cos(theta{i})"
+        particles.append(lg.Particle(f"bob{i}", mass="1", position=[x, y]))
+    return lg.System.from_particles(
+        coordinates=[f"theta{i}" for i in range(1, links + 1)],
+        particles=particles,
+        gravity=lg.Gravity(g="g", direction=(0, -1)),
+        parameters={"g": 9.81},
+    )
+
+
+def test_the_default_of_a_long_run_of_two_coordinates_is_taylor(monkeypatch):
+    # issue 36 item 2: at 1e-10 heyoka takes 0.44 of the compiled DOP853's time, with an
+    # error 30x smaller, and starts in 0.3 s against 0.8 s (CPU, benchmarks/taylor_path.py),
+    # even where the compiled loop is in the code cache (as here)
+    from lagrangian.integrate import choice
+    from lagrangian.integrate.choice import choose_run
+
+    monkeypatch.setattr(choice, "compiled_ready", lambda compiled: True)
+    monkeypatch.setattr(choice, "method_ready", lambda: True)
+
+    eom = lg.load("double_pendulum").equations_of_motion()
+    run = choose_run(
+        eom, t_end=1000.0, method=None, backend=None, rtol=1e-10, atol=1e-10,
+        initial={"theta1": 0.3, "theta2": 0.2}, params={},
+    )  # fmt: skip
+    assert run.method == "taylor", run.reason
+    assert run.reason.startswith("taylor (heyoka, tol 1e-10): about ")
+
+
+def test_the_default_of_a_long_run_of_a_chain_is_the_compiled_loop():
+    # heyoka's compact mode, built for more than two coordinates, takes 3-5x the compiled
+    # DOP853's time: over 10^5 time units no start-up makes up for it
+    pytest.importorskip("numba")
+    from lagrangian.integrate.choice import choose_run
+
+    run = choose_run(
+        chain(4).equations_of_motion(), t_end=1e5, method=None, backend=None, rtol=1e-10,
+        atol=1e-10, initial={"theta1": 0.1}, params={},
+    )  # fmt: skip
+    assert (run.method, run.compiled.backend) == ("dop853", "numba"), run.reason
+    assert "taylor ~" in run.reason
+
+
+def test_a_short_run_stays_in_scipys_loop_with_heyoka_installed():
+    from lagrangian.integrate.choice import choose_run
+
+    eom = lg.load("double_pendulum").equations_of_motion()
+    run = choose_run(
+        eom, t_end=20.0, method=None, backend=None, rtol=None, atol=None,
+        initial={"theta1": 2.0, "theta2": 0.5}, params={},
+    )  # fmt: skip
+    assert run.method == "dop853" and run.compiled.backend != "numba"
+    assert "too short for a compiled way" in run.reason

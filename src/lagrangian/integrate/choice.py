@@ -20,13 +20,15 @@ tolerances given) differ in what they cost before the first step and per step
 - ``taylor`` (heyoka, where installed and applicable: no events, no constraints, a
   definite mass matrix), at tol = min(rtol, atol): its import and build take a
   fraction of a second for small systems, more for large ones, and it then runs
-  2-3x faster than the compiled DOP853 for two coordinates with errors 30-200x
-  smaller, but 3x slower for a 10-link chain (heyoka's compact mode).
+  2x faster than the compiled DOP853 for two coordinates with errors 30-200x
+  smaller, but 3-5x slower for a 10-link chain (heyoka's compact mode).
 
 So the run's length decides, and to know it the first :data:`PROBE_STEPS` steps of
 SciPy's DOP853 are taken (a few milliseconds): the step size they reach, over the
 time span, estimates the steps of the whole run; each way's cost is its start-up
-plus that many steps at its pace (the constants below, per coordinate count n).
+plus that many steps at its pace (the constants below, per coordinate count n).  A run
+SciPy's loop ends within :data:`SWITCH_MARGIN` times the compiled loop's start from the
+code cache stays in SciPy's loop without looking further.
 The estimate is deterministic for a given system, state and tolerance, except that a
 loop found in the code cache costs less to start.  The cheapest runs; the reason is
 one line, echoed in the run's summary (``choice``).  Where a way does not apply
@@ -105,18 +107,22 @@ def linked_start_seconds(n: int, method_cached: bool = True) -> float:
 
 
 def taylor_start_seconds(n: int) -> float:
-    """Seconds to import heyoka (about 0.3 s) and build its integrator (0.1-0.3 s for the
-    double pendulum, 1.3-1.6 s for a 10-link chain)."""
-    return 0.6 + 0.015 * n * n
+    """CPU seconds to import heyoka and build its integrator in a new process: 0.29-0.33 s
+    for the double pendulum, 0.73-0.85 s for a 10-link chain (benchmarks/taylor_path.py's
+    notes, issue 36; 0.6 + 0.015 n^2 before, from wall clocks under load)."""
+    return 0.25 + 0.006 * n * n
 
 
-#: heyoka's integration time relative to the compiled DOP853 at the same tolerance: its
-#: code for two coordinates (0.36-0.45: the double pendulum at 1e-10 and 1e-15), and in
-#: the compact mode it is built in for more (3: a 10-link chain at 1e-15, 91 s against
-#: 30 s; benchmarks/adaptive.py); and its steps relative to DOP853's.
-TAYLOR_PACE, TAYLOR_COMPACT_PACE, TAYLOR_STEPS = 0.4, 3.0, 0.6
-#: Seconds of Python per taylor step where every step is an output (no t_eval / n_out).
-TAYLOR_STEP_OUTPUT = 2e-5
+#: heyoka's integration time relative to the compiled DOP853 at the same tolerance, CPU:
+#: its code for two coordinates (0.44 for the double pendulum at 1e-10, 0.36-0.45 at 1e-15),
+#: and in the compact mode it is built in for more (5.2: a 10-link chain at 1e-10, 3 at
+#: 1e-15; benchmarks/taylor_path.py, adaptive.py).
+TAYLOR_PACE, TAYLOR_COMPACT_PACE = 0.45, 5.0
+#: CPU seconds per taylor step where every step is an output (no t_eval / n_out): taken
+#: from heyoka's continuous output a chunk at a time (0.3 us; 20 us with a Python call a
+#: step before issue 36), for about as many steps as DOP853's at 1e-10 (18,563 against
+#: 18,961 for the double pendulum).
+TAYLOR_STEP_OUTPUT = 3e-7
 
 
 #: A way that must compile first is chosen over SciPy's loop only when its estimate is this
@@ -189,7 +195,10 @@ def choose_run(
     n = quick.n
     costs = {"scipy": steps * scipy_step_seconds(n)}
     notes, fast = [], None
-    quickest = min(numba_start_seconds(n, cached=True), taylor_start_seconds(n))
+    # A run SciPy's loop ends in about the compiled loop's start stays there, heyoka or
+    # not (it is under a second either way): a short run's numbers are the same on every
+    # machine, and the optional package is not imported for it.
+    quickest = numba_start_seconds(n, cached=True)
     if costs["scipy"] <= SWITCH_MARGIN * quickest:  # nothing that compiles can win: go now
         scipy = f"about {_count(steps)} steps: scipy ~{costs['scipy']:.2g} s"
         return scipy_loop(f"{scipy}, too short for a compiled way (start ~{quickest:.2g} s)")
@@ -208,8 +217,8 @@ def choose_run(
         if problem is None:
             relative = TAYLOR_PACE if n <= 2 else TAYLOR_COMPACT_PACE  # taylor.py's modes
             pace = relative * steps * compiled_step_seconds(n)
-            if every_step:  # its steps are taken one Python call at a time
-                pace += TAYLOR_STEPS * steps * TAYLOR_STEP_OUTPUT
+            if every_step:  # each step's state copied from heyoka's continuous output
+                pace += steps * TAYLOR_STEP_OUTPUT
             costs["taylor"] = taylor_start_seconds(n) + pace
         else:
             notes.append(f"taylor {problem}")
