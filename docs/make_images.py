@@ -290,6 +290,19 @@ def linkages() -> None:
     film(slider, run, "slider_crank.gif", size=4.0, trail=0.2)
 
 
+def impacts() -> None:
+    """The bouncing ball to rest and the impact oscillator: films and time series."""
+    ball = lg.load("bouncing_ball")
+    film(ball, ball.simulate(t_end=10.0, n_out=1001), "bouncing_ball.gif", size=3.0, trail=0.6)
+    save(
+        plot_timeseries(ball.simulate(t_end=10.0, n_out=2001), ball), "bouncing_ball_timeseries.png"
+    )
+    oscillator = lg.load("impact_oscillator")
+    run = oscillator.simulate(t_end=60.0, n_out=3001)
+    film(oscillator, oscillator.simulate(t_end=12.0, n_out=601), "impact_oscillator.gif", trail=0.4)
+    save(plot_timeseries(run, oscillator), "impact_oscillator_timeseries.png")
+
+
 def double_pendulum_page() -> None:
     """A screenshot of ``lagrangian page double_pendulum`` in headless Chromium after a few
     seconds of play (Debian's chromium, driven by Playwright)."""
@@ -591,6 +604,7 @@ PICTURES = (
     rotating_wire_bead,
     heavy_top,
     linkages,
+    impacts,
     cart_pole,
     serve_editor,
     henon_heiles,
