@@ -12,7 +12,7 @@ import xarray as xr
 import lagrangian as lg
 from lagrangian.errors import FileError
 from lagrangian.integrate.observation import observed_expressions
-from lagrangian.measurements import read_measurements
+from lagrangian.measurements import noise_levels, read_measurements
 
 PENDULUM = lg.System.from_lagrangian(
     "m*l**2*theta_dot**2/2 + m*g*l*cos(theta)", coordinates=["theta"]
@@ -138,3 +138,27 @@ def test_netcdf_with_a_time_coordinate_and_units(tmp_path):
 def test_a_file_that_is_not_there(tmp_path):
     with pytest.raises(FileError, match="no such file"):
         read_measurements(str(tmp_path / "none.csv"), PENDULUM)
+
+
+DEGREES = lg.loads(
+    'coordinates = ["theta"]\nlagrangian = "m*l^2*theta_dot^2/2 + m*g*l*cos(theta)"\n'
+    '[parameters]\nm = "1 kg"\nl = "1 m"\ng = "9.81 m/s^2"\n[units]\ntheta = "deg"\n'
+)
+
+
+def test_a_column_without_a_unit_is_in_the_unit_the_model_declares(tmp_path):
+    found, _ = read(tmp_path, "t,theta,theta_dot\n0,90,180\n", DEGREES)
+    assert math.isclose(found.columns["theta"][0], math.pi / 2)
+    assert math.isclose(found.columns["theta_dot"][0], math.pi)  # deg/s
+
+
+def test_noise_levels_in_the_columns_units():
+    assert np.allclose(noise_levels("0.5 cm", ["x"], DIMENSIONED), [0.005])
+    both = noise_levels({"x": "2 mm", "x_dot": 0.1}, ["x", "x_dot"], DIMENSIONED)
+    assert np.allclose(both, [0.002, 0.1])
+    assert np.allclose(noise_levels(0.3, ["theta"], DEGREES), [0.3 * math.pi / 180])
+    with pytest.raises(lg.ModelError) as error:
+        noise_levels("1 s", ["x"], DIMENSIONED)
+    assert str(error.value) == (
+        "noise: the noise of column 'x [s]': x is a length (m), but s is a time (s)"
+    )

@@ -224,7 +224,8 @@ class System(ModelSystem):
         """
         from .fitting import fit_of_system
 
-        return fit_of_system(self, data, vary=vary, **options)
+        equations = self._derived(inputs_held=False)
+        return fit_of_system(self, data, vary=vary, equations=equations, **options)
 
     def poincare(self, **options: object):
         """A Poincaré section -> :class:`~lagrangian.integrate.poincare.PoincareSection`

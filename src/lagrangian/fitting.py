@@ -8,16 +8,17 @@ where it is installed: the sensitivity equations' compiled loop) and hands the p
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
+from .derive import EquationsOfMotion, derive
 from .errors import ModelError, setting
 from .integrate.fit_result import FitResult
 from .model import System
+from .numeric import compile_equations, default_backend
 from .simulation import RunSettings
 
 
@@ -30,6 +31,7 @@ def fit_of_system(
     starts: int = 1,
     noise: float | Mapping[str, float] | None = None,
     seed: int = 0,
+    equations: EquationsOfMotion | None = None,
     **settings: Any,
 ) -> FitResult:
     """The best fit of ``vary`` (parameters, or coordinates and velocities for their initial
@@ -41,17 +43,18 @@ def fit_of_system(
     degree of freedom.  The backend is numba where it is installed (the compiled loop of
     the sensitivity equations, built once and cached), unless ``backend`` says otherwise.
     See :mod:`lagrangian.integrate.fit`; ``settings``: the keywords of :class:`RunSettings`
-    (the timeout is not applied to a fit)."""
+    (the timeout is not applied to a fit); ``equations``: those of ``system`` when derived
+    already (the facade keeps them: a second fit does not derive them again)."""
     from .integrate.compiled_dop853 import numba_installed
     from .integrate.fit import FitProblem, fit_parameters, whole_number
     from .integrate.observation import observation, observed_expressions
-    from .measurements import read_measurements
+    from .measurements import noise_levels, read_measurements
 
     guesses = _guesses(system, vary)
     if system.units is not None:  # a bare guess is in the unit the model declares for it
         guesses = {n: None if v is None else system.units.bare(n, v) for n, v in guesses.items()}
     starts = whole_number("starts", starts)
-    _noise(noise, ())  # its values checked before the data are read
+    noise_levels(noise, (), system)  # its values checked before the data are read
     expressions = observed_expressions(system, observe)
     measured = read_measurements(data, system, expressions)
     if settings.get("backend") is None:
@@ -62,7 +65,10 @@ def fit_of_system(
         n: v for n, v in guesses.items() if n not in system.parameter_names and v is not None
     }
     params |= {n: v for n, v in guesses.items() if n in system.parameter_names and v is not None}
-    compiled, _ = run.compiled(system, float(measured.times[-1]))
+    compiled = compile_equations(
+        equations if equations is not None else derive(system),
+        backend=run.backend or default_backend(), definitions=run.definitions,
+    )  # fmt: skip
     for name, value in guesses.items():
         unknown = name not in params and name not in compiled.default_parameters
         if value is None and name in system.parameter_names and unknown:
@@ -81,7 +87,7 @@ def fit_of_system(
         )
     )
     columns = tuple(measured.columns)
-    sigma = _noise(noise, columns)
+    sigma = noise_levels(noise, columns, system, expressions)
     problem = FitProblem(
         times=measured.times,
         data=np.array([measured.columns[c] for c in columns]),
@@ -148,32 +154,3 @@ def _number(name: str, value: object) -> float:
             f"the start guess of {name} is not finite: {value!r}", field=setting("vary")
         )
     return number
-
-
-def _noise(noise, columns: Sequence[str]) -> np.ndarray | None:
-    """Each column's sigma, or None without a noise level."""
-    if noise is None:
-        return None
-    given = noise if isinstance(noise, Mapping) else dict.fromkeys(columns or ["all"], noise)
-    for name in given:
-        try:
-            value = float(given[name])
-        except (TypeError, ValueError):
-            value = math.nan
-        if not (math.isfinite(value) and value > 0):
-            raise ModelError(
-                f"the noise level must be a positive number, not {given[name]!r}",
-                field=setting("noise"),
-            )
-    if not columns:
-        return None
-    unknown = [name for name in given if name not in columns and isinstance(noise, Mapping)]
-    if unknown:
-        raise ModelError(
-            f"'{unknown[0]}' is not a measured column ({', '.join(columns)})",
-            field=setting("noise"),
-        )
-    for name in columns:
-        if name not in given:
-            raise ModelError(f"no noise level for the column '{name}'", field=setting("noise"))
-    return np.array([float(given[c]) for c in columns])

@@ -10,7 +10,9 @@ as variables along it, a unit in a variable's ``units`` attribute.
 This is an edge of the package, as the model file is: a column with a unit is converted
 here to the SI units the model computes in (a model with ``[units]``; a unit is refused
 where it has a different dimension, or where the model has no units, since its numbers'
-units are then unknown), and nothing below sees a unit.
+units are then unknown), and nothing below sees a unit.  A column without a unit is in
+the unit the model declares for the name (``[units] theta = "deg"``), as a bare number
+given on the command line is; an observed expression's, in SI.
 
 Problems are :class:`~lagrangian.errors.FileError` lines naming the file and the row (a
 CSV row counts the header as row 1, as a spreadsheet shows it) or the column: an empty
@@ -253,40 +255,102 @@ def _factors(
     system: System,
     observed: Mapping[str, sympy.Expr],
 ) -> dict[str, float]:
-    """name -> the factor that takes the column to the model's SI units (1 without a unit)."""
+    """name -> the factor that takes the column to the model's SI units."""
+    factors = {}
+    for name in names:
+        try:
+            factors[name] = _factor(name, units.get(name), system, observed)
+        except ModelError as error:
+            raise FileError(source, str(error)) from None
+    return factors
+
+
+def _factor(
+    name: str, text: str | None, system: System, observed: Mapping[str, sympy.Expr]
+) -> float:
+    """The factor to SI of a column ``name`` given in the unit ``text``: None is the unit the
+    model declares for the name (SI for an observed expression, or without units)."""
     from .model.dimensions import describe, dimension_of
     from .model.quantities import read_unit
 
-    factors = {}
-    for name in names:
-        text = units.get(name)
-        if text is None:
-            factors[name] = 1.0
-            continue
-        if system.units is None:
-            raise FileError(
-                source,
-                f"column '{name} [{text}]' has a unit but the model has none, so its numbers' "
-                f"units are unknown: give the model a [units] table, or drop the unit",
-            )
+    units = system.units
+    if text is None:
+        return 1.0 if units is None or name in observed else units.bare(name, 1.0)
+    if units is None:
+        raise ModelError(
+            f"column '{name} [{text}]' has a unit but the model has none, so its numbers' "
+            f"units are unknown: give the model a [units] table, or drop the unit"
+        )
+    unit = read_unit(text, f"column '{name}'")
+    if name in observed:
+        expected = dimension_of(observed[name], units.symbols(system))
+        what = "" if expected is None else describe(expected)
+    else:
+        expected, what = units.dimension(name), units.describe(name)
+    if expected is not None and unit.dimension != expected:
+        raise ModelError(
+            f"column '{name} [{text}]': {name} is {what}, but {text} is {describe(unit.dimension)}"
+        )
+    return unit.factor
+
+
+def noise_levels(
+    noise: object,
+    columns: Sequence[str],
+    system: System,
+    observed: Mapping[str, sympy.Expr] | None = None,
+) -> np.ndarray | None:
+    """Each column's noise sigma in SI (None without ``noise``): one value for every column
+    or a mapping column -> value; a value is a positive number (in the unit the model
+    declares for the column, as a bare data column is) or text with a unit (``"0.3 deg"``,
+    checked against the column's dimension).  With no ``columns``, only the values are
+    checked (before the data are read)."""
+    from .model.quantities import has_unit, read_quantity
+
+    if noise is None:
+        return None
+    field = setting("noise")
+    given = dict(noise) if isinstance(noise, Mapping) else dict.fromkeys(columns or ["*"], noise)
+    texts = {}
+    for name, value in given.items():
+        text = value.strip() if isinstance(value, str) else None
         try:
-            unit = read_unit(text, f"column '{name}'")
-        except ModelError as error:
-            raise FileError(source, str(error)) from None
-        if name in observed:
-            expected = dimension_of(observed[name], system.units.symbols(system))
-            what = "" if expected is None else describe(expected)
-        else:
-            expected = system.units.dimension(name)
-            what = system.units.describe(name)
-        if expected is not None and unit.dimension != expected:
-            raise FileError(
-                source,
-                f"column '{name} [{text}]': {name} is {what}, but {text} is "
-                f"{describe(unit.dimension)}",
+            number = (
+                read_quantity(text, f"{field} {name}").number
+                if text is not None and has_unit(text)
+                else float(value)
             )
-        factors[name] = unit.factor
-    return factors
+        except ModelError:  # a unit that is not one: its own message
+            raise
+        except (TypeError, ValueError):
+            number = math.nan
+        if not (math.isfinite(number) and number > 0):
+            raise ModelError(
+                f"the noise level must be a positive number, not {value!r}", field=field
+            )
+        texts[name] = text if text is not None and has_unit(text) else None
+    if not columns:
+        return None
+    unknown = [name for name in given if name not in columns]
+    if unknown and isinstance(noise, Mapping):
+        known = ", ".join(columns)
+        raise ModelError(f"'{unknown[0]}' is not a measured column ({known})", field=field)
+    observed = observed or {}
+    sigma = []
+    for name in columns:
+        if name not in given:
+            raise ModelError(f"no noise level for the column '{name}'", field=field)
+        text = texts[name]
+        try:
+            if text is None:
+                sigma.append(float(given[name]) * _factor(name, None, system, observed))
+            else:
+                quantity = read_quantity(text, f"{field} {name}")
+                factor = _factor(name, quantity.unit.text, system, observed)
+                sigma.append(float(quantity.number) * factor)
+        except ModelError as error:
+            raise ModelError(f"the noise of {error}", field=field) from None
+    return np.array(sigma)
 
 
 def _check_times(source: str, times: np.ndarray, rows: Sequence[int]) -> None:

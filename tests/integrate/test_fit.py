@@ -104,6 +104,35 @@ def test_mass_and_stiffness_of_an_undamped_oscillator_are_not_separable():
     assert any(w.startswith("m and k are correlated") for w in result.warnings), result.warnings
     assert any("fix one at a known value" in w for w in result.warnings)
     assert abs(result.parameters["k"][0] / result.parameters["m"][0] - 4.0) < 0.01
+    assert any(w.startswith("the data cannot tell m and k apart") for w in result.warnings)
+    assert np.all(np.isinf(result.stderr))  # undetermined, not a number that means nothing
+
+
+@pytest.mark.slow
+def test_a_parameter_the_motion_does_not_depend_on_is_named():
+    # the bob's mass cancels from theta'' + gamma theta' + (g/l) sin(theta) = 0
+    g, length, gamma = 9.81, 0.5, 0.2
+    data = measured(
+        lambda t, y: [y[1], -gamma * y[1] - g / length * np.sin(y[0])],
+        [0.3, 0.0], 5.0, 101, lambda t, y: {"theta": y[0]}, seed=6,
+    )  # fmt: skip
+    pendulum = lg.System.from_lagrangian(
+        "m*l**2*theta_dot**2/2 + m*g*l*cos(theta)", coordinates=["theta"],
+        dissipation="m*l**2*gamma*theta_dot**2/2",
+    )  # fmt: skip
+    values = {"g": g, "l": 0.52, "gamma": 0.15, "m": 1.0}
+    settings = {"params": values, "initial": {"theta": 0.3}, "noise": 0.003, "backend": "llvm"}
+    alone = pendulum.fit(data, ["l", "gamma"], **settings)
+    both = pendulum.fit(data, ["l", "gamma", "m"], **settings)
+    assert both.warnings == (
+        "the data do not depend on m: it cannot be fitted from them; fix it at a known value "
+        "(leave it out of vary) or measure something it changes",
+    )
+    assert np.isinf(both.parameters["m"][1]) and np.isnan(both.correlation_of("l", "m"))
+    # the others' values and errors are those of the fit without m (sigma given: the
+    # degrees of freedom do not enter them)
+    assert np.allclose(both.values[:2], alone.values, rtol=1e-6)
+    assert np.allclose(both.stderr[:2], alone.stderr, rtol=1e-3)
 
 
 def test_the_jacobian_is_the_finite_difference_one():

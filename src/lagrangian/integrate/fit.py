@@ -156,7 +156,7 @@ def fit_parameters(
         )
     best = min(results, key=lambda r: r.cost)
     weighted, jacobian, fitted = residuals.evaluate(best.x)
-    statistics = spread(names, jacobian, weighted, problem.noise_given)
+    statistics = spread(names, jacobian, weighted, problem.noise_given, best.x)
     same = sum(1 for r in results if _same(r, best))
     warnings = list(statistics.warnings)
     if best.status == 0:

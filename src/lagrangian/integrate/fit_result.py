@@ -27,6 +27,9 @@ import numpy as np
 CORRELATION_LIMIT = 0.99
 #: Relative singular value of the scaled Jacobian below which it is rank-deficient.
 RANK_TOLERANCE = 1e-8
+#: A name whose relative change moves the residuals by less than this fraction of the
+#: largest such move of another is one the data do not depend on.
+INSENSITIVE = 1e-8
 
 
 @dataclass(frozen=True)
@@ -96,39 +99,49 @@ class Spread:
 
 
 def spread(
-    names: tuple[str, ...], jacobian: np.ndarray, residuals: np.ndarray, noise_given: bool
+    names: tuple[str, ...],
+    jacobian: np.ndarray,
+    residuals: np.ndarray,
+    noise_given: bool,
+    values: np.ndarray | None = None,
 ) -> Spread:
-    """The :class:`Spread` at an optimum with weighted ``residuals`` (N,) and their
-    ``jacobian`` (N, k); ``noise_given``: the residuals were divided by the noise sigma."""
+    """The :class:`Spread` at an optimum ``values`` with weighted ``residuals`` (N,) and
+    their ``jacobian`` (N, k); ``noise_given``: the residuals were divided by the noise
+    sigma."""
     count, k = jacobian.shape
     dof = count - k
     chi2 = float(residuals @ residuals)
     variance = 1.0 if noise_given else chi2 / dof
     lengths = np.linalg.norm(jacobian, axis=0)
     scale = np.where(lengths > 0, lengths, 1.0)
-    _, singular, rows = np.linalg.svd(jacobian / scale, full_matrices=False)
-    relative = singular / singular[0] if singular[0] > 0 else np.zeros_like(singular)
-    # a direction the data do not see has a zero singular value: its variance is bounded
-    # here (so that the correlations of the names it mixes come out +-1), and their
-    # standard errors are reported as undetermined (inf) below
-    floor = max(singular[0], np.finfo(float).tiny) * 1e-15
-    inverse = 1.0 / np.maximum(singular, floor) ** 2
-    covariance = (rows.T * inverse) @ rows / np.outer(scale, scale)
-    deviation = np.sqrt(np.abs(np.diag(covariance)))
-    stderr = deviation * np.sqrt(variance)
-    correlation = covariance / np.outer(deviation, deviation)
-    unseen = lengths == 0
-    for value, row in zip(relative, rows, strict=True):
-        if value < RANK_TOLERANCE:
-            unseen |= np.abs(row) > 0.1 * np.abs(row).max()
-    stderr[unseen] = np.inf
-    correlation[lengths == 0, :] = np.nan
-    correlation[:, lengths == 0] = np.nan
+    # a name whose relative change moves the residuals by 1e-8 of what the others' do is
+    # not seen (the integration's own error is that size): its column is noise
+    effect = lengths * (np.abs(values) if values is not None else 1.0)
+    blind = effect <= INSENSITIVE * effect.max() if effect.max() > 0 else np.ones(k, bool)
+    seen = np.flatnonzero(~blind)  # the statistics of the others, without the noise columns
+    stderr, correlation = np.full(k, np.inf), np.full((k, k), np.nan)
+    warnings = [_blind_warning(names[i]) for i in np.flatnonzero(blind)]
+    if seen.size:
+        part = jacobian[:, seen] / scale[seen]
+        _, singular, rows = np.linalg.svd(part, full_matrices=False)
+        relative = singular / singular[0]
+        # a direction the data do not see has a zero singular value: its variance is
+        # bounded here (so that the correlations of the names it mixes come out +-1), and
+        # their standard errors are reported as undetermined (inf) below
+        inverse = 1.0 / np.maximum(singular, singular[0] * 1e-15) ** 2
+        covariance = (rows.T * inverse) @ rows / np.outer(scale[seen], scale[seen])
+        deviation = np.sqrt(np.abs(np.diag(covariance)))
+        errors = deviation * np.sqrt(variance)
+        named = [names[i] for i in seen]
+        for value, row in zip(relative, rows, strict=True):
+            if value < RANK_TOLERANCE:
+                involved = np.abs(row) > 0.1 * np.abs(row).max()
+                errors[involved] = np.inf
+                warnings.append(_rank_warning(named, involved, value))
+        stderr[seen] = errors
+        correlation[np.ix_(seen, seen)] = covariance / np.outer(deviation, deviation)
     np.fill_diagonal(correlation, 1.0)
-    warnings = [
-        *_rank_warnings(names, lengths, relative, rows),
-        *_pair_warnings(names, correlation),
-    ]
+    warnings += _pair_warnings(names, correlation)
     return Spread(
         stderr=stderr,
         correlation=correlation,
@@ -138,28 +151,23 @@ def spread(
     )
 
 
-def _rank_warnings(names, lengths, relative, rows) -> list[str]:
-    warnings = []
-    for name, length in zip(names, lengths, strict=True):
-        if length == 0:
-            warnings.append(
-                f"the data do not depend on {name}: it cannot be fitted from them; fix it at a "
-                "known value (leave it out of vary) or measure something it changes"
-            )
-    for value, row in zip(relative, rows, strict=True):
-        if value >= RANK_TOLERANCE:
-            continue
-        weights = np.abs(row)
-        involved = [n for n, w in zip(names, weights, strict=True) if w > 0.1 * weights.max()]
-        if len(involved) < 2:
-            continue
-        warnings.append(
-            f"the data cannot tell {_listed(involved)} apart (the Jacobian is rank-deficient: "
-            f"relative singular value {value:.1e}): only a combination of them is fitted; "
-            f"fix all but one at known values, or measure something that depends on "
-            f"them differently"
-        )
-    return warnings
+def _blind_warning(name: str) -> str:
+    return (
+        f"the data do not depend on {name}: it cannot be fitted from them; fix it at a "
+        "known value (leave it out of vary) or measure something it changes"
+    )
+
+
+def _rank_warning(names: list[str], involved: np.ndarray, value: float) -> str:
+    chosen = [n for n, inside in zip(names, involved, strict=True) if inside]
+    if len(chosen) == 1:
+        return _blind_warning(chosen[0])
+    return (
+        f"the data cannot tell {_listed(chosen)} apart (the Jacobian is rank-deficient: "
+        f"relative singular value {value:.1e}): only a combination of them is fitted; "
+        "fix all but one at known values, or measure something that depends on them "
+        "differently"
+    )
 
 
 def _pair_warnings(names, correlation) -> list[str]:

@@ -86,7 +86,9 @@ def fit_text(result: FitResult, system=None) -> str:
         for i, name in enumerate(result.names):
             row = "".join(f"  {value:>{width}.4f}" for value in result.correlation[i])
             lines.append(f"{shown(result, name):<{width}}{row}")
-    lines.append(f"rms of the residuals: {result.rms:.6g}")
+    units = {name_unit(system, c) for c in result.observed} if system is not None else {None}
+    shared = bracketed(units.pop()) if len(units) == 1 else ""  # one unit for every column
+    lines.append(f"rms of the residuals: {result.rms:.6g}{shared}")
     if result.chi2_per_dof is not None:
         lines.append(f"chi^2 per degree of freedom: {result.chi2_per_dof:.4g} ({result.dof} dof)")
     lines.append(
@@ -120,9 +122,8 @@ def plot_fit(result: FitResult, system=None, *, residuals: bool = False) -> Figu
             below.grid(True, alpha=0.3)
     axes[-1, 0].set_xlabel("$t$" + (" [s]" if dimensioned else ""))
     fitted = ", ".join(
-        f"{shown(result, n)} = {v:.4g} ± {e:.2g}"
+        f"{shown(result, n)} = {v:.5g} ± {e:.1g}"
         for n, v, e in zip(result.names, result.values, result.stderr, strict=True)
     )
-    axes[0, 0].set_title(f"{result.name}: {fitted}", fontsize=10)
-    figure.tight_layout()
+    axes[0, 0].set_title(f"{result.name} fitted: {fitted}", fontsize=9, wrap=True)
     return figure
