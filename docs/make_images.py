@@ -21,6 +21,7 @@ from lagrangian.integrate import simulate
 from lagrangian.numeric import compile_equations
 from lagrangian.output.animation import animate, mechanism_view
 from lagrangian.output.continuation import plot_continuation
+from lagrangian.output.fit import plot_fit
 from lagrangian.output.mode_shapes import plot_normal_modes
 from lagrangian.output.phase import phase_family, plot_phase_portrait
 from lagrangian.output.plots import new_figure, plot_energy_error, plot_timeseries, save_figure
@@ -586,6 +587,15 @@ def driven_pendulum_sensitivity() -> None:
     save(plot_sensitivities(result), "driven_pendulum_sensitivity.png")
 
 
+def lab_pendulum_fit() -> None:
+    """The lab example: the filmed pendulum's data, the fit of l, gamma and theta(0), and
+    the residuals (README: ``lagrangian fit docs/lab/...``)."""
+    lab = Path(__file__).resolve().parent / "lab"
+    system = lg.load(lab / "damped_pendulum.toml")
+    result = system.fit(lab / "pendulum.csv", ["l", "gamma", "theta"], noise="0.3 deg")
+    save(plot_fit(result, system, residuals=True), "lab_pendulum_fit.png")
+
+
 PICTURES = (
     simple_pendulum,
     velocity_dependent_potential,
@@ -611,6 +621,7 @@ PICTURES = (
     driven_pendulum,
     driven_pendulum_continuation,
     driven_pendulum_sensitivity,
+    lab_pendulum_fit,
 )
 
 

@@ -132,6 +132,13 @@ PRINTS = {
         "period doubling at A = 1.082678353",
     ],
     "lagrangian derive rotating_wire_bead": ["r̈ = ω² r"],
+    "lagrangian fit docs/lab/damped_pendulum.toml docs/lab/pendulum.csv --vary l,gamma,theta "
+    "--noise 0.3deg --out lab_fit.png --plot-residuals": [
+        "0.619985",  # l in m: 0.62 made the data
+        "chi^2 per degree of freedom: 0.908",
+    ],
+    "lagrangian fit docs/lab/damped_pendulum.toml docs/lab/pendulum.csv --vary l,gamma,theta,m "
+    "--noise 0.3deg --json": ['"stderr": null', "the data do not depend on m"],
     "lagrangian simulate double_pendulum": ["method: dop853 in SciPy's loop on"],
     "lagrangian simulate double_pendulum --t-end 1000": ["method: "],
     "lagrangian derive simple_pendulum": ["θ:  l θ̈ + g sin(θ) = 0"],
@@ -269,6 +276,16 @@ def _normalized(text: str) -> str:
     return text.replace("−", "-")  # the docs may write a typographic minus
 
 
+def _lab_files(folder: Path) -> None:
+    """The lab example's model and data (docs/lab), where the docs' commands, run from the
+    repository's root, find them."""
+    lab = folder / "docs" / "lab"
+    lab.mkdir(parents=True, exist_ok=True)
+    for path in (ROOT / "docs" / "lab").glob("*.*"):
+        if path.suffix in (".csv", ".toml"):
+            (lab / path.name).write_bytes(path.read_bytes())
+
+
 def _readme_model(folder: Path) -> None:
     """The README's model file, saved where its commands call it my_model.toml."""
     (toml,) = [body for kind, body, where in BLOCKS if kind == "toml" and "README" in where]
@@ -280,6 +297,7 @@ def _readme_model(folder: Path) -> None:
 def test_python_block_runs(body, tmp_path):
     script = tmp_path / "block.py"
     script.write_text(_smaller(body), encoding="utf-8")
+    _lab_files(tmp_path)
     result = subprocess.run(
         [sys.executable, str(script)],
         cwd=tmp_path,
@@ -300,6 +318,7 @@ NEEDED = {earlier for param in SHELL_LINES for earlier in param.values[0]}
 def test_shell_line_runs(needed, line, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     _readme_model(tmp_path)
+    _lab_files(tmp_path)
     for earlier in needed:
         if earlier in WRITTEN:
             for name, content in WRITTEN[earlier].items():

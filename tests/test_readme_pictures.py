@@ -95,3 +95,23 @@ def test_the_bifurcation_from_a_section_draws_turning_points_for_every_drive(tmp
     drives = np.unique(points[:, 0])
     assert len(drives) == 400  # every run crossed θ̇ = 0 downwards after its transient
     assert np.all(np.abs(points[:, 1]) <= np.pi)  # θ, wrapped
+
+
+def test_the_lab_fit_draws_data_fit_and_residuals(tmp_path, monkeypatch):
+    # the README's lab example (issue 33): the two panels its picture promises, every
+    # measured frame kept but the two the tracker lost, the fit through them, and
+    # residuals the size of the tracker's noise (0.3 degrees)
+    line = readme_line("lagrangian fit docs/lab/damped_pendulum.toml")
+    lab = tmp_path / "docs" / "lab"
+    lab.mkdir(parents=True)
+    for name in ("damped_pendulum.toml", "pendulum.csv"):
+        (lab / name).write_bytes((README.parent / "docs" / "lab" / name).read_bytes())
+    picture = drawn_picture(line, tmp_path, monkeypatch)
+    assert (tmp_path / "lab_fit.png").is_file()
+    data_axis, residual_axis = picture.axes
+    (points, fit) = data_axis.get_lines()
+    assert len(points.get_xdata()) == 499 and len(fit.get_xdata()) == 499  # 501 frames, 2 lost
+    assert fit.get_marker() == "None" and points.get_marker() == "."
+    residuals = residual_axis.get_lines()[0].get_ydata()
+    assert len(residuals) == 499
+    assert 0.8 < np.std(residuals) / np.radians(0.3) < 1.2
