@@ -302,6 +302,8 @@ def impacts() -> None:
     run = oscillator.simulate(t_end=60.0, n_out=3001)
     film(oscillator, oscillator.simulate(t_end=12.0, n_out=601), "impact_oscillator.gif", trail=0.4)
     save(plot_timeseries(run, oscillator), "impact_oscillator_timeseries.png")
+    block = lg.load("rocking_block")
+    film(block, block.simulate(t_end=1.0, n_out=501), "rocking_block.gif", size=3.0, trail=0.3)
 
 
 def double_pendulum_page() -> None:

@@ -235,3 +235,46 @@ def test_a_model_without_contacts_keeps_its_json():
     trajectory = simulate_system(lg.load("harmonic_oscillator"), t_end=1.0)
     assert "impacts" not in trajectory.summary()
     assert trajectory.impacts == [] and trajectory.contacts == ()
+
+
+@pytest.mark.slow
+def test_the_rocking_block_switches_corners_by_the_closed_form_and_comes_to_rest():
+    """Before a corner lands (theta = 0) the block turns about the other one, y' = b theta'
+    (x is fixed: no horizontal force on a frictionless floor).  The landing corner stops
+    (e = 0): the impulse P at it changes m y' by P and I theta' by b P, and
+    y'+ + b theta'+ = 0 gives theta'+ = theta'- (I - m b^2) / (I + m b^2), the old pivot
+    lifting with g' = -2 b theta'+ > 0 (derived by hand, independently of the mass metric)."""
+    system = lg.load("rocking_block")
+    trajectory = simulate_system(system, t_end=1.0, backend="llvm")
+    m, b, h = 1.0, 0.2, 0.6
+    inertia = m * (b**2 + h**2) / 3
+    ratio = (inertia - m * b**2) / (inertia + m * b**2)
+    holds = trajectory.summary()["held_contacts"]
+    pivots = [hold["contact"] for hold in holds[:8]]
+    assert pivots == ["left", "right"] * 4  # the pivot alternates
+    switches = [r for r in trajectory.impacts if abs(r.velocities_before[1]) > 1e-3]
+    assert len(switches) >= 4
+    for record in switches:
+        (y_before, theta_before), (y_after, theta_after) = (
+            record.velocities_before,
+            record.velocities_after,
+        )
+        assert theta_after == pytest.approx(ratio * theta_before, rel=1e-9)
+        side = 1.0 if record.contact == "right" else -1.0  # the landing corner at x = side b
+        assert y_before - side * b * theta_before == pytest.approx(0.0, abs=1e-9)  # the pivot
+        assert y_after + side * b * theta_after == pytest.approx(0.0, abs=1e-9)  # it stops
+        assert y_after - side * b * theta_after > 0  # and the old pivot lifts
+        assert record.energy_after < record.energy_before
+    # at rest flat on both corners once the rocking has died away
+    assert {hold["contact"] for hold in holds[-2:]} == {"left", "right"}
+    assert holds[-1]["t_to"] == 1.0 and holds[-1]["t_from"] < 0.6
+    assert trajectory.final_state["y"] == pytest.approx(h, abs=1e-12)
+    assert abs(trajectory.final_state["theta"]) < 1e-12
+
+
+def test_outputs_on_a_grid_that_skips_a_held_contact():
+    """The right corner is held from 0.195 to 0.359 s, between the two output times."""
+    trajectory = simulate_system(lg.load("rocking_block"), t_end=0.45, n_out=2, backend="llvm")
+    np.testing.assert_array_equal(trajectory.t, [0.0, 0.45])
+    pivots = [hold["contact"] for hold in trajectory.summary()["held_contacts"]]
+    assert pivots[:3] == ["left", "right", "left"]

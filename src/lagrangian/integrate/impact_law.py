@@ -43,7 +43,13 @@ def restitute(mass: np.ndarray, gradient: np.ndarray, rate: float, v: np.ndarray
     """q'+ of Newton's law for one contact: ``gradient`` G_k (n,), ``rate`` g_t."""
     response = np.linalg.solve(mass, gradient)
     approach = float(gradient @ v) + rate
-    return v - (1.0 + e) * approach / float(gradient @ response) * response
+    metric = float(gradient @ response)
+    if not metric > 0.0:  # a gradient of 0 at the contact: the normal is undefined
+        raise ModelError(
+            "a contact closed where its gap has no gradient (dg/dq = 0): its normal is "
+            "undefined; write the gap so that it changes sign through the contact"
+        )
+    return v - (1.0 + e) * approach / metric * response
 
 
 def touching(gaps: np.ndarray, q: np.ndarray) -> np.ndarray:
