@@ -234,3 +234,23 @@ def test_cannot_close_exits_2_from_the_command_line(capsys, tmp_path):
     assert "the linkage cannot close at theta_crank = 1: joint 'C'" in refusal(
         capsys, tmp_path, text, command="simulate"
     )
+
+
+def test_a_start_where_the_held_coordinate_fixes_nothing_is_refused():
+    """The slider-crank with the piston's x held: at the dead centre x = r + l the crank
+    and the rod are in line and the loop's Jacobian in (theta, phi) is singular."""
+    text = OFFSET_SLIDER.replace('coordinates = ["theta", "phi", "x"]',
+                                 'coordinates = ["x", "theta", "phi"]')  # fmt: skip
+    system = lg.loads(text.replace("e = 0.05", "e = 0.0"))
+    assert [s.name for s in system.linkage.held] == ["x"]
+    params = np.array([p.default for p in system.parameters])
+    with pytest.raises(ModelError) as raised:
+        assembled(system, 0.0, np.array([0.9, 0.0, 0.0]), np.zeros(3), params)
+    assert str(raised.value) == (
+        "joints: the linkage cannot be assembled at x = 0.9: the constraints of joints pin "
+        "are dependent there (a redundant joint, or a position where the held coordinates do "
+        "not fix the others; give other values or list another coordinate first)"
+    )
+    q, _ = assembled(system, 0.0, np.array([0.7, 1.0, -0.3]), np.zeros(3), params)
+    r, rod = 0.2, 0.7  # away from it: theta from the law of cosines
+    assert math.cos(q[1]) == pytest.approx((0.7**2 + r**2 - rod**2) / (2 * 0.7 * r), abs=1e-12)
