@@ -270,6 +270,93 @@ def test_the_multipliers_of_a_hamiltonian_branch_stay_in_reciprocal_pairs(parame
             assert point.kind == "flip saddle" and not point.stable
 
 
+#: van der Pol's oscillator driven off its resonance: x'' - mu (1 - x^2) x' + x = F cos(w t)
+VAN_DER_POL = """
+name = "Forced van der Pol oscillator"
+coordinates = ["x"]
+kinetic = "x_dot^2/2"
+potential = "x^2/2"
+
+[parameters]
+mu = 0.2
+F = 0.05
+w = 1.15
+
+[forces]
+x = "mu*(1 - x^2)*x_dot + F*cos(w*t)"
+
+[initial]
+x = 0.1
+"""
+MU, W = 0.2, 1.15
+
+
+def _van_der_pol(t, y, force):
+    return [y[1], MU * (1 - y[0] ** 2) * y[1] - y[0] + force * math.cos(W * t)]
+
+
+@pytest.mark.slow
+def test_the_forced_van_der_pol_oscillator_locks_at_a_neimark_sacker_point():
+    # a weak drive off resonance leaves the self-excited oscillation quasi-periodic: the
+    # forced periodic orbit is an unstable focus, a complex pair outside the unit circle;
+    # a strong one locks it, the pair inside: the pair crosses the circle once
+    result = lg.loads(VAN_DER_POL).continuation(
+        vary={"F": (0.05, 0.6, 12)}, strobe=2 * math.pi / W, attractor=3, max_doublings=0
+    )
+    (branch,) = result.branches
+    (torus,) = branch.bifurcations
+    assert torus.kind == "Neimark-Sacker"
+    assert np.allclose(np.abs(torus.multipliers), 1.0, atol=1e-7)
+    assert abs(torus.multipliers[0].imag) > 0.5  # a pair, far from +-1
+    assert not branch.points[0].stable and branch.points[-1].stable
+    assert branch.points[0].kind == "focus"
+    # independently: Newton on the map written out here, the pair's modulus from a
+    # finite-difference Jacobian, |mu| = 1 where det M = 1 (M 2 x 2, so |mu|^2 = det M)
+    period = 2 * math.pi / W
+
+    def modulus(force):
+        def strobe(x):
+            return _map(_van_der_pol, x, period, force)
+
+        x = _fixed_point(strobe, torus.points[:, 0])
+        return np.linalg.det(_jacobian(strobe, x)) - 1.0
+
+    exact = brentq(modulus, torus.value - 5e-3, torus.value + 5e-3, xtol=1e-10)
+    assert torus.value == pytest.approx(exact, abs=1e-7)
+
+
+@pytest.mark.slow
+def test_the_map_by_scipy_is_the_compiled_map(pendulum, monkeypatch):
+    # where numba is missing the sensitivities run in SciPy's DOP853: the same map, the
+    # same monodromy and parameter column to the tolerances
+    from lagrangian.derive import derive
+    from lagrangian.integrate import compiled_dop853
+    from lagrangian.integrate.parameter_map import ParameterMap
+    from lagrangian.integrate.strobe import Strobe
+    from lagrangian.numeric import compile_equations
+
+    compiled = compile_equations(derive(pendulum), backend="numpy")
+    p = compiled.parameter_vector({"A": 1.07})
+    x = np.array([-0.3, 1.9])
+    clock = Strobe.of(DRIVE)
+    maps = [ParameterMap(compiled, clock, "A", p, np.array([0]), 1e-10, 1e-12)]
+    monkeypatch.setattr(compiled_dop853, "loop_applies", lambda compiled: False)
+    maps.append(ParameterMap(compiled, clock, "A", p, np.array([0]), 1e-10, 1e-12))
+    assert maps[0].loop is not None and maps[1].loop is None
+    compiled_value, scipy_value = (strobe_map(x, 1.07, 2) for strobe_map in maps)
+    assert np.allclose(compiled_value.points, scipy_value.points, atol=1e-8)
+    assert np.allclose(compiled_value.monodromy, scipy_value.monodromy, rtol=1e-6, atol=1e-8)
+    assert np.allclose(compiled_value.column, scipy_value.column, rtol=1e-6, atol=1e-8)
+    # and both are the map: its points at t = 3 pi and 6 pi by solve_ivp
+    by_hand = _map(_pendulum, x, 2 * DRIVE, 1.07)
+    assert np.allclose(scipy_value.points[:, 2], by_hand, atol=1e-8)
+    # the column is dG^2/dA: central differences of the map written out here
+    column = (
+        _map(_pendulum, x, 2 * DRIVE, 1.07 + 1e-6) - _map(_pendulum, x, 2 * DRIVE, 1.07 - 1e-6)
+    ) / 2e-6
+    assert np.allclose(scipy_value.column, column, rtol=1e-5)
+
+
 @pytest.mark.parametrize(
     ("vary", "text"),
     [
