@@ -43,7 +43,7 @@ def fit_of_system(
     degree of freedom.  The backend is numba where it is installed (the compiled loop of
     the sensitivity equations, built once and cached), unless ``backend`` says otherwise.
     See :mod:`lagrangian.integrate.fit`; ``settings``: the keywords of :class:`RunSettings`
-    (the timeout is not applied to a fit); ``equations``: those of ``system`` when derived
+    (``timeout``: CPU seconds for the whole search); ``equations``: those of ``system`` when derived
     already (the facade keeps them: a second fit does not derive them again)."""
     from .integrate.compiled_dop853 import numba_installed
     from .integrate.fit import FitProblem, fit_parameters, whole_number
@@ -99,7 +99,7 @@ def fit_of_system(
     )
     result = fit_parameters(
         compiled, problem, {n: float(start[n]) for n in guesses}, starts=starts, seed=seed,
-        rtol=run.rtol, atol=run.atol,
+        rtol=run.rtol, atol=run.atol, timeout=run.timeout,
     )  # fmt: skip
     if measured.dropped:
         rows = ", ".join(map(str, measured.dropped[:10])) + (

@@ -99,6 +99,22 @@ CASES = [
         "-5",
     ),
     case(
+        "starts-a-billion",
+        GOOD,
+        r"--starts: at most 1000 starts, not 1000000000: a fit that needs more wants better "
+        r"guesses \(--vary NAME=GUESS\)",
+        "--starts",
+        "1000000000",
+    ),
+    case(
+        "timeout-tiny",
+        GOOD,
+        r"the fit did not finish within 1e-06 s of CPU \(1 start\(s\)\): give a larger "
+        r"--timeout SECONDS",
+        "--timeout",
+        "0.000001",
+    ),
+    case(
         "guess-not-number", GOOD, r"--vary: the start guess of m is not a number", "--vary", "m=abc"
     ),
     case("guess-infinite", GOOD, r"--vary: the start guess of m is not finite", "--vary", "m=inf"),

@@ -13,6 +13,7 @@ from scipy.integrate import solve_ivp
 import lagrangian as lg
 from lagrangian.integrate.fit import FitProblem, _Residuals
 from lagrangian.integrate.observation import observation, observed_expressions
+from lagrangian.integrate.pace import RunTooLong
 from lagrangian.integrate.sensitivity import SensitivitySolver
 from lagrangian.numeric import compile_equations
 
@@ -200,3 +201,15 @@ def test_bad_vary_is_one_clear_error(vary, message):
     with pytest.raises(lg.ModelError) as error:
         spring.fit(data, vary, params={"k": 1.0}, backend="llvm")
     assert str(error.value).startswith(message)
+
+
+def test_a_fit_past_its_time_budget_stops_with_one_line():
+    spring = lg.System.from_lagrangian("m*x_dot**2/2 - k*x**2/2", coordinates=["x"])
+    t = np.linspace(0.0, 50.0, 2001)
+    data = {"t": t, "x": np.cos(2.0 * t)}
+    with pytest.raises(RunTooLong) as error:
+        spring.fit(
+            data, ["k=3"], params={"m": 1.0}, initial={"x": 1.0}, backend="llvm",
+            timeout=1e-6,
+        )  # fmt: skip
+    assert str(error.value).startswith("the fit did not finish within 1e-06 s of CPU")

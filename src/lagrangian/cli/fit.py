@@ -93,9 +93,10 @@ def _check_picture(picture: str | None, residuals: bool) -> None:
     "--plot-residuals", "residuals", is_flag=True, help="Add the residuals below each panel."
 )
 @options.as_json()
+@options.timeout
 def fit(
     model, data, vary, observe, starts, noise, seed, rtol, atol, assignments, definitions,
-    backend, out, residuals, as_json,
+    backend, out, residuals, as_json, timeout,
 ) -> None:  # fmt: skip
     """The values of the --vary names that make MODEL's motion fit the time series DATA
     (least squares with the sensitivity equations' exact Jacobian), with standard
@@ -110,7 +111,7 @@ def fit(
     result = system.fit(
         data, names, observe=list(observe), starts=starts, noise=noise, seed=seed, rtol=rtol,
         atol=atol, assignments=values, definitions=options.definitions(definitions),
-        backend=backend,
+        backend=backend, timeout=timeout,
     )  # fmt: skip
     if result.dropped:
         click.echo(result.warnings[0], err=True)

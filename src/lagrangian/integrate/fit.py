@@ -19,15 +19,17 @@ optimiser's ftol, xtol and gtol 1e-10.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..budget import RUN_SECONDS, checked_seconds, cpu_seconds
 from ..errors import ModelError, setting
 from .fit_result import FitResult, spread
 from .observation import Observation
+from .pace import RunTooLong
 from .sensitivity import SensitivitySolver
 
 if TYPE_CHECKING:
@@ -42,6 +44,8 @@ START_SPREAD = 3.0
 #: Two starts reached the same optimum when their sums of squares differ by less than this
 #: (relative) and their values by less than :data:`SAME_VALUES` (relative).
 SAME_COST, SAME_VALUES = 1e-6, 1e-3
+#: More starts than this is a typo, or a search that needs better guesses.
+MAX_STARTS = 1000
 
 
 @dataclass(frozen=True)
@@ -63,8 +67,14 @@ class _Residuals:
     """r(x) and dr/dx, from one solve of the sensitivity equations per point x (SciPy asks
     for the residuals and then the Jacobian at the same point: the last is kept)."""
 
-    def __init__(self, solver: SensitivitySolver, problem: FitProblem, compiled):
-        self.solver, self.problem = solver, problem
+    def __init__(
+        self,
+        solver: SensitivitySolver,
+        problem: FitProblem,
+        compiled,
+        watch: Callable[[float], None] | None = None,
+    ):
+        self.solver, self.problem, self.watch = solver, problem, watch
         states = solver.state_names
         self.slots = [
             ("y", states.index(w)) if w in states else ("p", compiled.parameter_names.index(w))
@@ -90,7 +100,7 @@ class _Residuals:
         y0, p = self.point(x)
         self.evaluations += 1
         try:
-            states, sensitivity = self.solver.solve(y0, p, self.grid)
+            states, sensitivity = self.solver.solve(y0, p, self.grid, self.watch)
         except ModelError:  # a trial step too far (a motion that blows up): a worse point
             shape = (problem.data.size, len(x))
             found = (np.full(problem.data.size, np.nan), np.full(shape, np.nan), None)
@@ -119,11 +129,22 @@ def fit_parameters(
     seed: int = 0,
     rtol: float | None = None,
     atol: float | None = None,
+    timeout: float | None = RUN_SECONDS,
 ) -> FitResult:
-    """The best fit of the names of ``guesses`` (name -> start value) to ``problem``."""
+    """The best fit of the names of ``guesses`` (name -> start value) to ``problem``;
+    ``timeout``: CPU seconds the whole search may take (None: no limit), past which it
+    stops with :class:`~lagrangian.integrate.pace.RunTooLong` (checked as the motions are
+    integrated, so one slow motion cannot outlast it)."""
     from scipy.optimize import least_squares
 
     starts = whole_number("starts", starts)
+    if starts > MAX_STARTS:
+        raise ModelError(
+            f"at most {MAX_STARTS} starts, not {starts}: a fit that needs more wants better "
+            f"guesses ({setting('vary')} NAME=GUESS)",
+            field=setting("starts"),
+        )
+    timeout = None if timeout is None else checked_seconds(timeout, setting("timeout"))
     names = tuple(guesses)
     solver = SensitivitySolver(
         compiled, names, rtol=DEFAULT_RTOL if rtol is None else rtol,
@@ -134,7 +155,7 @@ def fit_parameters(
         raise ModelError(
             f"{count} measured values cannot fit {len(names)} unknowns: more data are needed"
         )
-    residuals = _Residuals(solver, problem, compiled)
+    residuals = _Residuals(solver, problem, compiled, _deadline(timeout, starts))
     lower, upper = _bounds(compiled, names)
     guess = np.array([guesses[n] for n in names], dtype=float)
     results, failed = [], []
@@ -196,6 +217,23 @@ def fit_parameters(
         name=compiled.equations.system.name if compiled.derived else "",
         state_names=solver.state_names,
     )
+
+
+def _deadline(seconds: float | None, starts: int) -> Callable[[float], None] | None:
+    """A watch that raises RunTooLong once ``seconds`` of CPU have passed since it was made."""
+    if seconds is None:
+        return None
+    end = cpu_seconds() + seconds
+
+    def watch(t: float) -> None:
+        if cpu_seconds() > end:
+            raise RunTooLong(
+                f"the fit did not finish within {seconds:g} s of CPU ({starts} start(s)): "
+                f"give a larger {setting('timeout')}, fewer {setting('starts')} or better "
+                f"guesses ({setting('vary')} NAME=GUESS)"
+            )
+
+    return watch
 
 
 def whole_number(name: str, value: object) -> int:
