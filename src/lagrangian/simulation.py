@@ -369,7 +369,13 @@ def continuation_of_system(
     if transient is not None:
         transient = transient_setting(transient)  # before the compilation
     initial, params = run.values(system)
-    compiled, watch = run.compiled(system, 1.0, describe=lambda done: f"{100 * done:.3g} %")
+    compiled, _ = run.compiled(system, 1.0)
+    pace = None if run.timeout is None else RunPace(
+        (0.0, 1.0), run.timeout, describe=lambda done: f"{100 * done:.3g} % of the branches",
+        advice=f"give a shorter range or fewer values in {setting('vary')}, or allow more "
+        f"time with {setting('timeout')}",
+    )  # fmt: skip
+    watch = watching(pace, run.progress)
     return continue_orbits(
         compiled, parameter=parameter, low=low, high=high, count=count, strobe=strobe,
         period=period, phase=phase, max_doublings=max_doublings,

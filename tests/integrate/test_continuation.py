@@ -375,3 +375,19 @@ def test_bad_ranges_are_refused(pendulum, vary, text):
 def test_max_doublings_is_checked(pendulum):
     with pytest.raises(ModelError, match="max_doublings must be a whole number from 0 to 8"):
         pendulum.continuation(vary={"A": (1.0, 1.1, 3)}, strobe=DRIVE, max_doublings=9)
+
+
+@pytest.mark.slow
+def test_a_continuation_past_its_time_budget_stops_with_advice(pendulum):
+    # CPU seconds, from the first look at the clock: any continuation takes more than 1 ms
+    from lagrangian.integrate.pace import RunTooLong
+
+    with pytest.raises(RunTooLong) as error:
+        pendulum.continuation(
+            vary={"A": (1.05, 1.084, 35)}, strobe=DRIVE, attractor=3, timeout=1e-3
+        )
+    assert str(error.value).startswith("the run did not finish within 0.001 s: it reached ")
+    assert str(error.value).endswith(
+        " % of the branches; give a shorter range or fewer values in vary, or allow more "
+        "time with timeout"
+    )
