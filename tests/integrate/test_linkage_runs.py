@@ -329,3 +329,34 @@ def test_reactions_reach_the_files_and_the_summary(driven, tmp_path):
     back = lg.Trajectory.load(run.to_netcdf(tmp_path / "run.nc"))
     assert back.reactions == run.reactions
     assert np.array_equal(back["R_B_x"], run["R_B_x"])
+
+
+def test_derive_says_the_count_the_loops_and_the_reactions(free, driven):
+    from lagrangian.output.json_out import derive_document
+    from lagrangian.output.text import format_equations
+
+    system, _ = driven
+    text = format_equations(system.equations_of_motion())
+    assert text.splitlines()[-5:] == [
+        "Linkage:",
+        "  3 links, 4 joints: 1 degree of freedom (Grübler: 3 x 3 - 2 x 4)",
+        "  held at assembly: none (driven)",
+        "  joint A is driven: omega*t + theta0 (lambda1)",
+        "  joint C closes a loop (lambda2, lambda3)",
+    ]
+    system, _ = free
+    document = derive_document(system.equations_of_motion())["linkage"]
+    assert document["degrees_of_freedom"] == 1 and document["held"] == ["theta_crank"]
+    assert document["joints"]["C"] == {
+        "kind": "revolute",
+        "connects": ["coupler.end", "rocker.end"],
+        "closes_loop": True,
+        "multipliers": ["lambda1", "lambda2"],
+    }
+    assert document["reactions"]["R_C_x"] == "lambda1"
+    names = {s.name: s for s in system.linkage.reactions["R_B_y"].free_symbols}
+    back = sympy.parse_expr(document["reactions"]["R_B_y"], local_dict=names | {
+        "lambda2": sympy.Symbol("lambda2")})  # fmt: skip
+    placeholder = system.linkage.multipliers[1]
+    expected = system.linkage.reactions["R_B_y"].xreplace({placeholder: sympy.Symbol("lambda2")})
+    assert sympy.simplify(back - expected) == 0

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from ..derive import EquationsOfMotion
 from .large import plain_printer, printed
+from .linkage_summary import linkage_document
 from .units import units_section
 
 
@@ -35,4 +36,7 @@ def derive_document(eom: EquationsOfMotion) -> dict:
             if eom.multipliers is not None
             else {str(s): None for s in eom.constraints.multipliers}
         )
+    linkage = linkage_document(eom, text)
+    if linkage is not None:  # additive: a linkage's count, joints and reactions (issue 34)
+        document["linkage"] = linkage
     return document

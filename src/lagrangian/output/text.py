@@ -7,6 +7,7 @@ import sympy
 from ..derive import EquationsOfMotion
 from ..model import System
 from .large import printed, unicode_printer
+from .linkage_summary import linkage_lines
 from .notation import UnicodePrinter, declared_functions, equality, step_terms, unicode_name
 from .units import units_line
 
@@ -39,6 +40,7 @@ def format_equations(eom: EquationsOfMotion) -> str:
         lines.append("Lagrange multipliers (constraint forces):")
         for name, value in eom.multipliers.items():
             lines.append("  " + equality(unicode_name(name), value, show))
+    lines += linkage_lines(eom)
     return "\n".join(lines)
 
 
