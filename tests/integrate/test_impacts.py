@@ -272,9 +272,16 @@ def test_the_rocking_block_switches_corners_by_the_closed_form_and_comes_to_rest
     assert abs(trajectory.final_state["theta"]) < 1e-12
 
 
-def test_outputs_on_a_grid_that_skips_a_held_contact():
-    """The right corner is held from 0.195 to 0.359 s, between the two output times."""
+@pytest.mark.parametrize("enumerated", [8, 0])
+def test_many_contacts_resting_at_once_are_held_without_trying_every_set(enumerated, monkeypatch):
+    """Above MAX_ENUMERATED resting contacts (2^k sets) the held set is found greedily; on
+    the rocking block (forced there with a limit of 0) it is the set every try finds.  The
+    outputs skip a held segment (the right corner from 0.195 to 0.359 s)."""
+    from lagrangian.integrate import impacts
+
+    monkeypatch.setattr(impacts, "MAX_ENUMERATED", enumerated)
     trajectory = simulate_system(lg.load("rocking_block"), t_end=0.45, n_out=2, backend="llvm")
     np.testing.assert_array_equal(trajectory.t, [0.0, 0.45])
-    pivots = [hold["contact"] for hold in trajectory.summary()["held_contacts"]]
-    assert pivots[:3] == ["left", "right", "left"]
+    holds = trajectory.summary()["held_contacts"]
+    assert [hold["contact"] for hold in holds[:3]] == ["left", "right", "left"]
+    assert holds[1]["t_from"] == pytest.approx(0.19536929697786376, abs=1e-12)

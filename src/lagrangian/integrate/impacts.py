@@ -44,6 +44,9 @@ if TYPE_CHECKING:
 CHATTER_FRACTION = 1e-6
 #: Impacts of one run at most (a run that would take more is stopped, saying so).
 MAX_IMPACTS = 1_000_000
+#: Contacts at rest at one instant up to which every set is tried for the held ones (2^k
+#: sets); above it the held set is found greedily (:meth:`ImpactRun._greedy_set`).
+MAX_ENUMERATED = 8
 #: Tolerances of the held segments where the method has none (fixed-step methods).
 HELD_RTOL, HELD_ATOL = 1e-10, 1e-12
 
@@ -85,6 +88,7 @@ class ImpactRun:
         self.chatter = CHATTER_FRACTION * (self.t1 - self.t0)
         self.held_since = np.zeros(contacts.count)
         self.pieces = _Pieces()
+        self._last_multipliers: tuple = (None, None)
         settings = integrator.settings()
         self.rtol = float(settings.get("rtol", HELD_RTOL))
         self.atol = float(settings.get("atol", HELD_ATOL))
@@ -192,6 +196,14 @@ class ImpactRun:
         for k in free:
             gap = self._gap_event(int(k), shifts[k])
             events.append(_scipy_event(lambda s, state, gap=gap: gap(s, state, self.params)))
+        if self.watch is not None:  # told the time at every step (a time budget, progress)
+            watched = events[0]
+
+            def first_event(s, state, watched=watched):
+                self.watch(s)
+                return watched(s, state)
+
+            events[0] = _scipy_event(first_event)
         solution = solve_ivp(
             rhs, (t, self.t1), y, method="DOP853", rtol=self.rtol, atol=self.atol,
             t_eval=outputs, events=events,
@@ -226,7 +238,12 @@ class ImpactRun:
         )
 
     def _multiplier(self, t, y, rows, j):
-        return float(self._accelerations(t, y, rows)[1][list(rows).index(j)])
+        """lambda_j at (t, y) with ``rows`` held; the events of one step ask at the same
+        state one after the other, so the last state's multipliers are kept."""
+        key = (t, y.tobytes(), rows.tobytes())
+        if self._last_multipliers[0] != key:
+            self._last_multipliers = (key, self._accelerations(t, y, rows)[1])
+        return float(self._last_multipliers[1][list(rows).index(j)])
 
     # -- impacts ---------------------------------------------------------------
     def _settle(
@@ -300,21 +317,39 @@ class ImpactRun:
             return chosen
         gradient, _, curvature = self.contacts.geometry(t, y, self.params)
         tol = 1e-9
+        if resting.size > MAX_ENUMERATED:
+            return self._greedy_set(t, y, resting, chosen)
         for size in range(resting.size, -1, -1):
             for rows in itertools.combinations(resting.tolist(), size):
                 rows = np.array(rows, dtype=int)
-                if rows.size:
+                try:
                     acceleration, multipliers = self._accelerations(t, y, rows)
-                    if multipliers.min() < -tol * (1 + np.abs(multipliers).max()):
-                        continue
-                else:
-                    acceleration = self._accelerations(t, y, rows)[0]
+                except np.linalg.LinAlgError:  # dependent contacts: another set
+                    continue
+                if rows.size and multipliers.min() < -tol * (1 + np.abs(multipliers).max()):
+                    continue
                 others = np.setdiff1d(resting, rows)
                 approach = gradient[others] @ acceleration + curvature[others]
                 if np.all(approach >= -tol * (1 + np.abs(acceleration).max())):
                     chosen[rows] = True
                     return chosen
-        chosen[resting] = True  # dependent contacts without a solution found: hold them all
+        return self._greedy_set(t, y, resting, chosen)
+
+    def _greedy_set(self, t, y, resting, chosen) -> np.ndarray:
+        """Many resting contacts at once (or no set found): all held, then the one whose
+        multiplier pulls most released, until none pulls (not the complementarity solution
+        in every case, but bounded work: a pile of many contacts)."""
+        rows = resting.copy()
+        while rows.size:
+            try:
+                _, multipliers = self._accelerations(t, y, rows)
+            except np.linalg.LinAlgError:  # dependent contacts: one of them is enough
+                rows = rows[1:]
+                continue
+            if multipliers.min() >= 0:
+                break
+            rows = np.delete(rows, int(np.argmin(multipliers)))
+        chosen[rows] = True
         return chosen
 
     def _release(self, k: int, t: float, end: bool = False) -> None:
