@@ -177,6 +177,25 @@ def test_the_doublings_are_where_the_brute_force_diagram_shows_them(pendulum, ca
     assert compared >= 18
 
 
+@pytest.mark.slow
+def test_at_the_opposite_phase_the_mirror_orbit_doubles_at_the_same_drive(pendulum, cascade):
+    # theta -> -theta, t -> t + 3 pi / 2 leaves the equation unchanged, so the mirror image
+    # S x = (-theta, -theta') of an orbit of the map at phase 3 pi / 2 is an orbit of the
+    # map at phase 0, with the same multipliers: the same doubling
+    half = pendulum.continuation(
+        vary={"A": (1.05, 1.07, 11)}, strobe=DRIVE, phase=DRIVE / 2, attractor=3,
+        max_doublings=0,
+    )  # fmt: skip
+    (branch,) = half.branches
+    (doubling,) = branch.bifurcations
+    assert half.strobe.phase == DRIVE / 2
+    assert doubling.value == pytest.approx(cascade.branches[0].bifurcations[0].value, abs=1e-8)
+    mirrored = -doubling.points[:, 0]
+    after = _map(_pendulum, mirrored, DRIVE, doubling.value)  # from t = 0: the phase-0 map
+    assert _wrapped(after[0] - mirrored[0]) == pytest.approx(0.0, abs=1e-7)
+    assert after[1] == pytest.approx(mirrored[1], abs=1e-7)
+
+
 @pytest.fixture(scope="module")
 def duffing():
     return lg.loads(DUFFING).continuation(
