@@ -249,3 +249,18 @@ def test_events_are_found_as_in_scipys_loop():
         np.testing.assert_allclose(ours.events[name].times, scipy.events[name].times, atol=1e-9)
     assert ours.events["x_down"].count == 1
     assert abs(np.hypot(ours["x"][-1], ours["y"][-1]) - 1.0) <= 1e-14  # the stop projected
+
+
+def test_rk4_runs_compiled_with_its_projection_as_the_python_loop():
+    from lagrangian.integrate.compiled_loop import ProjectedLoop, compiled_loop
+    from lagrangian.integrate.registry import method_class
+
+    fast, slow = compiled("cartesian_pendulum", "numba"), compiled("cartesian_pendulum", "numpy")
+    rk4 = method_class("rk4").configure(t_span=(0.0, 5.0), dt=0.001, rtol=None, atol=None)
+    loop = compiled_loop(fast, rk4.printed_scheme(fast), rk4.newton_settings())
+    assert isinstance(loop, ProjectedLoop)
+    options = {"t_end": 5.0, "method": "rk4", "dt": 0.001, "initial": {"x": 0.6, "y": -0.8}}
+    ours, python = simulate(fast, **options), simulate(slow, **options)
+    assert ours.dataset.attrs["steps"] == python.dataset.attrs["steps"] == 5000
+    np.testing.assert_allclose(states(ours), states(python), rtol=0, atol=1e-12)
+    assert residual(fast, ours).max() <= 1e-14

@@ -15,8 +15,8 @@ iteration; a member asking only for ``flip_time`` stops when it has flipped.  Fo
 displacement from the generated variational equations, renormalised after every step,
 as the numpy backend's :class:`~lagrangian.integrate.lyapunov.TangentFlow`.
 
-A constrained system runs rk4 in the loop of :mod:`.numba_projected` instead: its
-generated y' (the augmented system) and projection, those of the compiled DOP853 loop
+A constrained system runs rk4 in the loop of :mod:`lagrangian.integrate.numba_projected`
+instead: its generated y' (the augmented system) and projection, those of the compiled DOP853 loop
 (:func:`lagrangian.integrate.compiled_dop853.compiled_loop`), each member projected onto
 the constraints after every step, as the numpy backend projects.
 
@@ -108,12 +108,10 @@ def tangent_scheme(scheme: str, method: str) -> str:
 
 def projected_members(chunk: Chunk) -> Outputs:
     """The chunk of a constrained system: rk4 and a projection every step, per member, in
-    the shared loop of :mod:`.numba_projected` (see the module docstring)."""
-    from pathlib import Path
-
-    from ..codegen.cache import load_text, package_text
+    the shared loop of :mod:`lagrangian.integrate.numba_projected` (see the module docstring)."""
     from ..integrate import tableaus
     from ..integrate.compiled_dop853 import compiled_loop
+    from ..integrate.compiled_loop import projected_module
 
     compiled = chunk.compiled
     if chunk.scheme("numba") != "rk4":
@@ -128,7 +126,7 @@ def projected_members(chunk: Chunk) -> Outputs:
         )
     _numba()
     loop = compiled_loop(compiled)
-    module = load_text(*package_text(Path(__file__).with_name("numba_projected.py")))
+    module = projected_module()
     count = chunk.count
     states = np.ascontiguousarray(np.asarray(chunk.y0, dtype=float).T)
     p = np.asarray(chunk.params, dtype=float)

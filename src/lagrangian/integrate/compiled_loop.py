@@ -15,6 +15,10 @@ The step's failures come back as codes and become the messages of the Python loo
 raises instead (numba's ``ZeroDivisionError`` for 1/x at x = 0, where NumPy gives inf),
 :meth:`CompiledLoop.march` raises :class:`Unavailable` and the driver runs the whole
 span again step by step in Python, which reports the inf or NaN as it does.
+
+A constrained system's rk4 runs in :class:`ProjectedLoop` instead: the loop of
+:mod:`.numba_projected` (the numba ensemble's, for one member), each state projected onto
+the constraints after every step as the Python loop projects it.
 """
 
 from __future__ import annotations
@@ -117,16 +121,81 @@ def _generated(function, *arguments):
         raise Unavailable from None
 
 
+class ProjectedLoop:
+    """rk4 of a constrained system in compiled code, every state projected onto the
+    constraints (:mod:`.numba_projected`, one member), marched as :class:`CompiledLoop`."""
+
+    def __init__(self, module, y_prime, size: int):
+        self.module, self.y_prime, self.size = module, y_prime, size
+
+    def march(self, grid, y0, params, work: Work, chunk=None) -> Marched:
+        """As :meth:`CompiledLoop.march` (a state that is not finite fails with code 3)."""
+        from .tableaus import RK4
+
+        a, b, c = (np.ascontiguousarray(x, dtype=float) for x in (RK4.a, RK4.b, RK4.c))
+        steps = grid.shape[0] - 1
+        y = np.array(y0, dtype=float)
+        p = np.ascontiguousarray(params, dtype=float)[None, :]
+        states = np.empty((steps + 1, y.shape[0]))
+        states[0] = y
+        final, flips = np.empty((1, y.shape[0])), np.empty(1)
+        reached, failed, size = 0, 0, FIRST_CHUNK
+        try:
+            while reached < steps and not failed:
+                start, stop = reached, min(steps, reached + size)
+                paths = np.empty((1, y.shape[0], stop - start + 1))
+                began = time.perf_counter()
+                _generated(
+                    self.module.run, self.y_prime, self.size, y[None, :], p,
+                    grid[start : stop + 1], a, b, c, False, False, 1, final, flips, paths,
+                )  # fmt: skip
+                taken = paths[0].T[1:]
+                bad = ~np.all(np.isfinite(taken), axis=1)
+                if bad.any():  # the step into the first state that is not finite failed
+                    k = int(np.argmax(bad))
+                    states[start + 1 : start + k + 1] = taken[:k]
+                    reached, failed, y = start + k, 3, taken[k].copy()
+                    break
+                states[start + 1 : stop + 1] = taken
+                reached, y = stop, taken[-1].copy()
+                if time.perf_counter() - began < CHUNK_SECONDS / 2:
+                    size *= 2
+                if chunk is not None and chunk(states, start, reached):
+                    break
+        finally:
+            work.rhs_evaluations += 4 * int(reached)
+            work.steps += int(reached)
+        return Marched(states, int(reached), int(failed), y)
+
+
+def projected_module():
+    """:mod:`.numba_projected` in the code cache (one module for every constrained system:
+    numba compiles its loop once on a machine)."""
+    from pathlib import Path
+
+    from ..codegen.cache import load_text, package_text
+
+    return load_text(*package_text(Path(__file__).with_name("numba_projected.py")))
+
+
 def compiled_loop(
     compiled: CompiledSystem, scheme: str | None, newton: Newton
-) -> CompiledLoop | None:
+) -> CompiledLoop | ProjectedLoop | None:
     """The :class:`CompiledLoop` of ``compiled`` for ``scheme`` (None: the method has no
-    printed scheme), or None where the run is not compiled: a backend other than numba,
-    constraints, or functions given by hand instead of derived equations."""
-    if scheme is None or compiled.backend != "numba" or compiled.has_constraints:
+    printed scheme; with constraints, the :class:`ProjectedLoop` of rk4), or None where the
+    run is not compiled: a backend other than numba, or functions given by hand instead of
+    derived equations."""
+    if scheme is None or compiled.backend != "numba" or compiled.forms is None:
         return None
-    if compiled.forms is None:
-        return None
+    if compiled.has_constraints:
+        if scheme != "rk4":
+            return None
+        from .compiled_dop853 import compiled_loop as dop853_loop
+
+        loop = dop853_loop(compiled)  # its y' and projection, generated for n + m
+        if loop is None:
+            return None
+        return ProjectedLoop(projected_module(), loop.y_prime, loop.n)
     from ..codegen.loops import numba_loop
     from . import tableaus
 

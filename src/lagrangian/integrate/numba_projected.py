@@ -1,7 +1,8 @@
-"""The numba ensemble's loop for constrained systems: rk4, each member projected every step.
+"""rk4 of constrained systems in numba, each state projected after every step: the loop
+of the numba ensemble's members and of a single rk4 run.
 
-Written into the code cache as it is (:func:`lagrangian.ensemble.numba_backend.
-projected_members`), where ``@njit(cache=True)`` keeps its machine code: compiled once on a
+Written into the code cache as it is (:func:`lagrangian.integrate.compiled_loop.
+projected_module`), where ``@njit(cache=True)`` keeps its machine code: compiled once on a
 machine for every constrained system.  A system's functions come in as the pointers of the
 compiled DOP853 loop (:mod:`lagrangian.integrate.numba_dop853`, ``projected_y_prime``): its
 generated ``derivative`` (the augmented system [[M, -A^T], [A, 0]] [q''; lambda] = [f; b]
@@ -14,10 +15,11 @@ in the mass metric, velocities exactly: :mod:`lagrangian.integrate.numba_derivat
 steps each member (one per ``prange`` iteration, its own workspace for a solve of
 ``size``) along ``grid`` with the explicit Runge-Kutta tableau (a, b, c) as the numpy
 backend's rk4 takes it (:class:`lagrangian.integrate.explicit_rk.AbstractExplicitRungeKutta`:
-the same sums in the same order), then projects the state, as the numpy backend projects
+the same sums in the same order), then projects the state, as the Python loops project
 each step (``compiled.project``).  ``track``/``stop``/``save_every``, ``final``, ``flips``
-and ``paths`` are those of the unconstrained loop (:mod:`lagrangian.codegen.numba_stepping`).
-This module itself is never run.
+and ``paths`` are those of the unconstrained loop (:mod:`lagrangian.codegen.numba_stepping`);
+a single run is one member whose every step is saved (:class:`~lagrangian.integrate.
+compiled_loop.ProjectedLoop`).  This module itself is never run.
 """
 
 import math
