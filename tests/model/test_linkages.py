@@ -254,3 +254,113 @@ def test_a_start_where_the_held_coordinate_fixes_nothing_is_refused():
     q, _ = assembled(system, 0.0, np.array([0.7, 1.0, -0.3]), np.zeros(3), params)
     r, rod = 0.2, 0.7  # away from it: theta from the law of cosines
     assert math.cos(q[1]) == pytest.approx((0.7**2 + r**2 - rod**2) / (2 * 0.7 * r), abs=1e-12)
+
+
+WATT_SIX_BAR = """
+coordinates = ["t1", "t2", "t3", "t4", "t5"]
+[parameters]
+a = 0.3
+b = 1.0
+c = 0.8
+d = 1.0
+e = 0.9
+f = 0.7
+m = 1.0
+[[links]]
+name = "crank"
+length = "a"
+mass = "m"
+angle = "t1"
+[[links]]
+name = "coupler"
+length = "b"
+mass = "m"
+angle = "t2"
+points = {E = [0.5, 0.3]}
+[[links]]
+name = "rocker"
+length = "c"
+mass = "m"
+angle = "t3"
+points = {F = [0.4, -0.2]}
+[[links]]
+name = "upper"
+length = "e"
+mass = "m"
+angle = "t4"
+[[links]]
+name = "lower"
+length = "f"
+mass = "m"
+angle = "t5"
+[[joints]]
+connects = ["ground", "crank.start"]
+at = [0, 0]
+[[joints]]
+connects = ["crank.end", "coupler.start"]
+[[joints]]
+connects = ["ground", "rocker.start"]
+at = ["d", 0]
+[[joints]]
+name = "C"
+connects = ["coupler.end", "rocker.end"]
+[[joints]]
+connects = ["coupler.E", "upper.start"]
+[[joints]]
+connects = ["rocker.F", "lower.start"]
+[[joints]]
+name = "G"
+connects = ["upper.end", "lower.end"]
+"""
+
+
+def circles_meet(p, r, q, s, left):
+    """The point at distance r from p and s from q, left of p -> q (or right)."""
+    p, q = np.asarray(p, dtype=float), np.asarray(q, dtype=float)
+    between = np.linalg.norm(q - p)
+    u = (q - p) / between
+    along = (r**2 - s**2 + between**2) / (2 * between)
+    height = math.sqrt(r**2 - along**2) * (1 if left else -1)
+    return p + along * u + height * np.array([-u[1], u[0]])
+
+
+def test_a_watt_six_bar_assembles_onto_two_loops_closed_by_hand():
+    """Two loops (joints C and G close them), 5 links and 7 joints: Grübler 15 - 14 = 1.
+    Each loop is closed by hand: C and G where two circles meet, on the side the guesses
+    are on."""
+    system = lg.loads(WATT_SIX_BAR)
+    assert system.linkage.degrees_of_freedom == 1
+    assert [j.name for j in system.linkage.joints if not j.tree] == ["C", "G"]
+    assert len(system.constraints) == 4
+    params = np.array([p.default for p in system.parameters])
+    a, b, c, d, e, f = 0.3, 1.0, 0.8, 1.0, 0.9, 0.7
+
+    def rotate(angle, point):
+        return np.array([
+            math.cos(angle) * point[0] - math.sin(angle) * point[1],
+            math.sin(angle) * point[0] + math.cos(angle) * point[1],
+        ])  # fmt: skip
+
+    for t1 in np.linspace(0.2, 6.0, 9):
+        guess = np.array([t1, 0.6, 1.5, 1.2, 2.2])
+        q, v = assembled(system, 0.0, guess, np.array([1.0, 0, 0, 0, 0]), params)
+        B = a * np.array([math.cos(t1), math.sin(t1)])
+        C = circles_meet(B, b, [d, 0.0], c, left=True)
+        t2 = math.atan2(*(C - B)[::-1])
+        t3 = math.atan2(C[1], C[0] - d)
+        E = B + rotate(t2, [0.5, 0.3])
+        F = np.array([d, 0.0]) + rotate(t3, [0.4, -0.2])
+        G = circles_meet(E, e, F, f, left=True)
+        expected = [t1, t2, t3, math.atan2(*(G - E)[::-1]), math.atan2(*(G - F)[::-1])]
+        assert np.allclose(np.angle(np.exp(1j * (q - expected))), 0.0, atol=1e-11)
+        # the rates close both loops too: d/dt of every constraint is 0
+        names = {s.name: s for c in system.constraints for s in c.free_symbols}
+        point = {names[n]: x for n, x in zip(["t1", "t2", "t3", "t4", "t5"], q, strict=True)}
+        point |= {names[k]: x for k, x in zip("abcdef", (a, b, c, d, e, f), strict=True)}
+        for constraint in system.constraints:
+            rate = sum(
+                float(constraint.diff(names[n]).xreplace(point)) * v[k]
+                for k, n in enumerate(["t1", "t2", "t3", "t4", "t5"])
+                if n in names
+            )
+            assert abs(rate) < 1e-12
