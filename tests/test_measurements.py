@@ -162,3 +162,19 @@ def test_noise_levels_in_the_columns_units():
     assert str(error.value) == (
         "noise: the noise of column 'x [s]': x is a length (m), but s is a time (s)"
     )
+
+
+def test_an_xarray_dataset_in_memory():
+    dataset = xr.Dataset({"theta": ("t", [0.5, 0.4, np.nan])}, coords={"t": [0.0, 0.1, 0.2]})
+    found = read_measurements(dataset, PENDULUM)
+    assert found.source == "<data>" and found.dropped == (2,) and found.place == "index"
+    assert np.array_equal(found.columns["theta"], [0.5, 0.4])
+
+
+def test_times_out_of_order_in_a_dataset_name_the_index():
+    dataset = xr.Dataset({"theta": ("t", [0.5, 0.4, 0.3])}, coords={"t": [0.0, 0.2, 0.1]})
+    with pytest.raises(FileError) as error:
+        read_measurements(dataset, PENDULUM)
+    assert str(error.value) == (
+        "<data>: index 2: t = 0.1 is not after t = 0.2 of index 1 (times must increase)"
+    )

@@ -107,7 +107,7 @@ def fit_of_system(
         )
         note = (
             f"{measured.source}: {len(measured.dropped)} rows with a missing value (empty or "
-            f"NaN) dropped (rows {rows})"
+            f"NaN) dropped ({'rows' if measured.place == 'row' else 'indices'} {rows})"
         )
         result = replace(result, warnings=(note, *result.warnings), dropped=measured.dropped)
     return replace(result, source=measured.source)

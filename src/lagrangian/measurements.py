@@ -45,6 +45,7 @@ if TYPE_CHECKING:
 
 _HEADER = re.compile(r"\s*([^\[\]]*?)\s*(?:\[([^\[\]]*)\])?\s*")
 _MISSING = {"", "nan", "NaN", "NAN"}
+_NETCDF = (".nc", ".nc4", ".netcdf")
 
 
 @dataclass(frozen=True)
@@ -52,13 +53,15 @@ class Measurements:
     """A checked time series: ``times`` (m,) increasing from 0 on, ``columns`` name ->
     values (m,) in the model's SI units, ``units`` name -> the unit the source gave (None:
     the model's own), ``dropped`` the rows left out for a missing value (CSV rows: the
-    header is row 1), ``source`` the file (or ``<data>``)."""
+    header is row 1; other data: their 0-based ``index``, as ``place`` says), ``source``
+    the file (or ``<data>``)."""
 
     source: str
     times: np.ndarray
     columns: Mapping[str, np.ndarray]
     units: Mapping[str, str | None]
     dropped: tuple[int, ...] = ()
+    place: str = "row"
 
 
 def read_measurements(
@@ -75,14 +78,16 @@ def read_measurements(
         source = str(data)
         if not path.is_file():
             raise FileError(source, "no such file")
-        if path.suffix.lower() in (".nc", ".nc4", ".netcdf"):
+        if path.suffix.lower() in _NETCDF:
             names, rows, numbers = _netcdf_table(path)
         else:
             names, rows, numbers = _csv_table(path)
     else:
         source = "<data>"
         names, rows, numbers = _mapping_table(data)
-    return _checked(source, names, rows, numbers, system, observed)
+    csv_file = isinstance(data, str | Path) and Path(data).suffix.lower() not in _NETCDF
+    place = "row" if csv_file else "index"
+    return _checked(source, names, rows, numbers, system, observed, place)
 
 
 def _csv_table(path: Path) -> tuple[list[str], list[int], np.ndarray]:
@@ -189,6 +194,7 @@ def _checked(
     numbers: np.ndarray,
     system: System,
     observed: Mapping[str, sympy.Expr],
+    place: str,
 ) -> Measurements:
     names, units = _header(source, header)
     coordinates = system.coordinate_names
@@ -224,9 +230,9 @@ def _checked(
     factors = _factors(source, names, units, system, observed)
     numbers = numbers * np.array([factors[name] for name in names])
     times = numbers[:, names.index(TIME_NAME)]
-    _check_times(source, times, rows)
+    _check_times(source, times, rows, place)
     columns = {n: numbers[:, j].copy() for j, n in enumerate(names) if n != TIME_NAME}
-    return Measurements(source, times.copy(), columns, dict(units), dropped)
+    return Measurements(source, times.copy(), columns, dict(units), dropped, place)
 
 
 def _header(source: str, header: Sequence[str]) -> tuple[list[str], dict[str, str | None]]:
@@ -353,17 +359,18 @@ def noise_levels(
     return np.array(sigma)
 
 
-def _check_times(source: str, times: np.ndarray, rows: Sequence[int]) -> None:
+def _check_times(source: str, times: np.ndarray, rows: Sequence[int], place: str) -> None:
     if times[0] < 0:
         raise FileError(
             source,
-            f"row {rows[0]}: t = {times[0]:g} is before 0, where the model's initial values are",
+            f"{place} {rows[0]}: t = {times[0]:g} is before 0, where the model's initial "
+            "values are",
         )
     steps = np.diff(times)
     if steps.size and not np.all(steps > 0):
         k = int(np.argmax(~(steps > 0))) + 1
         raise FileError(
             source,
-            f"row {rows[k]}: t = {times[k]:g} is not after t = {times[k - 1]:g} of row "
+            f"{place} {rows[k]}: t = {times[k]:g} is not after t = {times[k - 1]:g} of {place} "
             f"{rows[k - 1]} (times must increase)",
         )

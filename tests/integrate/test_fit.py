@@ -213,3 +213,19 @@ def test_a_fit_past_its_time_budget_stops_with_one_line():
             timeout=1e-6,
         )  # fmt: skip
     assert str(error.value).startswith("the fit did not finish within 1e-06 s of CPU")
+
+
+def test_data_in_other_units_fit_the_model_in_si():
+    # x = 0.05 cos(w t) m with w = sqrt(k/m) = 3/s, given in centimetres over milliseconds,
+    # as a pandas DataFrame: k comes out in N/m
+    import pandas as pd
+
+    spring = lg.loads(
+        'coordinates = ["x"]\nlagrangian = "m*x_dot^2/2 - k*x^2/2"\n'
+        '[parameters]\nm = "0.5 kg"\nk = "4 N/m"\n[units]\nx = "m"\n[initial]\nx = "5 cm"\n'
+    )
+    t = np.linspace(0.0, 4.0, 81)
+    frame = pd.DataFrame({"t [ms]": 1000 * t, "x [cm]": 5.0 * np.cos(3.0 * t)})
+    result = spring.fit(frame, ["k"], backend="llvm")
+    assert abs(result.parameters["k"][0] - 4.5) < 1e-6  # m w^2 = 0.5 * 9
+    assert np.allclose(result.times, t) and np.allclose(result.observed["x"], 0.05 * np.cos(3 * t))
