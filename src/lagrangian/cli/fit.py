@@ -75,8 +75,9 @@ def _check_picture(picture: str | None, residuals: bool) -> None:
 )  # fmt: skip
 @click.option(
     "--noise", metavar="SIGMA|NAME=SIGMA,...",
-    help="The measurements' standard deviation in the model's units, one for all columns "
-    "or one per column: weights the columns and gives chi^2 per degree of freedom.",
+    help="The measurements' standard deviation, one for all columns or one per column: "
+    "a bare number in the unit the model declares for the column, or with a unit "
+    "(0.3deg, x=2mm); weights the columns and gives chi^2 per degree of freedom.",
 )  # fmt: skip
 @click.option("--seed", type=int, default=0, show_default=True, help="Seed of the random starts.")
 @options.tolerances("Relative tolerance (default 1e-9).", "Absolute tolerance (default 1e-11).")
