@@ -76,6 +76,22 @@ l = 1.0
 """
 
 
+#: A knife edge (Chaplygin's sled without its offset) on the plane z = 0: a holonomic and a
+#: nonholonomic constraint together (the position projection leaves the latter's row out).
+SKATE = """
+name = "Skate on a plane"
+coordinates = ["x", "y", "z", "phi"]
+kinetic = "m*(x_dot^2 + y_dot^2 + z_dot^2)/2 + I*phi_dot^2/2"
+potential = "m*g*z"
+constraints = ["z", "sin(phi)*x_dot - cos(phi)*y_dot"]
+
+[parameters]
+m = 1.0
+I = 0.2
+g = 9.81
+"""
+
+
 @functools.cache
 def compiled(model: str, backend: str):
     system = lg.loads(model) if "\n" in model else lg.load(model)
@@ -264,3 +280,18 @@ def test_rk4_runs_compiled_with_its_projection_as_the_python_loop():
     assert ours.dataset.attrs["steps"] == python.dataset.attrs["steps"] == 5000
     np.testing.assert_allclose(states(ours), states(python), rtol=0, atol=1e-12)
     assert residual(fast, ours).max() <= 1e-14
+
+
+def test_a_skate_turns_on_its_circle_held_on_the_plane():  # holonomic and not, together
+    system = compiled(SKATE, "numba")
+    speed, turn = 1.5, 0.8  # along the blade, and phi' (both constant: no force does work)
+    start = {"x_dot": speed, "phi_dot": turn}
+    run = simulate(system, t_end=10.0, initial=start, n_out=101, rtol=1e-12, atol=1e-14)
+    phi = turn * run.t
+    np.testing.assert_allclose(run["phi"], phi, atol=1e-9)
+    np.testing.assert_allclose(run["x"], speed / turn * np.sin(phi), atol=1e-9)
+    np.testing.assert_allclose(run["y"], speed / turn * (1 - np.cos(phi)), atol=1e-9)
+    assert np.abs(run["z"]).max() <= 1e-15 and np.abs(run["z_dot"]).max() <= 1e-15
+    assert residual(system, run).max() <= 1e-13
+    scipy = simulate(compiled(SKATE, "numpy"), t_end=10.0, initial=start, n_out=101)
+    np.testing.assert_allclose(states(run), states(scipy), atol=1e-8)
