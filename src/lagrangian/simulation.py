@@ -28,6 +28,7 @@ from .integrate.poincare import MAX_ORBITS, PoincareSection, poincare_section, s
 from .integrate.section import parse_section
 from .integrate.sensitivity import DEFAULT_POINTS, Sensitivities, sensitivities
 from .model import System
+from .model.impacts import refuse_impacts
 from .model.values import check_parameter_values
 from .numeric import compile_equations, default_backend
 from .trajectory import Trajectory
@@ -154,7 +155,9 @@ class RunSettings:
     timeout: float | None = RUN_SECONDS
 
     def values(self, system: System) -> tuple[dict[str, float], dict[str, float]]:
-        """(initial, params) with the assignments put in, checked (:func:`split_assignments`)."""
+        """(initial, params) with the assignments put in, checked (:func:`split_assignments`);
+        a model with contacts is refused (these runs do not stop at impacts)."""
+        refuse_impacts(system, "this command (Lyapunov, sensitivities, sections, orbits, fit)")
         return split_assignments(system, self.assignments, self.initial, self.params)
 
     def compiled(self, system: System, t_final: float, describe=None):

@@ -103,3 +103,36 @@ def test_a_restitution_in_units_is_dimensionless_and_the_gap_any_length(tmp_path
     bad = text.replace("e = 0.9", 'e = "0.9 m"')
     with pytest.raises(ModelError, match=r"impacts\[0\]\.restitution"):
         lg.load(write(tmp_path, bad))
+
+
+@pytest.mark.parametrize(
+    "argv, what",
+    [
+        (["ensemble", "bouncing_ball", "--grid", "y=0.5:1:3", "--t-end", "1"], "an ensemble"),
+        (["lyapunov", "bouncing_ball", "--t-end", "1"], "this command"),
+        (["sensitivity", "bouncing_ball", "--wrt", "g", "--t-end", "1"], "this command"),
+    ],
+)
+def test_runs_that_would_pass_through_the_contacts_are_refused(capsys, argv, what):
+    from lagrangian.examples import example_path
+
+    status = main(argv)
+    err = capsys.readouterr().err
+    assert status == 2
+    assert err == (
+        f"lagrangian: error: {example_path('bouncing_ball')}: impacts: {what} "
+        + ("(Lyapunov, sensitivities, sections, orbits, fit) " if what == "this command" else "")
+        + "does not take contacts yet ([[impacts]]): its runs would pass through them; "
+        "simulate, plot and animate do\n"
+    )
+
+
+def test_the_automatic_choice_never_gives_taylor_a_run_with_contacts():
+    from lagrangian.integrate.choice import _taylor_problem
+    from lagrangian.numeric import compile_equations
+
+    compiled = compile_equations(lg.load("impact_oscillator").equations_of_motion())
+    y0, p = compiled.state_vector(), compiled.parameter_vector()
+    assert _taylor_problem(compiled, y0, p, ()) == "does not stop at impacts"
+    plain = compile_equations(lg.load("harmonic_oscillator").equations_of_motion())
+    assert _taylor_problem(plain, plain.state_vector(), plain.parameter_vector(), ()) is None

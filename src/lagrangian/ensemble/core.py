@@ -54,6 +54,7 @@ from ..integrate.fixed_step import AbstractFixedStepIntegrator, led_grid
 from ..integrate.memory import check_fits, count_text, step_count
 from ..integrate.start import constrained_start
 from ..integrate.step_size import fixed_step_for
+from ..model.impacts import refuse_impacts
 from .choices import BACKENDS, METHODS, PRECISIONS
 from .chunk import AbstractEnsembleBackend, Chunk, Chunks
 from .cuda_backend import CudaBackend
@@ -118,6 +119,7 @@ def run_ensemble(
     (:func:`~lagrangian.integrate.fixed_step.led_grid`).
     """
     t0, t1 = check_time_span((0.0, t_end))
+    refuse_impacts(getattr(compiled.equations, "system", None), "an ensemble")
     if method not in METHODS:
         raise ModelError(f"unknown ensemble method '{method}' (methods: {', '.join(METHODS)})")
     if backend not in BACKENDS:

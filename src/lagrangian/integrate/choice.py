@@ -295,6 +295,8 @@ def _taylor_problem(compiled, y0, params, events) -> str | None:
         return "does not take constraints"
     if events:
         return "does not watch events"
+    if getattr(compiled.equations.system, "impacts", ()):
+        return "does not stop at impacts"
     with np.errstate(all="ignore"):
         if indefinite_mass(compiled, 0.0, y0, params) is not None:
             return "needs a definite mass matrix"

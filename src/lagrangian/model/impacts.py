@@ -162,3 +162,16 @@ def check_initial_gaps(system, initial: Mapping[str, float], params: Mapping[str
                 field=f"impacts[{i}].gap",
                 text=str(impact.gap),
             )
+
+
+def refuse_impacts(system, what: str) -> None:
+    """ModelError where ``system`` has contacts and ``what`` (a kind of run) would integrate
+    through them as if they were not there: only ``simulate`` (and what draws its runs)
+    stops at impacts."""
+    if getattr(system, "impacts", ()):
+        raise ModelError(
+            f"{what} does not take contacts yet ([[impacts]]): its runs would pass through "
+            "them; simulate, plot and animate do",
+            source=getattr(system, "source", None),
+            field="impacts",
+        )
