@@ -60,3 +60,12 @@ def test_the_animation_draws_the_floor_where_the_gap_closes():
         assert np.abs(patch - wall).sum(axis=1).min() < 40
     column, up = ax.transData.transform((0.2, 0.5))  # nothing drawn above the floor there
     assert np.all(image[image.shape[0] - int(up), int(column)] > 200)
+
+
+@pytest.mark.slow
+def test_the_page_says_that_its_motion_passes_through_the_contacts():
+    from lagrangian.output.page import page_html
+
+    html = page_html(lg.load("bouncing_ball"))
+    assert "The contacts (floor) are not simulated in this page" in html
+    assert "are not simulated in this page" not in page_html(lg.load("harmonic_oscillator"))

@@ -265,6 +265,12 @@ def _sections(eom: EquationsOfMotion, analysis: Analysis, results: dict) -> list
     sections.append({"title": "Conserved quantities", "items": items})
     sections.append(results)
     notes = [*analysis.notes, *(f"{u.stage}: {u.reason}" for u in analysis.undecided)]
+    contacts = [impact.name for impact in getattr(eom.system, "impacts", ())]
+    if contacts:  # the page's integrator knows no impacts: say so, not a silent wrong motion
+        notes.append(
+            f"The contacts ({', '.join(contacts)}) are not simulated in this page: its motion "
+            "passes through them. lagrangian simulate, plot and animate stop at each impact."
+        )
     if notes:
         sections.append({"title": "Notes", "items": [{"text": note} for note in notes]})
     return sections
