@@ -136,3 +136,24 @@ def test_the_automatic_choice_never_gives_taylor_a_run_with_contacts():
     assert _taylor_problem(compiled, y0, p, ()) == "does not stop at impacts"
     plain = compile_equations(lg.load("harmonic_oscillator").equations_of_motion())
     assert _taylor_problem(plain, plain.state_vector(), plain.parameter_vector(), ()) is None
+
+
+def test_a_gap_flat_at_its_zero_is_one_line_not_a_traceback(tmp_path, capsys):
+    path = write(tmp_path, BALL.replace('gap = "y"', 'gap = "y^3"'))
+    status = main(["simulate", str(path), "--t-end", "2", "--json"])
+    err = capsys.readouterr().err
+    assert status == 2
+    assert err.startswith(f"lagrangian: error: {path}: impacts: a contact (contact1) could not ")
+    assert err.endswith("a gap must cross 0 with a nonzero gradient (y, not y^3)\n")
+
+
+def test_a_restitution_of_one_set_on_the_command_line_keeps_the_energy(capsys):
+    import json
+
+    status = main(["simulate", "bouncing_ball", "--set", "e=1", "--t-end", "3", "--json"])
+    document = json.loads(capsys.readouterr().out)
+    assert status == 0 and len(document["impacts"]) == 3
+    for impact in document["impacts"]:
+        assert impact["energy_after"] == pytest.approx(impact["energy_before"], rel=1e-13)
+    assert "not_conserved" not in document
+    assert abs(document["invariants"]["energy"]) < 1e-12

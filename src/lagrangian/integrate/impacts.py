@@ -150,10 +150,19 @@ class ImpactRun:
             Event(self._gap_event(k, shifts[k]), -1, True, f"contact__{k}")
             for k in range(self.contacts.count)
         ]
-        result = self.integrator.solve(
-            self.compiled, (t, self.t1), y, self.params, t_eval=outputs,
-            events=[*events, *self.user_events], watch=self.watch,
-        )  # fmt: skip
+        try:
+            result = self.integrator.solve(
+                self.compiled, (t, self.t1), y, self.params, t_eval=outputs,
+                events=[*events, *self.user_events], watch=self.watch,
+            )  # fmt: skip
+        except RuntimeError as error:  # Brent's method on a gap flat at its zero
+            names = ", ".join(self.contacts.names)
+            raise ModelError(
+                f"a contact ({names}) could not be located after t = {t:.6g} ({error}): a gap "
+                "must cross 0 with a nonzero gradient (y, not y^3)",
+                source=getattr(self.compiled.equations.system, "source", None),
+                field="impacts",
+            ) from None
         self.pieces.steps += result.steps
         self.pieces.rhs_evaluations += result.rhs_evaluations
         contact_records = result.events[: len(events)]
