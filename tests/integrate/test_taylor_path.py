@@ -212,3 +212,74 @@ def test_a_short_run_stays_in_scipys_loop_with_heyoka_installed():
     )  # fmt: skip
     assert run.method == "dop853" and run.compiled.backend != "numba"
     assert "too short for a compiled way" in run.reason
+
+
+# -- events: located on heyoka's continuous output, as the compiled DOP853 locates them ---
+DOUBLE = lg.load("double_pendulum").equations_of_motion()
+
+
+def pendulum_events():
+    from lagrangian.integrate import Event
+
+    return [
+        Event(lambda t, y, p: y[0], direction=1, name="up"),
+        Event(lambda t, y, p: y[1], name="cross"),
+    ]
+
+
+def test_events_match_scipys_loop():
+    from lagrangian.integrate import simulate
+
+    compiled = compile_equations(DOUBLE, backend="llvm")
+    start = {"theta1": 0.3, "theta2": 0.2}
+    tight = {"rtol": 1e-13, "atol": 1e-13, "initial": start, "events": pendulum_events()}
+    taylor = simulate(compiled, t_end=30.0, method="taylor", **tight)
+    scipy = simulate(compiled, t_end=30.0, method="dop853", **tight)
+    assert taylor.status == "success"
+    for name in ("up", "cross"):
+        ours, theirs = taylor.events[name], scipy.events[name]
+        assert ours.times.size == theirs.times.size > 5
+        np.testing.assert_allclose(ours.times, theirs.times, rtol=0, atol=1e-11)
+        np.testing.assert_allclose(ours.states, theirs.states, rtol=0, atol=1e-10)
+    # each crossing lies on its event: theta1 = 0 rising, theta2 = 0
+    np.testing.assert_allclose(taylor.events["up"].states[0], 0, atol=1e-14)
+    assert np.all(taylor.events["up"].states[2] > 0)
+    np.testing.assert_allclose(taylor.events["cross"].states[1], 0, atol=1e-14)
+
+
+@pytest.mark.parametrize("outputs", [None, np.linspace(0.0, 30.0, 301)])
+def test_a_terminal_event_ends_the_run_where_scipys_loop_ends_it(outputs, monkeypatch):
+    from lagrangian.integrate import Event, simulate
+
+    monkeypatch.setattr(taylor_propagate, "FIRST_CHUNK", 3)  # over several chunks
+    monkeypatch.setattr(taylor_propagate, "CHUNK_SECONDS", 0.0)
+    compiled = compile_equations(DOUBLE, backend="llvm")
+    stop = [Event(lambda t, y, p: y[0] - 0.25, direction=-1, terminal=True, name="stop")]
+    settings = {"rtol": 1e-13, "atol": 1e-13, "events": stop, "t_eval": outputs}
+    start = {"theta1": 0.3, "theta2": 0.2}
+    taylor = simulate(compiled, t_end=30.0, method="taylor", initial=start, **settings)
+    scipy = simulate(compiled, t_end=30.0, method="dop853", initial=start, **settings)
+    assert taylor.status == scipy.status == "event"
+    assert taylor.dataset.attrs["message"] == scipy.dataset.attrs["message"]
+    assert taylor.events["stop"].times.size == 1
+    t_stop = taylor.events["stop"].times[0]
+    assert abs(t_stop - scipy.events["stop"].times[0]) < 1e-11
+    assert taylor["t"][-1] == t_stop and abs(taylor["theta1"][-1] - 0.25) < 1e-14
+    if outputs is not None:  # the output times before the event, then the event
+        np.testing.assert_array_equal(taylor["t"][:-1], scipy["t"][:-1])
+        assert taylor["t"].size == scipy["t"].size
+        np.testing.assert_allclose(taylor["theta2"], scipy["theta2"], rtol=0, atol=1e-10)
+
+
+def test_the_default_of_a_long_run_with_events_is_taylor(monkeypatch):
+    from lagrangian.integrate import choice
+    from lagrangian.integrate.choice import choose_run
+
+    monkeypatch.setattr(choice, "compiled_ready", lambda compiled: True)
+    monkeypatch.setattr(choice, "method_ready", lambda: True)
+    run = choose_run(
+        lg.load("double_pendulum").equations_of_motion(), t_end=1000.0, method=None,
+        backend=None, rtol=1e-10, atol=1e-10, initial={"theta1": 0.3, "theta2": 0.2},
+        params={}, events=pendulum_events(),
+    )  # fmt: skip
+    assert run.method == "taylor", run.reason

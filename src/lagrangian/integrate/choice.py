@@ -17,8 +17,9 @@ tolerances given) differ in what they cost before the first step and per step
   once on a machine), then 1.2-1.4x the steps' time of the loop above: a new system's
   long run starts at once, and the system's own loop is compiled only for a run long
   enough to pay for it (millions of steps);
-- ``taylor`` (heyoka, where installed and applicable: no events, no constraints, a
-  definite mass matrix), at tol = min(rtol, atol): its import and build take a
+- ``taylor`` (heyoka, where installed and applicable: no constraints, a definite mass
+  matrix; events are located on its continuous output as the compiled loop locates
+  them on its interpolant), at tol = min(rtol, atol): its import and build take a
   fraction of a second for small systems, more for large ones, and it then runs
   2x faster than the compiled DOP853 for two coordinates with errors 30-200x
   smaller, but 3-5x slower for a 10-link chain (heyoka's compact mode).
@@ -33,7 +34,7 @@ The estimate is deterministic for a given system, state and tolerance, except th
 loop found in the code cache costs less to start.  The cheapest runs; the reason is
 one line, echoed in the run's summary (``choice``).  Where a way does not apply
 (constraints: the SciPy loop integrates the stabilised equations; numba or heyoka
-not installed; events or constraints for heyoka), that line says so.  A constrained system
+not installed; constraints for heyoka), that line says so.  A constrained system
 runs in SciPy's loop on the stabilised equations, or in the compiled loop, which projects
 every step onto its constraints as well (:mod:`.compiled_dop853`).
 """
@@ -212,8 +213,8 @@ def choose_run(
             costs["compiled loop on llvm"] = start + steps * linked_step_seconds(n)
     else:
         notes.append("numba is not installed (the compiled loop)")
-    if method is None and importlib.util.find_spec("heyoka") is not None:
-        problem = _taylor_problem(quick, y0, p, events)
+    if method is None and heyoka_installed():
+        problem = _taylor_problem(quick, y0, p)
         if problem is None:
             relative = TAYLOR_PACE if n <= 2 else TAYLOR_COMPACT_PACE  # taylor.py's modes
             pace = relative * steps * compiled_step_seconds(n)
@@ -287,14 +288,17 @@ def estimated_steps(
     return taken + (t1 - times[-1]) / size
 
 
-def _taylor_problem(compiled, y0, params, events) -> str | None:
+def heyoka_installed() -> bool:
+    """Whether heyoka can be imported (without importing it: 0.3 s)."""
+    return importlib.util.find_spec("heyoka") is not None
+
+
+def _taylor_problem(compiled, y0, params) -> str | None:
     """Why the taylor method does not apply to this run, or None."""
     from .taylor import indefinite_mass
 
     if compiled.has_constraints:
         return "does not take constraints"
-    if events:
-        return "does not watch events"
     if getattr(compiled.equations.system, "impacts", ()):
         return "does not stop at impacts"
     with np.errstate(all="ignore"):

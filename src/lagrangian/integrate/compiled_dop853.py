@@ -21,9 +21,10 @@ Why this and not the other ways to an adaptive method without Python per step
 (measured, benchmarks/user_paths.py, figures in benchmarks/README.md):
 
 - heyoka's Taylor method (``method="taylor"``) is faster still for small systems at
-  tight tolerances, but it is an optional 100 MB package that CI does not install,
-  cannot stop at our events (Python functions of the state) and takes constraints
-  nowhere; where it is installed the default uses it for long runs that it can do
+  tight tolerances, but it is an optional 100 MB package that CI does not install and
+  takes constraints nowhere (our events, Python functions of the state, it cannot
+  detect itself: they are located on its continuous output, :mod:`.taylor_propagate`);
+  where it is installed the default uses it for long runs that it can do
   (:mod:`.choice`).
 - A compiled solver from PyPI (numbalsoda, NumbaLSODA's LSODA; nbkode) would add a
   dependency for what is 200 lines over code we generate already, and none of those

@@ -36,6 +36,16 @@ class StepEvents:
 
     def steps(self, t_start, ts, ys, olds, slopes) -> tuple[int, tuple[float, np.ndarray]] | None:
         """(index of the step that stops, (t, y) where) at the first terminal event, or None."""
+
+        def interpolant(k, t_old, t):
+            return lambda s: interpolate(s, t_old, t - t_old, olds[k], slopes[k])
+
+        return self.located(t_start, ts, ys, interpolant)
+
+    def located(self, t_start, ts, ys, interpolant) -> tuple[int, tuple[float, np.ndarray]] | None:
+        """As :meth:`steps`, on any method's steps: ``interpolant(k, t_old, t)`` is the state
+        as a function of the time within step k, from ``t_old`` to ``t`` (heyoka's continuous
+        output for the taylor method, :mod:`.taylor_propagate`)."""
         from scipy.optimize import brentq
 
         t_old = t_start
@@ -48,16 +58,16 @@ class StepEvents:
             ]  # fmt: skip
             self.values = new
             if active:
-                h = t - t_old
-
-                def at(s, k=k, t_old=t_old, h=h):
-                    return interpolate(s, t_old, h, olds[k], slopes[k])
-
+                at = interpolant(k, t_old, t)
                 roots = []
                 for i in active:
                     function = self.functions[i]
                     root = brentq(
-                        lambda s, g=function: g(s, at(s)), t_old, t, xtol=4 * _EPS, rtol=4 * _EPS
+                        lambda s, g=function, at=at: g(s, at(s)),
+                        t_old,
+                        t,
+                        xtol=4 * _EPS,
+                        rtol=4 * _EPS,
                     )
                     roots.append((root, i))
                 roots.sort()

@@ -26,11 +26,14 @@ budget (``watch`` is told the start time before it).  Outputs are heyoka's steps
 or with ``t_eval`` its grid propagation there, run in chunks of thousands of steps
 with no Python per step (:mod:`.taylor_propagate`): the double pendulum's t = 1000 at
 1e-10 takes heyoka's own time within 1.1-1.5x (benchmarks/taylor_path.py; it took
-10-15x with a Python callback per step).  Not handled: constraints, events, batches
-(use dop853, radau or rk4).  The compiled integrator is kept per system and tolerance
-(its first build takes 0.1 s for the double pendulum, about 1.5 s for a 10-link
-chain).  A run fails with status ``failed`` where heyoka meets a state or a
-derivative that is not finite, naming the last finite state.
+10-15x with a Python callback per step).  Events (Python functions g(t, y, params),
+which heyoka's own event detection, given its expressions, cannot take) are found as
+the compiled DOP853 finds them: g at every step's end, a sign change located by Brent's
+method on heyoka's continuous output of that step (:class:`.compiled_events.StepEvents`).
+Not handled: constraints, batches (use dop853, radau or rk4).  The compiled integrator
+is kept per system and tolerance (its first build takes 0.1 s for the double pendulum,
+about 1.5 s for a 10-link chain).  A run fails with status ``failed`` where heyoka
+meets a state or a derivative that is not finite, naming the last finite state.
 """
 
 from __future__ import annotations
@@ -51,6 +54,8 @@ from .base import (
     adaptive_settings,
     tolerance_setting,
 )
+from .compiled_dop853 import TERMINATED
+from .compiled_events import StepEvents
 from .guard import UNDEFINED, describe_state
 from .taylor_propagate import propagate
 
@@ -101,8 +106,6 @@ class Taylor(AbstractIntegrator):
     def integrate(self, compiled: CompiledSystem, run: Run) -> IntegrationResult:
         import heyoka as hy
 
-        if run.events:
-            raise ModelError("method 'taylor' does not watch events: use dop853 or radau")
         t0, t1, y0, params, watch = run.t0, run.t1, run.y0, run.params, run.watch
         if run.problem is not None:  # as dop853 reports it
             return self._result(compiled, [t0], y0[:, None], Status.FAILED, run.problem, 0)
@@ -115,12 +118,19 @@ class Taylor(AbstractIntegrator):
         integrator.time = t0
         integrator.state[:] = y0
         integrator.pars[:] = constants(params)
-        reached = propagate(integrator, t1, run.t_eval, watch)
+        events = None
+        if run.events:
+            f0 = np.asarray(compiled.rhs(t0, y0, params), dtype=float)
+            events = StepEvents(run.events, params, t0, y0, f0)
+        reached = propagate(integrator, t1, run.t_eval, watch, events)
         times, values, steps = reached.times, reached.values, reached.steps
         outcome = reached.outcome
+        records = events.records(y0.shape[0]) if events is not None else ()
+        if reached.stopped:
+            return self._result(compiled, times, values, Status.EVENT, TERMINATED, steps, records)
         if outcome in (hy.taylor_outcome.success, hy.taylor_outcome.time_limit):
             return self._result(
-                compiled, times, values, Status.SUCCESS, "reached the end time", steps
+                compiled, times, values, Status.SUCCESS, "reached the end time", steps, records
             )
         where = f"t = {reached.last_t:.6g} ({describe_state(compiled, reached.last_y)})"
         if outcome == hy.taylor_outcome.err_nf_state:
@@ -130,9 +140,11 @@ class Taylor(AbstractIntegrator):
             )
         else:
             message = f"heyoka stopped ({outcome.name}) after {where}"
-        return self._result(compiled, times, values, Status.FAILED, message, steps)
+        return self._result(compiled, times, values, Status.FAILED, message, steps, records)
 
-    def _result(self, compiled, times, values, status, message, steps) -> IntegrationResult:
+    def _result(
+        self, compiled, times, values, status, message, steps, records=()
+    ) -> IntegrationResult:
         return IntegrationResult(
             t=np.asarray(times, dtype=float),
             y=values,
@@ -141,7 +153,7 @@ class Taylor(AbstractIntegrator):
             steps=int(steps),
             rhs_evaluations=0,
             jacobian_evaluations=0,
-            events=(),
+            events=records,
             settings=self.settings_for(compiled),
         )
 

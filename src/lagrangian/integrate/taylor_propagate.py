@@ -32,6 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .compiled_events import StepEvents
 from .memory import check_kept_steps
 
 #: Steps in the first chunk; later chunks are sized by the CPU time a step took.
@@ -53,15 +54,101 @@ class Propagation:
     outcome: object
     last_t: float
     last_y: np.ndarray
+    stopped: bool = False  # by a terminal event, at the last output
 
 
 def propagate(
-    integrator, t1: float, t_eval: np.ndarray | None, watch: Callable[[float], None] | None
+    integrator,
+    t1: float,
+    t_eval: np.ndarray | None,
+    watch: Callable[[float], None] | None,
+    events: StepEvents | None = None,
 ) -> Propagation:
-    """Propagate ``integrator`` (time and state set) to ``t1``, or over ``t_eval``."""
+    """Propagate ``integrator`` (time and state set) to ``t1``, or over ``t_eval``, with
+    ``events`` located on the way where given."""
+    if events is not None:
+        return _watching(integrator, t1, t_eval, watch, events)
     if t_eval is None:
         return _every_step(integrator, t1, watch)
     return _on_grid(integrator, np.asarray(t_eval, dtype=float), watch)
+
+
+def _watching(integrator, t1: float, t_eval, watch, events: StepEvents) -> Propagation:
+    """As :func:`_every_step` (a chunk's steps from its continuous output), with each
+    step's end handed to ``events``, which locates crossings on that output; the run
+    stops at a terminal one.  With ``t_eval`` the output times are the continuous output
+    evaluated there, chunk by chunk, and a terminal event's state is the last output."""
+    import heyoka as hy
+
+    t0, y0 = float(integrator.time), np.array(integrator.state, dtype=float)
+    size = y0.shape[0]
+    grid = None if t_eval is None else np.asarray(t_eval, dtype=float)
+    times, states, reached = [np.array([t0])], [y0[None, :]], 0
+    if grid is not None:
+        reached = int(np.searchsorted(grid, t0, side="right"))  # outputs at t0 itself
+        times, states = [grid[:reached]], [np.repeat(y0[None, :], reached, axis=0)]
+    largest = max(FIRST_CHUNK, CHUNK_BYTES // (8 * size * (integrator.order + 1)))
+    chunk, steps, last_t, last_y, stopped = FIRST_CHUNK, 0, t0, y0, False
+    while True:
+        started, start_time = time.process_time(), float(integrator.time)
+        outcome, _, _, taken, output, _ = integrator.propagate_until(
+            t1, max_steps=chunk, c_output=True
+        )
+        spent = time.process_time() - started
+        steps += taken
+        if taken:
+            step_times = np.array(output.times, dtype=float)
+            ends = np.array(output.tcs[1:, :, 0], dtype=float)
+            if outcome in (hy.taylor_outcome.time_limit, hy.taylor_outcome.step_limit):
+                end = np.array(integrator.state, dtype=float)
+            else:
+                start = np.array(output.tcs[-1, :, 0], dtype=float)
+                end = _step_from(integrator, float(step_times[-2]), start, t1)
+            ts = step_times[1:] if end is not None else step_times[1:-1]
+            ys = np.vstack([ends, end[None, :]]) if end is not None else ends
+            hit = events.located(start_time, ts, ys, _interpolant(output))
+            if hit is not None:
+                k, (t_stop, y_stop) = hit
+                ts, ys, stopped = np.append(ts[:k], t_stop), np.vstack([ys[:k], y_stop]), True
+            if grid is None:
+                times.append(ts)
+                states.append(ys)
+            elif ts.size:
+                upto = int(np.searchsorted(grid, ts[-1], side="right"))
+                inside = grid[reached:upto]
+                times.append(inside)
+                states.append(np.array(output(inside), dtype=float).reshape(-1, size))
+                reached = upto
+                if stopped and (not inside.size or inside[-1] < t_stop):
+                    times.append(np.array([t_stop]))
+                    states.append(y_stop[None, :])
+            if ts.size:
+                last_t, last_y = float(ts[-1]), ys[-1]
+        if stopped or outcome != hy.taylor_outcome.step_limit:
+            break
+        if grid is None:
+            check_kept_steps(
+                "taylor", size, steps, (float(integrator.time), t1),
+                (taken, float(integrator.time) - start_time),
+            )  # fmt: skip
+        if watch is not None:
+            watch(float(integrator.time))
+        chunk = _next_chunk(spent, taken, largest)
+    if stopped:
+        outcome = hy.taylor_outcome.time_limit  # a run that ended as asked
+    return Propagation(
+        np.concatenate(times), np.concatenate(states).T, steps, outcome, last_t, last_y, stopped
+    )
+
+
+def _interpolant(output):
+    """``StepEvents.located``'s interpolant of every step of a chunk: its continuous
+    output (the state at a time within it, as a copy)."""
+
+    def state(t: float) -> np.ndarray:
+        return np.array(output(float(t)), dtype=float).ravel()
+
+    return lambda k, t_old, t: state
 
 
 def _every_step(integrator, t1: float, watch) -> Propagation:
