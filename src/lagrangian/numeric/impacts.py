@@ -1,15 +1,9 @@
 """The numerical functions of a system's contacts (:mod:`lagrangian.model.impacts`).
 
-For the gaps g_k(q, t) of the model's ``[[impacts]]`` (the model's functions defined, as
-in the equations): the gaps, their gradients G = dg/dq (k x n), their partial time
-derivatives g_t, and the part of g'' that is not G q'',
-
-    kappa_k = q'^T (d^2 g_k / dq^2) q' + 2 (d^2 g_k / dq dt) . q' + d^2 g_k / dt^2,
-
-so that g'' = G q'' + kappa along a motion: what holding a contact closed (g = 0) as a
-constraint needs.  Each is one function of the plain numbers (t, q, q', params),
-lambdified once (NumPy's functions on scalars: a contact's events evaluate one state at a
-time), and ``restitutions(params)`` gives each contact's e.
+The contacts' symbolic forms (gaps, gradients G, g_t, kappa with g'' = G q'' + kappa, and
+the restitutions; :mod:`lagrangian.codegen.contacts`) as functions of the plain numbers
+(t, q, q', params), each lambdified once (NumPy's functions on scalars: a contact's
+events evaluate one state at a time).
 """
 
 from __future__ import annotations
@@ -20,7 +14,7 @@ from functools import cached_property
 import numpy as np
 import sympy
 
-from ..codegen.definitions import substitute
+from ..codegen.contacts import ContactForms, contact_forms
 from .compiled import CompiledSystem
 
 
@@ -28,41 +22,34 @@ from .compiled import CompiledSystem
 class ContactFunctions:
     """The contacts of one compiled system (see the module docstring)."""
 
-    names: tuple[str, ...]
-    gaps: tuple[sympy.Expr, ...]
-    restitution: tuple[sympy.Expr, ...]
-    coordinates: tuple[sympy.Symbol, ...]
-    velocities: tuple[sympy.Symbol, ...]
-    time: sympy.Symbol
+    forms: ContactForms
+    arguments: tuple[sympy.Symbol, ...]  # t, q, q', params
     parameters: tuple[sympy.Symbol, ...]
 
     @property
+    def names(self) -> tuple[str, ...]:
+        return self.forms.names
+
+    @property
     def count(self) -> int:
-        return len(self.names)
+        return len(self.forms.names)
 
     def _lambdify(self, expressions):
-        arguments = (self.time, *self.coordinates, *self.velocities, *self.parameters)
-        return sympy.lambdify(arguments, expressions, modules="numpy", cse=True, dummify=True)
+        return sympy.lambdify(self.arguments, expressions, modules="numpy", cse=True, dummify=True)
 
     @cached_property
     def _gap_function(self):
-        return self._lambdify(list(self.gaps))
+        return self._lambdify(list(self.forms.gaps))
 
     @cached_property
     def _geometry_function(self):
-        q, v, t = self.coordinates, self.velocities, self.time
-        gradient = [[sympy.diff(g, x) for x in q] for g in self.gaps]
-        rate = [sympy.diff(g, t) for g in self.gaps]
-        curvature = []
-        for row, g_t in zip(gradient, rate, strict=True):
-            first = sum((d * w for d, w in zip(row, v, strict=True)), g_t)  # g' = G q' + g_t
-            second = sum(sympy.diff(first, x) * w for x, w in zip(q, v, strict=True))
-            curvature.append(second + sympy.diff(first, t))
-        return self._lambdify([[d for row in gradient for d in row], rate, curvature])
+        forms = self.forms
+        flat = [d for row in forms.gradient for d in row]
+        return self._lambdify([flat, list(forms.rate), list(forms.curvature)])
 
     @cached_property
     def _restitution_function(self):
-        return sympy.lambdify(self.parameters, list(self.restitution), modules="numpy")
+        return sympy.lambdify(self.parameters, list(self.forms.restitution), modules="numpy")
 
     def gap_values(self, t: float, y: np.ndarray, params: np.ndarray) -> np.ndarray:
         """g_k at (t, y) for every contact, shape (k,)."""
@@ -71,7 +58,7 @@ class ContactFunctions:
     def geometry(self, t: float, y: np.ndarray, params: np.ndarray):
         """(G (k, n), g_t (k,), kappa (k,)) at (t, y)."""
         gradient, rate, curvature = self._geometry_function(t, *y, *params)
-        n = len(self.coordinates)
+        n = (len(self.arguments) - 1 - len(self.parameters)) // 2
         return (
             np.asarray(np.broadcast_arrays(*gradient), dtype=float).reshape(self.count, n),
             np.asarray(np.broadcast_arrays(*rate), dtype=float).reshape(self.count),
@@ -85,18 +72,11 @@ class ContactFunctions:
 
 
 def contact_functions(compiled: CompiledSystem) -> ContactFunctions | None:
-    """The contacts of ``compiled`` (None when its model has none)."""
-    system = compiled.equations.system
-    impacts = getattr(system, "impacts", ())
-    if not impacts:
+    """The contacts of ``compiled`` (None when its model has none, or its functions were
+    given by hand, without symbolic forms)."""
+    forms = compiled.forms
+    if forms is None or not getattr(compiled.equations.system, "impacts", ()):
         return None
-    definitions = compiled.forms.definitions if compiled.forms is not None else {}
-    return ContactFunctions(
-        names=tuple(impact.name for impact in impacts),
-        gaps=tuple(substitute(impact.gap, definitions) for impact in impacts),
-        restitution=tuple(sympy.sympify(impact.restitution) for impact in impacts),
-        coordinates=tuple(c.q for c in system.coordinates),
-        velocities=tuple(c.q_dot for c in system.coordinates),
-        time=system.time,
-        parameters=tuple(p.symbol for p in system.parameters),
-    )
+    contacts = contact_forms(forms)
+    arguments = (forms.time, *forms.coordinates, *forms.velocities, *forms.parameters)
+    return ContactFunctions(contacts, arguments, forms.parameters)
