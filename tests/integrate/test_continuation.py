@@ -196,6 +196,35 @@ def test_at_the_opposite_phase_the_mirror_orbit_doubles_at_the_same_drive(pendul
     assert after[1] == pytest.approx(mirrored[1], abs=1e-7)
 
 
+@pytest.mark.slow
+def test_a_period_doubling_bubble_is_followed_once(pendulum):
+    # past A = 1.4249 the period-2 branch doubles at 1.4598 and again at 1.4886: the period-4
+    # orbits born at the first join it again at the second (a bubble), coming back along the
+    # same orbits with their points shifted; the branch ends there, closed, and is not
+    # followed again from the second doubling
+    result = pendulum.continuation(
+        vary={"A": (1.42, 1.5, 41)}, strobe=DRIVE, attractor=3, max_doublings=2
+    )
+    periods = [(branch.period, branch.parent) for branch in result.branches]
+    doubled = result.branches[1]
+    assert periods[:2] == [(1, None), (2, 0)]
+    first, second = [b.value for b in doubled.bifurcations if b.kind == "period doubling"][:2]
+    bubbles = [b for b in result.branches if b.period == 4 and b.ended == "closed"]
+    assert len(bubbles) == 1
+    (bubble,) = bubbles
+    values = [point.value for point in bubble.points]
+    assert bubble.points[0].value == pytest.approx(first, abs=1e-12)
+    assert max(values) == pytest.approx(second, abs=1e-4) and min(values) >= first - 1e-9
+    turns = [b.value for b in bubble.bifurcations if b.kind == "fold"]
+    # where it joins its parent again, and turns back in A: there the period-2 orbits (as
+    # period-4 ones) cross it, the Jacobian is singular, and the turn is located to ~1e-7
+    assert turns == [pytest.approx(second, abs=1e-6)]
+    # no period-4 branch starts at the second doubling
+    assert not any(
+        b.period == 4 and abs(b.points[0].value - second) < 1e-6 for b in result.branches
+    )
+
+
 @pytest.fixture(scope="module")
 def duffing():
     return lg.loads(DUFFING).continuation(

@@ -28,6 +28,8 @@ CORRECTIONS, QUICK = 8, 3
 SHRINK, GROW = 0.5, 1.5
 #: The smallest step, relative to the largest: below it the branch ends.
 SMALLEST = 1e-5
+#: The last points of a branch not compared with a new one (its own neighbours).
+RECENT = 4
 
 
 @dataclass
@@ -137,6 +139,8 @@ def follow(
     """The states of the branch through ``start`` in the direction of its tangent, the
     bifurcations ``locate`` finds between consecutive ones, and why it ended."""
     states, found = [start], []
+    trace = Trace(follower.map, period)
+    trace.add(start)
     h = min(first_step, follower.largest)
     smallest = follower.largest * SMALLEST
     while True:
@@ -156,10 +160,41 @@ def follow(
             if new is None:
                 return states, found, "range"
             ended = "range"
+        if ended is None and trace.returns(new, h):
+            return states, found, "closed"
         if test_from_start or len(states) > 1:
             found.extend(locate(state, new, period))
         states.append(new)
+        trace.add(new)
         if ended is not None:
             return states, found, ended
         if iterations <= QUICK:
             h = min(h * GROW, follower.largest)
+
+
+class Trace:
+    """The orbits a branch has passed through, each as every shift of its points (x_j, A),
+    j = 0 .. K - 1 (the same orbit started at another of its points).  A new point within
+    one step of one of them, other than its last few neighbours, means the branch has come
+    round a closed curve, or is going back over orbits it has passed (the second half of a
+    period-doubling bubble: the doubled branch that leaves one doubling of its parent and
+    joins it again at another comes back along the same orbits, their points shifted by
+    half the period): it ends there rather than going round again."""
+
+    def __init__(self, strobe_map: ParameterMap, period: int):
+        self.map, self.period = strobe_map, period
+        self.rows: list[np.ndarray] = []  # (K, 2n + 1) per point
+
+    def add(self, state: State) -> None:
+        points = state.value.points[:, : self.period].T
+        self.rows.append(np.column_stack([points, np.full(self.period, state.a)]))
+
+    def returns(self, state: State, reach: float, recent: int = RECENT) -> bool:
+        """Whether ``state`` lies within ``reach`` of one of the orbits passed before the
+        last ``recent``."""
+        if len(self.rows) <= recent:
+            return False
+        earlier = np.concatenate(self.rows[: len(self.rows) - recent]) - state.u
+        angles = self.map.angles
+        earlier[:, angles] = (earlier[:, angles] + np.pi) % (2 * np.pi) - np.pi
+        return bool(np.min(np.linalg.norm(earlier, axis=1)) < reach)

@@ -16,8 +16,10 @@ continuation in A fails.  M and dG^K/dA come from one run of the sensitivity equ
 corrector fails (no convergence in 8 iterations, or a point farther than h from the
 prediction: a jump to another branch) and grows by half when it converges within 3, up
 to the span of A over the number of values asked for less one; the branch ends at the
-ends of the range (its last point exactly there), after :data:`POINTS_PER_VALUE` points
-per value asked for, or where h falls below 1e-5 of its largest.  The bifurcations
+ends of the range (its last point exactly there), where it comes back to orbits it has
+passed (a closed curve, or the second half of a period-doubling bubble: :class:`.arclength.
+Trace`), after :data:`POINTS_PER_VALUE` points per value asked for, or where h falls
+below 1e-5 of its largest.  The bifurcations
 between consecutive points are found and located by :mod:`.branch_points`; at a period
 doubling the doubled branch is followed from there (to ``max_doublings`` doublings).
 """
@@ -32,7 +34,7 @@ import numpy as np
 
 from ..errors import ModelError
 from . import floquet
-from .arclength import Follower, State, follow
+from .arclength import Follower, State, Trace, follow
 from .base import positive_setting
 from .branch_points import PERIOD_DOUBLING, Bifurcation, bifurcations_between
 from .orbits import DEFAULT_ATOL, DEFAULT_RTOL, SAME
@@ -146,6 +148,7 @@ def continue_orbits(
     follower = Follower(strobe_map, low, high, (high - low) / (count - 1))
     limit = POINTS_PER_VALUE * count
     branches: list[Branch] = []
+    traces: list[Trace] = []  # the orbits each branch passed, to know a bubble's other end
     progress.map = strobe_map
     # to follow: (an orbit's first point at A = low, or a period doubling; the period;
     # the index of the branch doubled from, None for an orbit found at low)
@@ -164,7 +167,10 @@ def continue_orbits(
             first = []
         else:
             start, first = _doubled_start(follower, origin, k)
-            if start is None:
+            if start is None or any(
+                trace.period == k and trace.returns(start, follower.largest, recent=0)
+                for trace in traces
+            ):  # not found, or the other end of a bubble already followed from its first
                 continue
         progress.following(start)
         states, found, ended = follow(
@@ -172,6 +178,10 @@ def continue_orbits(
             test_from_start=parent is None,
             locate=lambda a, b, k=k: bifurcations_between(follower, a, b, k), max_points=limit,
         )  # fmt: skip
+        trace = Trace(strobe_map, k)
+        for state in states:
+            trace.add(state)
+        traces.append(trace)
         branches.append(
             Branch(
                 period=k,

@@ -100,6 +100,7 @@ def _branch_line(continuation: Continuation, branch: Branch) -> str:
         "range": "to the end of the range",
         "step": "ended where the steps became too small",
         "points": "ended after its most points",
+        "closed": "closed: back at orbits it had passed",
     }[branch.ended]
     stable = sum(point.stable for point in branch.points)
     return (
