@@ -8,7 +8,7 @@ import pytest
 import lagrangian as lg
 from lagrangian.cli import ExitStatus, main
 from lagrangian.output.animation import mechanism_view
-from lagrangian.output.linkage_drawing import ARROW_COLOR, linkage_frames
+from lagrangian.output.linkage_drawing import ARROW_COLOR, linkage_frames, links_as_bars
 from lagrangian.trajectory import Trajectory
 
 
@@ -78,3 +78,21 @@ def test_animate_reactions_on_a_model_without_linkage_is_refused(capsys, tmp_pat
         "[[links]] and [[joints]], or other masses move with them)"
     )
     assert not (tmp_path / "p.gif").exists()
+
+
+def test_the_page_draws_each_link_as_the_bar_from_its_start_to_its_end():
+    """The page's planar bodies are bars of length sqrt(12 I / m) through their centres:
+    the slider-crank's flywheel crank (centre at the pivot, I = 0.05) is drawn as the bar
+    from the pivot to the crank pin instead."""
+    system = lg.load("slider_crank")
+    drawn = links_as_bars(system)
+    values = {p.symbol: p.default for p in system.parameters}
+    crank = next(b for b in drawn.bodies if b.name == "crank")
+    theta = next(c.q for c in system.coordinates if c.name == "theta")
+    r, m = values[next(p.symbol for p in system.parameters if p.name == "r")], 2.0
+    assert float(crank.inertia.xreplace(values)) == pytest.approx(m * r**2 / 12)
+    centre = [float(x.xreplace(values | {theta: 0.7})) for x in crank.center]
+    assert centre == pytest.approx([r / 2 * np.cos(0.7), r / 2 * np.sin(0.7)])
+    original = next(b for b in system.bodies if b.name == "crank")
+    assert float(original.inertia.xreplace(values)) == pytest.approx(0.05)  # the model's own
+    assert links_as_bars(lg.load("double_pendulum")).bodies == ()

@@ -103,6 +103,28 @@ def linkage_frames(
     )
 
 
+def links_as_bars(system: System) -> System:
+    """``system`` with each link's body replaced, for drawing only, by the uniform bar from
+    the link's start to its end (centre at the middle, inertia m length^2 / 12): the page
+    draws a planar body as the bar of length sqrt(12 I / m) through its centre, which is the
+    link itself only for a uniform rod (not a flywheel crank with its centre at the pivot)."""
+    linkage = system.linkage
+    if linkage is None:
+        return system
+    from dataclasses import replace
+
+    zero = sympy.Integer(0)
+    bars = {
+        link.name: replace(
+            next(b for b in system.bodies if b.name == link.name),
+            inertia=link.mass * link.length**2 / 12,
+            center=linkage.poses[link.name].point((link.length / 2, zero)),
+        )
+        for link in linkage.links
+    }
+    return replace(system, bodies=tuple(bars.get(b.name, b) for b in system.bodies))
+
+
 def _forces(linkage, trajectory: Trajectory, times: np.ndarray) -> np.ndarray:
     """(J, 2, T) reactions resampled to ``times`` (zeros for a joint without them)."""
     names = set(trajectory.reactions)

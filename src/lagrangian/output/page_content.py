@@ -49,6 +49,7 @@ from .exercise import exercise_document, exercise_steps
 from .geometry import ROD_TOLERANCE, coordinates_drawn, geometry
 from .large import latex_printer
 from .latex import latex_equations, latex_steps
+from .linkage_drawing import links_as_bars
 from .mechanism import (
     BODY_COLOR,
     MARGIN,
@@ -305,7 +306,9 @@ def _quantity_latex(name: str) -> str:
 
 
 def _drawn(system: System) -> System:
-    return coordinates_drawn(system) if not system.particles and not system.bodies else system
+    if not system.particles and not system.bodies:
+        return coordinates_drawn(system)
+    return links_as_bars(system)  # a linkage's links from start to end
 
 
 def _scene(system: System, values: Mapping[str, float]) -> dict:
