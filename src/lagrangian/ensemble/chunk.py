@@ -181,7 +181,9 @@ class Chunk:
 def generated_forms(compiled: CompiledSystem, backend: str) -> SymbolicForms:
     """The symbolic forms a backend that generates code from the equations prints."""
     if compiled.has_constraints:
-        raise ModelError(f"backend '{backend}' does not handle constraints (use backend numpy)")
+        raise ModelError(
+            f"backend '{backend}' does not handle constraints (use backend numpy or numba)"
+        )
     if compiled.forms is None:
         raise ModelError(
             f"backend '{backend}' generates code from derived equations, not given functions"

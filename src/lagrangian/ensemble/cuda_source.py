@@ -147,7 +147,7 @@ def kernel_source(forms: SymbolicForms, method: str, precision: str) -> tuple[st
     if method not in SCHEMES:
         raise ModelError(f"backend 'cuda' integrates with rk4 or variational, not '{method}'")
     if forms.constraints is not None:
-        raise ModelError("backend 'cuda' does not handle constraints (use backend numpy)")
+        raise ModelError("backend 'cuda' does not handle constraints (use backend numpy or numba)")
     arrays = scheme_expressions(forms, method)
     digest = hashlib.sha256()
     for text in (GENERATOR_VERSION, sympy.__version__, method, precision, str(forms.n)):
