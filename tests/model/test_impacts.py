@@ -133,9 +133,9 @@ def test_the_automatic_choice_never_gives_taylor_a_run_with_contacts():
 
     compiled = compile_equations(lg.load("impact_oscillator").equations_of_motion())
     y0, p = compiled.state_vector(), compiled.parameter_vector()
-    assert _taylor_problem(compiled, y0, p, ()) == "does not stop at impacts"
+    assert _taylor_problem(compiled, y0, p) == "does not stop at impacts"
     plain = compile_equations(lg.load("harmonic_oscillator").equations_of_motion())
-    assert _taylor_problem(plain, plain.state_vector(), plain.parameter_vector(), ()) is None
+    assert _taylor_problem(plain, plain.state_vector(), plain.parameter_vector()) is None
 
 
 def test_a_gap_flat_at_its_zero_is_one_line_not_a_traceback(tmp_path, capsys):

@@ -25,6 +25,7 @@ q'' = a + M^-1 G^T lambda with lambda from G q'' + kappa = -2 alpha g' - alpha^2
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 
 import numpy as np
@@ -104,3 +105,46 @@ def plastic(mass: np.ndarray, gradient: np.ndarray, rate: np.ndarray, v: np.ndar
     response = np.linalg.solve(mass, gradient.T)  # n x k
     impulses = np.linalg.solve(gradient @ response, -(gradient @ v + rate))
     return v + response @ impulses, impulses
+
+
+def contact_set(resting, gradient, curvature, accelerations, *, enumerated: int) -> np.ndarray:
+    """The held ones among the closed contacts at rest ``resting`` (their indices): the set
+    S whose multipliers are all >= 0 while every other one separates (g'' = G q'' + kappa
+    >= 0), the complementarity conditions of unilateral contact, found by trying the sets,
+    largest first (the solution is unique where the contacts' gradients are independent).
+    ``accelerations(rows)`` gives (q'', lambda) with the contacts ``rows`` held.  Above
+    ``enumerated`` contacts (2^k sets), or where no set fits: :func:`greedy_set`."""
+    tol = 1e-9
+    if resting.size > enumerated:
+        return greedy_set(resting, accelerations)
+    for size in range(resting.size, -1, -1):
+        for rows in itertools.combinations(resting.tolist(), size):
+            rows = np.array(rows, dtype=int)
+            try:
+                acceleration, multipliers = accelerations(rows)
+            except np.linalg.LinAlgError:  # dependent contacts: another set
+                continue
+            if rows.size and multipliers.min() < -tol * (1 + np.abs(multipliers).max()):
+                continue
+            others = np.setdiff1d(resting, rows)
+            approach = gradient[others] @ acceleration + curvature[others]
+            if np.all(approach >= -tol * (1 + np.abs(acceleration).max())):
+                return rows
+    return greedy_set(resting, accelerations)
+
+
+def greedy_set(resting, accelerations) -> np.ndarray:
+    """All of ``resting`` held, then the one whose multiplier pulls most released, until
+    none pulls: not the complementarity solution in every case, but bounded work (a pile of
+    many contacts)."""
+    rows = np.array(resting, dtype=int)
+    while rows.size:
+        try:
+            _, multipliers = accelerations(rows)
+        except np.linalg.LinAlgError:  # dependent contacts: one of them is enough
+            rows = rows[1:]
+            continue
+        if multipliers.min() >= 0:
+            break
+        rows = np.delete(rows, int(np.argmin(multipliers)))
+    return rows

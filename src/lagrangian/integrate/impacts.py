@@ -22,7 +22,6 @@ contact, velocities before and after and energy before and after, and each hold'
 
 from __future__ import annotations
 
-import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -33,7 +32,7 @@ from ..errors import ModelError
 from ..trajectory import EventRecord, ImpactRecord
 from .base import AbstractIntegrator, IntegrationResult, Status
 from .events import Event, named
-from .impact_law import held_multipliers, plastic, resolve, touching
+from .impact_law import contact_set, held_multipliers, plastic, resolve, touching
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -317,48 +316,16 @@ class ImpactRun:
         return after
 
     def _contact_set(self, t: float, y: np.ndarray, resting: np.ndarray) -> np.ndarray:
-        """Which of the closed contacts at rest (``resting``) are held: the set S whose
-        multipliers are all >= 0 while every other one of them separates (g'' >= 0), the
-        complementarity conditions of unilateral contact, found by trying the sets (largest
-        first; the solution is unique where the contacts' gradients are independent)."""
+        """Which of the closed contacts at rest (``resting``) are held (a boolean array):
+        :func:`.impact_law.contact_set` with this state's geometry and multipliers."""
         chosen = np.zeros(self.contacts.count, dtype=bool)
-        if not resting.size:
-            return chosen
-        gradient, _, curvature = self.contacts.geometry(t, y, self.params)
-        tol = 1e-9
-        if resting.size > MAX_ENUMERATED:
-            return self._greedy_set(t, y, resting, chosen)
-        for size in range(resting.size, -1, -1):
-            for rows in itertools.combinations(resting.tolist(), size):
-                rows = np.array(rows, dtype=int)
-                try:
-                    acceleration, multipliers = self._accelerations(t, y, rows)
-                except np.linalg.LinAlgError:  # dependent contacts: another set
-                    continue
-                if rows.size and multipliers.min() < -tol * (1 + np.abs(multipliers).max()):
-                    continue
-                others = np.setdiff1d(resting, rows)
-                approach = gradient[others] @ acceleration + curvature[others]
-                if np.all(approach >= -tol * (1 + np.abs(acceleration).max())):
-                    chosen[rows] = True
-                    return chosen
-        return self._greedy_set(t, y, resting, chosen)
-
-    def _greedy_set(self, t, y, resting, chosen) -> np.ndarray:
-        """Many resting contacts at once (or no set found): all held, then the one whose
-        multiplier pulls most released, until none pulls (not the complementarity solution
-        in every case, but bounded work: a pile of many contacts)."""
-        rows = resting.copy()
-        while rows.size:
-            try:
-                _, multipliers = self._accelerations(t, y, rows)
-            except np.linalg.LinAlgError:  # dependent contacts: one of them is enough
-                rows = rows[1:]
-                continue
-            if multipliers.min() >= 0:
-                break
-            rows = np.delete(rows, int(np.argmin(multipliers)))
-        chosen[rows] = True
+        if resting.size:
+            gradient, _, curvature = self.contacts.geometry(t, y, self.params)
+            rows = contact_set(
+                resting, gradient, curvature, lambda rows: self._accelerations(t, y, rows),
+                enumerated=MAX_ENUMERATED,
+            )  # fmt: skip
+            chosen[rows] = True
         return chosen
 
     def _release(self, k: int, t: float, end: bool = False) -> None:
