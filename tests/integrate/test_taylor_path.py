@@ -137,6 +137,7 @@ def test_a_failure_on_a_grid_names_the_last_finite_state(monkeypatch, chunk):
     np.testing.assert_array_equal(trajectory["t"], grid[:19])
 
 
+@pytest.mark.slow  # SciPy's loop at 1e-13 over 10 s: 1.5-4 s
 def test_parameters_made_of_parameters_follow_the_values_given():
     # l1*l2*m2, m1 + m2, ... are runtime parameters of their own: a run with other values
     # (after one that built the integrator) must recompute them
@@ -169,6 +170,7 @@ def chain(links: int) -> lg.System:
     )
 
 
+@pytest.mark.slow  # the numba system generated for the estimate: 1.5-3 s
 def test_the_default_of_a_long_run_of_two_coordinates_is_taylor(monkeypatch):
     # issue 36 item 2: at 1e-10 heyoka takes 0.44 of the compiled DOP853's time, with an
     # error 30x smaller, and starts in 0.3 s against 0.8 s (CPU, benchmarks/taylor_path.py),
@@ -188,6 +190,7 @@ def test_the_default_of_a_long_run_of_two_coordinates_is_taylor(monkeypatch):
     assert run.reason.startswith("taylor (heyoka, tol 1e-10): about ")
 
 
+@pytest.mark.slow  # derives and compiles a 4-link chain, probes its run: 5-20 s
 def test_the_default_of_a_long_run_of_a_chain_is_the_compiled_loop():
     # heyoka's compact mode, built for more than two coordinates, takes 3-5x the compiled
     # DOP853's time: over 10^5 time units no start-up makes up for it
@@ -227,6 +230,7 @@ def pendulum_events():
     ]
 
 
+@pytest.mark.slow  # SciPy's loop at 1e-13 over 30 s: 2-6 s
 def test_events_match_scipys_loop():
     from lagrangian.integrate import simulate
 
