@@ -1,4 +1,4 @@
-"""Seconds of ``lagrangian derive FILE`` as a process, against KanesMethod in the same run.
+"""CPU seconds of ``lagrangian derive FILE`` as a process, against KanesMethod in the same run.
 
     python benchmarks/cli.py [--repeat 3] [--sizes 5,20,100] [--kane-max 20]
 
@@ -19,11 +19,11 @@ past ``--timeout`` seconds is stopped and shown as such.  Nothing is asserted.
 from __future__ import annotations
 
 import argparse
+import resource
 import statistics
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -54,15 +54,17 @@ def command() -> list[str]:
 
 
 def timed(arguments: list[str], timeout: float) -> tuple[float, int]:
-    """Seconds of one child process and the bytes it printed (inf where it timed out)."""
-    start = time.perf_counter()
+    """CPU seconds (user + system) of one child process and the bytes it printed (inf where
+    it timed out)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     try:
         done = subprocess.run(
             [*command(), *arguments], capture_output=True, timeout=timeout, check=True
         )
     except subprocess.TimeoutExpired:
         return float("inf"), 0
-    return time.perf_counter() - start, len(done.stdout)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime), len(done.stdout)
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -84,3 +84,17 @@ def test_an_output_is_named_by_an_identifier_that_means_nothing_else(name, error
     with pytest.raises(ModelError, match=error):
         pendulum.state_space(at={"theta": 0}, outputs={name: "theta"})
     assert pendulum.state_space(at={"theta": 0}, outputs={"tip": "l*sin(theta)"}) is not None
+
+
+def test_a_mass_of_two_parameters_among_others_is_checked_at_their_defaults(tmp_path):
+    # the check puts in only the parameters the mass holds (k is not in it)
+    model = tmp_path / "bead.toml"
+    model.write_text(
+        'name = "bead"\ncoordinates = ["x"]\n\n[parameters]\nm1 = 1.0\nm2 = 2.0\nk = 3.0\n\n'
+        '[[particles]]\nname = "bob"\nmass = "m1 - m2"\nposition = ["x", "0"]\n'
+    )
+    with pytest.raises(ModelError, match=r"the mass of 'bob' \(particles\[0\]\.mass = m1 - m2\) "
+                       r"is -1 with m1 = 1, m2 = 2: it must be > 0$"):  # fmt: skip
+        lg.load(model)
+    model.write_text(model.read_text().replace("m1 - m2", "m2 - m1"))
+    assert lg.load(model).parameter_values["k"] == 3.0

@@ -8,7 +8,7 @@ from collections.abc import Iterable, Mapping, Sequence
 
 from ..errors import LikelyTypoWarning, ModelError
 from ..parsing import BUILTIN_CONSTANTS, BUILTIN_FUNCTIONS
-from ..parsing.suggest import likely_meant
+from ..parsing.suggest import Slips
 from ..symbols import (
     ACCELERATION_SUFFIX,
     TIME_NAME,
@@ -94,9 +94,9 @@ def warn_of_likely_typos(
     motion that are wrong without any error.  ``declared``: the user listed the
     name as a parameter (a model file); otherwise it became one by being used.
     """
-    known = [name for c in coordinates for name in (c.name, c.q_dot.name, c.q_ddot.name)]
+    slips = Slips(name for c in coordinates for name in (c.name, c.q_dot.name, c.q_ddot.name))
     for name in parameters:
-        meant = likely_meant(name, known)
+        meant = slips.meant(name)
         if meant is None:
             continue
         how = "is declared as a parameter" if declared else "is not declared and became a parameter"

@@ -107,7 +107,8 @@ def check_masses(system: System, values: Mapping[str, float | np.ndarray] | None
         if given_any and not names:
             continue  # checked at the defaults when the model was built
         for at, shown in _combinations(system, names, values):
-            value = expression.xreplace({k: sympy.Float(v) for k, v in at.items()})
+            free = expression.free_symbols  # only these are replaced: a Float for each
+            value = expression.xreplace({k: sympy.Float(v) for k, v in at.items() if k in free})
             if not (value.is_number and value.is_real) or not SIGN_BREAKS[sign](float(value)):
                 continue
             if not shown:  # the defaults

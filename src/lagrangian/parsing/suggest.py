@@ -34,20 +34,37 @@ def likely_meant(name: str, known: Iterable[str]) -> str | None:
     >>> likely_meant("k", ["x", "x_dot"]) is None
     True
     """
-    known = sorted(set(known) - {name})
-    folded = name.lower()
-    for candidate in known:
-        for suffix, forms in ((VELOCITY_SUFFIX, _VELOCITY_FORMS),
-                              (ACCELERATION_SUFFIX, _ACCELERATION_FORMS)):  # fmt: skip
-            base = candidate.removesuffix(suffix)
-            if base != candidate and suffix == VELOCITY_SUFFIX and base.endswith("_d"):
-                continue  # x_ddot ends in "_dot" too; it is matched as an acceleration
-            if base != candidate and folded in {f.format(q=base).lower() for f in forms}:
+    return Slips(known).meant(name)
+
+
+class Slips:
+    """:func:`likely_meant` against one list of ``known`` names, for many names: the other
+    spellings of each velocity and acceleration are listed once (a model of n coordinates
+    checks each of its parameters against 3n names, 12 spellings each)."""
+
+    def __init__(self, known: Iterable[str]):
+        self.known = sorted(set(known))
+        self.spellings: dict[str, list[str]] = {}  # folded spelling -> candidates, in order
+        for candidate in self.known:
+            for suffix, forms in ((VELOCITY_SUFFIX, _VELOCITY_FORMS),
+                                  (ACCELERATION_SUFFIX, _ACCELERATION_FORMS)):  # fmt: skip
+                base = candidate.removesuffix(suffix)
+                if base == candidate:
+                    continue
+                if suffix == VELOCITY_SUFFIX and base.endswith("_d"):
+                    continue  # x_ddot ends in "_dot" too; it is matched as an acceleration
+                for spelling in dict.fromkeys(f.format(q=base).lower() for f in forms):
+                    self.spellings.setdefault(spelling, []).append(candidate)
+
+    def meant(self, name: str) -> str | None:
+        """The known name (other than ``name``) that ``name`` is most likely a slip for."""
+        for candidate in self.spellings.get(name.lower(), ()):
+            if candidate != name:
                 return candidate
-    for candidate in known:
-        if len(candidate) >= MIN_EDIT_LENGTH and _one_slip_apart(name, candidate):
-            return candidate
-    return None
+        for candidate in self.known:
+            if len(candidate) >= MIN_EDIT_LENGTH and _one_slip_apart(name, candidate):
+                return candidate
+        return None
 
 
 def _one_slip_apart(a: str, b: str) -> bool:
