@@ -360,3 +360,81 @@ def test_derive_says_the_count_the_loops_and_the_reactions(free, driven):
     placeholder = system.linkage.multipliers[1]
     expected = system.linkage.reactions["R_B_y"].xreplace({placeholder: sympy.Symbol("lambda2")})
     assert sympy.simplify(back - expected) == 0
+
+
+def test_a_slot_on_a_turning_link_transmits_what_newton_euler_says():
+    """Whitworth's quick return under gravity (tests/model/test_linkages.py): the block's
+    slot is a prismatic tree joint on the turning rocker, its reaction the normal force
+    N n and the moment M on the block; checked with the pin's and pivots' against
+    Newton-Euler on crank, rocker and block."""
+    from model.test_linkages import QUICK_RETURN
+
+    system = lg.loads(QUICK_RETURN + '[gravity]\ng = 9.81\n[initial]\ntheta = 0.4\nphi = 1.2\n'
+                      's = 0.7\ntheta_dot = 3.0\n')  # fmt: skip
+    run = system.simulate(t_end=1.0, n_out=21)
+    eom = system.equations_of_motion()
+    names = ["theta", "phi", "s"]
+    found = {s.name: s for n in names for s in eom.accelerations[n].free_symbols}
+    arguments = [found.get(n, sympy.Symbol(n)) for n in [*names, *(f"{n}_dot" for n in names)]]
+    numbers = {
+        found[k]: v for k, v in {"r": 0.3, "h": 0.5, "L": 1.2, "m": 1.0}.items() if k in found
+    }
+    numbers |= {found["g"]: G} if "g" in found else {}
+    function = sympy.lambdify(arguments, [eom.accelerations[n].subs(numbers) for n in names])
+    r, h, L, m, w = 0.3, 0.5, 1.2, 1.0, 0.1
+
+    def cross(v, f):
+        return v[0] * f[1] - v[1] * f[0]
+
+    for k in (2, 10, 18):
+        theta, phi, s = (run[n][k] for n in names)
+        wt, wp, ws = (run[f"{n}_dot"][k] for n in names)
+        at, ap, as_ = function(theta, phi, s, wt, wp, ws)
+        e = np.array([np.cos(theta), np.sin(theta)])
+        et = np.array([-np.sin(theta), np.cos(theta)])
+        u, n = np.array([np.cos(phi), np.sin(phi)]), np.array([-np.sin(phi), np.cos(phi)])
+        O, Q = np.zeros(2), np.array([0.0, -h])
+        P = Q + s * u
+        c1, c2, c3 = r / 2 * e, Q + L / 2 * u, P + w / 2 * u
+        a1 = r / 2 * (at * et - wt**2 * e)
+        a2 = L / 2 * (ap * n - wp**2 * u)
+        a3 = as_ * u + 2 * ws * wp * n + (s + w / 2) * (ap * n - wp**2 * u)
+        # unknowns: R_O (0, 1), R_Q (2, 3), R_pin (4, 5) on the block, N (6), M (7)
+        rows, rhs = [], []
+
+        def force_rows(terms, mass_acc, rows=rows, rhs=rhs):
+            for axis in range(2):
+                row = np.zeros(8)
+                for index, sign, direction in terms:
+                    row[index] += sign * (direction[axis] if direction is not None else 0)
+                    if direction is None:
+                        row[index + axis] += sign
+                rows.append(row)
+                rhs.append(mass_acc[axis] + (m * G if axis == 1 else 0.0))
+
+        force_rows([(0, 1, None), (4, -1, None)], m * a1)
+        force_rows([(2, 1, None), (6, -1, n)], m * a2)
+        force_rows([(4, 1, None), (6, 1, n)], m * a3)
+        moments = [
+            ({0: cross(O - c1, [1, 0]), 1: cross(O - c1, [0, 1]),
+              4: -cross(P - c1, [1, 0]), 5: -cross(P - c1, [0, 1])}, m * r**2 / 12 * at),
+            ({2: cross(Q - c2, [1, 0]), 3: cross(Q - c2, [0, 1]),
+              6: -cross(P - c2, n), 7: -1.0}, m * L**2 / 12 * ap),
+            ({4: cross(P - c3, [1, 0]), 5: cross(P - c3, [0, 1]),
+              6: cross(P - c3, n), 7: 1.0}, m * w**2 / 12 * ap),
+        ]  # fmt: skip
+        for entries, value in moments:
+            row = np.zeros(8)
+            for index, coefficient in entries.items():
+                row[index] += coefficient
+            rows.append(row)
+            rhs.append(value)
+        matrix, rhs = np.array(rows), np.array(rhs)
+        solution, *_ = np.linalg.lstsq(matrix, rhs, rcond=None)
+        assert np.max(np.abs(matrix @ solution - rhs)) < 1e-8
+        got = [run[c][k] for c in ("R_joint1_x", "R_joint1_y", "R_joint2_x", "R_joint2_y",
+                                   "R_pin_x", "R_pin_y")]  # fmt: skip
+        assert got == pytest.approx(solution[:6], rel=1e-7, abs=1e-7)
+        slot = [run["R_slot_x"][k], run["R_slot_y"][k]]
+        assert slot == pytest.approx(solution[6] * n, rel=1e-7, abs=1e-7)
+        assert run["M_slot"][k] == pytest.approx(solution[7], rel=1e-7, abs=1e-7)

@@ -364,3 +364,62 @@ def test_a_watt_six_bar_assembles_onto_two_loops_closed_by_hand():
                 if n in names
             )
             assert abs(rate) < 1e-12
+
+
+QUICK_RETURN = """
+coordinates = ["theta", "phi", "s"]
+[parameters]
+r = 0.3
+h = 0.5
+L = 1.2
+m = 1.0
+[[links]]
+name = "crank"
+length = "r"
+mass = "m"
+angle = "theta"
+[[links]]
+name = "rocker"
+length = "L"
+mass = "m"
+angle = "phi"
+[[links]]
+name = "block"
+length = 0.1
+mass = "m"
+[[joints]]
+connects = ["ground", "crank.start"]
+at = [0, 0]
+[[joints]]
+connects = ["ground", "rocker.start"]
+at = [0, "-h"]
+[[joints]]
+name = "slot"
+kind = "prismatic"
+connects = ["rocker.start", "block.start"]
+axis = [1, 0]
+slide = "s"
+[[joints]]
+name = "pin"
+connects = ["crank.end", "block.start"]
+"""
+
+
+def test_a_block_sliding_on_a_turning_link_assembles_onto_the_closed_form():
+    """Whitworth's quick return (an inverted slider-crank), not among the examples: the
+    block slides along the rocker, which turns about (0, -h), so the slide's axis turns
+    with it; phi = atan2(r sin(theta) + h, r cos(theta)), s = the distance pivot-pin."""
+    system = lg.loads(QUICK_RETURN)
+    assert system.linkage.degrees_of_freedom == 1
+    assert [j.name for j in system.linkage.joints if not j.tree] == ["pin"]
+    params = np.array([p.default for p in system.parameters])
+    r, h = 0.3, 0.5
+    for theta in np.linspace(-3.0, 3.0, 13):
+        q, v = assembled(system, 0.0, np.array([theta, 1.5, 0.5]), np.array([1.0, 0, 0]), params)
+        x, y = r * math.cos(theta), r * math.sin(theta) + h
+        assert q[1] == pytest.approx(math.atan2(y, x), abs=1e-12)
+        assert q[2] == pytest.approx(math.hypot(x, y), abs=1e-12)
+        # rates: d/dt of the closed form with theta' = 1
+        dx, dy = -r * math.sin(theta), r * math.cos(theta)
+        assert v[1] == pytest.approx((x * dy - y * dx) / (x * x + y * y), abs=1e-10)
+        assert v[2] == pytest.approx((x * dx + y * dy) / math.hypot(x, y), abs=1e-10)
