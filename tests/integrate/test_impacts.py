@@ -4,6 +4,7 @@ invariants, chattering into a held contact, its release, and Newton's cradle."""
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -285,3 +286,13 @@ def test_many_contacts_resting_at_once_are_held_without_trying_every_set(enumera
     holds = trajectory.summary()["held_contacts"]
     assert [hold["contact"] for hold in holds[:3]] == ["left", "right", "left"]
     assert holds[1]["t_from"] == pytest.approx(0.19536929697786376, abs=1e-12)
+
+
+def test_the_text_summary_counts_the_impacts_and_the_held_contacts(capsys):
+    from lagrangian.cli import main
+
+    assert main(["simulate", "bouncing_ball", "--t-end", "10"]) == 0
+    out = capsys.readouterr().out
+    count = re.search(r"^impacts: (\d+), the first at t = 0\.451524 \(floor\)$", out, re.M)
+    assert count is not None and int(count[1]) > 100  # t_1 = sqrt(2 / 9.81)
+    assert re.search(r"^  held: floor from t = 8\.578\d* to 10$", out, re.M)  # t_inf 8.5789

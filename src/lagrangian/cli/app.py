@@ -362,5 +362,13 @@ def simulate(
             f"{name} is conserved in this run: not in general ({entry['reason_in_general']}), "
             "but that vanishes at these parameter values"
         )
+    if "impacts" in summary:  # a model with contacts (issue 34)
+        impacts, held = summary["impacts"], summary["held_contacts"]
+        first = f", the first at t = {impacts[0]['t']:.6g} ({impacts[0]['contact']})"
+        click.echo(f"impacts: {len(impacts)}" + (first if impacts else ""))
+        for entry in held:
+            click.echo(
+                f"  held: {entry['contact']} from t = {entry['t_from']:.6g} to {entry['t_to']:.6g}"
+            )
     if out is not None:
         click.echo(f"wrote {out}")
