@@ -17,9 +17,11 @@ recurrences sooner).
 
 The starts are integrated on the numba ensemble's loop (rk4, ``steps`` steps per
 iteration), all members of a pool together for a chunk of ``chunk`` iterations, then
-labelled; the members done leave the pool and new starts join it.  The first pools are
-small and their starts spread over the grid, so the attractors are found by a few
-starts and the others are labelled as soon as they reach one.
+labelled; the members done leave the pool and new starts join it.  The first pool is
+small and its starts spread over the grid, so the attractors are found by a few starts;
+the pool grows (four times, up to POOL) after each chunk in which some start was
+labelled, and the later starts are labelled as soon as they reach an attractor or, most
+of them, the cells of its basin that the starts before them passed through.
 
 Each attractor is classified from ``locate`` iterations on it: a fixed point (the map's
 period 1; for the sampled flow an equilibrium), periodic of period K (K <= 64, the
@@ -48,6 +50,9 @@ if TYPE_CHECKING:
 RECURRENCES = 40
 #: Iterations in a row in an attractor's cells that label a start with it (Attractors.jl: 2).
 HITS = 3
+#: Iterations in a row in cells of an attractor's basin that label a start with it
+#: (Attractors.jl: 10).
+BASIN_HITS = 10
 #: Iterations in a row outside the box that label a start -1 (Attractors.jl: 20).
 LOST = 20
 #: Iterations after which a start that found nothing is labelled -1.
@@ -207,7 +212,7 @@ def basins_of_attraction(
         "cells": [int(c) for c in reduced],
         "angles": [name for name, angle in zip(names, is_angle, strict=True) if angle],
         "max_iterations": int(max_iterations), "recurrences": RECURRENCES, "hits": HITS,
-        "lost": LOST, "locate": LOCATE, "iterations": walk.iterations,
+        "lost": LOST, "locate": LOCATE, "basin_hits": BASIN_HITS, "iterations": walk.iterations,
     }  # fmt: skip
     system = getattr(compiled.equations, "system", None)
     return BasinMap(
@@ -308,7 +313,9 @@ class _Walk:
         self.grid = t0 + span * (np.arange(CHUNK * steps + 1) / steps)
         self.which, self.lows, self.widths = which, lows, widths
         self.sizes, self.angles, self.centres = sizes, angles, centres
-        self.settings = np.array([RECURRENCES, HITS, LOST, limit, LOCATE], dtype=np.int64)
+        self.settings = np.array(
+            [RECURRENCES, HITS, LOST, limit, LOCATE, BASIN_HITS], dtype=np.int64
+        )
         self.cells = np.full(int(np.prod(sizes)), -1, dtype=np.int64)
         self.angle_rows = which[angles]
         self.iterations = 0
@@ -331,14 +338,14 @@ class _Walk:
         shape = tuple(len(v) for v in axes.values())
         total = int(np.prod(shape))
         order = np.argsort((np.arange(total) * 0.6180339887498949) % 1.0, kind="stable")
-        labels = np.full(total, -1, dtype=np.int64)
+        labels = np.full(total, -2, dtype=np.int64)  # -2: not done
         kept = np.zeros((CAPACITY, LOCATE, self.m))
         found = np.zeros(1, dtype=np.int64)
         alias = np.arange(CAPACITY, dtype=np.int64)
         ids = np.empty(0, dtype=np.int64)
         states = np.empty((0, self.m))
         status = np.empty(0, dtype=np.int64)
-        counters = np.empty((0, 5), dtype=np.int64)
+        counters = np.empty((0, 7), dtype=np.int64)
         values = list(axes.values())
         taken, done, pool = 0, 0, FIRST_POOL
         while taken < total or ids.size:
@@ -352,11 +359,11 @@ class _Walk:
                 ids = np.concatenate([ids, new])
                 states = np.concatenate([states, fresh])
                 status = np.concatenate([status, np.full(new.size, -2, dtype=np.int64)])
-                counters = np.concatenate([counters, np.zeros((new.size, 5), dtype=np.int64)])
+                counters = np.concatenate([counters, np.zeros((new.size, 7), dtype=np.int64)])
             points = self.advance(np.ascontiguousarray(states))
             self.labeller.label(
                 points, ids, status, counters, self.cells, self.which, self.lows, self.widths,
-                self.sizes, self.angles, self.centres, self.settings, found, kept, alias,
+                self.sizes, self.angles, self.centres, self.settings, found, kept, alias, labels,
             )  # fmt: skip
             states = points[:, :, -1].copy()
             if self.angle_rows.size:  # the map is the same a turn on: keep angles small
@@ -364,10 +371,12 @@ class _Walk:
                 states[:, self.angle_rows] -= np.pi
             over = status >= -1
             labels[ids[over]] = status[over]
+            finished = status[over]
             done += int(np.count_nonzero(over))
             keep = ~over
             ids, states, status, counters = ids[keep], states[keep], status[keep], counters[keep]
-            pool = min(POOL, 4 * pool)
+            if np.any(finished >= 0):  # more starts once some have marked basins
+                pool = min(POOL, 4 * pool)
             if progress is not None:
                 progress(done / total)
         return labels.reshape(shape), kept, int(found[0]), alias

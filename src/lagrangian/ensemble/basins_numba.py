@@ -9,6 +9,9 @@ state machine of Attractors.jl's ``AttractorsViaRecurrences``:
 
 - a point outside the box of cells for ``lost`` iterations in a row: no attractor (-1);
 - a point in a cell of attractor k for ``hits`` iterations in a row: attractor k;
+- a point in a cell last visited by a start that has since been labelled k (a cell of
+  k's basin), for ``basin_hits`` iterations in a row: attractor k (most starts end so,
+  long before they are near the attractor: Attractors.jl's basin cells);
 - a point in a cell the member itself visited counts one recurrence; after
   ``recurrences`` of them the member is on an attractor not yet known: it gets the next
   label and goes on ``locate`` more iterations, marking each cell it lands in as that
@@ -18,9 +21,11 @@ state machine of Attractors.jl's ``AttractorsViaRecurrences``:
 
 A cell holds -1 (never visited), k >= 0 (a cell of attractor k), or -(id + 2): the last
 member (by its id) that visited it while searching; a member that finds its own mark
-there has been there before.  Another member's mark is taken over (the cell is new to
-this one).  The module goes into the code cache as it is (``package_text``), where numba
-keeps its machine code; importing :mod:`lagrangian.ensemble.basins` does not import it.
+there has been there before.  The mark of a member since labelled k makes the cell one
+of k's basin; the mark of a member still searching (or labelled -1) is taken over (the
+cell is new to this one).  The module goes into the code cache as it is
+(``package_text``), where numba keeps its machine code; importing
+:mod:`lagrangian.ensemble.basins` does not import it.
 """
 
 import math
@@ -60,21 +65,23 @@ def root(alias, k):  # pragma: no cover - compiled by numba
 @njit(cache=True)
 def label(
     points, ids, status, counters, cells, which, lows, widths, sizes, angles, centres,
-    settings, found, kept, alias,
+    settings, found, kept, alias, done,
 ):  # pragma: no cover - compiled by numba  # fmt: skip
     """Walk the new points (B, m, C) of the B members in order (see the module).
 
     ``status`` (B,): per member SEARCHING, LOCATING, a label >= 0 or -1; ``counters``
-    (B, 5): iterations, recurrences, hits in a row, the label hit, iterations outside
-    in a row (while locating: the points kept in the second); ``settings``: recurrences,
-    hits, lost, max_iterations, locate; ``found`` (1,): the attractors so far; ``kept``
+    (B, 7): iterations, recurrences, hits in a row, the label hit, iterations outside
+    in a row, basin hits in a row, the basin hit (while locating: the points kept in the
+    second, the new label in the fourth); ``settings``: recurrences, hits, lost,
+    max_iterations, locate, basin hits; ``done`` (every start's id): the label of each
+    start done, else < 0; ``found`` (1,): the attractors so far; ``kept``
     (A, locate, m): each attractor's located points (a member past A attractors gets -1);
     ``alias`` (A,): the attractor each is (a new one that lands in the cells of one found
     before is that one: one attractor found by two members at once, from two of its
     cells, is merged as soon as either sees the other's cells).
     """
-    recurrences, hits, lost, limit, locate = (
-        settings[0], settings[1], settings[2], settings[3], settings[4]
+    recurrences, hits, lost, limit, locate, basin_hits = (
+        settings[0], settings[1], settings[2], settings[3], settings[4], settings[5]
     )  # fmt: skip
     capacity = kept.shape[0]
     count, m, chunk = points.shape
@@ -107,6 +114,7 @@ def label(
                 continue
             if cell == -1:
                 counters[b, 2] = 0
+                counters[b, 5] = 0
                 counters[b, 4] += 1
                 if counters[b, 4] >= lost:
                     status[b] = -1
@@ -115,6 +123,7 @@ def label(
                 counters[b, 4] = 0
                 value = cells[cell]
                 if value >= 0:
+                    counters[b, 5] = 0
                     value = root(alias, value)
                     if counters[b, 2] > 0 and counters[b, 3] == value:
                         counters[b, 2] += 1
@@ -126,6 +135,19 @@ def label(
                         break
                 else:
                     counters[b, 2] = 0
+                    owner = -value - 2
+                    basin = root(alias, done[owner]) if value <= -2 and done[owner] >= 0 else -1
+                    if basin >= 0 and value != mark:
+                        if counters[b, 5] > 0 and counters[b, 6] == basin:
+                            counters[b, 5] += 1
+                        else:
+                            counters[b, 5] = 1
+                            counters[b, 6] = basin
+                        if counters[b, 5] >= basin_hits:
+                            status[b] = basin
+                            break
+                        continue
+                    counters[b, 5] = 0
                     if value == mark:
                         counters[b, 1] += 1
                         if counters[b, 1] >= recurrences:
