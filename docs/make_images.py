@@ -582,6 +582,19 @@ def driven_pendulum_continuation() -> None:
     save(plot_continuation(result, "theta_dot", diagram), "driven_pendulum_continuation.png")
 
 
+def driven_pendulum_basins() -> None:
+    """The basins of the two period-2 attractors of the driven pendulum at A = 1.073."""
+    from lagrangian.ensemble.system import basins_of_system
+    from lagrangian.output.basins import plot_basins
+
+    system = lg.load("driven_damped_pendulum")
+    grid = {"theta": (-np.pi, np.pi, 400), "theta_dot": (-3.0, 3.0, 400)}
+    basins = basins_of_system(
+        system, grid=grid, period=DRIVE_PERIOD, params={"A": 1.073}, timeout=None
+    )
+    save(plot_basins(basins), "driven_pendulum_basins.png")
+
+
 def driven_pendulum_sensitivity() -> None:
     """d theta(t) / d(b, l, theta(0)) of the driven pendulum in its regular regime."""
     system = lg.load("driven_damped_pendulum")
@@ -622,6 +635,7 @@ PICTURES = (
     henon_heiles,
     driven_pendulum,
     driven_pendulum_continuation,
+    driven_pendulum_basins,
     driven_pendulum_sensitivity,
     lab_pendulum_fit,
 )

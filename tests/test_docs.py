@@ -80,6 +80,10 @@ SMALLER = (
     # the continuation drawn (branches over a diagram of 200 values): a shorter range, and
     # its text (checked in PRINTS) as written
     ("A=1.05:1.084:35 \\", "A=1.05:1.07:11 \\"),
+    # the basin maps: 6 x 6 starts
+    ("3.14159:200 --grid theta_dot=-3:3:200", "3.14159:6 --grid theta_dot=-3:3:6"),
+    ("theta=-3.14159:3.14159:100", "theta=-3.14159:3.14159:6"),
+    ("theta_dot=-3:3:100 ", "theta_dot=-3:3:6 "),
     ("--transient 300 --axis", "--transient 10 --samples 2 --steps-per-period 50 --axis"),
     ("A=1.35:1.5:300", "A=1.35:1.5:2"),
     ("--transient 300 --samples 60 ", "--transient 10 --samples 2 --steps-per-period 50 "),
@@ -105,6 +109,7 @@ SLOW_COMMANDS = (
     "poincare",
     "sensitivity",
     "orbits",
+    "basins",
 )
 #: ``python docs/make_images.py [FILTER]`` remakes the pictures (every one: about a
 #: minute; the double pendulum's: half a minute): the test runs it, into a temporary

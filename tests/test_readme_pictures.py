@@ -115,3 +115,21 @@ def test_the_lab_fit_draws_data_fit_and_residuals(tmp_path, monkeypatch):
     residuals = residual_axis.get_lines()[0].get_ydata()
     assert len(residuals) == 499
     assert 0.8 < np.std(residuals) / np.radians(0.3) < 1.2
+
+
+def test_the_basin_map_colours_every_start_by_one_of_two_period_two_attractors(
+    tmp_path, monkeypatch
+):
+    line = readme_line("lagrangian basins driven_damped_pendulum")
+    figure = drawn_picture(line, tmp_path, monkeypatch)
+    assert (tmp_path / "basins.png").is_file()
+    (image,) = figure.axes[0].get_images()
+    colours = np.asarray(image.get_array())
+    assert colours.shape == (200, 200)
+    # label + 1 per start: 1 and 2, both attractors' basins large, no start unlabelled (0)
+    values, counts = np.unique(colours, return_counts=True)
+    assert values.tolist() == [1, 2] and counts.min() > 0.3 * colours.size
+    legend = [text.get_text() for text in figure.axes[0].get_legend().get_texts()]
+    assert [entry.split(",")[0] for entry in legend] == ["0: period 2", "1: period 2"]
+    # the two orbits' points, marked: 2 + 2
+    assert len(drawn_points(figure)) == 4
