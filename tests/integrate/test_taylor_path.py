@@ -287,3 +287,24 @@ def test_the_default_of_a_long_run_with_events_is_taylor(monkeypatch):
         params={}, events=pendulum_events(),
     )  # fmt: skip
     assert run.method == "taylor", run.reason
+
+
+def test_a_chunk_holds_at_most_chunk_bytes_of_taylor_coefficients(monkeypatch):
+    # a large system's continuous output is 8 (2n) (order + 1) bytes a step: the chunk
+    # is bounded by that, below FIRST_CHUNK where it must be
+    integrator = kepler_by_hand(1e-13)
+    per_step = 8 * 4 * (integrator.order + 1)
+    monkeypatch.setattr(taylor_propagate, "CHUNK_BYTES", 64 * per_step)
+    asked = []
+
+    class Recording:
+        def __getattr__(self, name):
+            return getattr(integrator, name)
+
+        def propagate_until(self, t, max_steps, c_output):
+            asked.append(max_steps)
+            return integrator.propagate_until(t, max_steps=max_steps, c_output=c_output)
+
+    reached = taylor_propagate.propagate(Recording(), 60.0, None, None)
+    assert reached.times[-1] == 60.0 and reached.steps > 128
+    assert max(asked) == 64 and len(asked) >= reached.steps // 64
