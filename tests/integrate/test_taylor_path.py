@@ -308,3 +308,15 @@ def test_a_chunk_holds_at_most_chunk_bytes_of_taylor_coefficients(monkeypatch):
     reached = taylor_propagate.propagate(Recording(), 60.0, None, None)
     assert reached.times[-1] == 60.0 and reached.steps > 128
     assert max(asked) == 64 and len(asked) >= reached.steps // 64
+
+
+def test_an_output_time_given_twice_is_given_twice():
+    # heyoka's propagate_grid refuses a repeated time (ValueError, a traceback before)
+    compiled = duffing()
+    grid = np.array([0.0, 1.0, 1.0, 2.5, 2.5, 4.0])
+    result = Taylor(tol=1e-14).solve(
+        compiled, (0.0, 4.0), [0.5, 0.0], compiled.parameter_vector(), t_eval=grid
+    )
+    np.testing.assert_array_equal(result.t, grid)
+    expected = duffing_by_hand(1e-14).propagate_grid(np.unique(grid))[-1]
+    np.testing.assert_allclose(result.y.T, expected[[0, 1, 1, 2, 2, 3]], rtol=0, atol=1e-12)

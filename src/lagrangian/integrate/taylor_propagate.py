@@ -26,6 +26,7 @@ output holds (for a grid, which keeps none, the failed chunk is run again with i
 
 from __future__ import annotations
 
+import dataclasses
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -70,7 +71,12 @@ def propagate(
         return _watching(integrator, t1, t_eval, watch, events)
     if t_eval is None:
         return _every_step(integrator, t1, watch)
-    return _on_grid(integrator, np.asarray(t_eval, dtype=float), watch)
+    grid = np.asarray(t_eval, dtype=float)
+    # heyoka's grid must increase strictly; t_eval may repeat a time (it is sorted)
+    times, inverse = np.unique(grid, return_inverse=True)
+    reached = _on_grid(integrator, times, watch)
+    kept = inverse < reached.times.shape[0]  # a prefix, as t_eval is sorted
+    return dataclasses.replace(reached, times=grid[kept], values=reached.values[:, inverse[kept]])
 
 
 def _watching(integrator, t1: float, t_eval, watch, events: StepEvents) -> Propagation:
