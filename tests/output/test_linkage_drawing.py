@@ -96,3 +96,19 @@ def test_the_page_draws_each_link_as_the_bar_from_its_start_to_its_end():
     original = next(b for b in system.bodies if b.name == "crank")
     assert float(original.inertia.xreplace(values)) == pytest.approx(0.05)  # the model's own
     assert links_as_bars(lg.load("double_pendulum")).bodies == ()
+
+
+@pytest.mark.slow  # derives and analyzes the slider-crank (seconds)
+def test_the_page_starts_a_linkage_on_its_loop():
+    """The page's own integrator starts from document["initial"]: the slider-crank's held
+    crank angle with x and phi solved onto the loop (from the file's guesses, which are
+    off it), as simulate starts it."""
+    from lagrangian.output.page_content import page_content
+
+    state = page_content(lg.load("slider_crank")).document["initial"]
+    r, rod, theta = 0.1, 0.4, 0.5
+    assert state["theta"] == theta and state["theta_dot"] == 20.0
+    assert state["x"] == pytest.approx(
+        r * np.cos(theta) + np.sqrt(rod**2 - r**2 * np.sin(theta) ** 2), abs=1e-12
+    )
+    assert state["phi"] == pytest.approx(np.arcsin(-r * np.sin(theta) / rod), abs=1e-12)

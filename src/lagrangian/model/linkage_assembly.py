@@ -15,6 +15,7 @@ held values and the joint.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from functools import lru_cache
 from typing import TYPE_CHECKING
 
@@ -70,6 +71,24 @@ def assembled(
         raise _singular(system, q, held)
     v[free] = np.linalg.solve(jacobian[:, free], -(jacobian[:, held] @ v[held] + rate))
     return q, v
+
+
+def assembled_state(
+    system: System, state: Mapping[str, float], values: Mapping[str, float], t: float = 0.0
+) -> dict[str, float]:
+    """``state`` ({q: value, q_dot: value} of every coordinate) assembled as
+    :func:`assembled` does, at the parameter ``values`` (by name); unchanged without a
+    linkage."""
+    if system.linkage is None:
+        return dict(state)
+    q = np.array([state[c.name] for c in system.coordinates], dtype=float)
+    v = np.array([state[c.q_dot.name] for c in system.coordinates], dtype=float)
+    params = np.array([values[p.name] for p in system.parameters], dtype=float)
+    q, v = assembled(system, t, q, v, params)
+    moved = dict(state)
+    for k, c in enumerate(system.coordinates):
+        moved[c.name], moved[c.q_dot.name] = float(q[k]), float(v[k])
+    return moved
 
 
 class _Functions:

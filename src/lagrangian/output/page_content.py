@@ -44,6 +44,7 @@ from ..codegen.javascript import JavaScriptTarget
 from ..derive import EquationsOfMotion, derive
 from ..errors import ModelError
 from ..model import RigidBody, System
+from ..model.linkage_assembly import assembled_state
 from ..model.values import check_parameter_values
 from .exercise import exercise_document, exercise_steps
 from .geometry import ROD_TOLERANCE, coordinates_drawn, geometry
@@ -114,7 +115,9 @@ def page_content(
     (:func:`~lagrangian.output.exercise.exercise_document`).  Raises the project's errors
     for names or values that do not fit."""
     values = _parameter_values(system, parameters)
-    state = _initial_state(system, initial)
+    # a linkage starts on its loops, as simulate starts it (the page's own integrator would
+    # otherwise pull the given guesses onto them, changing the energy it reports the drift of)
+    state = assembled_state(system, _initial_state(system, initial), values)
     # every definition checked (a declared name, text the parser reads) as simulate checks
     # it, also where a function left undefined means that the page runs no motion
     function_definitions(system, definitions)
