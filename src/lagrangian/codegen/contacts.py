@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import sympy
 
+from ..algebra import as_expression
 from .definitions import substitute
 from .forms import SymbolicForms
 
@@ -52,5 +53,5 @@ def contact_forms(forms: SymbolicForms) -> ContactForms | None:
         gradient=gradient,
         rate=rate,
         curvature=tuple(curvature),
-        restitution=tuple(sympy.sympify(impact.restitution) for impact in impacts),
+        restitution=tuple(as_expression(impact.restitution) for impact in impacts),
     )

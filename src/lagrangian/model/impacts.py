@@ -23,6 +23,7 @@ from dataclasses import dataclass, replace
 
 import sympy
 
+from ..algebra import as_expression
 from ..errors import ModelError
 from ..symbols import is_identifier
 from .components import ExprLike
@@ -152,7 +153,7 @@ def check_initial_gaps(system, initial: Mapping[str, float], params: Mapping[str
         if not impact.gap.free_symbols <= set(numbers):
             continue
         try:
-            value = float(sympy.sympify(impact.gap).xreplace(numbers).evalf())
+            value = float(as_expression(impact.gap).xreplace(numbers).evalf())
         except (TypeError, ValueError):  # a declared function: checked when it is defined
             continue
         if math.isfinite(value) and value < -PENETRATION_TOLERANCE:

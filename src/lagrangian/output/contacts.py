@@ -14,6 +14,8 @@ from collections.abc import Mapping
 import numpy as np
 import sympy
 
+from ..algebra import as_expression
+
 #: How contact lines are drawn.
 WALL_COLOR, WALL_WIDTH = "#5b5b5b", 2.5
 
@@ -26,7 +28,7 @@ def contact_lines(system, parameters: Mapping[str, float]) -> list[tuple[np.ndar
     for impact in system.impacts:
         used = impact.gap.free_symbols & coordinates
         for particle in system.particles:
-            components = [sympy.sympify(x) for x in particle.position]
+            components = [as_expression(x) for x in particle.position]
             slots = {x: k for k, x in enumerate(components) if x in coordinates}
             if not used <= set(slots):
                 continue
