@@ -86,7 +86,9 @@ def runs(case, t_end=10.0, **options):
 @pytest.mark.parametrize("name", sorted(EXACT))
 def test_the_same_roundings_give_the_same_trajectory_bit_for_bit(name):
     own, linked = runs(EXACT[name])
-    assert linked.dataset.attrs["compiled"].startswith(("the right-hand side by LLVM", "the DOP"))
+    # what the run paid: the LLVM code, or nothing where an earlier test (any order) made it
+    paid = ("the right-hand side by LLVM", "the DOP", "nothing: the loop was made earlier")
+    assert linked.dataset.attrs["compiled"].startswith(paid)
     assert own.t.tolist() == linked.t.tolist()
     assert np.array_equal(states(own), states(linked))
     assert own.dataset.attrs["rhs_evaluations"] == linked.dataset.attrs["rhs_evaluations"]
