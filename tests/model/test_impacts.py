@@ -138,13 +138,26 @@ def test_the_automatic_choice_never_gives_taylor_a_run_with_contacts():
     assert _taylor_problem(plain, plain.state_vector(), plain.parameter_vector()) is None
 
 
-def test_a_gap_flat_at_its_zero_is_one_line_not_a_traceback(tmp_path, capsys):
-    path = write(tmp_path, BALL.replace('gap = "y"', 'gap = "y^3"'))
+@pytest.mark.parametrize(
+    ("gap", "factor"),
+    [("y^3", "y**3"), ("y^2", "y**2"), ("(y - 1)^2", "(y - 1)**2"), ("y^2 - 2*y + 1", "(y - 1)**2"),
+     ("(2 + sin(y))*sin(y)^2", "sin(y)**2")],
+)  # fmt: skip
+def test_a_gap_that_touches_zero_without_crossing_is_refused_at_load(tmp_path, capsys, gap, factor):
+    # y^2 >= 0 everywhere: the ball would pass through the floor without an impact, silently
+    path = write(tmp_path, BALL.replace('gap = "y"', f'gap = "{gap}"'))
     status = main(["simulate", str(path), "--t-end", "2", "--json"])
     err = capsys.readouterr().err
     assert status == 2
-    assert err.startswith(f"lagrangian: error: {path}: impacts: a contact (contact1) could not ")
-    assert err.endswith("a gap must cross 0 with a nonzero gradient (y, not y^3)\n")
+    assert err.startswith(f"lagrangian: error: {path}: impacts[0].gap: the gap's factor {factor} ")
+    assert "no contact is ever seen: write a gap that crosses 0 (y, not y^2)" in err
+    assert err.count("\n") == 1
+
+
+def test_a_gap_crossing_zero_with_a_nonzero_gradient_is_kept(tmp_path):
+    for gap in ("y", "y - sin(y)/10", "y^3 + y", "y^2 + y", "exp(y) - 1"):
+        path = write(tmp_path, BALL.replace('gap = "y"', f'gap = "{gap}"'))
+        assert lg.load(path).impacts[0].gap.free_symbols == {lg.load(path).coordinates[0].q}
 
 
 def test_a_restitution_of_one_set_on_the_command_line_keeps_the_energy(capsys):

@@ -100,10 +100,41 @@ def resolve_impacts(
                 field=f"{where}.gap",
                 text=str(impact.gap),
             )
+        repeated = _repeated_factor(gap, set(coordinates))
+        if repeated is not None:
+            raise ModelError(
+                f"the gap's factor {repeated} has a zero gradient where it closes, so the gap "
+                "touches 0 without crossing it and no contact is ever seen: write a gap that "
+                "crosses 0 (y, not y^2)",
+                field=f"{where}.gap",
+                text=str(impact.gap),
+            )
         result.append(
             replace(impact, name=name, gap=gap, restitution=resolved[f"{where}.restitution"])
         )
     return tuple(result)
+
+
+#: Largest gap (in operations) whose polynomial factors are searched for repeated ones.
+REPEATED_FACTOR_MAX_OPS = 200
+
+
+def _repeated_factor(gap: sympy.Expr, coordinates: set) -> sympy.Expr | None:
+    """A factor of the gap in the coordinates raised to a power above 1 (y^2, (x - 1)^3,
+    sin(theta)^2, y^2 - 2 y + 1): there the gradient is 0 where the gap is, the gap touches
+    0 without changing sign (y^2 is never negative) and an event search passes it by."""
+    if sympy.count_ops(gap) > REPEATED_FACTOR_MAX_OPS:
+        return None
+    for factor in sympy.Mul.make_args(sympy.factor_terms(gap)):
+        base, exponent = factor.as_base_exp()
+        if exponent.is_number and exponent > 1 and base.free_symbols & coordinates:
+            return factor
+    used = sorted(gap.free_symbols & coordinates, key=str)
+    if gap.is_polynomial(*used):
+        for base, multiplicity in sympy.sqf_list(gap, *used)[1]:
+            if multiplicity > 1 and base.free_symbols & coordinates:
+                return base**multiplicity
+    return None
 
 
 def check_restitutions(system, values: Mapping[str, object] | None = None) -> None:
