@@ -339,6 +339,48 @@ def double_pendulum_page() -> None:
         raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
 
 
+def henon_heiles_section_panel() -> None:
+    """The Poincaré section panel of ``lagrangian page henon_heiles``, built by hand as a
+    student builds it: twelve clicks in the plane (y, p_y) of the section x = 0 at
+    E = 1/8, each an orbit of t = 1000 in its own colour."""
+    import shutil
+    import tempfile
+
+    from playwright.sync_api import sync_playwright
+
+    from lagrangian.output.page import page_html
+
+    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
+    if chromium is None:
+        raise SystemExit("the page's screenshot needs chromium on the PATH")
+    name = "henon_heiles_section_panel.png"
+    clicks = [
+        (-0.35, 0.0), (-0.25, 0.0), (-0.1, 0.0), (0.05, 0.0), (0.2, 0.0), (0.32, 0.0),
+        (0.45, 0.0), (0.55, 0.0), (0.0, 0.3), (0.0, 0.4), (-0.15, 0.2), (0.35, 0.2),
+    ]  # fmt: skip
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "henon_heiles.html"
+        path.write_text(page_html(lg.load("henon_heiles")), encoding="utf-8")
+        with sync_playwright() as playwright:
+            browser = playwright.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
+            tab = browser.new_page(viewport={"width": 1280, "height": 900})
+            tab.goto(path.as_uri())
+            tab.wait_for_function("() => window.lagrangian !== undefined")
+            tab.evaluate("() => lagrangian.pause()")
+            tab.evaluate(
+                "(clicks) => { lagrangian.section.configure({axis: 'y', kind: 'momentum',"
+                " energy: 0.125, t_end: 1000}); for (const [u, w] of clicks)"
+                " lagrangian.section.launch(u, w); }",
+                clicks,
+            )
+            tab.locator("fieldset.poincare").screenshot(path=str(IMAGES / name))
+            browser.close()
+    size = (IMAGES / name).stat().st_size
+    print(f"  {name:34s} {size / 1000:6.1f} kB")
+    if size > LIMIT:
+        raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+
+
 def exercise_page() -> None:
     """The exercise page of the simple pendulum (``lagrangian page simple_pendulum
     --exercise``) in headless Chromium, a student's answers typed and checked: a T with a
@@ -633,6 +675,7 @@ PICTURES = (
     cart_pole,
     serve_editor,
     henon_heiles,
+    henon_heiles_section_panel,
     driven_pendulum,
     driven_pendulum_continuation,
     driven_pendulum_basins,

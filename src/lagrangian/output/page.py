@@ -6,10 +6,11 @@ simulation of the model (:mod:`lagrangian.output.page_content` makes what the pa
 shows and runs; in ``page_assets``, ``integrators.js`` steps the motion, ``plots.js``
 draws the phase portrait and time series, ``results.js`` the equilibria and modes with
 their numbers, ``share.js`` the share link and embed mode, ``inertia.js`` refuses a 3-D
-body's impossible inertia, ``page.js`` draws the mechanism and wires the controls; with
-an exercise, ``tokens.js`` (plain text, Unicode and LaTeX read as lagrangian.parsing
-reads them), ``expressions.js``, ``check.js`` and ``exercise.js`` check the student's
-answers).
+body's impossible inertia, ``section.js`` the Poincaré section panel
+(:mod:`lagrangian.output.page_section`), ``page.js`` draws the mechanism and wires the
+controls; with an exercise, ``tokens.js`` (plain text, Unicode and LaTeX read as
+lagrangian.parsing reads them), ``expressions.js``, ``check.js`` and ``exercise.js`` check
+the student's answers).
 
 It works from the disk, offline, with no server: every script, style and font is
 inline, and its Content-Security-Policy allows nothing else (no network request, no
@@ -38,6 +39,7 @@ from importlib import resources
 
 from ..model import System
 from .page_content import page_content
+from .page_section import section_document
 
 #: Everything the page may load: its own scripts (by hash), inline styles, data: fonts.
 _CSP = (
@@ -98,6 +100,9 @@ def built_page(
         code = _inside_script(page_script + _START.format(code="null"))
     else:
         code = _inside_script(content.script + page_script + _START.format(code=_CODE))
+    document = content.document
+    if content.script is not None:  # the Poincaré section panel's (section.js)
+        document = {**document, "section": section_document(system, document["constraints"])}
     katex = _inside_script(_asset("katex/katex.min.js"))
     hashes = " ".join(f"'sha256-{_digest(text)}'" for text in (katex, code))
     parts = {
@@ -105,7 +110,7 @@ def built_page(
         "TITLE": html.escape(system.name or "model"),
         "KATEX_CSS": _katex_css(),
         "PAGE_CSS": _asset("page.css") + _asset("exercise.css"),
-        "MODEL": json_for_html(content.document),
+        "MODEL": json_for_html(document),
         "KATEX_JS": katex,
         "CODE": code,
     }
@@ -121,6 +126,7 @@ _PAGE_SCRIPTS = (
     "results.js",
     "share.js",
     "inertia.js",
+    "section.js",
     "page.js",
     "tokens.js",
     "expressions.js",

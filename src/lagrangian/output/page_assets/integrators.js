@@ -93,6 +93,8 @@ function lagrangianIntegrators(tab, n, span, system) {
       if (error < 1 && yNew.every(Number.isFinite)) {
         let factor = error === 0 ? MAX_FACTOR : Math.min(MAX_FACTOR, SAFETY * error ** EXPONENT);
         if (rejected) factor = Math.min(1, factor);
+        // the step just taken, for its dense output (section.js): K holds f at its end
+        run.last = { t: run.t, y: run.y, h, K };
         // a step shortened to land on tEnd does not shorten the next one
         run.h = clipped ? Math.max(hAbs, h * factor) : h * factor;
         run.t = clipped ? tEnd : run.t + h;

@@ -20,6 +20,7 @@
 //   results()             [{verdict, omega_squared}] of each equilibrium at the parameters now
 //   tracks(), rods()      the hoops and rails drawn now ({particle, points}), the rods' ends
 //   link()                the share link of the run now (pauses it; share.js), embedded()
+//   section               the Poincaré section panel: configure, fromRun, launch (section.js)
 //   reset(), play(), pause(), stats() -> {fps, frame_ms, steps, steps_per_second, method}
 //   screenPosition(particle) [x, y] of a particle on the mechanism's canvas (CSS pixels)
 // A model that cannot run (unspecified functions) has the solution only, and the hook
@@ -84,6 +85,7 @@ function lagrangianPage(model, code) {
     error: null,
   };
   let history = [];
+  let sectionPanel = null; // the Poincaré section panel (section.js), once built
   let energy0 = 0;
   let invariants0 = [];
 
@@ -1109,6 +1111,7 @@ function lagrangianPage(model, code) {
     restart();
     showValues();
     results.update(params);
+    if (sectionPanel) sectionPanel.clear(); // its orbits were of the values before
   }
 
   function state() {
@@ -1118,6 +1121,17 @@ function lagrangianPage(model, code) {
       q_dot: Object.fromEntries(rates.map((v, i) => [names[i], sim.y[n + i]])),
     };
   }
+
+  sectionPanel = lagrangianSection(model, {
+    derivative,
+    energy: (t, y) => flat(code.observables(t, y, params, inputs)[0])[0],
+    momenta: (t, y) => flat(code.variational(t, y, params, inputs)[0]),
+    massMatrix: (t, y) => code.mass_matrix(t, y, params, inputs),
+    solve: code.solve,
+    now: () => ({ t: sim.t, y: sim.y.slice() }),
+    start: initialState,
+  }, element);
+  document.getElementById("live").append(sectionPanel.panel);
 
   window.lagrangian = Object.freeze({
     get parameters() {
@@ -1142,6 +1156,7 @@ function lagrangianPage(model, code) {
     tracks: () => trackPoints(sim.t, sim.y),
     rods: () => links.map((link) => link.map((i) => (i < 0 ? "origin" : scene.particles[i].name))),
     link: shareLink,
+    section: sectionPanel.hook, // the Poincaré section panel (section.js)
     embedded: () => document.body.classList.contains("embed"),
     reset: restart,
     play: () => setRunning(true),
@@ -1168,6 +1183,7 @@ function lagrangianPage(model, code) {
   // again once KaTeX's fonts are in: measured with the fallback fonts, formulas are narrower
   if (document.fonts) document.fonts.ready.then(() => results.fit(solution));
   restart();
+  sectionPanel.draw(); // the empty plane about the state now, ready for a click
   if (linkedTime > 0) {
     // the moment of the link, paused there
     advance(sim, linkedTime);
@@ -1176,6 +1192,7 @@ function lagrangianPage(model, code) {
   }
   window.addEventListener("resize", () => {
     layout();
+    sectionPanel.draw();
     results.fit(solution);
   });
   window.requestAnimationFrame(frame);

@@ -1,0 +1,388 @@
+// The Poincaré section panel (lagrangian page): the crossings of a section q_c = value in
+// a plane (q_a, q_a' or p_a), and a click in the plane that starts an orbit there on the
+// energy shell.
+//
+// Each orbit is integrated by the page's DOP853 (integrators.js, SciPy's step control) at
+// lagrangian poincare's tolerances (rtol 1e-10, atol 1e-12) and its crossings are the
+// roots of g = q_c - value on the step's 7th-order dense output (SciPy's Dop853DenseOutput:
+// 3 more stages and the coefficients D, given by lagrangian.output.page_section), found by
+// bisection to 4 ulp of t, where the sign of g at the step's ends changes in the section's
+// direction: the points of `lagrangian poincare MODEL --section "q_c = value"` from the same
+// start.  A start on the section is not a crossing (lagrangian.integrate.events).
+//
+// A click at (u, w) starts an orbit with q_a = u, q_c = value, the other coordinates and
+// velocities at their values in the run now (the state of the moment), and
+//   * axes (q_a, q_a'): q_a' = w, and q_c' from h(q, q') = E;
+//   * axes (q_a, p_a): q_a' and q_c' together from p_a = w and h = E.  For a Lagrangian
+//     quadratic in the velocities p = M q' + b is affine in q': at each trial q_c', q_a' is
+//     the exact solution of p_a(q_a') = w, q_a' = q_a'0 + (w - p_a(q_a'0)) / M_aa.  Along
+//     that line h is a quadratic in q_c' alone (a quadratic of an affine map).
+// The quadratic's coefficients are read from h at q_c' = -1, 0, 1 and checked at q_c' = 2
+// (a model not quadratic in the velocities, or not convex, is refused); the root is the
+// larger for the direction "+", the smaller for "-", and must cross in that direction
+// (q_c' > 0 for "+").  No real root: the point is outside the energy-allowed region, and
+// the status line says so.  E is the energy of the run now, or the number typed.
+//
+// system: derivative(t, y), energy(t, y), momenta(t, y) -> p, massMatrix(t, y), solve,
+// now() -> {t, y} the run's state of the moment, start() -> the run's initial state.
+function lagrangianSection(model, system, element) {
+  "use strict";
+  const RTOL = 1e-10;
+  const ATOL = 1e-12;
+  const MAX_STEPS = 200000;
+  const COLORS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf", "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22"];
+  const n = model.coordinates.length;
+  const names = model.coordinates.map((c) => c.name);
+  const shown = (name) => model.symbols[name] ?? name;
+  const panel = element("fieldset", { class: "poincare" });
+  panel.append(element("legend", {}, "Poincaré section"));
+  if (!model.section || !model.section.available) {
+    panel.append(element("p", { class: "hint" }, model.section ? model.section.why : "No Poincaré section for this model."));
+    return { panel, hook: null, clear() {}, draw() {} };
+  }
+  const dense = model.section.dense;
+  const orbits = [];
+  let view = null; // the plane's box as drawn: {xa, xb, ya, yb, width, height}
+
+  // -- the controls ------------------------------------------------------------------------
+  const choice = (label, options) => {
+    const select = element("select", { "aria-label": label });
+    for (const [value, text] of options) select.append(element("option", { value }, text));
+    return select;
+  };
+  const number = (label, value, placeholder = "") =>
+    element("input", { type: "text", "aria-label": label, value, placeholder, size: "7" });
+  const coordinateChoice = choice("section coordinate", names.map((q, i) => [String(i), shown(q)]));
+  const valueField = number("section value", String(model.initial[names[0]] ?? 0));
+  const directionChoice = choice("section direction", [["+", "crossing upwards (+)"], ["-", "crossing downwards (−)"]]);
+  const axisChoice = element("select", { "aria-label": "section axis" });
+  const kindChoice = choice("section vertical axis", [["velocity", "velocity"], ["momentum", "momentum p = ∂L/∂q̇"]]);
+  const energyField = number("section energy", "", "E now");
+  const timeField = number("section t_end", String(model.t_end));
+  const runButton = element("button", { type: "button" }, "Section of this run");
+  const clearButton = element("button", { type: "button" }, "Clear");
+  const canvas = element("canvas", { "aria-label": "Poincaré section" });
+  const status = element("p", { "aria-live": "polite", "aria-label": "section status" }); // not role=status: the page has one
+  // the status line: what was done, or (in red) what was refused and why
+  const say = (text, refused = false) => {
+    status.textContent = text;
+    status.className = refused ? "error" : "";
+  };
+  const row = (...parts) => {
+    const node = element("div", { class: "buttons" });
+    for (const part of parts) node.append(typeof part === "string" ? element("span", {}, part) : part);
+    return node;
+  };
+  panel.append(
+    row("section", coordinateChoice, "=", valueField, directionChoice),
+    row("plane", axisChoice, kindChoice, "E", energyField, "t_end", timeField, runButton, clearButton),
+    canvas,
+    element("p", { class: "hint" }, "A click in the plane starts an orbit there on the energy shell (E now, or the E typed): the other coordinates and velocities as in the run now, the section's velocity solved from the energy."),
+    status,
+  );
+
+  function axes() {
+    const c = Number(coordinateChoice.value);
+    const previous = axisChoice.value;
+    axisChoice.replaceChildren(...names.map((q, i) => [i, q]).filter(([i]) => i !== c).map(([i, q]) => element("option", { value: String(i) }, shown(q))));
+    if ([...axisChoice.options].some((o) => o.value === previous)) axisChoice.value = previous;
+  }
+  axes();
+
+  // the section and plane chosen: {c, value, direction, a, kind, tEnd}; throws on a bad field
+  function setup() {
+    const value = Number(valueField.value);
+    const tEnd = Number(timeField.value);
+    if (valueField.value.trim() === "" || !Number.isFinite(value)) throw new Error(`the section's value is not a number: '${valueField.value}'`);
+    if (!(tEnd > 0 && Number.isFinite(tEnd))) throw new Error(`t_end must be a positive number, not '${timeField.value}'`);
+    return { c: Number(coordinateChoice.value), value, direction: directionChoice.value === "-" ? -1 : 1, a: Number(axisChoice.value), kind: kindChoice.value, tEnd };
+  }
+
+  const labelOf = (s) => [shown(names[s.a]), s.kind === "momentum" ? `p_${names[s.a]}` : shown(model.coordinates[s.a].velocity)];
+
+  // -- an orbit and its crossings --------------------------------------------------------------
+  // the step `last` = {t, y, h, K} of integrators.js, ending at yEnd, as SciPy's DOP853
+  // dense output: y(t) on the step
+  function interpolant(last, yEnd) {
+    const { t, y, h } = last;
+    const K = last.K.slice();
+    dense.A.forEach((a, r) => {
+      const s = K.length;
+      const z = y.map((v, i) => {
+        let sum = 0;
+        for (let j = 0; j < s; j++) sum += a[j] * K[j][i];
+        return v + sum * h;
+      });
+      K.push(system.derivative(t + dense.C[r] * h, z));
+    });
+    const fOld = K[0];
+    const fNew = K[model.dop853.stages];
+    const dy = yEnd.map((v, i) => v - y[i]);
+    const F = [dy, dy.map((d, i) => h * fOld[i] - d), dy.map((d, i) => 2 * d - h * (fNew[i] + fOld[i]))];
+    for (const row of dense.D) F.push(y.map((_, i) => h * row.reduce((sum, d, j) => sum + d * K[j][i], 0)));
+    F.reverse();
+    return (at) => {
+      const x = (at - t) / h;
+      const out = y.map(() => 0);
+      F.forEach((f, k) => {
+        for (let i = 0; i < out.length; i++) out[i] = (out[i] + f[i]) * (k % 2 === 0 ? x : 1 - x);
+      });
+      return out.map((v, i) => v + y[i]);
+    };
+  }
+
+  // the crossings {t, y} of the orbit from y0 over [0, tEnd] in the section's direction
+  function crossings(y0, s) {
+    const g = (y) => y[s.c] - s.value;
+    const steppers = lagrangianIntegrators(model.dop853, n, s.tEnd, system);
+    const run = { t: 0, y: y0.slice(), f: null, h: null, p: null, steps: 0 };
+    let gOld = g(y0);
+    if (gOld === 0) {
+      // a start on the section is no crossing: the sign just after it (events.scipy_event)
+      const f0 = system.derivative(0, y0);
+      const ahead = g(y0.map((v, i) => v + 1e-7 * f0[i]));
+      gOld = ahead === 0 ? 0 : Math.sign(ahead) * Number.MIN_VALUE;
+    }
+    const found = [];
+    while (run.t < s.tEnd) {
+      if (run.steps >= MAX_STEPS) throw new Error(`the orbit took more than ${MAX_STEPS} steps before t = ${s.tEnd}: give a shorter t_end`);
+      steppers.dopStep(run, s.tEnd, RTOL, ATOL);
+      const gNew = g(run.y);
+      const crossed = s.direction > 0 ? gOld <= 0 && gNew >= 0 : gOld >= 0 && gNew <= 0;
+      if (crossed) {
+        const at = interpolant(run.last, run.y);
+        let [a, b] = [run.last.t, run.t];
+        let ga = gOld;
+        if (ga !== 0) {
+          while (b - a > 4 * Number.EPSILON * Math.max(1, Math.abs(b))) {
+            const m = a + (b - a) / 2;
+            const gm = g(at(m));
+            if (gm === 0) [a, b] = [m, m];
+            else if (Math.sign(gm) === Math.sign(ga)) [a, ga] = [m, gm];
+            else b = m;
+          }
+        } else b = a;
+        const t = a + (b - a) / 2;
+        found.push({ t, y: at(t) });
+      }
+      gOld = gNew;
+    }
+    return found;
+  }
+
+  // the plane's point (u, w) of a state
+  const point = (s, t, y) => [y[s.a], s.kind === "momentum" ? system.momenta(t, y)[s.a] : y[n + s.a]];
+
+  function addOrbit(s, y0, energy) {
+    const found = crossings(y0, s);
+    const orbit = { start: y0, energy, crossings: found, points: found.map((c) => point(s, c.t, c.y)), setup: s };
+    orbits.push(orbit);
+    draw();
+    return orbit;
+  }
+
+  // -- the start of an orbit on the energy shell through (u, w) ------------------------------
+  function shellStart(s, u, w, E) {
+    const y = system.now().y.slice();
+    y[s.c] = s.value;
+    y[s.a] = u;
+    const vc = n + s.c;
+    const va = n + s.a;
+    const at = (v) => {
+      const z = y.slice();
+      z[vc] = v;
+      if (s.kind === "velocity") {
+        z[va] = w;
+      } else {
+        z[va] = 0;
+        const M = system.massMatrix(0, z);
+        z[va] = (w - system.momenta(0, z)[s.a]) / M[s.a][s.a];
+      }
+      return z;
+    };
+    const [hm, h0, hp, h2] = [-1, 0, 1, 2].map((v) => system.energy(0, at(v)));
+    const a = (hm + hp) / 2 - h0;
+    const b = (hp - hm) / 2;
+    const velocity = shown(model.coordinates[s.c].velocity);
+    if (!(a > 0) || Math.abs(4 * a + 2 * b + h0 - h2) > 1e-9 * Math.abs(h2) + 1e-12) {
+      throw new Error(`the energy is not a convex quadratic in ${velocity}: it cannot be solved on the shell`);
+    }
+    const discriminant = b * b - 4 * a * (h0 - E);
+    const [labelU, labelW] = labelOf(s);
+    const where = `${labelU} = ${u.toPrecision(4)}, ${labelW} = ${w.toPrecision(4)}`;
+    if (!(discriminant >= 0)) {
+      throw new Error(`outside the energy-allowed region: no real ${velocity} gives E = ${E.toPrecision(6)} at ${where}; nothing started`);
+    }
+    const root = (-b + s.direction * Math.sqrt(discriminant)) / (2 * a);
+    if (!(s.direction * root > 0)) {
+      throw new Error(`at ${where} the orbit of E = ${E.toPrecision(6)} does not cross the section ${s.direction > 0 ? "upwards" : "downwards"} (${velocity} = ${root.toPrecision(4)}); nothing started`);
+    }
+    const start = at(root);
+    if (s.kind === "momentum" && Math.abs(system.momenta(0, start)[s.a] - w) > 1e-9 * Math.max(1, Math.abs(w))) {
+      throw new Error(`the momentum p_${names[s.a]} is not linear in the velocities here: the start cannot be solved`);
+    }
+    return start;
+  }
+
+  function targetEnergy() {
+    const text = energyField.value.trim();
+    if (text === "") {
+      const now = system.now();
+      return system.energy(now.t, now.y);
+    }
+    const E = Number(text);
+    if (!Number.isFinite(E)) throw new Error(`E is not a number: '${energyField.value}'`);
+    return E;
+  }
+
+  function launch(u, w) {
+    const s = setup();
+    const E = targetEnergy();
+    const start = shellStart(s, u, w, E);
+    const orbit = addOrbit(s, start, E);
+    const [labelU, labelW] = labelOf(s);
+    say(`Orbit ${orbits.length} from ${labelU} = ${u.toPrecision(4)}, ${labelW} = ${w.toPrecision(4)} at E = ${E.toPrecision(6)}: ${orbit.points.length} crossings.`);
+    return orbit;
+  }
+
+  function fromRun() {
+    const s = setup();
+    const start = system.start();
+    const orbit = addOrbit(s, start, system.energy(0, start));
+    say(`The run's orbit: ${orbit.points.length} crossings up to t = ${s.tEnd}.`);
+    return orbit;
+  }
+
+  function clear() {
+    orbits.length = 0;
+    draw();
+  }
+
+  // -- the plane -------------------------------------------------------------------------
+  const PAD = 28;
+  function draw() {
+    const c = canvas.getContext("2d");
+    const ratio = window.devicePixelRatio || 1;
+    const width = Math.max(100, canvas.clientWidth);
+    const height = Math.round(width * 0.7);
+    if (canvas.width !== width * ratio) {
+      canvas.width = width * ratio;
+      canvas.height = height * ratio;
+      canvas.style.height = `${height}px`;
+    }
+    c.setTransform(ratio, 0, 0, ratio, 0, 0);
+    c.clearRect(0, 0, width, height);
+    let s;
+    try {
+      s = setup();
+    } catch (error) {
+      return;
+    }
+    const all = orbits.flatMap((o) => o.points);
+    if (!all.length) {
+      // no points yet: the plane about the run's state of the moment
+      const now = system.now();
+      all.push(...[-1, 1].map((d) => point(s, now.t, now.y).map((v) => v + d)));
+    }
+    const range = (v) => {
+      let [lo, hi] = [Math.min(...v), Math.max(...v)];
+      if (hi - lo < 1e-12) [lo, hi] = [lo - 1, hi + 1];
+      return [lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo)];
+    };
+    const [xa, xb] = range(all.map((p) => p[0]));
+    const [ya, yb] = range(all.map((p) => p[1]));
+    view = { xa, xb, ya, yb, width, height };
+    c.strokeStyle = "#c7cdd4";
+    c.strokeRect(PAD, 6, width - PAD - 6, height - PAD);
+    c.fillStyle = "#5b6570";
+    c.font = "11px sans-serif";
+    const [labelU, labelW] = labelOf(s);
+    c.fillText(`${labelU}   (${xa.toPrecision(3)} to ${xb.toPrecision(3)})`, width / 2 - 40, height - 6);
+    c.save();
+    c.translate(11, height / 2);
+    c.rotate(-Math.PI / 2);
+    c.fillText(labelW, 0, 0);
+    c.restore();
+    c.fillText(ya.toPrecision(3), PAD + 2, height - PAD + 2);
+    c.fillText(yb.toPrecision(3), PAD + 2, 18);
+    orbits.forEach((orbit, k) => {
+      c.fillStyle = COLORS[k % COLORS.length];
+      for (const [u, w] of orbit.points) {
+        const [x, y] = screen(u, w);
+        c.fillRect(x - 1, y - 1, 2, 2);
+      }
+    });
+  }
+
+  // CSS pixels on the canvas of (u, w), and back
+  function screen(u, w) {
+    const { xa, xb, ya, yb, width, height } = view;
+    return [PAD + ((u - xa) / (xb - xa)) * (width - PAD - 6), height - PAD + 6 - ((w - ya) / (yb - ya)) * (height - PAD)];
+  }
+  function plane(x, y) {
+    const { xa, xb, ya, yb, width, height } = view;
+    return [xa + ((x - PAD) / (width - PAD - 6)) * (xb - xa), ya + ((height - PAD + 6 - y) / (height - PAD)) * (yb - ya)];
+  }
+
+  const said = (action) => (event) => {
+    try {
+      action(event);
+    } catch (error) {
+      say(error.message, true);
+    }
+  };
+  canvas.addEventListener(
+    "click",
+    said((event) => {
+      if (view === null) draw();
+      const box = canvas.getBoundingClientRect();
+      launch(...plane(event.clientX - box.left, event.clientY - box.top));
+    }),
+  );
+  runButton.addEventListener("click", said(fromRun));
+  clearButton.addEventListener("click", () => {
+    clear();
+    say("");
+  });
+  // another section or plane: the points drawn belong to the old one
+  coordinateChoice.addEventListener("change", () => {
+    axes();
+    valueField.value = String(model.initial[names[Number(coordinateChoice.value)]] ?? 0);
+    clear();
+  });
+  for (const control of [valueField, directionChoice, axisChoice, kindChoice, timeField]) control.addEventListener("change", () => clear());
+
+  // the hook (window.lagrangian.section) for scripts and tests
+  const hook = Object.freeze({
+    // choose the section and plane: {coordinate, value, direction, axis, kind, energy, t_end}
+    configure(options) {
+      if ("coordinate" in options) {
+        coordinateChoice.value = String(names.indexOf(options.coordinate));
+        axes();
+      }
+      if ("value" in options) valueField.value = String(options.value);
+      if ("direction" in options) directionChoice.value = options.direction;
+      if ("axis" in options) axisChoice.value = String(names.indexOf(options.axis));
+      if ("kind" in options) kindChoice.value = options.kind;
+      if ("energy" in options) energyField.value = options.energy === null ? "" : String(options.energy);
+      if ("t_end" in options) timeField.value = String(options.t_end);
+      clear();
+    },
+    fromRun: () => summary(fromRun()),
+    // the orbit started at (u, w), or {refused: why} (said in the status line as well)
+    launch(u, w) {
+      try {
+        return summary(launch(u, w));
+      } catch (error) {
+        say(error.message, true);
+        return { refused: error.message };
+      }
+    },
+    orbits: () => orbits.map(summary),
+    clear,
+    screen: (u, w) => (view === null ? null : screen(u, w)),
+    status: () => status.textContent,
+  });
+  const summary = (orbit) => ({ start: orbit.start.slice(), energy: orbit.energy, points: orbit.points.map((p) => p.slice()), times: orbit.crossings.map((c) => c.t), states: orbit.crossings.map((c) => c.y.slice()) });
+  return { panel, hook, clear, draw };
+}
