@@ -38,7 +38,7 @@ from . import floquet
 from .base import positive_setting, transient_setting
 from .guard import parameter_problem, start_problem
 from .lyapunov import VariationalFlow
-from .strobe import Strobe
+from .strobe import AngleWrapping, Strobe
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -171,7 +171,7 @@ def periodic_orbits(
     )
 
 
-class _StrobeMap:
+class _StrobeMap(AngleWrapping):
     """G and its tangent maps by the variational flow, from t = phase + k P."""
 
     def __init__(self, flow: VariationalFlow, clock: Strobe, angles: np.ndarray, size: int):
@@ -192,18 +192,6 @@ class _StrobeMap:
             points.append(y)
             tangents.append(w)
         return np.column_stack(points), tangents
-
-    def difference(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """a - b with the angles' differences in [-π, π)."""
-        d = np.array(a - b, dtype=float)
-        d[self.angles] = (d[self.angles] + math.pi) % (2 * math.pi) - math.pi
-        return d
-
-    def wrapped(self, x: np.ndarray) -> np.ndarray:
-        """x with its angles in [-π, π)."""
-        x = np.array(x, dtype=float)
-        x[self.angles] = (x[self.angles] + math.pi) % (2 * math.pi) - math.pi
-        return x
 
 
 def _attractor_starts(strobe_map: _StrobeMap, y0: np.ndarray, first: int, count: int):

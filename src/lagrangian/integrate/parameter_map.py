@@ -13,14 +13,13 @@ the residual G^K(x) - x is taken modulo 2π.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .strobe import Strobe
+from .strobe import AngleWrapping, Strobe
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -36,7 +35,7 @@ class MapValue:
     column: np.ndarray
 
 
-class ParameterMap:
+class ParameterMap(AngleWrapping):
     """G_A^K of ``compiled`` at the ``clock``'s times, A the parameter ``name``; the other
     parameters' values ``params`` (its entry of A is replaced at each call)."""
 
@@ -84,15 +83,3 @@ class ParameterMap:
             )
         sensitivity = z[-1, size:].reshape(size, size + 1)
         return MapValue(z[:, :size].T, sensitivity[:, 1:], sensitivity[:, 0])
-
-    def difference(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """a - b with the angles' differences in [-π, π)."""
-        d = np.array(a - b, dtype=float)
-        d[self.angles] = (d[self.angles] + math.pi) % (2 * math.pi) - math.pi
-        return d
-
-    def wrapped(self, x: np.ndarray) -> np.ndarray:
-        """x (2n, ...) with its angles in [-π, π)."""
-        x = np.array(x, dtype=float)
-        x[self.angles] = (x[self.angles] + math.pi) % (2 * math.pi) - math.pi
-        return x

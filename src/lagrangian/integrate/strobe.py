@@ -67,3 +67,20 @@ class Strobe:
         """'every 9.42478' or 'every 9.42478 at phase 1.5'."""
         text = f"every {self.period:.6g}"
         return text + (f" at phase {self.phase:.6g}" if self.phase else "")
+
+
+class AngleWrapping:
+    """Differences and points of a strobe map with its ``angles`` (indices of the state,
+    coordinates on which the map is 2π-periodic) taken into [-π, π)."""
+
+    angles: np.ndarray
+
+    def difference(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """a - b with the angles' differences in [-π, π)."""
+        return self.wrapped(a - b)
+
+    def wrapped(self, x: np.ndarray) -> np.ndarray:
+        """x (2n, ...) with its angles in [-π, π)."""
+        x = np.array(x, dtype=float)
+        x[self.angles] = (x[self.angles] + math.pi) % (2 * math.pi) - math.pi
+        return x
