@@ -90,6 +90,17 @@ def check_toml_keys(text: str) -> None:
         )
 
 
+def check_table_keys(table: Mapping[str, object], allowed: set[str], where: str) -> None:
+    """Refuse a key of the model file's table at ``where`` not in ``allowed`` (the first
+    such key by name, so the message does not depend on the file's order)."""
+    unknown = set(table) - allowed
+    if unknown:
+        name = sorted(unknown)[0]
+        raise ModelError(
+            f"unknown key (expected one of {', '.join(sorted(allowed))})", field=f"{where}.{name}"
+        )
+
+
 def check_counts(counts: Mapping[str, int]) -> None:
     """Refuse a model with more entries of a kind than :data:`MAX_COUNTS` allows.
 

@@ -4,6 +4,7 @@ expressions are parsed when the system is built, :mod:`.linkages`)."""
 from __future__ import annotations
 
 from ..errors import ModelError
+from .limits import check_table_keys
 from .linkages import Joint, Link
 
 LINK_KEYS = frozenset({"name", "length", "mass", "angle", "inertia", "center", "points"})
@@ -26,7 +27,7 @@ def _array(value, key):
 
 def _link(table, i) -> Link:
     where = f"links[{i}]"
-    _check_keys(table, LINK_KEYS, where)
+    check_table_keys(table, LINK_KEYS, where)
     points = table.get("points", {})
     if not isinstance(points, dict):
         raise ModelError("expected a table {P = [x, y]}", field=f"{where}.points")
@@ -43,7 +44,7 @@ def _link(table, i) -> Link:
 
 def _joint(table, i) -> Joint:
     where = f"joints[{i}]"
-    _check_keys(table, JOINT_KEYS, where)
+    check_table_keys(table, JOINT_KEYS, where)
     connects = table.get("connects")
     if not isinstance(connects, list) or len(connects) != 2:
         raise ModelError(
@@ -61,15 +62,6 @@ def _joint(table, i) -> Joint:
         slide=_name(table, where, key="slide"),
         drive=_expression(table, "drive", where),
     )
-
-
-def _check_keys(table, allowed, where):
-    unknown = set(table) - allowed
-    if unknown:
-        name = sorted(unknown)[0]
-        raise ModelError(
-            f"unknown key (expected one of {', '.join(sorted(allowed))})", field=f"{where}.{name}"
-        )
 
 
 def _name(table, where, *, key="name", required=False):

@@ -24,6 +24,7 @@ from .limits import (
     MAX_FILE_BYTES,
     check_counts,
     check_plain_text,
+    check_table_keys,
     check_toml_keys,
     file_size_problem,
 )
@@ -248,18 +249,9 @@ def _vector(table, key, where, sizes=(2, 3)):
     return tuple(value)
 
 
-def _check_keys(table, allowed, where):
-    unknown = set(table) - allowed
-    if unknown:
-        name = sorted(unknown)[0]
-        raise ModelError(
-            f"unknown key (expected one of {', '.join(sorted(allowed))})", field=f"{where}.{name}"
-        )
-
-
 def _particle(table, i):
     where = f"particles[{i}]"
-    _check_keys(table, {"name", "mass", "position"}, where)
+    check_table_keys(table, {"name", "mass", "position"}, where)
     return Particle(
         name=_string(table, "name", ""),
         mass=_required(table, "mass", where),
@@ -271,7 +263,7 @@ def _body(table, i):
     where = f"bodies[{i}]"
     if "position" in table or "orientation" in table or isinstance(table.get("inertia"), list):
         return _body_3d(table, where)
-    _check_keys(table, {"name", "mass", "inertia", "center", "angle"}, where)
+    check_table_keys(table, {"name", "mass", "inertia", "center", "angle"}, where)
     return RigidBody2D(
         name=_string(table, "name", ""),
         mass=_required(table, "mass", where),
@@ -284,7 +276,7 @@ def _body(table, i):
 def _body_3d(table, where):
     """A 3-D body: position, inertia (3 moments or 3 x 3), orientation {euler, convention}
     or {rotation}; shapes and values are checked when built (:mod:`.rigid_body`)."""
-    _check_keys(table, {"name", "mass", "position", "inertia", "orientation"}, where)
+    check_table_keys(table, {"name", "mass", "position", "inertia", "orientation"}, where)
     for key in ("position", "inertia", "orientation"):
         if key not in table:
             raise ModelError("missing field (a 3-D body has position, inertia, orientation)",
@@ -296,7 +288,7 @@ def _body_3d(table, where):
             'expected a table {euler = [...], convention = "zxz"} or {rotation = [[...], ...]}',
             field=f"{where}.orientation",
         )
-    _check_keys(orientation, {"euler", "convention", "rotation"}, f"{where}.orientation")
+    check_table_keys(orientation, {"euler", "convention", "rotation"}, f"{where}.orientation")
     convention = orientation.get("convention", "zxz")
     if not isinstance(convention, str):
         raise ModelError('expected text such as "zxz"', field=f"{where}.orientation.convention")
@@ -321,7 +313,7 @@ def _body_3d(table, where):
 
 def _spring(table, i):
     where = f"springs[{i}]"
-    _check_keys(table, {"name", "stiffness", "rest_length", "ends"}, where)
+    check_table_keys(table, {"name", "stiffness", "rest_length", "ends"}, where)
     ends = _list(table, "ends", f"{where}.ends")
     if len(ends) != 2:
         raise ModelError("expected two ends", field=f"{where}.ends")
@@ -342,7 +334,7 @@ def _spring(table, i):
 def _gravity(table):
     if not isinstance(table, dict):
         raise ModelError("expected a table", field="gravity")
-    _check_keys(table, {"g", "direction"}, "gravity")
+    check_table_keys(table, {"g", "direction"}, "gravity")
     direction = _vector(table, "direction", "gravity") if "direction" in table else None
     return Gravity(g=_required(table, "g", "gravity"), direction=direction)
 
