@@ -207,3 +207,44 @@ def test_a_model_without_an_energy_shell_says_why(browser, tmp_path):
     assert "A Poincaré section needs two coordinates or more" in panel.inner_text()
     assert opened.page.evaluate("() => lagrangian.section") is None
     assert opened.errors == []
+
+
+def test_the_section_of_the_run_is_that_of_lagrangian_poincare_from_the_models_start(
+    henon_heiles, capsys, tmp_path
+):
+    page = henon_heiles.page
+    page.evaluate(
+        "() => lagrangian.section.configure({coordinate: 'x', value: 0, direction: '+',"
+        " axis: 'y', kind: 'velocity', energy: null, t_end: 100})"
+    )
+    page.get_by_role("button", name="Section of this run").click()
+    (orbit,) = page.evaluate("() => lagrangian.section.orbits()")
+    start = [0.0, -0.25, 0.42081, 0.0]  # henon_heiles.toml's [initial]
+    assert orbit["start"] == start
+    times, states = python_points(capsys, tmp_path, "henon_heiles", start, "x = 0", 100)
+    assert len(times) == len(orbit["times"]) >= 10
+    assert np.allclose(orbit["times"], times, rtol=0, atol=1e-6)
+    assert np.allclose(orbit["points"], states[:, [1, 3]], rtol=0, atol=1e-6)
+
+
+def test_an_energy_not_quadratic_in_the_velocity_is_refused(browser, tmp_path):
+    # h = x_dot^4 / 4 + y_dot^2 / 2 + V: a quadratic through h at x_dot = -1, 0, 1 misses
+    # h at x_dot = 2 by 3, so no start is solved from it
+    model = tmp_path / "quartic.toml"
+    model.write_text(
+        'name = "quartic kinetic energy"\ncoordinates = ["x", "y"]\n'
+        'lagrangian = "x_dot^4/12 + y_dot^2/2 - (x^2 + y^2)/2"\n',
+        encoding="utf-8",
+    )
+    path = tmp_path / "quartic.html"
+    path.write_text(page_html(lg.load(str(model))), encoding="utf-8")
+    opened = open_page(browser, path)
+    page = opened.page
+    page.evaluate("() => lagrangian.pause()")
+    page.evaluate("() => lagrangian.section.configure({axis: 'y', energy: 1})")
+    refused = page.evaluate("() => lagrangian.section.launch(0.1, 0.2)")
+    expected = "the energy is not a convex quadratic in ẋ: it cannot be solved on the shell"
+    assert refused == {"refused": expected}
+    assert page.evaluate("() => lagrangian.section.status()") == expected
+    assert page.evaluate("() => lagrangian.section.orbits()") == []
+    assert opened.errors == []
