@@ -262,6 +262,15 @@ def link_bodies(linkage: Linkage) -> tuple[RigidBody2D, ...]:
 
 
 # -- resolving ------------------------------------------------------------------------
+def _coordinate(name, coordinates, field):
+    """The coordinate ``name`` names (None for no name), or ModelError at ``field``."""
+    if name is None:
+        return None
+    if name not in coordinates:
+        raise ModelError(f"'{name}' is not one of the coordinates", field=field)
+    return coordinates[name]
+
+
 def _resolve_links(links, resolved, coordinates) -> dict[str, ResolvedLink]:
     found: dict[str, ResolvedLink] = {}
     for i, link in enumerate(links):
@@ -270,13 +279,7 @@ def _resolve_links(links, resolved, coordinates) -> dict[str, ResolvedLink]:
             raise ModelError(f"invalid link name {link.name!r}", field=f"{where}.name")
         if link.name == GROUND or link.name in found:
             raise ModelError(f"the link name '{link.name}' is taken", field=f"{where}.name")
-        angle = None
-        if link.angle is not None:
-            if link.angle not in coordinates:
-                raise ModelError(
-                    f"'{link.angle}' is not one of the coordinates", field=f"{where}.angle"
-                )
-            angle = coordinates[link.angle]
+        angle = _coordinate(link.angle, coordinates, f"{where}.angle")
         mass = resolved[f"{where}.mass"]
         length = resolved[f"{where}.length"]
         for name in link.points:
@@ -322,13 +325,7 @@ def _resolve_joint(i, joint, resolved, links, coordinates) -> ResolvedJoint:
         axis = (x / norm, y / norm)
     elif joint.axis is not None or joint.slide is not None:
         raise ModelError("only a prismatic joint has an axis and a slide", field=where)
-    slide = None
-    if joint.slide is not None:
-        if joint.slide not in coordinates:
-            raise ModelError(
-                f"'{joint.slide}' is not one of the coordinates", field=f"{where}.slide"
-            )
-        slide = coordinates[joint.slide]
+    slide = _coordinate(joint.slide, coordinates, f"{where}.slide")
     return ResolvedJoint(
         name=joint.name or f"joint{i + 1}",
         kind=joint.kind,
