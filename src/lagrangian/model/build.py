@@ -5,53 +5,30 @@ The TOML loader and the Python constructors both produce a :class:`ModelSpec`
 every expression with the safe parser, checks what each field may depend on
 and that its numbers are doubles (``10**400`` or ``1e-400`` cannot be simulated,
 and SymPy factors such integers in the simplifications that follow), and
-assembles L = T - V, within :data:`BUILD_SECONDS` (a deadline, as derive's).
+assembles L = T - V, within :data:`BUILD_SECONDS` (a deadline, as derive's).  The names
+and the expressions are :mod:`.build_names`'s, this module the assembly.
 """
 
 from __future__ import annotations
 
-import math
-import sys
-from collections.abc import Mapping, Sequence
 from dataclasses import replace
 
 import sympy
-from sympy.core.function import AppliedUndef
 
 from ..budget import attempt
-from ..errors import ModelError, ParseError
-from ..parsing import (
-    DeclaredFunction,
-    Namespace,
-    parse_expression,
-    referenced_names,
-)
-from ..parsing.constants import NotRealError, RealConstants
-from ..symbols import (
-    TIME_NAME,
-    is_identifier,
-    parameter_symbol,
-    time_symbol,
-)
+from ..errors import ModelError
+from ..symbols import time_symbol
+from .build_names import ModelNames
 from .components import Gravity, RigidBody, Spring
 from .energy import conservative_potential, gravity_potential, kinetic_energy, spring_potential
 from .impacts import check_initial_gaps, check_restitutions, resolve_impacts
-from .inputs import assemble_inputs, input_entries, input_parameters, with_input_forces
+from .inputs import assemble_inputs, with_input_forces
 from .limits import check_kinetic_work
 from .linkage_reactions import with_reactions
 from .linkages import build_linkage, link_bodies
-from .naming import RESERVED, coordinates_named, parameter_entry, warn_of_likely_typos
 from .rigid_body import moving_with, resolve_body
-from .spec import (
-    COORDINATES,
-    PARAMETERS,
-    TIME,
-    VELOCITIES,
-    ModelSpec,
-    check_size,
-    expression_fields,
-)
-from .system import FunctionDeclaration, Parameter, System
+from .spec import ModelSpec, check_size, expression_fields
+from .system import System
 from .units import dimensioned, has_units, read_units
 from .values import check_masses
 
@@ -60,9 +37,6 @@ __all__ = ["ModelSpec", "build_system"]
 #: Seconds the model may take to build (the kinetic energy of bodies is simplified as it
 #: is assembled): the same bound as derive's, so that no model build runs unbounded.
 BUILD_SECONDS = 60.0
-#: log10 of the largest double and of the smallest (subnormal) one.
-_LARGEST_DIGITS = math.log10(sys.float_info.max)
-_SMALLEST_DIGITS = math.log10(math.ulp(0.0))
 
 
 def build_system(spec: ModelSpec) -> System:
@@ -92,173 +66,8 @@ def build_system(spec: ModelSpec) -> System:
         raise error.located(source=spec.source) from None
 
 
-class _Builder:
-    def __init__(self, spec: ModelSpec, trees: dict | None = None):
-        self.spec = spec
-        self.trees = trees  # the syntax trees, kept for the dimension check (with units)
-        self.coordinates = coordinates_named(spec.coordinates)
-        self.names = self._base_names()
-        self.functions = self._functions()
-        self.parameters = self._parameters()
-        self.parameters += input_parameters(
-            spec.inputs, self._check_new_name, {p.name for p in self.parameters}
-        )
-        self.namespace = self._namespace()
-
-    # -- names ---------------------------------------------------------------
-    def _base_names(self) -> dict[str, tuple[sympy.Expr, str]]:
-        names: dict[str, tuple[sympy.Expr, str]] = {TIME_NAME: (time_symbol(), TIME)}
-        for c in self.coordinates:
-            names[c.name] = (c.q, COORDINATES)
-            names[c.q_dot.name] = (c.q_dot, VELOCITIES)
-            names[c.q_ddot.name] = (c.q_ddot, "accelerations")
-        return names
-
-    def _functions(self) -> dict[str, FunctionDeclaration]:
-        declared = {}
-        if not isinstance(self.spec.functions, Mapping):
-            raise ModelError("expected a table of name = [arguments]", field="functions")
-        for name, arguments in self.spec.functions.items():
-            where = f"functions.{name}"
-            self._check_new_name(name, where)
-            if isinstance(arguments, str) or not isinstance(arguments, Sequence):
-                raise ModelError("expected a list of argument names", field=where)
-            symbols = []
-            for argument in arguments:
-                if argument not in self.names or self.names[argument][1] == "accelerations":
-                    raise ModelError(
-                        f"argument '{argument}' is not a coordinate, velocity or t", field=where
-                    )
-                symbols.append(self.names[argument][0])
-            declared[name] = FunctionDeclaration(
-                name, sympy.Function(name, real=True), tuple(symbols)
-            )
-        return declared
-
-    def _parameters(self) -> tuple[Parameter, ...]:
-        given = self.spec.parameters
-        if given is None:
-            entries: dict[str, object] = dict.fromkeys(sorted(self._undeclared_names()))
-        elif isinstance(given, Mapping):
-            entries = dict(given)
-        elif isinstance(given, Sequence) and not isinstance(given, str):
-            entries = dict.fromkeys(given)
-        else:
-            raise ModelError("expected a table of name = value", field="parameters")
-        parameters = []
-        for name, entry in entries.items():
-            where = f"parameters.{name}"
-            self._check_new_name(name, where)
-            value, sign = parameter_entry(entry, where)
-            symbol = parameter_symbol(name, positive=(sign == "positive"))
-            if sign == "nonnegative":
-                symbol = sympy.Symbol(name, nonnegative=True)
-            elif sign == "negative":
-                symbol = sympy.Symbol(name, negative=True)
-            parameters.append(Parameter(name, symbol, value, sign))
-        warn_of_likely_typos(
-            entries, self.coordinates, declared=given is not None, source=self.spec.source
-        )
-        return tuple(parameters)
-
-    def _check_new_name(self, name: object, where: str) -> None:
-        if not isinstance(name, str) or not is_identifier(name):
-            raise ModelError(f"invalid name {name!r}", field=where)
-        if name in RESERVED:
-            raise ModelError(f"'{name}' is reserved and cannot be declared", field=where)
-        if name in self.names or name in getattr(self, "functions", {}):
-            raise ModelError(f"'{name}' is declared twice", field=where)
-
-    def _undeclared_names(self) -> set[str]:
-        found: set[str] = set()
-        for where, value, _ in expression_fields(self.spec):
-            if isinstance(value, str):
-                try:
-                    referenced = referenced_names(value)
-                except ParseError as error:
-                    raise ModelError(str(error), field=where, text=value) from None
-                found |= referenced.symbols
-            elif isinstance(value, sympy.Basic):
-                found |= {s.name for s in value.free_symbols if isinstance(s, sympy.Symbol)}
-        inputs = {name for name, _, _ in input_entries(self.spec.inputs)}
-        return found - set(self.names) - set(self.functions) - inputs - RESERVED
-
-    def _namespace(self) -> Namespace:
-        symbols = {name: symbol for name, (symbol, _) in self.names.items()}
-        symbols.update({p.name: p.symbol for p in self.parameters})
-        symbols.update({f.name: f.applied for f in self.functions.values()})
-        functions = {
-            f.name: DeclaredFunction(f.function, f.arguments) for f in self.functions.values()
-        }
-        return Namespace(symbols=symbols, functions=functions)
-
-    def _category(self, symbol: sympy.Symbol) -> str:
-        entry = self.names.get(symbol.name)
-        return entry[1] if entry else PARAMETERS
-
-    # -- expressions -----------------------------------------------------------
-    def expr(self, value: object, where: str, allowed: frozenset[str]) -> sympy.Expr:
-        """Parse or adopt one expression and check what it depends on."""
-        if isinstance(value, bool) or value is None:
-            raise ModelError(f"expected an expression, got {value!r}", field=where)
-        if isinstance(value, str):
-            try:
-                result = parse_expression(value, self.namespace, trees=self.trees)
-            except ParseError as error:
-                raise ModelError(str(error), field=where, text=value) from None
-        elif isinstance(value, int):
-            result = sympy.Integer(value)
-        elif isinstance(value, float):
-            if not math.isfinite(value):
-                raise ModelError(f"expected a finite number, got {value!r}", field=where)
-            result = sympy.Rational(repr(value))
-        elif isinstance(value, sympy.Expr):
-            result = self._adopt(value, where)
-        else:
-            raise ModelError(
-                f"expected an expression, got {type(value).__name__}", field=where, text=str(value)
-            )
-        beyond = _beyond_double(result)
-        if beyond is not None:
-            raise ModelError(
-                f"the number {beyond} is beyond double precision",
-                field=where,
-                text=value if isinstance(value, str) else str(value),
-            )
-        for symbol in result.free_symbols:
-            category = self._category(symbol)
-            if category not in allowed:
-                raise ModelError(
-                    f"'{symbol}' ({category}) is not allowed here; this field may depend on "
-                    + ", ".join(sorted(allowed)),
-                    field=where,
-                    text=value if isinstance(value, str) else str(value),
-                )
-        return result
-
-    def _adopt(self, value: sympy.Expr, where: str) -> sympy.Expr:
-        """Rebind the symbols of a user's SymPy expression to the model's, by name."""
-        table = self.namespace.symbols
-        mapping = {}
-        for symbol in value.free_symbols:
-            if symbol.name not in table:
-                raise ModelError(f"unknown symbol '{symbol.name}'", field=where, text=str(value))
-            mapping[symbol] = table[symbol.name]
-        adopted = value.xreplace(mapping)
-        for applied in adopted.atoms(AppliedUndef):
-            declared = self.functions.get(applied.func.__name__)
-            if declared is None:
-                raise ModelError(
-                    f"undeclared function '{applied.func.__name__}'", field=where, text=str(value)
-                )
-            adopted = adopted.xreplace({applied: declared.function(*applied.args)})
-        try:  # the parser checks this as it builds; a SymPy expression is checked whole
-            RealConstants().check(adopted)
-        except NotRealError as error:
-            raise ModelError(
-                f"{error.subexpression} {error.reason}", field=where, text=str(value)
-            ) from None
-        return adopted
+class _Builder(ModelNames):
+    """The System of a ModelSpec: its energies assembled from the expressions resolved."""
 
     # -- assembly --------------------------------------------------------------
     def build(self) -> System:
@@ -474,18 +283,3 @@ class _Builder:
                 )
             if isinstance(value, bool) or not isinstance(value, int | float):
                 raise ModelError(f"expected a number, got {value!r}", field=f"initial.{name}")
-
-
-def _beyond_double(expr: sympy.Expr) -> str | None:
-    """A number of ``expr`` outside the range of doubles (shown short), or None."""
-    for number in expr.atoms(sympy.Number):
-        if number == 0 or not number.is_finite:
-            continue
-        if number.is_Rational:
-            digits = math.log10(abs(number.p)) - math.log10(number.q)
-        else:
-            digits = float(sympy.log(abs(number), 10).evalf(15))
-        if digits > _LARGEST_DIGITS or digits < _SMALLEST_DIGITS:
-            shown = str(number)
-            return shown if len(shown) <= 24 else f"{shown[:12]}... (about 10^{digits:.4g})"
-    return None
