@@ -248,3 +248,14 @@ def test_an_energy_not_quadratic_in_the_velocity_is_refused(browser, tmp_path):
     assert page.evaluate("() => lagrangian.section.status()") == expected
     assert page.evaluate("() => lagrangian.section.orbits()") == []
     assert opened.errors == []
+
+
+def test_the_embedded_page_leaves_the_panel_out(browser, tmp_path):
+    path = tmp_path / "henon_heiles.html"
+    path.write_text(page_html(lg.load("henon_heiles")), encoding="utf-8")
+    page = browser.new_page(viewport={"width": 700, "height": 600})
+    page.goto(path.resolve().as_uri() + "#embed")
+    page.wait_for_function("() => window.lagrangian !== undefined", timeout=20_000)
+    assert page.evaluate("() => lagrangian.embedded()")
+    assert page.locator("fieldset.poincare").is_hidden()
+    page.close()
