@@ -38,7 +38,7 @@ import sympy
 from sympy.printing.pycode import PythonCodePrinter
 
 from ..errors import MissingDependencyError, ModelError
-from .cache import cache_directory, load_text
+from .cache import cache_directory, load_text, module_name, usable_directory
 from .forms import SymbolicForms
 from .literals import FloatLiterals
 from .program import Program, fingerprint, indexed_renaming
@@ -190,6 +190,12 @@ def generated_source(forms: SymbolicForms) -> tuple[str, _SourceText]:
     for expression in (*entries, forms.energy):
         fingerprint(expression, digest)
     return digest.hexdigest(), _SourceText(forms)
+
+
+def fillers_module(forms: SymbolicForms) -> str:
+    """The name the module of ``forms``' kernels (``fill``, ``eliminate``: the cached file
+    :func:`generated_source` names) is imported under, for generated code that calls them."""
+    return module_name(usable_directory() / f"{generated_source(forms)[0]}.py")
 
 
 class _SourceText:

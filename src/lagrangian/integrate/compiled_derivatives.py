@@ -41,12 +41,11 @@ def jacobian_filler(compiled: CompiledSystem) -> ModuleType:
 def derivative_text(compiled: CompiledSystem, jacobian: str | None = None) -> tuple[str, str]:
     """(sha256, text) of the module of the system's y': the template with N and the
     fillers' imports (with ``jacobian``, the module of G: the variational equations)."""
-    from ..codegen.cache import module_name, usable_directory
-    from ..codegen.numba import generated_source
+    from ..codegen.numba import fillers_module
 
     if compiled.has_constraints:
         return constrained_text(compiled)
-    fillers = module_name(usable_directory() / f"{generated_source(compiled.forms)[0]}.py")
+    fillers = fillers_module(compiled.forms)
     generated = [
         f"N = {compiled.n}",
         f"SOLVED = {compiled.n}",

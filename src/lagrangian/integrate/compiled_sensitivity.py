@@ -60,11 +60,11 @@ def workspace_size(n: int, parameters: int) -> int:
 
 
 def _build(compiled: CompiledSystem, parameters: tuple[str, ...]) -> Loop:
-    from ..codegen.cache import filled_template, load_text, module_name, usable_directory
-    from ..codegen.numba import NumbaTarget, generated_source
+    from ..codegen.cache import filled_template, load_text
+    from ..codegen.numba import NumbaTarget, fillers_module
 
     NumbaTarget().load(compiled.program)  # the fillers' module, imported by the system's
-    fillers = module_name(usable_directory() / f"{generated_source(compiled.forms)[0]}.py")
+    fillers = fillers_module(compiled.forms)
     generated = [
         f"N = {compiled.n}",
         f"PARAMETERS = {len(parameters)}",
