@@ -89,7 +89,8 @@ def _grids(
     "--observable",
     "observables",
     "NAME",
-    "final_state, flip_time, energy_drift or lyapunov (repeatable; default final_state).",
+    "final_state, flip_time, energy_drift, lyapunov, or the chaos indicators sali, gali2, "
+    "gali3, gali4 (numpy backend; chaotic below 1e-8) (repeatable; default final_state).",
 )
 @click.option("--t-end", type=float, help="End time (default: the model's t_end).")
 @click.option("--dt", type=float, help="Step (default: the model's dt, else t_end / 1000).")
@@ -107,8 +108,10 @@ def ensemble(
 ) -> None:  # fmt: skip
     """Integrate MODEL over a grid of initial values or parameters."""
     from ..ensemble import ensemble_of_system, observable_names
+    from ..ensemble.observables import INDICATORS
     from ..errors import ModelError
     from ..facade import load
+    from ..integrate.indicators import CHAOTIC_BELOW
 
     if scheduler is not None and backend != "dask":
         raise click.BadParameter("--scheduler needs --backend dask", param_hint="--scheduler")
@@ -170,12 +173,16 @@ def ensemble(
         elif name == "lyapunov":
             values = result["lyapunov"]
             click.echo(f"lyapunov: median {np.nanmedian(values):.3g}, max {np.nanmax(values):.3g}")
+        elif name in INDICATORS:
+            chaotic = float(np.mean(result[f"{name}_chaotic"]))
+            click.echo(f"{name}: {chaotic:.1%} of the members chaotic ({name} < {CHAOTIC_BELOW:g})")
     if out is not None:
         click.echo(f"wrote {out}")
 
 
 def _draw(result, observable: str, path: str) -> None:
     """A map (2 grid axes) or a curve (1) of ``observable``, saved atomically."""
+    from ..ensemble.observables import INDICATORS
     from ..errors import ModelError
     from ..output.plots import math, new_figure, save_figure
 
@@ -206,6 +213,9 @@ def _draw(result, observable: str, path: str) -> None:
             low = float(positive.min()) if positive.count() else float(result.attrs["dt"])
             norm = LogNorm(vmin=low, vmax=max(float(data.max()), low * 1.0001))
             data = np.ma.masked_less_equal(data, 0) if positive.count() else data
+        elif variable in INDICATORS and data.count():  # decades: 1 down to 1e-16 and less
+            norm = LogNorm(vmin=1e-16, vmax=max(float(data.max()), 1.0), clip=True)
+            data = np.ma.maximum(data, 1e-16)
         image = axis.pcolormesh(x, y, data, shading="auto", norm=norm, cmap="viridis")
         figure.colorbar(image, ax=axis, label=in_unit(label, variable))
         axis.set_xlabel(in_unit(math(dims[1]), dims[1]))

@@ -63,7 +63,7 @@ from .jax_backend import JaxBackend
 from .members import Members, members
 from .numba_backend import NumbaBackend
 from .numpy_backend import NumpyBackend
-from .observables import observable_names
+from .observables import INDICATORS, observable_names
 from .result import EnsembleTrajectory
 
 if TYPE_CHECKING:
@@ -75,6 +75,8 @@ ENSEMBLE_BACKENDS: Mapping[str, type[AbstractEnsembleBackend]] = MappingProxyTyp
 )
 #: The backends that compute the observable ``lyapunov`` (the others refuse it at once).
 LYAPUNOV_BACKENDS = ("numpy", "numba", "jax", "dask")
+#: The backends that compute the chaos indicators (sali, gali<k>).
+INDICATOR_BACKENDS = ("numpy",)
 #: The (2n)-vectors of work per member of a chunk (stages, Newton, observables).
 WORK_VECTORS = 40
 #: The wall clock of a run computed elsewhere (a name, so that tests can move it).
@@ -142,6 +144,15 @@ def run_ensemble(
     if "lyapunov" in names and backend not in LYAPUNOV_BACKENDS:
         offered = ", ".join(LYAPUNOV_BACKENDS)
         raise ModelError(f"observable lyapunov runs on backends {offered}, not {backend}")
+    for name in names:
+        if name in INDICATORS and backend not in INDICATOR_BACKENDS:
+            offered = ", ".join(INDICATOR_BACKENDS)
+            raise ModelError(f"observable {name} runs on backend {offered}, not {backend}")
+        if name in INDICATORS and INDICATORS[name] > 2 * compiled.n:
+            raise ModelError(
+                f"observable {name} needs {INDICATORS[name]} deviation vectors: the state of "
+                f"{compiled.n} coordinates has {2 * compiled.n} dimensions"
+            )
     integrator = method_class(method).configure(t_span=(t0, t1), dt=dt)
     assert isinstance(integrator, AbstractFixedStepIntegrator)
     integrator.check(compiled)

@@ -24,9 +24,10 @@ from ..errors import ModelError
 from ..integrate.base import Work
 from ..integrate.explicit_rk import AbstractExplicitRungeKutta
 from ..integrate.fixed_step import StepFailure
+from ..integrate.indicators import CHAOTIC_BELOW, TangentFlows, gali, sali
 from ..integrate.lyapunov import TangentFlow
 from .chunk import AbstractEnsembleBackend, Chunk, Outputs, Progress
-from .observables import flipped
+from .observables import INDICATORS, flipped
 
 
 class NumpyBackend(AbstractEnsembleBackend):
@@ -48,12 +49,15 @@ class NumpyBackend(AbstractEnsembleBackend):
             flip_time[flipped(y, n)] = grid[0]
         shrink = chunk.stop
         tangent = None
-        if "lyapunov" in chunk.names:
+        vectors = max((INDICATORS[name] for name in chunk.names if name in INDICATORS), default=0)
+        if "lyapunov" in chunk.names or vectors:
             if not isinstance(integrator, AbstractExplicitRungeKutta):
+                name = "lyapunov" if "lyapunov" in chunk.names else "chaos indicator"
                 raise ModelError(
-                    f"the lyapunov observable needs an explicit method (rk4), not {integrator.name}"
+                    f"the {name} observable needs an explicit method (rk4), not {integrator.name}"
                 )
-            tangent = TangentFlow(compiled)
+            # with indicators, w_1 is the lyapunov observable's displacement
+            tangent = TangentFlows(compiled, vectors) if vectors else TangentFlow(compiled)
             z, stretch = tangent.start(y), np.zeros(count)
         state = integrator.init(compiled, grid[0], y, p, work)
         if shrink and state is None:
@@ -96,6 +100,19 @@ class NumpyBackend(AbstractEnsembleBackend):
                 progress(k / steps)
         final[:, active] = y
         values = chunk.result(final, flip_time, np.stack(saved, axis=-1) if saved else None)
-        if tangent is not None:
+        if tangent is not None and "lyapunov" in chunk.names:
             values["lyapunov"] = stretch / (grid[-1] - grid[0])
+        if vectors:
+            values.update(indicator_values(tangent.vectors(z), chunk.names))
         return values
+
+
+def indicator_values(vectors: np.ndarray, names: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """Each chaos indicator asked for, and ``<name>_chaotic`` (below CHAOTIC_BELOW)."""
+    values = {}
+    for name in names:
+        if name in INDICATORS:
+            value = sali(vectors) if name == "sali" else gali(vectors, INDICATORS[name])
+            values[name] = value
+            values[f"{name}_chaotic"] = value < CHAOTIC_BELOW
+    return values

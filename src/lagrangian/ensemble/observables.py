@@ -17,7 +17,12 @@ implementation of the physics:
   time of one displacement stepped with the state by the members' explicit method
   (the variational equations, :class:`~lagrangian.integrate.lyapunov.TangentFlow`),
   renormalised every step; the numpy, numba (the variational equations generated,
-  :mod:`lagrangian.codegen.schemes`), jax and dask backends compute it.
+  :mod:`lagrangian.codegen.schemes`), jax and dask backends compute it;
+- ``sali``, ``gali2``, ``gali3``, ``gali4``: fast chaos indicators from 2 (or k)
+  deviation vectors stepped with the state (:mod:`lagrangian.integrate.indicators`), the
+  value at t_end and ``<name>_chaotic``, whether it is below
+  :data:`~lagrangian.integrate.indicators.CHAOTIC_BELOW` (1e-8); the numpy backend
+  computes them (rk4).
 
 Every run also reports ``failed``: the members whose state at the end (or where
 they stopped) is not finite, NaN or overflowed.
@@ -56,6 +61,11 @@ OBSERVABLES: dict[str, Observable] = {
         Observable("energy_drift", "|E(t_end) - E(0)| / |E(0)|", True),
         Observable("flip_time", "first time some |q| exceeds pi (NaN: never)", False),
         Observable("lyapunov", "largest Lyapunov exponent over the run (rk4; not cuda)", True),
+        Observable("sali", "SALI of 2 deviation vectors at t_end; sali_chaotic (numpy)", True),
+        *(
+            Observable(f"gali{k}", f"GALI_{k} of {k} deviation vectors; gali{k}_chaotic", True)
+            for k in (2, 3, 4)
+        ),
     )
 }
 
@@ -70,6 +80,11 @@ def observable_names(names: str | Iterable[str]) -> tuple[str, ...]:
             valid = ", ".join(OBSERVABLES)
             raise ModelError(f"unknown observable '{name}' (observables: {valid})")
     return tuple(dict.fromkeys(chosen))
+
+
+#: The chaos indicators (:mod:`lagrangian.integrate.indicators`) and the deviation
+#: vectors each needs.
+INDICATORS = {"sali": 2, "gali2": 2, "gali3": 3, "gali4": 4}
 
 
 def stops_early(names: tuple[str, ...]) -> bool:
