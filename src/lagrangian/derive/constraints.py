@@ -30,8 +30,10 @@ SCHUR_MAX_OPS = 120
 #: Largest entry (in operations, untidied) of the Schur complement and of beta - A M^-1 f
 #: that trigonometric identities are tried on.  Those of a four-bar linkage's loop closure
 #: (51-53 operations) took 0.8-3.2 s each in trigsimp and came out longer (78-94); the
-#: Cartesian pendulum's and the rolling disc's (5-7) are where the identities pay.
-SCHUR_TRIG_MAX_OPS = 40
+#: Cartesian pendulum's and the rolling disc's (5-7) are where the identities pay.  The
+#: driven four-bar's (12-30) took 0.15-0.3 s each, 1.4 s of its 1.7 s derivation, and
+#: none came out shorter (its q'' and lambda are the same without them).
+SCHUR_TRIG_MAX_OPS = 10
 
 
 @dataclass(frozen=True)
