@@ -26,9 +26,9 @@ doubling the doubled branch is followed from there (to ``max_doublings`` doublin
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Unpack
 
 import numpy as np
 
@@ -37,7 +37,7 @@ from . import floquet
 from .arclength import Follower, State, Trace, follow
 from .base import positive_setting
 from .branch_points import PERIOD_DOUBLING, Bifurcation, bifurcations_between
-from .orbits import DEFAULT_ATOL, DEFAULT_RTOL, SAME
+from .orbits import DEFAULT_ATOL, DEFAULT_RTOL, SAME, SearchOptions
 from .parameter_map import ParameterMap
 
 if TYPE_CHECKING:
@@ -108,36 +108,31 @@ def continue_orbits(
     count: int,
     strobe: float,
     period: int = 1,
-    phase: float | None = None,
     max_doublings: int = DEFAULT_DOUBLINGS,
-    starts: np.ndarray | None = None,
-    attractor: int = 20,
-    transient: float | None = None,
-    initial: Mapping[str, float] | None = None,
-    params: Mapping[str, float] | None = None,
-    rtol: float | None = None,
-    atol: float | None = None,
-    watch: Callable[[float], None] | None = None,
+    **options: Unpack[SearchOptions],
 ) -> Continuation:
     """The branches of the periodic orbits of period dividing ``period`` found at
-    ``parameter`` = ``low`` (:func:`~.orbits.periodic_orbits`, with ``starts``,
-    ``attractor``, ``transient``, ``initial``) followed to ``high``, the largest step
+    ``parameter`` = ``low`` (:func:`~.orbits.periodic_orbits`, with its ``options``:
+    ``phase``, ``starts``, ``attractor``, ``transient``, ``initial``, ``params``,
+    ``rtol``, ``atol``, ``watch``) followed to ``high``, the largest step
     (high - low) / (count - 1); at each period doubling the doubled branch, to
     ``max_doublings`` doublings.  See the module docstring."""
     from .orbits import _angles, periodic_orbits
+
+    initial, params, watch = options.get("initial"), options.get("params"), options.get("watch")
 
     if parameter not in compiled.parameter_names:
         known = ", ".join(compiled.parameter_names) or "none"
         raise ModelError(f"unknown parameter '{parameter}' (parameters: {known})")
     low, high, count = checked_range(low, high, count)
     max_doublings = checked_doublings(max_doublings)
-    rtol, atol = tolerances(rtol, atol, DEFAULT_RTOL, DEFAULT_ATOL)
+    rtol, atol = tolerances(options.get("rtol"), options.get("atol"), DEFAULT_RTOL, DEFAULT_ATOL)
     at_low = {**(params or {}), parameter: low}
     progress = _Progress(watch, low, high)
     search = periodic_orbits(
-        compiled, strobe=strobe, period=period, phase=phase, starts=starts,
-        attractor=attractor, transient=transient, initial=initial, params=at_low, rtol=rtol,
-        atol=atol, watch=None if watch is None else (lambda done: progress.searching()),
+        compiled, strobe=strobe, period=period,
+        **{**options, "params": at_low, "rtol": rtol, "atol": atol,
+           "watch": None if watch is None else (lambda done: progress.searching())},
     )  # fmt: skip
     p = compiled.parameter_vector(at_low)
     y0 = compiled.state_vector(initial)

@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, TypedDict
 
 import numpy as np
 
@@ -92,6 +92,21 @@ class OrbitSearch:
     starts: int
     settings: Mapping[str, object] = field(default_factory=dict)
     name: str = ""
+
+
+class SearchOptions(TypedDict, total=False):
+    """The keywords of :func:`periodic_orbits` besides the strobe and the period, which
+    :func:`~.continuation.continue_orbits` passes on to it."""
+
+    phase: float | None
+    starts: np.ndarray | None
+    attractor: int
+    transient: float | None
+    initial: Mapping[str, float] | None
+    params: Mapping[str, float] | None
+    rtol: float | None
+    atol: float | None
+    watch: Callable[[float], None] | None
 
 
 def periodic_orbits(
