@@ -2,8 +2,9 @@
 (free, and driven at constant speed) and the slider-crank: `lagrangian simulate EXAMPLE
 --t-end 10 --json` as a process, in CPU seconds (user + sys of the process and its
 children, the start-up included), with an empty code cache (a first run: derive, compile,
-run) and with the cache it left (a second run), and the parts in this process: build
-(links -> bodies and constraints, reactions), derive, the 10 s run.
+run) and with the cache it left (a second run), beside `lagrangian --version` (the
+start-up every command pays), and the parts in this process: build (links -> bodies and
+constraints, reactions), derive, the 10 s run.
 
     python benchmarks/linkages.py [--repeat 3] [--examples four_bar,four_bar_driven,slider_crank]
 """
@@ -52,6 +53,13 @@ def main() -> None:
     parser.add_argument("--examples", default="four_bar,four_bar_driven,slider_crank")
     options = parser.parse_args()
     command = [sys.executable, "-m", "lagrangian", "simulate"]
+    # the start-up every command pays, measured in the same run as the examples
+    baseline = [process_cpu([sys.executable, "-m", "lagrangian", "--version"], dict(os.environ))
+                for _ in range(options.repeat)]  # fmt: skip
+    print(
+        f"lagrangian --version as a process, CPU median of {options.repeat}: "
+        f"{statistics.median(baseline):.2f} s (range {min(baseline):.2f}-{max(baseline):.2f})"
+    )
     for name in options.examples.split(","):
         cold, warm = [], []
         for _ in range(options.repeat):
