@@ -594,6 +594,35 @@ def henon_heiles() -> None:
     save(system.lyapunov(t_end=500, interval=2.0).plot(), "henon_heiles_lyapunov.png")
 
 
+def henon_heiles_sali() -> None:
+    """Regular and chaotic starts of Hénon–Heiles on the section x = 0 at E = 1/8 by SALI
+    at t = 700 (the ``sali`` observable of an ensemble; x' > 0 from the energy)."""
+    from matplotlib.colors import LogNorm
+
+    from lagrangian.derive import derive
+    from lagrangian.ensemble import run_ensemble
+
+    compiled = compile_equations(derive(lg.load("henon_heiles")))
+    y, py = np.meshgrid(np.linspace(-0.45, 0.7, 60), np.linspace(-0.5, 0.5, 60))
+    kinetic = 2 * (0.125 - (y**2 / 2 - y**3 / 3)) - py**2
+    inside = kinetic > 1e-6
+    initial = {"x": 0 * y[inside], "y": y[inside], "x_dot": np.sqrt(kinetic[inside])}
+    initial["y_dot"] = py[inside]
+    result = run_ensemble(compiled, initial=initial, t_end=700.0, dt=0.05, observables=("sali",))
+    values = np.full(y.shape, np.nan)
+    values[inside] = np.maximum(result.dataset["sali"].values, 1e-16)
+    figure, axes = new_figure(width=6.5, height=5.0)
+    image = axes[0, 0].pcolormesh(
+        y, py, np.ma.masked_invalid(values), norm=LogNorm(1e-16, 1.5), cmap="viridis"
+    )
+    figure.colorbar(image, ax=axes[0, 0], label="SALI at t = 700 (chaotic below 1e-8)")
+    axes[0, 0].set_xlabel("$y$")
+    axes[0, 0].set_ylabel("$p_y$")
+    share = float(np.mean(result.dataset["sali_chaotic"].values))
+    axes[0, 0].set_title(f"Hénon–Heiles, E = 1/8, x = 0: {share:.0%} of the starts chaotic")
+    save(figure, "henon_heiles_sali.png")
+
+
 def driven_pendulum() -> None:
     """The strange attractor (stroboscopic section) and the period-doubling diagram."""
     system = lg.load("driven_damped_pendulum")
@@ -676,6 +705,7 @@ PICTURES = (
     serve_editor,
     henon_heiles,
     henon_heiles_section_panel,
+    henon_heiles_sali,
     driven_pendulum,
     driven_pendulum_continuation,
     driven_pendulum_basins,

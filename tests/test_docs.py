@@ -80,6 +80,15 @@ SMALLER = (
     # the continuation drawn (branches over a diagram of 200 values): a shorter range, and
     # its text (checked in PRINTS) as written
     ("A=1.05:1.084:35 \\", "A=1.05:1.07:11 \\"),
+    # the SALI maps (numpy backend): 3 x 3 starts, a short run
+    (
+        "y=-0.4:0.4:100 --grid y_dot=-0.4:0.4:100 --t-end 700",
+        "y=-0.4:0.4:3 --grid y_dot=-0.4:0.4:3 --t-end 2",
+    ),
+    (
+        "y=-0.4:0.4:20 --grid y_dot=-0.4:0.4:20 --t-end 700",
+        "y=-0.4:0.4:3 --grid y_dot=-0.4:0.4:3 --t-end 2",
+    ),
     # the basin maps: 6 x 6 starts
     ("3.14159:200 --grid theta_dot=-3:3:200", "3.14159:6 --grid theta_dot=-3:3:6"),
     ("theta=-3.14159:3.14159:100", "theta=-3.14159:3.14159:6"),
