@@ -20,6 +20,7 @@ import pytest
 import lagrangian as lg
 from lagrangian.cli import ExitStatus, main
 from lagrangian.codegen.cache import cache_directory, compiled_on_disk
+from lagrangian.codegen.llvm import llvm_available
 from lagrangian.integrate import choice as choice_module
 from lagrangian.integrate import simulate
 from lagrangian.integrate.choice import choose_run
@@ -33,6 +34,8 @@ from lagrangian.integrate.scipy_methods import Dop853
 from lagrangian.numeric import compile_equations
 
 pytest.importorskip("numba")
+if not llvm_available():
+    pytest.skip("SymEngine without LLVM: no linked loop", allow_module_level=True)
 
 #: Held-out systems: (L, coordinates, initial state); parameters 1.0, 1.1, 1.2, ...
 EXACT = {  # y' is a polynomial of exactly representable values: the same roundings
