@@ -147,3 +147,36 @@ def test_a_singular_matrix_with_transcendental_entries_is_refused():
     """M = v v^T with v = (sin x, cos x): rank 1 at every point, at 100 digits too."""
     message = derive_error("(sin(x)*x_dot + cos(x)*y_dot)**2/2", ["x", "y"])
     assert message.startswith("singular mass matrix (rank 1 of 2)"), message
+
+
+def _symmetric_rows(n: int, singular: bool):
+    """An n x n symmetric SymEngine matrix with transcendental entries, as rows: the chain's
+    M (q_i - q_j cosines, regular), or the rank-one u u^T with u_i = l_i cos(q_i)."""
+    import symengine as se
+
+    q = [se.Symbol(f"q{i}") for i in range(n)]
+    lengths = [se.Symbol(f"l{i}") for i in range(n)]
+    if singular:
+        u = [lengths[i] * se.cos(q[i]) for i in range(n)]
+        return [tuple(u[i] * u[j] for j in range(n)) for i in range(n)]
+    return [
+        tuple((n - max(i, j)) * lengths[i] * lengths[j] * se.cos(q[i] - q[j]) for j in range(n))
+        for i in range(n)
+    ]
+
+
+@pytest.mark.parametrize("singular", [False, True])
+def test_the_large_route_rank_check_agrees_with_sympys(singular):
+    """The large route's check evaluates only M's upper triangle; its verdict on a symmetric
+    8 x 8 matrix is SymPy's exact one (check_regular on the same entries)."""
+    from lagrangian.derive.fast import _regular_at_random_points
+
+    rows = _symmetric_rows(8, singular)
+    assert _regular_at_random_points(rows) is not singular
+    matrix = sympy.Matrix([[x._sympy_() for x in row] for row in rows])
+    coordinates = [Coordinate.named(f"q{i}") for i in range(8)]
+    if singular:
+        with pytest.raises(lg.SingularMassMatrixError):
+            check_regular(matrix, coordinates)
+    else:
+        check_regular(matrix, coordinates)

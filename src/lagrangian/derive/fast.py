@@ -268,7 +268,7 @@ def derive_large(
         return tuple(made)
 
     mass_matrix = sympy.ImmutableMatrix(n, n, [m for row in mass_rows for m in row])
-    if not _regular_at_random_points(se.Matrix(numeric_rows)):
+    if not _regular_at_random_points(numeric_rows):
         check_regular(mass_matrix, coordinates)  # raises with the diagnosis
     forcing_vector = sympy.ImmutableMatrix(n, 1, forcing)
     state = system.state_symbols
@@ -340,19 +340,29 @@ def _expressions(value, where: str):
             yield from _expressions(getattr(value, part.name), f"{where}.{part.name}")
 
 
-def _regular_at_random_points(matrix) -> bool:
-    """Full numeric rank at one of three random points (as in ``check_regular``, compiled)."""
+def _regular_at_random_points(rows) -> bool:
+    """Full numeric rank of the symmetric matrix ``rows`` (SymEngine) at one of three random
+    points (as in ``check_regular``, compiled).
+
+    Only the upper triangle is evaluated, in one substitution (a row of its entries): the
+    substitution is most of the cost, and the lower triangle holds the same entries.
+    """
     import symengine as se
 
-    arguments = sorted(matrix.free_symbols, key=str)
+    n = len(rows)
+    upper = [rows[i][j] for i in range(n) for j in range(i, n)]
+    where = np.triu_indices(n)
+    entries = se.DenseMatrix(1, len(upper), upper)
+    arguments = sorted(entries.free_symbols, key=str)
     rng = random.Random(20261122)
-    n = matrix.rows
     for _ in range(3):
         values = {a: se.RealDouble(rng.uniform(0.5, 2.5)) for a in arguments}
+        numeric = np.zeros((n, n))
         try:
-            numeric = np.array(matrix.subs(values).tolist(), dtype=float)
+            numeric[where] = np.array(entries.subs(values).tolist(), dtype=float).ravel()
         except (TypeError, ValueError, RuntimeError):
             return False
+        numeric.T[where] = numeric[where]
         if not np.all(np.isfinite(numeric)):
             return False
         diagonal = np.abs(np.diag(numeric))
