@@ -73,3 +73,22 @@ assert Trajectory.plot.__name__ == "_plot"
 def test_the_command_line_does_not_load_the_unit_library():
     """pint is read only for a model with units (issue 31): the start-up stays as it was."""
     assert "pint" not in _loaded_after("import lagrangian.cli")
+
+
+def test_simulate_json_makes_no_dataset():
+    """``simulate --json`` prints a summary of a few arrays: the trajectory keeps them in a
+    table, and xarray (with the pandas, dask and pint its first Dataset imports, about 1 s
+    of CPU) is never loaded (issue 36 item 3)."""
+    code = """
+import contextlib, io
+from lagrangian.cli import main
+with contextlib.redirect_stdout(io.StringIO()) as out:
+    try:
+        main(["simulate", "harmonic_oscillator", "--json"])
+    except SystemExit as stop:
+        assert not stop.code, stop.code
+assert '"status": "success"' in out.getvalue(), out.getvalue()
+"""
+    loaded = _loaded_after(code)
+    assert "lagrangian.integrate" in loaded  # it did run
+    assert {"xarray", "pandas", "dask"} & loaded == set()

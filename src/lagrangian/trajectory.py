@@ -29,7 +29,10 @@ same directory, renamed over the target only when complete
 truncated file.  A CSV file holds no metadata; NetCDF round
 trips everything.
 
-xarray is imported only when a trajectory is built or read.
+xarray is imported only when ``dataset`` is first read (or a file is read): a trajectory
+built by :meth:`Trajectory.build` holds its arrays in a
+:class:`~lagrangian.trajectory_table.Table` until then, so that ``simulate --json`` (which
+reads a few arrays) does not pay for the first Dataset (about 1 s of CPU).
 """
 
 from __future__ import annotations
@@ -37,7 +40,7 @@ from __future__ import annotations
 import json
 import os
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -46,6 +49,7 @@ import numpy as np
 from .errors import ModelError
 from .files import write_atomically, write_csv
 from .trajectory_files import name_list, read_csv, read_netcdf
+from .trajectory_table import Table
 
 if TYPE_CHECKING:
     import xarray
@@ -82,7 +86,6 @@ class ImpactRecord:
     energy_after: float
 
 
-@dataclass(frozen=True, eq=False)
 class Trajectory:
     """A simulated motion; see the module docstring for the layout of ``dataset``.
 
@@ -90,8 +93,23 @@ class Trajectory:
     trajectory loaded from a file has none).
     """
 
-    dataset: xarray.Dataset
-    system: System | None = field(default=None, repr=False)
+    def __init__(self, dataset: xarray.Dataset | Table, system: System | None = None) -> None:
+        self._data = dataset  # a Table until ``dataset`` is first read
+        self.system = system
+
+    @property
+    def dataset(self) -> xarray.Dataset:
+        if isinstance(self._data, Table):
+            self._data = self._data.to_dataset()
+        return self._data
+
+    @property
+    def attrs(self) -> dict[str, object]:
+        """The attributes of ``dataset`` (read without making it)."""
+        return self._data.attrs
+
+    def __repr__(self) -> str:
+        return f"Trajectory(dataset={self.dataset!r})"
 
     # -- building ---------------------------------------------------------------
     @classmethod
@@ -111,8 +129,6 @@ class Trajectory:
         impacts: Sequence[ImpactRecord] | None = None,
     ) -> Trajectory:
         """A trajectory from arrays: ``y`` (2n, T) holds q then q' at the times ``t`` (T,)."""
-        import xarray as xr
-
         t = np.asarray(t, dtype=float)
         y = np.asarray(y, dtype=float)
         n = len(coordinates)
@@ -151,23 +167,23 @@ class Trajectory:
             data_vars.update(_impact_variables(impacts, meta["contacts"]))
             if impacts:
                 coords["velocity"] = velocities
-        dataset = xr.Dataset(data_vars, coords=coords, attrs=meta)
         units = system.units if system is not None else None
+        column_units = {}
         if units is not None:  # CF conventions: a units attribute on each variable
             for name in ["t", *columns]:
                 unit = units.column_unit(name)
                 if unit is not None:
-                    dataset[name].attrs["units"] = unit
-        return cls(dataset, system)
+                    column_units[name] = unit
+        return cls(Table(data_vars, coords, meta, column_units), system)
 
     # -- reading ----------------------------------------------------------------
     @property
     def t(self) -> np.ndarray:
-        return self.dataset["t"].values
+        return self._data["t"].values
 
     @property
     def coordinates(self) -> tuple[str, ...]:
-        return name_list(self.dataset.attrs.get("coordinate_names", ""))
+        return name_list(self._data.attrs.get("coordinate_names", ""))
 
     @property
     def velocities(self) -> tuple[str, ...]:
@@ -175,28 +191,28 @@ class Trajectory:
 
     @property
     def invariants(self) -> tuple[str, ...]:
-        return name_list(self.dataset.attrs.get("invariants", ""))
+        return name_list(self._data.attrs.get("invariants", ""))
 
     @property
     def multipliers(self) -> tuple[str, ...]:
-        return name_list(self.dataset.attrs.get("multipliers", ""))
+        return name_list(self._data.attrs.get("multipliers", ""))
 
     @property
     def reactions(self) -> tuple[str, ...]:
         """A linkage's joint reactions (``R_B_x``, ...; see :mod:`.model.linkage_reactions`)."""
-        return name_list(self.dataset.attrs.get("reactions", ""))
+        return name_list(self._data.attrs.get("reactions", ""))
 
     @property
     def status(self) -> str:
-        return str(self.dataset.attrs.get("status", ""))
+        return str(self._data.attrs.get("status", ""))
 
     @property
     def parameters(self) -> dict[str, float]:
-        return json.loads(self.dataset.attrs.get("parameters", "{}"))
+        return json.loads(self._data.attrs.get("parameters", "{}"))
 
     def __getitem__(self, name: str) -> np.ndarray:
         """The values of one data variable along ``t``."""
-        return self.dataset[name].values
+        return self._data[name].values
 
     @property
     def final_state(self) -> dict[str, float]:
@@ -208,26 +224,26 @@ class Trajectory:
         """{name: EventRecord} for every event watched, in order (empty records included)."""
         records = {}
         size = 2 * len(self.coordinates)
-        for name in name_list(self.dataset.attrs.get("events", "")):
+        for name in name_list(self._data.attrs.get("events", "")):
             dim = f"event__{name}"
-            if f"{dim}__t" not in self.dataset:
+            if f"{dim}__t" not in self._data:
                 records[name] = EventRecord(name, np.empty(0), np.empty((size, 0)))
                 continue
-            states = self.dataset[f"{dim}__y"].transpose("state", dim).values
+            states = self._data[f"{dim}__y"].transpose("state", dim).values
             records[name] = EventRecord(name, self[f"{dim}__t"], states)
         return records
 
     @property
     def contacts(self) -> tuple[str, ...]:
         """The names of the model's contacts (``[[impacts]]``); empty without any."""
-        return name_list(self.dataset.attrs.get("contacts", ""))
+        return name_list(self._data.attrs.get("contacts", ""))
 
     @property
     def impacts(self) -> list[ImpactRecord]:
         """Every impact of the run, in order of time (empty without contacts)."""
-        if "impact__t" not in self.dataset:
+        if "impact__t" not in self._data:
             return []
-        d, contacts = self.dataset, self.contacts
+        d, contacts = self._data, self.contacts
         return [
             ImpactRecord(
                 float(d["impact__t"].values[i]),
@@ -255,13 +271,13 @@ class Trajectory:
     def energy_not_conserved(self) -> str:
         """Why the energy is not conserved along this run ("" when it is, or not known: a
         trajectory read from CSV)."""
-        return str(self.dataset.attrs.get("energy_not_conserved", ""))
+        return str(self._data.attrs.get("energy_not_conserved", ""))
 
     @property
     def conserved_here(self) -> dict[str, str]:
         """The quantities conserved in this run though not in general, name -> why not in
         general (the causes vanish at its parameter values: an input 0, an amplitude 0)."""
-        return json.loads(self.dataset.attrs.get("conserved_here", "{}"))
+        return json.loads(self._data.attrs.get("conserved_here", "{}"))
 
     def drifts(self) -> dict[str, float]:
         """The drift of every conserved quantity: the energy where it is conserved.
@@ -275,7 +291,7 @@ class Trajectory:
 
     def summary(self) -> dict[str, object]:
         """The ``simulate --json`` document (DESIGN section 5) as a dict."""
-        attrs = self.dataset.attrs
+        attrs = self._data.attrs
         document: dict[str, object] = {
             "final_state": self.final_state,
             "invariants": self.drifts(),
@@ -289,9 +305,9 @@ class Trajectory:
                 name: {"reason_in_general": reason} for name, reason in self.conserved_here.items()
             }
         units = {
-            name: str(self.dataset[name].attrs["units"])
+            name: str(self._data[name].attrs["units"])
             for name in dict.fromkeys(["t", *self.final_state, "energy", *self.drifts()])
-            if "units" in self.dataset[name].attrs
+            if "units" in self._data[name].attrs
         }
         if units:  # additive: a dimensioned model's units (issue 31)
             document["units"] = units
@@ -352,7 +368,7 @@ class Trajectory:
         table = np.column_stack([self.t, *(self[name] for name in names)])
         headers = []
         for name in ["t", *names]:
-            unit = self.dataset[name].attrs.get("units")
+            unit = self._data[name].attrs.get("units")
             headers.append(f"{name} [{unit}]" if unit else name)
         return write_csv(path, table, headers)
 

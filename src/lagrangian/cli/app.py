@@ -328,7 +328,7 @@ def simulate(
             dt_out=dt_out,
         )
     if trajectory.status == "failed":
-        message = trajectory.dataset.attrs.get("message", "")
+        message = trajectory.attrs.get("message", "")
         raise LagrangianError(f"the integration failed: {message}; nothing was written")
     if out is not None:
         trajectory.save(out)

@@ -127,10 +127,10 @@ def simulate(
             compiled, result, p, parameters=values, wall_time=wall_time, impacts=impacts
         )
     if choice is not None:
-        trajectory.dataset.attrs["choice"] = choice
-    trajectory.dataset.attrs["compile_time"] = compile_time
+        trajectory.attrs["choice"] = choice
+    trajectory.attrs["compile_time"] = compile_time
     if compiled_now is not None:
-        trajectory.dataset.attrs["compiled"] = compiled_now
+        trajectory.attrs["compiled"] = compiled_now
     return trajectory
 
 
