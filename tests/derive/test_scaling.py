@@ -60,7 +60,13 @@ def _assert_same(readable, fast, rng, count=3):
                 scale=1.0,
                 what=f"equation {i} = (M q'' - f - A^T lambda)[{i}]",
             )
-            for name in ("momentum", "constraint_force"):
+            for name in (
+                "momentum",
+                "momentum_rate",
+                "force_gradient",
+                "dissipation_force",
+                "constraint_force",
+            ):
                 assert_close(
                     evaluate(getattr(fast_eom.steps[i], name), point),
                     evaluate(getattr(slow_eom.steps[i], name), point),

@@ -232,16 +232,8 @@ def derive_large(
         mass_rows.append([sympy_of(m) for m in row])
         forcing.append(sympy_of(rest))
         rest_terms.append(rest)
-        terms.append(
-            (
-                c,
-                tables.expr(momentum),
-                inertia + tables.expr(velocity_terms),
-                tables.expr(gradient),
-                tables.expr(friction),
-                inertia - rest,
-            )
-        )
+        # the parts of the derivation are kept as tables: only --steps makes them expressions
+        terms.append((c, momentum, inertia, velocity_terms, gradient, friction, inertia - rest))
 
     def constraint_force(i: int) -> sympy.Expr:
         if constraints is None:
@@ -251,16 +243,16 @@ def derive_large(
 
     def steps() -> tuple[CoordinateDerivation, ...]:
         made = []
-        for i, (c, momentum, rate, gradient, friction, equation) in enumerate(terms):
+        for i, (c, momentum, inertia, rate, gradient, friction, equation) in enumerate(terms):
             force = constraint_force(i)
             made.append(
                 CoordinateDerivation(
                     coordinate=c,
-                    momentum=sympy_of(momentum),
-                    momentum_rate=sympy_of(rate),
-                    force_gradient=sympy_of(gradient),
+                    momentum=sympy_of(tables.expr(momentum)),
+                    momentum_rate=sympy_of(inertia + tables.expr(rate)),
+                    force_gradient=sympy_of(tables.expr(gradient)),
                     generalized_force=system.forces.get(c.name, sympy.Integer(0)),
-                    dissipation_force=sympy_of(friction),
+                    dissipation_force=sympy_of(tables.expr(friction)),
                     constraint_force=force,
                     equation=sympy_of(equation) - force,
                 )
