@@ -79,6 +79,19 @@ def test_basins_csv_and_json(capsys, tmp_path):
             "Invalid value for --phase: --phase goes with --strobe",
         ),
         (
+            (
+                "--grid",
+                "theta=-3:3:10",
+                "--grid",
+                "theta_dot=-3:3:10",
+                "--strobe",
+                DRIVE,
+                "--basin-hits",
+                "0",
+            ),
+            "basin_hits must be a whole number >= 1, not 0",
+        ),
+        (
             ("--grid", "theta=-3:3:10", "--grid", "theta_dot=-3:3:10", "--out", "b.txt"),
             "Invalid value for --out: the output file must end in .csv or .nc or .png",
         ),

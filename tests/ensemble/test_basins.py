@@ -53,9 +53,11 @@ def _reference_side(x, v, d=0.3, t_end=200.0):
 
 
 @pytest.mark.slow
-def test_double_well_basins_match_long_scipy_runs(well):
+@pytest.mark.parametrize("basin_hits", [10, 3])
+def test_double_well_basins_match_long_scipy_runs(well, basin_hits):
     grid = {"x": (-2.0, 2.0, 40), "x_dot": (-2.0, 2.0, 40)}
-    basins = basins_of_attraction(well, grid=grid, interval=1.0)
+    basins = basins_of_attraction(well, grid=grid, interval=1.0, basin_hits=basin_hits)
+    assert basins.settings["basin_hits"] == basin_hits
     assert [a.kind for a in basins.attractors] == ["fixed point", "fixed point"]
     wells = {a.label: np.sign(a.points[0, 0]) for a in basins.attractors}
     for a in basins.attractors:  # the equilibria (+-1, 0), to the cells' resolution at least

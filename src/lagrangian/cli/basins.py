@@ -38,14 +38,19 @@ from .chaos import _check_outputs, _wrote, phase_option
     "--max-iterations", type=int, default=2000, show_default=True,
     help="Iterations after which a start that reached nothing gets -1.",
 )  # fmt: skip
+@click.option(
+    "--basin-hits", type=int, default=10, show_default=True,
+    help="Iterations in a row in cells of one attractor's basin that label a start with it "
+    "(fewer: faster, more starts near a basin boundary mislabelled).",
+)  # fmt: skip
 @options.out("Write F.csv (the grid and an attractor column), F.nc or a map F.png.")
 @options.set_values("A parameter value (repeatable).")
 @options.define
 @options.as_json()
 @options.timeout
 def basins(
-    model, grids, strobe, phase, interval, steps, cells, max_iterations, out, assignments,
-    definitions, as_json, timeout,
+    model, grids, strobe, phase, interval, steps, cells, max_iterations, basin_hits, out,
+    assignments, definitions, as_json, timeout,
 ) -> None:  # fmt: skip
     """Basins of attraction of MODEL: each start of the grid labelled by the attractor of
     the strobe map (or of the flow sampled every --interval) it reaches, found by
@@ -75,7 +80,7 @@ def basins(
     with options.progress_bar(enabled=not as_json) as progress:
         result = basins_of_system(
             system, grid=grid, period=strobe, phase=phase, interval=interval, params=params,
-            steps=steps, cells=cells, max_iterations=max_iterations,
+            steps=steps, cells=cells, max_iterations=max_iterations, basin_hits=basin_hits,
             definitions=options.definitions(definitions), timeout=timeout, progress=progress,
         )  # fmt: skip
     if out is not None:

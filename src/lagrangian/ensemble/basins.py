@@ -157,11 +157,14 @@ def basins_of_attraction(
     steps: int = STEPS,
     cells: int = CELLS,
     max_iterations: int = MAX_ITERATIONS,
+    basin_hits: int = BASIN_HITS,
     progress: Callable[[float], None] | None = None,
 ) -> BasinMap:
     """The basins of the starts of ``grid`` ({state variable: (low, high, count)} or
     GridAxis values, covering the state) under the strobe map of ``period`` (at
-    ``phase``) or the flow sampled every ``interval``; see the module docstring."""
+    ``phase``) or the flow sampled every ``interval``; see the module docstring.
+    ``basin_hits``: iterations in a row in cells of one attractor's basin that label a
+    start with it (fewer: faster, and more starts near a basin boundary mislabelled)."""
     from ..integrate.orbits import _angles
     from ..integrate.strobe import Strobe
 
@@ -169,7 +172,10 @@ def basins_of_attraction(
     axes = _axes(grid, state_names)
     if compiled.has_constraints:
         raise ModelError("basins of constrained systems are not supported")
-    for name, number in (("steps", steps), ("cells", cells), ("max_iterations", max_iterations)):
+    for name, number in (
+        ("steps", steps), ("cells", cells), ("max_iterations", max_iterations),
+        ("basin_hits", basin_hits),
+    ):  # fmt: skip
         if isinstance(number, bool) or int(number) != number or number < 1:
             raise ModelError(f"{name} must be a whole number >= 1, not {number!r}")
     if (period is None) == (interval is None):
@@ -201,7 +207,7 @@ def basins_of_attraction(
         _check_autonomous(compiled, span, start, p)
     walk = _Walk(
         compiled, p, t0, span, int(steps), which, lows, widths, reduced, is_angle,
-        (lows + highs) / 2, int(max_iterations),
+        (lows + highs) / 2, int(max_iterations), int(basin_hits),
     )  # fmt: skip
     labels, kept, found, alias = walk.run(axes, progress)
     attractors, labels = _attractors(walk, labels, kept, found, alias, period is not None)
@@ -212,7 +218,8 @@ def basins_of_attraction(
         "cells": [int(c) for c in reduced],
         "angles": [name for name, angle in zip(names, is_angle, strict=True) if angle],
         "max_iterations": int(max_iterations), "recurrences": RECURRENCES, "hits": HITS,
-        "lost": LOST, "locate": LOCATE, "basin_hits": BASIN_HITS, "iterations": walk.iterations,
+        "lost": LOST, "locate": LOCATE, "basin_hits": int(basin_hits),
+        "iterations": walk.iterations,
     }  # fmt: skip
     system = getattr(compiled.equations, "system", None)
     return BasinMap(
@@ -302,7 +309,8 @@ class _Walk:
     """The pool of starts iterated and labelled (see the module docstring)."""
 
     def __init__(
-        self, compiled, p, t0, span, steps, which, lows, widths, sizes, angles, centres, limit
+        self, compiled, p, t0, span, steps, which, lows, widths, sizes, angles, centres, limit,
+        basin_hits,
     ):  # fmt: skip
         from ..codegen.cache import load_text, package_text
         from .numba_backend import kernel
@@ -314,7 +322,7 @@ class _Walk:
         self.which, self.lows, self.widths = which, lows, widths
         self.sizes, self.angles, self.centres = sizes, angles, centres
         self.settings = np.array(
-            [RECURRENCES, HITS, LOST, limit, LOCATE, BASIN_HITS], dtype=np.int64
+            [RECURRENCES, HITS, LOST, limit, LOCATE, basin_hits], dtype=np.int64
         )
         self.cells = np.full(int(np.prod(sizes)), -1, dtype=np.int64)
         self.angle_rows = which[angles]

@@ -135,7 +135,7 @@ def basins_of_system(
 ) -> BasinMap:
     """The basin map of ``system`` over ``grid`` (options as
     :func:`~lagrangian.ensemble.basins.basins_of_attraction`: period, phase, params,
-    steps, cells, max_iterations); without a strobe period the flow is sampled every
+    steps, cells, max_iterations, basin_hits); without a strobe period the flow is sampled every
     ``interval`` (default: the model's t_end / 100); ``timeout`` as for an ensemble, the
     share of the starts labelled being the progress."""
     from ..simulation import DEFAULT_T_END
