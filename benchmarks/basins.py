@@ -9,7 +9,7 @@ on every k-th start (``--peer-starts`` of them) and its CPU time per start scale
 the whole grid; the labels of both compared on those starts.
 
     python benchmarks/basins.py [--size 1000] [--drive 1.073] [--steps 100]
-        [--peer-periods 100] [--peer-starts 20000]
+        [--basin-hits 10] [--peer-periods 100] [--peer-starts 20000]
 """
 
 from __future__ import annotations
@@ -69,6 +69,7 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=1000)
     parser.add_argument("--drive", type=float, default=1.073)
     parser.add_argument("--steps", type=int, default=100)
+    parser.add_argument("--basin-hits", type=int, default=10)
     parser.add_argument("--peer-periods", type=int, default=100)
     parser.add_argument("--peer-starts", type=int, default=20000)
     args = parser.parse_args()
@@ -81,12 +82,14 @@ def main() -> None:
     basins_of_attraction(compiled, grid=grid(8), period=PERIOD, params=params, steps=args.steps)
     cpu, wall = cpu_seconds(), time.perf_counter()
     ours = basins_of_attraction(
-        compiled, grid=grid(args.size), period=PERIOD, params=params, steps=args.steps
-    )
+        compiled, grid=grid(args.size), period=PERIOD, params=params, steps=args.steps,
+        basin_hits=args.basin_hits,
+    )  # fmt: skip
     cpu, wall = cpu_seconds() - cpu, time.perf_counter() - wall
     total = ours.labels.size
-    print(f"driven damped pendulum A = {args.drive}, b = 0.5, omega = 2/3, {args.steps} rk4 steps "
-          f"per period, {args.size} x {args.size} starts")  # fmt: skip
+    print(f"driven damped pendulum A = {args.drive}, b = 0.5, omega = 2/3, {args.steps} rk4 "
+          f"steps per period, basin hits {args.basin_hits}, "
+          f"{args.size} x {args.size} starts")  # fmt: skip
     for a in ours.attractors:
         print(f"  attractor {a.label}: {a.kind}, period {a.period}, {a.starts} starts, at "
               f"{np.round(a.points[:, 0], 4).tolist()}")  # fmt: skip
