@@ -1,7 +1,8 @@
 """The equations `lagrangian derive` prints are those it printed before the derivation and
 the model's checks were made faster (issue 36, item 4): the sha256 (first 16 hex digits)
 of the JSON document and of the text of every example and of 3-, 7- and 20-link chains
-(the readable route and the SymEngine route), as main printed them at 74b85bc.
+(the readable route and the SymEngine route), as main printed them at 74b85bc (the
+examples added since, at 538748f).
 
 The digests hold for the libraries they were taken with (SymPy 1.14.0, SymEngine
 0.15.0): another version may print the same equations otherwise, and the test is
@@ -62,6 +63,19 @@ DIGESTS = {
     "velocity_dependent_potential --text": "f65bf7edf6c3121e",
     "vertical_spring --json": "b007b8143cf39e77",
     "vertical_spring --text": "50955f6364aa99d5",
+    # examples added after 74b85bc (impacts, linkages), as main printed them at 538748f
+    "bouncing_ball --json": "b8750edc5354386a",
+    "bouncing_ball --text": "1be70b0e684038a8",
+    "four_bar --json": "dba0496c88c4ece6",
+    "four_bar --text": "f435cf1f74e036fe",
+    "four_bar_driven --json": "9bc3fef1d3897ebf",
+    "four_bar_driven --text": "55106beaacd6956f",
+    "impact_oscillator --json": "6f154f1bb132bab9",
+    "impact_oscillator --text": "f47e02826890ee7f",
+    "rocking_block --json": "c0482660fc43dc19",
+    "rocking_block --text": "cf6f6cf212ca6d32",
+    "slider_crank --json": "ce8cf59fcbd1bd32",
+    "slider_crank --text": "4846a14836292276",
     "c3 --json": "12b0fe90dfa984a5",
     "c3 --text": "6911a4f02e46a6bb",
     "c7 --json": "1b28a783536eb8a2",
