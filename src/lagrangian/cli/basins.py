@@ -41,7 +41,7 @@ from .chaos import _check_outputs, _wrote, phase_option
 @click.option(
     "--basin-hits", type=int, default=10, show_default=True,
     help="Iterations in a row in cells of one attractor's basin that label a start with it "
-    "(fewer: faster, more starts near a basin boundary mislabelled).",
+    "(fewer can be faster; more starts near a basin boundary are mislabelled).",
 )  # fmt: skip
 @options.out("Write F.csv (the grid and an attractor column), F.nc or a map F.png.")
 @options.set_values("A parameter value (repeatable).")

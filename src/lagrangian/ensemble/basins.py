@@ -164,7 +164,7 @@ def basins_of_attraction(
     GridAxis values, covering the state) under the strobe map of ``period`` (at
     ``phase``) or the flow sampled every ``interval``; see the module docstring.
     ``basin_hits``: iterations in a row in cells of one attractor's basin that label a
-    start with it (fewer: faster, and more starts near a basin boundary mislabelled)."""
+    start with it (fewer can be faster; more starts near a basin boundary are mislabelled)."""
     from ..integrate.orbits import _angles
     from ..integrate.strobe import Strobe
 
