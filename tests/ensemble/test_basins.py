@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -42,6 +44,7 @@ def well(tmp_path_factory):
     return compile_equations(derive(load(str(path))))
 
 
+@functools.cache  # both parametrisations read the same 1,600 starts: integrate them once
 def _reference_side(x, v, d=0.3, t_end=200.0):
     """The well a start ends in (+1 or -1), by scipy's DOP853 of the equations written
     by hand (x'' = x - x^3 - d x'), integrated long after every start has settled."""
