@@ -67,10 +67,8 @@ def propagate(
 ) -> Propagation:
     """Propagate ``integrator`` (time and state set) to ``t1``, or over ``t_eval``, with
     ``events`` located on the way where given."""
-    if events is not None:
-        return _watching(integrator, t1, t_eval, watch, events)
-    if t_eval is None:
-        return _every_step(integrator, t1, watch)
+    if events is not None or t_eval is None:
+        return _by_steps(integrator, t1, t_eval, watch, events)
     grid = np.asarray(t_eval, dtype=float)
     # heyoka's grid must increase strictly; t_eval may repeat a time (it is sorted)
     times, inverse = np.unique(grid, return_inverse=True)
@@ -79,9 +77,9 @@ def propagate(
     return dataclasses.replace(reached, times=grid[kept], values=reached.values[:, inverse[kept]])
 
 
-def _watching(integrator, t1: float, t_eval, watch, events: StepEvents) -> Propagation:
-    """As :func:`_every_step` (a chunk's steps from its continuous output), with each
-    step's end handed to ``events``, which locates crossings on that output; the run
+def _by_steps(integrator, t1: float, t_eval, watch, events: StepEvents | None) -> Propagation:
+    """Every step of each chunk (its ends from the chunk's continuous output), each step's
+    end handed to ``events`` where given, which locates crossings on that output; the run
     stops at a terminal one.  With ``t_eval`` the output times are the continuous output
     evaluated there, chunk by chunk, and a terminal event's state is the last output."""
     import heyoka as hy
@@ -112,7 +110,9 @@ def _watching(integrator, t1: float, t_eval, watch, events: StepEvents) -> Propa
                 end = _step_from(integrator, float(step_times[-2]), start, t1)
             ts = step_times[1:] if end is not None else step_times[1:-1]
             ys = np.vstack([ends, end[None, :]]) if end is not None else ends
-            hit = events.located(start_time, ts, ys, _interpolant(output))
+            hit = (
+                None if events is None else events.located(start_time, ts, ys, _interpolant(output))
+            )
             if hit is not None:
                 k, (t_stop, y_stop) = hit
                 ts, ys, stopped = np.append(ts[:k], t_stop), np.vstack([ys[:k], y_stop]), True
@@ -155,48 +155,6 @@ def _interpolant(output):
         return np.array(output(float(t)), dtype=float).ravel()
 
     return lambda k, t_old, t: state
-
-
-def _every_step(integrator, t1: float, watch) -> Propagation:
-    import heyoka as hy
-
-    t0, y0 = float(integrator.time), np.array(integrator.state, dtype=float)
-    size = y0.shape[0]
-    times, states = [np.array([t0])], [y0[None, :]]
-    largest = _largest_chunk(integrator, size)
-    chunk, steps, last_t, last_y = min(FIRST_CHUNK, largest), 0, t0, y0
-    while True:
-        started, start_time = time.process_time(), float(integrator.time)
-        outcome, _, _, taken, output, _ = integrator.propagate_until(
-            t1, max_steps=chunk, c_output=True
-        )
-        spent = time.process_time() - started
-        steps += taken
-        if taken:
-            step_times = np.array(output.times, dtype=float)
-            ends = np.array(output.tcs[1:, :, 0], dtype=float)  # steps 2..: their starts
-            if outcome in (hy.taylor_outcome.time_limit, hy.taylor_outcome.step_limit):
-                end = np.array(integrator.state, dtype=float)
-            else:  # the state is NaN: the last step again, from its start
-                start = np.array(output.tcs[-1, :, 0], dtype=float)
-                end = _step_from(integrator, float(step_times[-2]), start, t1)
-            kept_times = step_times[1:] if end is not None else step_times[1:-1]
-            times.append(kept_times)
-            states.append(np.vstack([ends, end[None, :]]) if end is not None else ends)
-            if kept_times.size:
-                last_t, last_y = float(kept_times[-1]), states[-1][-1]
-        if outcome != hy.taylor_outcome.step_limit:
-            break
-        check_kept_steps(
-            "taylor", size, steps, (float(integrator.time), t1),
-            (taken, float(integrator.time) - start_time),
-        )  # fmt: skip
-        if watch is not None:
-            watch(float(integrator.time))
-        chunk = _next_chunk(spent, taken, largest)
-    return Propagation(
-        np.concatenate(times), np.concatenate(states).T, steps, outcome, last_t, last_y
-    )
 
 
 def _on_grid(integrator, grid: np.ndarray, watch) -> Propagation:
