@@ -63,6 +63,18 @@ def root(alias, k):  # pragma: no cover - compiled by numba
 
 
 @njit(cache=True)
+def run_length(counters, b, run, value):  # pragma: no cover - compiled by numba
+    """Start b's run of iterations in a row on ``value``: column ``run`` counts it, column
+    ``run + 1`` holds the value; a new value starts a new run of 1."""
+    if counters[b, run] > 0 and counters[b, run + 1] == value:
+        counters[b, run] += 1
+    else:
+        counters[b, run] = 1
+        counters[b, run + 1] = value
+    return counters[b, run]
+
+
+@njit(cache=True)
 def label(
     points, ids, status, counters, cells, which, lows, widths, sizes, angles, centres,
     settings, found, kept, alias, done,
@@ -125,12 +137,7 @@ def label(
                 if value >= 0:
                     counters[b, 5] = 0
                     value = root(alias, value)
-                    if counters[b, 2] > 0 and counters[b, 3] == value:
-                        counters[b, 2] += 1
-                    else:
-                        counters[b, 2] = 1
-                        counters[b, 3] = value
-                    if counters[b, 2] >= hits:
+                    if run_length(counters, b, 2, value) >= hits:
                         status[b] = value
                         break
                 else:
@@ -138,12 +145,7 @@ def label(
                     owner = -value - 2
                     basin = root(alias, done[owner]) if value <= -2 and done[owner] >= 0 else -1
                     if basin >= 0 and value != mark:
-                        if counters[b, 5] > 0 and counters[b, 6] == basin:
-                            counters[b, 5] += 1
-                        else:
-                            counters[b, 5] = 1
-                            counters[b, 6] = basin
-                        if counters[b, 5] >= basin_hits:
+                        if run_length(counters, b, 5, basin) >= basin_hits:
                             status[b] = basin
                             break
                         continue
