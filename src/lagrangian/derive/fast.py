@@ -23,6 +23,7 @@ need M and f alone).
 from __future__ import annotations
 
 import dataclasses
+import functools
 import random
 from collections import defaultdict
 
@@ -34,8 +35,8 @@ from ..budget import MAX_EXPANDED_TERMS, expanded_terms
 from ..errors import ModelError
 from ..model import System
 from .constraints import ConstraintForms
-from .equations import CoordinateDerivation, Deferred, EquationsOfMotion, SymEngineForms
-from .solve import check_regular, solve_accelerations
+from .equations import CoordinateDerivation, Deferred, EquationsOfMotion, Later, SymEngineForms
+from .solve import SYMBOLIC_MAX_SIZE, check_regular, diagonal_blocks, solve_accelerations
 
 
 class _Tables:
@@ -154,8 +155,11 @@ def derive_large(
     """
     coordinates = system.coordinates
     cache: dict = {}
+    built = system.symengine_lagrangian  # L as the build made it in SymEngine, if it did
     converted = {
-        "lagrangian": to_symengine(system.lagrangian, cache),
+        "lagrangian": built[1]
+        if built is not None and built[0] is system.lagrangian
+        else to_symengine(system.lagrangian, cache),
         "dissipation": to_symengine(system.dissipation, cache),
     }
     forces = {name: to_symengine(q, cache) for name, q in system.forces.items()}
@@ -191,7 +195,7 @@ def derive_large(
     velocity_index = {vj: j for j, vj in enumerate(v)}
     position_index = {qj: j for j, qj in enumerate(q)}
     n = len(coordinates)
-    mass_rows, forcing, numeric_rows, terms, rest_terms = [], [], [], [], []
+    numeric_rows, terms, rest_terms = [], [], []
     for i, c in enumerate(coordinates):
         momentum = tables.table(tables.diff(lagrangian, v[i], lagrangian_index))
         # One pass over the momentum's terms gives row i of M = dp_i/dq' and the part
@@ -229,8 +233,6 @@ def derive_large(
 
         numeric_rows.append(row)
         inertia = se.Add(*(m * a for m, a in zip(row, accelerations, strict=True)))
-        mass_rows.append([sympy_of(m) for m in row])
-        forcing.append(sympy_of(rest))
         rest_terms.append(rest)
         # the parts of the derivation are kept as tables: only --steps makes them expressions
         terms.append((c, momentum, inertia, velocity_terms, gradient, friction, inertia - rest))
@@ -259,21 +261,28 @@ def derive_large(
             )
         return tuple(made)
 
-    mass_matrix = sympy.ImmutableMatrix(n, n, [m for row in mass_rows for m in row])
+    # M and f in SymPy are made when first read: derive's documents print the SymEngine
+    # forms, and the numeric stages compile from those too
+    @functools.cache
+    def mass_matrix() -> sympy.ImmutableMatrix:
+        return sympy.ImmutableMatrix(n, n, [sympy_of(m) for row in numeric_rows for m in row])
+
+    @functools.cache
+    def forcing_vector() -> sympy.ImmutableMatrix:
+        return sympy.ImmutableMatrix(n, 1, [sympy_of(f) for f in rest_terms])
+
     if not _regular_at_random_points(numeric_rows):
-        check_regular(mass_matrix, coordinates)  # raises with the diagnosis
-    forcing_vector = sympy.ImmutableMatrix(n, 1, forcing)
-    state = system.state_symbols
+        check_regular(mass_matrix(), coordinates)  # raises with the diagnosis
     made = Deferred(steps)
     return EquationsOfMotion(
         system=system,
         equations=Deferred(lambda: tuple(step.equation for step in made)),
-        mass_matrix=mass_matrix,
-        forcing=forcing_vector,
-        accelerations=(
-            None
-            if constraints
-            else solve_accelerations(mass_matrix, forcing_vector, coordinates, state)
+        mass_matrix=Later(mass_matrix),
+        forcing=Later(forcing_vector),
+        accelerations=None
+        if constraints or _too_large_to_solve(numeric_rows)
+        else solve_accelerations(
+            mass_matrix(), forcing_vector(), coordinates, system.state_symbols
         ),
         steps=made,
         constraints=constraints,
@@ -364,6 +373,15 @@ def _regular_at_random_points(rows) -> bool:
         if np.linalg.matrix_rank(scaled, tol=1e-9 * np.abs(scaled).max()) == n:
             return True
     return False
+
+
+def _too_large_to_solve(rows) -> bool:
+    """Whether M (SymEngine rows) has a diagonal block too large for q'' in closed form, as
+    :func:`~.solve.solve_linear` would find from the SymPy M (the same zero entries)."""
+    import symengine as se
+
+    blocks = diagonal_blocks(se.DenseMatrix(rows))
+    return any(len(block) > SYMBOLIC_MAX_SIZE for block in blocks)
 
 
 def _has_sum(factor) -> bool:

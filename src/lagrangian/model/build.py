@@ -15,6 +15,7 @@ from dataclasses import replace
 
 import sympy
 
+from ..algebra import to_symengine
 from ..budget import attempt
 from ..errors import ModelError
 from ..symbols import time_symbol
@@ -119,8 +120,9 @@ class _Builder(ModelNames):
 
         time = time_symbol()
         self._check_kinetic_work(particles, bodies)
+        known: dict = {}  # SymPy -> SymEngine of what the large route assembled in SymEngine
         kinetic = (
-            kinetic_energy(self.coordinates, time, particles, bodies)
+            kinetic_energy(self.coordinates, time, particles, bodies, known)
             if (particles or bodies)
             else None
         )
@@ -130,7 +132,7 @@ class _Builder(ModelNames):
         if spec.potential is not None:
             potential_terms.append(resolved["potential"])
         if gravity is not None:
-            potential_terms.append(gravity_potential(gravity, particles, bodies))
+            potential_terms.append(gravity_potential(gravity, particles, bodies, known))
         potential_terms += [spring_potential(s) for s in springs]
         conservative = self._by_coordinate(
             spec.conservative_forces, "conservative_forces", resolved
@@ -156,6 +158,9 @@ class _Builder(ModelNames):
             )
         else:
             lagrangian = kinetic - (potential if potential is not None else 0)
+        # where T (and V) were made in SymEngine, so is L: its SymPy form converts back
+        # at the cost of its top level, and the large route of derive starts from it
+        converted = to_symengine(lagrangian, known) if known else None
 
         self._check_initial()
         inputs = assemble_inputs(
@@ -193,6 +198,7 @@ class _Builder(ModelNames):
             initial={k: float(v) for k, v in spec.initial.items()},
             simulate_settings=dict(spec.simulate),
             source=spec.source,
+            symengine_lagrangian=None if converted is None else (lagrangian, converted),
         )
 
     def _body_3d(self, i, body, resolved) -> RigidBody:

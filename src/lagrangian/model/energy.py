@@ -47,8 +47,12 @@ def kinetic_energy(
     time: sympy.Symbol,
     particles: Sequence[Particle],
     bodies: Sequence[RigidBody2D | RigidBody],
+    known: dict | None = None,
 ) -> sympy.Expr:
     """T of the particles and rigid bodies (translation of the centre + rotation).
+
+    ``known``, where given, gains {SymPy expression: its SymEngine form} of what the large
+    route assembled in SymEngine (so that L converts back at the cost of its top level).
 
     A 3-D body's rotation adds omega^T I omega / 2 with omega = A q' + b its body-frame
     angular velocity (:mod:`.rigid_body`): M += A^T I A, linear += A^T I b,
@@ -62,7 +66,7 @@ def kinetic_energy(
     bodies = [b for b in bodies if not isinstance(b, RigidBody)]
     if n >= FAST_MIN_COORDINATES:
         centers = [Particle(b.name, b.mass, b.position) for b in solids]
-        fast = _kinetic_energy_large(coordinates, time, [*particles, *centers], bodies)
+        fast = _kinetic_energy_large(coordinates, time, [*particles, *centers], bodies, known)
         if fast is not None:
             return fast + _rotational_energy(coordinates, time, solids)
     mass_matrix = [[sympy.Integer(0)] * n for _ in range(n)]
@@ -138,6 +142,7 @@ def _kinetic_energy_large(
     time: sympy.Symbol,
     particles: Sequence[Particle],
     bodies: Sequence[RigidBody2D],
+    known: dict | None = None,
 ) -> sympy.Expr | None:
     """T as in :func:`kinetic_energy`, assembled with SymEngine (None: not expressible there)."""
     import symengine as se
@@ -208,7 +213,7 @@ def _kinetic_energy_large(
         weight = velocities[i] ** 2 / 2 if i == j else velocities[i] * velocities[j]
         terms.append(total(groups) * weight)
     terms += [total(groups) * velocities[i] for i, groups in linear.items()]
-    return to_sympy(se.Add(*terms), symbols)
+    return _back_to_sympy(se.Add(*terms), symbols, cache, known)
 
 
 def _jacobian_columns(position, q) -> dict:
@@ -236,13 +241,17 @@ def _jacobian_columns(position, q) -> dict:
 
 
 def gravity_potential(
-    gravity: Gravity, particles: Sequence[Particle], bodies: Sequence[RigidBody2D | RigidBody]
+    gravity: Gravity,
+    particles: Sequence[Particle],
+    bodies: Sequence[RigidBody2D | RigidBody],
+    known: dict | None = None,
 ) -> sympy.Expr:
-    """V = -g sum_k m_k (direction . r_k): height measured against the direction of gravity."""
+    """V = -g sum_k m_k (direction . r_k): height measured against the direction of gravity
+    (``known``: as for :func:`kinetic_energy`)."""
     points = [(p.mass, p.position) for p in particles] + [(b.mass, b.center) for b in bodies]
     large = len(points) >= FAST_MIN_COORDINATES  # tidy costs more than it gives there
     if large:
-        fast = _gravity_potential_large(gravity, points)
+        fast = _gravity_potential_large(gravity, points, known)
         if fast is not None:
             return fast
     terms = []
@@ -252,7 +261,7 @@ def gravity_potential(
     return sympy.Add(*terms)
 
 
-def _gravity_potential_large(gravity: Gravity, points) -> sympy.Expr | None:
+def _gravity_potential_large(gravity: Gravity, points, known: dict | None) -> sympy.Expr | None:
     """The same sum in SymEngine, which does not re-sort each partial sum as SymPy does."""
     import symengine as se
 
@@ -266,7 +275,18 @@ def _gravity_potential_large(gravity: Gravity, points) -> sympy.Expr | None:
         cache[mass] * g * se.Add(*(-d * cache[x] for d, x in zip(direction, r, strict=True)))
         for mass, r in points
     ]
-    return to_sympy(se.Add(*terms), _converted_symbols(cache))
+    return _back_to_sympy(se.Add(*terms), _converted_symbols(cache), cache, known)
+
+
+def _back_to_sympy(expr, symbols: dict, cache: dict, known: dict | None) -> sympy.Expr:
+    """``to_sympy(expr)``; ``known`` (where given) gains every SymPy node made, or met in
+    ``cache`` (a ``to_symengine`` cache), with its SymEngine form."""
+    back: dict = {}
+    result = to_sympy(expr, symbols, back)
+    if known is not None:
+        known.update(cache)
+        known.update((sympy_node, node) for node, sympy_node in back.items())
+    return result
 
 
 def _converted_symbols(cache: dict) -> dict:

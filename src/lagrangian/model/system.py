@@ -99,6 +99,9 @@ class System:
     units: Units | None = None
     spec: ModelSpec | None = field(default=None, repr=False)
     linkage: Linkage | None = field(default=None, repr=False)  # links and joints, if any
+    # (L, L in SymEngine) as the build assembled them from SymEngine parts (large models):
+    # the large route of derive starts from it while ``lagrangian`` is that very L
+    symengine_lagrangian: tuple | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         for name in ("forces", "initial", "simulate_settings"):

@@ -1,0 +1,102 @@
+"""The large route keeps SymPy out of derive's documents: M and f are converted when read.
+
+Above ``FAST_MIN_COORDINATES`` coordinates the equations are derived and printed in
+SymEngine; their SymPy forms (``mass_matrix``, ``forcing``) are made on first read, and
+the derivation starts from the Lagrangian the build assembled in SymEngine.  What is
+read must still be the n-link pendulum's closed form, and a Lagrangian changed after
+the build must be the one derived.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import math
+
+import pytest
+import sympy
+
+from helpers import assert_close, evaluate, random_point
+from lagrangian.derive.equations import EquationsOfMotion, Later
+from lagrangian.output import derive_document
+
+from .test_chain_pendulum import chain_pendulum, closed_form
+
+
+def _counting(monkeypatch, module: str, name: str) -> list:
+    """Patch ``module.name`` to record its calls (and still do its work)."""
+    target = importlib.import_module(module)
+    original = getattr(target, name)
+    calls: list = []
+
+    def counted(*args, **kwargs):
+        calls.append(args)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(target, name, counted)
+    return calls
+
+
+def test_the_document_of_a_large_system_converts_nothing_to_sympy(monkeypatch, rng):
+    converted = _counting(monkeypatch, "lagrangian.derive.fast", "to_sympy")
+    system = chain_pendulum(8)
+    eom = system.equations_of_motion()
+    document = derive_document(eom)
+    assert len(document["mass_matrix"]) == 8
+    assert converted == []  # printed from SymEngine: M and f never made in SymPy
+    # read now, they are the closed form's
+    n = 8
+    point = random_point(system, rng)
+    matrix, forcing = closed_form(n, point)
+    for i in range(n):
+        for j in range(n):
+            assert_close(evaluate(eom.mass_matrix[i, j], point), matrix[i][j], scale=1.0)
+        assert_close(evaluate(eom.forcing[i], point), forcing[i], scale=1.0)
+    assert converted != []
+
+
+def test_the_build_s_symengine_lagrangian_is_where_the_large_route_starts(monkeypatch):
+    converted = _counting(monkeypatch, "lagrangian.derive.fast", "to_symengine")
+    system = chain_pendulum(8)
+    assert system.symengine_lagrangian[0] is system.lagrangian
+    system.equations_of_motion()
+    assert all(args[0] is not system.lagrangian for args in converted)
+
+
+def test_a_lagrangian_changed_after_the_build_is_the_one_derived(rng):
+    """dataclasses.replace keeps the build's SymEngine L: it must not be used for the new L."""
+    system = chain_pendulum(8)
+    k, theta1 = sympy.Symbol("k", positive=True), system.coordinates[0].q
+    changed = dataclasses.replace(system, lagrangian=system.lagrangian - k * theta1**2 / 2)
+    eom = changed.equations_of_motion()
+    point = random_point(system, rng) | {"k": 1.7}
+    _, forcing = closed_form(8, point)
+    assert_close(evaluate(eom.forcing[0], point), forcing[0] - 1.7 * point["theta1"], scale=1.0)
+    for i in range(1, 8):
+        assert_close(evaluate(eom.forcing[i], point), forcing[i], scale=1.0)
+
+
+def test_a_later_field_is_made_once_on_first_read_and_kept_by_replace():
+    made = []
+
+    def matrix():
+        made.append(1)
+        return sympy.ImmutableMatrix([[2]])
+
+    eom = EquationsOfMotion(
+        system=None,
+        equations=(),
+        mass_matrix=Later(matrix),
+        forcing=sympy.ImmutableMatrix([[1]]),
+        accelerations=None,
+        steps=(),
+    )
+    assert made == []
+    assert eom.mass_matrix == sympy.ImmutableMatrix([[2]])
+    assert eom.mass_matrix is eom.mass_matrix
+    assert made == [1]
+    copy = dataclasses.replace(eom, accelerations={"x": sympy.Integer(1)})
+    assert copy.mass_matrix is eom.mass_matrix
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        eom.mass_matrix = sympy.ImmutableMatrix([[3]])
+    assert math.isclose(float(copy.forcing[0, 0]), 1.0)
