@@ -1,7 +1,8 @@
 """The text of one system's y' module for the compiled DOP853 loop (:mod:`.compiled_dop853`).
 
 The template :mod:`.numba_derivative` filled for one system: the imports of its generated
-fillers (:mod:`lagrangian.codegen.numba`), of the Jacobian G of its variational equations,
+fillers (:mod:`lagrangian.codegen.numba`), of the Jacobian G of its variational (or, for
+:mod:`.compiled_sensitivity`, sensitivity) equations,
 or, with constraints, of its saddle-point fillers
 (:mod:`lagrangian.codegen.numba_constrained`) and the projection's settings.
 """
@@ -38,9 +39,12 @@ def jacobian_filler(compiled: CompiledSystem) -> ModuleType:
     )  # fmt: skip
 
 
-def derivative_text(compiled: CompiledSystem, jacobian: str | None = None) -> tuple[str, str]:
+def derivative_text(
+    compiled: CompiledSystem, jacobian: str | None = None, parameters: int = 0
+) -> tuple[str, str]:
     """(sha256, text) of the module of the system's y': the template with N and the
-    fillers' imports (with ``jacobian``, the module of G: the variational equations)."""
+    fillers' imports (with ``jacobian``, the module of G: the variational equations, or the
+    sensitivity equations whose first ``parameters`` columns are parameters)."""
     from ..codegen.numba import fillers_module
 
     if compiled.has_constraints:
@@ -50,6 +54,7 @@ def derivative_text(compiled: CompiledSystem, jacobian: str | None = None) -> tu
         f"N = {compiled.n}",
         f"SOLVED = {compiled.n}",
         f"TANGENT = {jacobian is not None}",
+        f"PARAMETERS = {parameters}",
         f"from {fillers} import eliminate, fill",
         f"from {jacobian} import jacobian" if jacobian else "jacobian = None",
         "positions = velocities = None",
@@ -75,6 +80,7 @@ def constrained_text(compiled: CompiledSystem) -> tuple[str, str]:
         f"N = {compiled.n}",
         f"SOLVED = {size}",
         "TANGENT = False",
+        "PARAMETERS = 0",
         f"from {fillers.__name__} import {augmented} as fill, {positions}, {velocities}",
         linear_import(size),
         "jacobian = None",

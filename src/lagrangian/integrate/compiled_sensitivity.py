@@ -2,8 +2,8 @@
 
 The same method as :mod:`.compiled_dop853` (SciPy's DOP853, one compiled loop for every
 system, taking the system's y' as a function pointer), over the state and its
-sensitivities: the system's y' is :mod:`.numba_sensitivity` filled with its M, f and the
-generated G = d(f - M a)/d(q, q', p_wrt) (the block of
+sensitivities: the system's y' is :mod:`.numba_derivative` (as for the variational
+equations) filled with its M, f and the generated G = d(f - M a)/d(q, q', p_wrt) (the block of
 :mod:`lagrangian.codegen.sensitivity`, printed by :mod:`lagrangian.codegen.numba`).  The
 steps are those SciPy's loop takes on the same vector, so both give the same answers to
 rounding; here without Python per step.  Applies where :func:`.compiled_dop853.
@@ -14,12 +14,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import ModelError
+from .compiled_derivatives import derivative_text
 from .compiled_dop853 import (
     MIN_FACTOR,
     TOO_SMALL_STEP,
@@ -60,19 +60,12 @@ def workspace_size(n: int, parameters: int) -> int:
 
 
 def _build(compiled: CompiledSystem, parameters: tuple[str, ...]) -> Loop:
-    from ..codegen.cache import filled_template, load_text
-    from ..codegen.numba import NumbaTarget, fillers_module
+    from ..codegen.cache import load_text
+    from ..codegen.numba import NumbaTarget
 
     NumbaTarget().load(compiled.program)  # the fillers' module, imported by the system's
-    fillers = fillers_module(compiled.forms)
-    generated = [
-        f"N = {compiled.n}",
-        f"PARAMETERS = {len(parameters)}",
-        f"from {fillers} import eliminate, fill",
-        f"from {_jacobian_filler(compiled, parameters).__name__} import jacobian",
-    ]
-    template = Path(__file__).with_name("numba_sensitivity.py")
-    system = load_text(*filled_template(template, generated))
+    jacobian = _jacobian_filler(compiled, parameters).__name__
+    system = load_text(*derivative_text(compiled, jacobian, len(parameters)))
     method = method_module()
     size = workspace_size(compiled.n, len(parameters))
     return Loop(method, method.y_prime(system.derivative), size, True)

@@ -1,9 +1,10 @@
 """One system's y' for the compiled DOP853 method, as the text of a generated module.
 
 :mod:`lagrangian.integrate.compiled_dop853` writes, per system, a copy of this text into
-the code cache with the globals between the ``generated`` markers filled in (N, TANGENT
-and the imports of the system's generated ``fill`` of M and f, the printed ``eliminate``
-and, with TANGENT, its ``jacobian``, from :mod:`lagrangian.codegen.numba`), where
+the code cache with the globals between the ``generated`` markers filled in (N, TANGENT,
+PARAMETERS and the imports of the system's generated ``fill`` of M and f, the printed
+``eliminate`` and, with TANGENT, its ``jacobian``, from :mod:`lagrangian.codegen.numba`;
+:mod:`.compiled_sensitivity` fills it in for the sensitivities), where
 ``@njit(cache=True)`` keeps the compiled code.  The method itself
 (:mod:`.numba_dop853`) is compiled once for every system and takes ``derivative`` as an
 argument (a function pointer):
@@ -12,11 +13,16 @@ argument (a function pointer):
         out = y' at (t, y), with the arrays ``work`` of the method's ``workspace(N,
         TANGENT)``; flags[0] = 1 where it is not finite
 
-The vector has any length: with ``TANGENT`` it is the state followed by K displacements W
-(2N x K, row by row) of the variational equations W' = J W
-(:mod:`lagrangian.integrate.lyapunov`), whose Jacobian comes from the generated
-``jacobian`` G = d(f - M a)/d(q, q') at a = q'' (J's lower rows are M^-1 G, solved column
-by column: no solved accelerations are differentiated).
+The vector has any length: with ``TANGENT`` it is the state followed by K columns S (2N x
+K, row by row) of the forward sensitivity equations S' = J S + [dF/dp | 0]
+(:mod:`lagrangian.integrate.sensitivity`), the first PARAMETERS of them to parameters and
+the others to initial values.  The generated ``jacobian`` gives G = d(f - M a)/d(q, q', p)
+at a = q'' (N x (2N + PARAMETERS), row by row); the lower rows of each column of S' are
+M^-1 (G_y s + G_p e_j), solved column by column: no solved accelerations are
+differentiated.  With no parameters (PARAMETERS = 0) these are the variational equations
+W' = J W of the displacements W (:mod:`lagrangian.integrate.lyapunov`).  With parameters
+the method's workspace is made for a size whose arrays hold the larger G
+(:func:`.compiled_sensitivity.workspace_size`): every loop here indexes by N.
 
 With constraints (``SOLVED`` = N + the constraints) ``fill`` is the generated
 ``augmented`` of :mod:`lagrangian.codegen.numba_constrained`: M and f bordered by the
@@ -39,7 +45,8 @@ from numba import njit
 # -- generated: begin (each generated module has its own values here) ----------------
 N = 1
 SOLVED = 1  # unknowns of the linear solve: N, or N + the constraints (q'' and lambda)
-TANGENT = False  # whether the vector integrated carries displacements after the state
+TANGENT = False  # whether the vector integrated carries sensitivities after the state
+PARAMETERS = 0  # the columns of S (the first ones) that are parameters (tangent only)
 fill = eliminate = jacobian = None  # the system's M and f, the printed solve, G (tangent)
 positions = velocities = None  # the projection's systems (constraints only)
 HOLONOMIC = False  # whether a constraint has a position level
@@ -51,7 +58,7 @@ PROJECTION_STEPS, STEP_TOLERANCE = 50, 1e-13  # the Gauss-Newton steps on the po
 # lagrangian.codegen.steps, which says why).
 @njit(cache=True, _nrt=False)
 def derivative(t, y, p, work, out, flags):  # pragma: no cover - compiled by numba
-    """out = y' = [q', q''] at (t, y), then J W with TANGENT; flags[0] = 1 where it is not
+    """out = y' = [q', q''] at (t, y), then S' with TANGENT; flags[0] = 1 where it is not
     finite."""
     mass, force, copy = work[0], work[1], work[2]
     fill(t, y, p, mass, force)
@@ -76,18 +83,19 @@ def derivative(t, y, p, work, out, flags):  # pragma: no cover - compiled by num
 
 @njit(cache=True, _nrt=False)
 def tangent(t, y, p, work, out):  # pragma: no cover - compiled by numba
-    """out[2N:] = J W for the displacements W = y[2N:] (2N x K, row by row), with
-    J = [[0, I], [M^-1 G]] and G = d(f - M a)/d(q, q') at a = q'' = out[N:2N]."""
+    """out[2N:] = S' = J S + [dF/dp | 0] for S = y[2N:] (2N x K, row by row), with
+    J = [[0, I], [M^-1 G_y]] and G = d(f - M a)/d(q, q', p) at a = q'' = out[N:2N]."""
     mass, copy, gradient, column = work[0], work[2], work[3], work[4]
     size = 2 * N
+    width = size + PARAMETERS
     count = (y.shape[0] - size) // size
     jacobian(t, y, p, out[N:size], gradient)
     for j in range(count):
         for i in range(N):
             out[size + i * count + j] = y[size + (N + i) * count + j]
-            total = 0.0
+            total = gradient[i * width + size + j] if j < PARAMETERS else 0.0
             for k in range(size):
-                total += gradient[i * size + k] * y[size + k * count + j]
+                total += gradient[i * width + k] * y[size + k * count + j]
             column[i] = total
             for k in range(N):
                 mass[i, k] = copy[i, k]
