@@ -11,8 +11,9 @@ The dataset has one dimension ``t`` (the output times) and the data variables
 
 and the attributes ``model``, ``method``, ``status``, ``message``, ``steps``,
 ``rhs_evaluations``, ``wall_time`` (seconds), ``compile_time`` (CPU seconds spent making
-or loading the run's compiled code: its y' and, for DOP853's compiled loop, the loop)
-and ``compiled`` (what, in words, where a compiled loop ran), the settings of the method
+or loading the run's compiled code: its y' and, for DOP853's compiled loop, the loop, for
+taylor heyoka's integrator) and ``compiled`` (what, in words, where a compiled loop or
+heyoka ran), the settings of the method
 (``rtol``/``atol`` or ``dt``, ...), ``parameters`` (a JSON object of the
 parameter values used) and the comma-separated name lists ``coordinate_names``
 (not ``coordinates``, which netCDF's CF conventions reserve), ``invariants``,

@@ -2,10 +2,14 @@
 
 from __future__ import annotations
 
+import json
+import math
+
 import numpy as np
 import pytest
 
 import lagrangian as lg
+from lagrangian.cli import ExitStatus, main
 from lagrangian.errors import ModelError
 from lagrangian.integrate.taylor import Taylor
 from lagrangian.numeric import compile_equations
@@ -102,3 +106,35 @@ def test_a_failure_names_the_last_finite_state():
     message = trajectory.dataset.attrs["message"]
     assert message.startswith("the state is not finite after t = 1.8856")
     assert "x_dot = -1.4142" in message
+
+
+def test_a_first_run_reports_heyokas_build_and_a_second_in_the_process_less():
+    # heyoka compiles its Taylor series by LLVM when the integrator is built: the first run
+    # pays it (compile_time), the second finds the integrator built (a quartic well this
+    # file's other tests do not build, so that the first run here is the first build)
+    system = lg.System.from_lagrangian("x_dot**2/2 - x**4/4 - x**2/3", coordinates=["x"])
+    first = system.simulate(t_end=1.0, method="taylor", rtol=1e-10, initial={"x": 1.0})
+    second = system.simulate(t_end=1.0, method="taylor", rtol=1e-10, initial={"x": 1.0})
+    order = math.ceil(-math.log(1e-10) / 2) + 1  # heyoka's order for a tolerance
+    assert first.attrs["compiled"] == f"heyoka's Taylor integrator (order {order})"
+    assert first.attrs["compile_time"] > 0.0
+    assert (
+        second.attrs["compiled"] == "nothing: heyoka's integrator was built earlier in this process"
+    )
+    assert second.attrs["compile_time"] < first.attrs["compile_time"]
+    assert second.final_state == first.final_state
+
+
+def test_the_summary_says_what_a_taylor_run_compiled(capsys):
+    command = [
+        "simulate", "--lagrangian", "x_dot^2/2 - x^4/4 - x^2/5", "--coordinates", "x",
+        "--set", "x=1", "--t-end", "2", "--method", "taylor", "--rtol", "1e-12",
+    ]  # fmt: skip
+    assert main([*command, "--json"]) == ExitStatus.SUCCESS
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["compiled"] == "heyoka's Taylor integrator (order 15)"
+    assert summary["compile_time"] > 0.0
+    assert main(command) == ExitStatus.SUCCESS
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[2].startswith("compiled: nothing: heyoka's integrator was built earlier in ")
+    assert lines[2].endswith(" s of CPU")
