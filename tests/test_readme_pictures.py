@@ -1,15 +1,18 @@
 """The README's chaos lines, run as written, draw what their comments promise.
 
 tests/test_docs.py runs every documented line, smaller, to check that it runs; these
-tests run three lines at their full size and count the points in the picture each one
+tests run the lines at their full size and count the points in the picture each one
 writes (read back from the figure as it is saved, and from the CSV where the line writes
 one): a section needs hundreds of points an orbit to show its curves and its chaotic sea,
-an attractor a thousand, a diagram its points for every value of the parameter.
+an attractor a thousand, a diagram its points for every value of the parameter.  The
+strange attractor's line alone runs shorter (a tenth of its t_end): it draws one point per
+strobe time, so its full size is counted from its options.
 """
 
 from __future__ import annotations
 
 import csv
+import math
 import re
 import shlex
 from collections import Counter
@@ -23,7 +26,7 @@ from lagrangian.cli import ExitStatus, main
 
 README = Path(__file__).resolve().parents[1] / "README.md"
 
-pytestmark = pytest.mark.slow  # full-size runs: about a minute of CPU together
+pytestmark = pytest.mark.slow  # full-size runs: about 40 s of CPU together
 
 
 def readme_line(start: str) -> str:
@@ -77,12 +80,33 @@ def test_the_henon_heiles_section_draws_hundreds_of_points_an_orbit(tmp_path, mo
     assert (tmp_path / "section.png").is_file()
 
 
+def option(line: str, name: str) -> str:
+    """The value of the option ``name`` in the command ``line`` (given once)."""
+    argv = shlex.split(line, comments=True)
+    assert argv.count(name) == 1, f"{name} is given {argv.count(name)} times in {line!r}"
+    return argv[argv.index(name) + 1]
+
+
+def strobe_times(period: float, transient: float, t_end: float) -> int:
+    """How many t = k * period (k = 0, 1, ...) lie in [transient, t_end]."""
+    return math.floor(t_end / period) - math.ceil(transient / period) + 1
+
+
 def test_the_driven_pendulums_strobe_draws_its_strange_attractor(tmp_path, monkeypatch):
     line = readme_line("lagrangian poincare driven_damped_pendulum")
-    points = drawn_points(drawn_picture(line, tmp_path, monkeypatch))
+    period, transient, t_end = (
+        float(option(line, o)) for o in ("--strobe", "--transient", "--t-end")
+    )
+    # as written: t_end 10000, 1051 strobe times (at the model's t_end, 300: 21)
+    assert strobe_times(period, transient, t_end) >= 1000
+    # run to a tenth of that t_end (15 s of CPU less): a point drawn for every strobe time
+    shorter = line.replace(f"--t-end {option(line, '--t-end')}", f"--t-end {t_end / 10:g}")
+    assert shorter != line
+    points = drawn_points(drawn_picture(shorter, tmp_path, monkeypatch))
     assert (tmp_path / "attractor.png").is_file()
-    assert len(points) >= 1000  # at the model's t_end, 300: 21 points
+    assert len(points) == strobe_times(period, transient, t_end / 10) == 96
     # chaos, not a periodic response (which strobes to a few points): all points differ
+    # (at A = 1.07, period 2, the same 96 times give 33 distinct points)
     assert len(np.unique(np.round(points, 6), axis=0)) == len(points)
 
 
