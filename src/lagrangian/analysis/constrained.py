@@ -7,44 +7,73 @@ constraints c(q, t) = 0, leave q'' = 0 when
 
 n + m equations for q and the multipliers lambda (the constraint forces that
 hold the system at rest: for a pendulum in Cartesian coordinates, -2 l lambda
-is the tension m g).  Small motions stay on the constraint surface: with N a
-basis of the null space of A(q0) (the tangent directions), q = q0 + N s and
+is the tension m g).  SymPy solves them first (in a child process, within a
+share of the stage's time); a numerical multi-start search on the constraint
+surface (:mod:`.surface_search`) runs meanwhile and checks the answer, and gives
+the points at the default parameter values (``numeric=True``) where SymPy fails,
+runs out of time or misses one (a four-bar's loop closures).
+
+Small motions stay on the constraint surface: with N a basis of the null space of
+A(q0) (the tangent directions), q = q0 + N s and
 
     N^T M0 N s'' + N^T C0 N s' + N^T K N s = 0,   K = -dG/dq - sum_j lambda_j d^2 c_j/dq^2,
 
 the curvature of the constraints entering through the multipliers (the bordered
 Hessian of W = V - lambda . c) [Goldstein, ch. 6; Arnold, Mathematical Methods, §22].
+The mode shapes are given in the coordinates q (N s, first non-zero entry 1).  Where
+A loses rank at a point (constraints redundant there) the multipliers that hold it
+are not determined and the null space of A is not the tangent space of the surface:
+the point is reported with neither (``redundant`` > 0, and a note says so).
 Constraints linear in the velocities that do not come from a c(q) are not handled.
 """
 
 from __future__ import annotations
 
+import dataclasses
+import random
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+import numpy as np
 import sympy
+from sympy.core.function import AppliedUndef
 
 from ..algebra import tidy
 from ..budget import checked_seconds, remaining
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from .conditions import stability_verdict
-from .equilibria import Equilibrium, PointWithModes, equilibria
+from .equilibria import SYMBOLIC_SHARE, Equilibrium, PointWithModes, equilibria
 from .linear import LinearizedSystem, NormalModes
 from .search import number_at
 from .solving import in_child, solve_factored
+from .surface_search import RANK_TOLERANCE, SurfaceRoot, SurfaceSearch
 
 
 @dataclass(frozen=True)
 class ConstrainedEquilibrium(PointWithModes):
-    """A rest point on the constraint surface, its multipliers and small oscillations."""
+    """A rest point on the constraint surface, its multipliers and small oscillations.
+
+    ``numeric``: found numerically at the default parameter values; ``redundant``: how
+    many constraints are redundant at the point (A's rank short of their number: then
+    ``multipliers`` is empty, they are not determined, and the modes undetermined).
+    """
 
     point: Mapping[str, sympy.Expr]
     multipliers: Mapping[str, sympy.Expr]
     modes: NormalModes
-    numeric: bool = False  # always symbolic (as for Equilibrium, where it may be numeric)
+    numeric: bool = False
     at_defaults: bool = False  # the stability verdict holds at the default values only
     stability_condition: sympy.Basic | None = None  # for stability, when found (.conditions)
+    redundant: int = 0
+
+
+@dataclass(frozen=True)
+class SurfaceRestPoints:
+    """The rest points on a constraint surface and what was not reported (``notes``)."""
+
+    points: tuple[ConstrainedEquilibrium, ...]
+    notes: tuple[str, ...] = ()
 
 
 def rest_points(eom: EquationsOfMotion) -> tuple[Equilibrium | ConstrainedEquilibrium, ...]:
@@ -57,6 +86,13 @@ def constrained_equilibria(
     eom: EquationsOfMotion, *, timeout: float = 10.0
 ) -> tuple[ConstrainedEquilibrium, ...]:
     """Rest points of a system with holonomic constraints (see the module docstring)."""
+    return surface_rest_points(eom, timeout=timeout).points
+
+
+def surface_rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> SurfaceRestPoints:
+    """:func:`constrained_equilibria` with the notes on what was not reported: a family
+    of rest points, constraints redundant at a point.  ``timeout`` bounds SymPy's solve
+    (and less when a deadline of :mod:`lagrangian.budget` ends sooner)."""
     timeout = checked_seconds(timeout, "timeout")
     system, forms = eom.system, eom.constraints
     if forms is None:
@@ -64,32 +100,102 @@ def constrained_equilibria(
     if not all(forms.holonomic):
         raise ModelError("equilibria with constraints linear in the velocities are not computed")
     if not system.is_autonomous:
-        return ()
+        return SurfaceRestPoints(
+            (), ("equilibria: none in general, the system depends explicitly on t",)
+        )
     q = [c.q for c in system.coordinates]
     at_rest = {c.q_dot: sympy.Integer(0) for c in system.coordinates}
     rest_force = eom.forcing.xreplace(at_rest)
+    unspecified = sorted({str(a.func) for g in rest_force for a in g.atoms(AppliedUndef)})
+    if unspecified:
+        raise ModelError(
+            "cannot locate equilibria: the forces at rest involve the unspecified "
+            "function(s) " + ", ".join(unspecified)
+        )
     gradients = forms.matrix.xreplace(at_rest)
     lambdas = list(forms.multipliers)
     equations = [
         tidy(rest_force[i] + sum(lam * gradients[j, i] for j, lam in enumerate(lambdas)))
         for i in range(len(q))
     ] + [tidy(c) for c in system.constraints]
-    left = remaining()  # a stage's deadline, when sooner
+    search = SurfaceSearch(eom)
+    defaults = dict(system.parameter_values)
+    complete = len(defaults) == len(system.parameters)
+    values = defaults if complete else _random_values(system)
+    left = remaining()  # SymPy gets a share of a stage's time: the numerical route the rest
     solutions = in_child(
-        solve_factored, (equations, q + lambdas), timeout if left is None else min(timeout, left)
+        solve_factored,
+        (equations, q + lambdas),
+        timeout if left is None else min(timeout, SYMBOLIC_SHARE * left),
+        meanwhile=lambda: search.roots(values),
     )
-    if not solutions:
-        return ()
-    results = []
+    symbolic, notes = _symbolic_points(eom, solutions or [])
+    families = any(len(s) < len(q) for s in symbolic)
+    if solutions is not None and (families or _confirms(search, symbolic, values)):
+        found = tuple(_equilibrium(eom, point, multipliers) for point, multipliers in symbolic)
+        return SurfaceRestPoints(found, (*notes, *redundancy_notes(found)))
+    if not complete:
+        missing = [p.name for p in system.parameters if p.default is None]
+        raise ModelError(
+            "SymPy cannot solve for the equilibria on the constraint surface; give default "
+            "values for " + ", ".join(missing) + " to locate them numerically"
+        )
+    found = tuple(_numeric_equilibrium(eom, root) for root in search.roots(defaults))
+    return SurfaceRestPoints(found, tuple(redundancy_notes(found)))
+
+
+def _symbolic_points(eom: EquationsOfMotion, solutions: list) -> tuple[list, tuple[str, ...]]:
+    """(point, multipliers) of SymPy's solutions that may be real, and notes on the rest."""
+    system, forms = eom.system, eom.constraints
+    q = [c.q for c in system.coordinates]
+    points, notes = [], []
     for solution in solutions:
-        if set(solution) != set(q + lambdas):
-            continue  # a family of rest points: not a single equilibrium
         if any(value.is_real is False for value in solution.values()):
             continue
         if not _real_at_defaults(system, solution.values()):
             continue  # as for unconstrained equilibria: a point that is not real at the defaults
-        results.append(_equilibrium(eom, solution))
-    return tuple(results)
+        if not set(q) <= set(solution):
+            free = ", ".join(c.name for c in system.coordinates if c.q not in solution)
+            notes.append(
+                f"equilibria: a family of rest points on the constraint surface ({free} free)"
+                " is not reported"
+            )
+            continue
+        point = {c.name: solution[c.q] for c in system.coordinates}
+        if any(point == seen for seen, _ in points):
+            continue  # the same point with other multipliers: redundant constraints there
+        multipliers = {lam: solution.get(lam) for lam in forms.multipliers}
+        points.append((point, multipliers))
+    return points, tuple(notes)
+
+
+def _confirms(search: SurfaceSearch, symbolic: list, values: Mapping[str, float]) -> bool:
+    """Every numerical root (at ``values``) is one of SymPy's points there."""
+    expected = []
+    for point, _ in symbolic:
+        numbers = [number_at(sympy.sympify(v), values) for v in point.values()]
+        if all(z is not None and abs(z.imag) <= 1e-9 * (1 + abs(z.real)) for z in numbers):
+            expected.append(np.array([z.real for z in numbers]))
+    return all(any(_near(search, root.q, e) for e in expected) for root in search.roots(values))
+
+
+def _near(search: SurfaceSearch, a: np.ndarray, b: np.ndarray) -> bool:
+    for x, y, angle in zip(a, b, search.angles, strict=True):
+        d = abs(np.remainder(x - y + np.pi, 2 * np.pi) - np.pi) if angle else abs(x - y)
+        if d > 1e-6 * max(1.0, abs(x), abs(y)):
+            return False
+    return True
+
+
+def _random_values(system) -> dict[str, float]:
+    """The defaults, and random values for the parameters without one (as .search)."""
+    rng = random.Random(11)
+    values = dict(system.parameter_values)
+    for p in system.parameters:
+        if p.default is None:
+            magnitude = rng.uniform(0.5, 2.0)
+            values[p.name] = -magnitude if p.sign == "negative" else magnitude
+    return values
 
 
 def _real_at_defaults(system, values) -> bool:
@@ -103,38 +209,166 @@ def _real_at_defaults(system, values) -> bool:
     return True
 
 
-def _equilibrium(eom: EquationsOfMotion, solution: Mapping) -> ConstrainedEquilibrium:
-    system, forms = eom.system, eom.constraints
-    q = [c.q for c in system.coordinates]
-    at_rest = {c.q_dot: sympy.Integer(0) for c in system.coordinates}
-    here = {s: solution[s] for s in q} | at_rest
-    lambdas = [solution[lam] for lam in forms.multipliers]
-    gradients = forms.matrix.xreplace(at_rest)
-    stiffness = -eom.forcing.jacobian(q)
-    for lam, constraint in zip(lambdas, system.constraints, strict=True):
-        stiffness -= lam * sympy.hessian(constraint, q)
-    tangent = gradients.xreplace(here).nullspace()
-    basis = sympy.Matrix.hstack(*tangent) if tangent else sympy.zeros(len(q), 0)
+def _equilibrium(
+    eom: EquationsOfMotion, point: Mapping[str, sympy.Expr], multipliers: Mapping
+) -> ConstrainedEquilibrium:
+    """A point found by SymPy (a multiplier None where SymPy left it free)."""
+    here = {c.q: point[c.name] for c in eom.system.coordinates}
+    count = eom.constraints.matrix.rows
+    rank = _rank(eom.constraints.matrix.xreplace(here), eom.system)
+    if any(value is None for value in multipliers.values()):
+        rank = min(rank, count - 1)  # SymPy left a multiplier free: they are not determined
+    if rank < count:
+        point = {name: tidy(value) for name, value in point.items()}
+        return _redundant(point, count - rank, rank, numeric=False)
+    tangent = _Surface(eom).tangent(here, list(multipliers.values()))
+    values = {lam.name: tidy(value) for lam, value in multipliers.items()}
+    return tangent.equilibrium(point, values, numeric=False)
 
-    def reduced(matrix: sympy.Matrix) -> sympy.ImmutableMatrix:
-        product = basis.T * matrix.xreplace(here) * basis
+
+def _rank(gradient: sympy.Matrix, system) -> int:
+    """The rank of A at a point: of its numbers at the parameter values (random ones for
+    those without), where every entry has one; else SymPy's."""
+    values = _random_values(system)
+    entries = [number_at(sympy.sympify(x), values) for x in gradient]
+    if any(z is None for z in entries):
+        return gradient.rank()
+    matrix = np.array([z.real for z in entries]).reshape(gradient.shape)
+    singular = np.linalg.svd(matrix, compute_uv=False)
+    largest = singular.max(initial=0.0)
+    return int(np.sum(singular > RANK_TOLERANCE * largest)) if largest > 0 else 0
+
+
+def _numeric_equilibrium(eom: EquationsOfMotion, root: SurfaceRoot) -> ConstrainedEquilibrium:
+    system, forms = eom.system, eom.constraints
+    point = {c.name: sympy.Float(x) for c, x in zip(system.coordinates, root.q, strict=True)}
+    redundant = len(forms.multipliers) - root.rank
+    if redundant:
+        return _redundant(point, redundant, root.rank, numeric=True)
+    here = {c.q: point[c.name] for c in system.coordinates}
+    multipliers = [sympy.Float(x) for x in root.multipliers]
+    tangent = _Surface(eom).tangent(here, multipliers, numeric=True)
+    values = {lam.name: x for lam, x in zip(forms.multipliers, multipliers, strict=True)}
+    return tangent.equilibrium(point, values, numeric=True)
+
+
+def _redundant(point, redundant: int, rank: int, *, numeric: bool) -> ConstrainedEquilibrium:
+    note = (
+        f"the constraints are redundant here (dc/dq has rank {rank} for {rank + redundant}"
+        " constraints): the null space of dc/dq is not the tangent space of the surface"
+    )
+    return ConstrainedEquilibrium(
+        point, {}, NormalModes.undetermined(note), numeric, redundant=redundant
+    )
+
+
+def _redundancy_note(e: ConstrainedEquilibrium) -> str:
+    point = ", ".join(f"{name} = {value}" for name, value in e.point.items())
+    count = "one constraint" if e.redundant == 1 else f"{e.redundant} constraints"
+    return (
+        f"equilibria: at {point} the constraints are redundant ({count} beyond the rank of"
+        " dc/dq): the constraint forces that hold it are not determined, and its small"
+        " oscillations are not computed"
+    )
+
+
+def redundancy_notes(points) -> list[str]:
+    """The notes of :func:`_redundancy_note` for the points it applies to."""
+    return [_redundancy_note(e) for e in points if e.redundant]
+
+
+class _Surface:
+    """M, C and K = -dG/dq - lambda . d^2c/dq^2 of ``eom``, to be projected at a point."""
+
+    def __init__(self, eom: EquationsOfMotion):
+        self.eom = eom
+        system = eom.system
+        self.q = [c.q for c in system.coordinates]
+        self.at_rest = {c.q_dot: sympy.Integer(0) for c in system.coordinates}
+        self.gradients = eom.constraints.matrix.xreplace(self.at_rest)
+        self.force_jacobian = eom.forcing.jacobian(self.q)
+        self.hessians = [sympy.hessian(c, self.q) for c in system.constraints]
+        self.damping = -eom.forcing.jacobian([c.q_dot for c in system.coordinates])
+
+    def tangent(self, here: Mapping, multipliers: list, *, numeric: bool = False) -> _Tangent:
+        system = self.eom.system
+        here = dict(here) | self.at_rest
+        if numeric:  # numbers throughout: the parameters at their values too
+            values = system.parameter_values
+            here |= {p.symbol: sympy.Float(values[p.name]) for p in system.parameters}
+        stiffness = -self.force_jacobian
+        for lam, hessian in zip(multipliers, self.hessians, strict=True):
+            stiffness -= lam * hessian
+        gradient = self.gradients.xreplace(here)
+        if numeric:
+            basis = _numeric_null_space(np.array(gradient.evalf(), dtype=float))
+        else:
+            tangent = gradient.nullspace()
+            basis = sympy.Matrix.hstack(*tangent) if tangent else sympy.zeros(len(self.q), 0)
+        return _Tangent(self.eom, here, basis, stiffness, self.damping)
+
+
+@dataclass(frozen=True)
+class _Tangent:
+    eom: EquationsOfMotion
+    here: Mapping
+    basis: sympy.Matrix
+    stiffness: sympy.Matrix
+    damping: sympy.Matrix
+
+    def reduced(self, matrix: sympy.Matrix) -> sympy.ImmutableMatrix:
+        product = self.basis.T * matrix.xreplace(self.here) * self.basis
         return sympy.ImmutableMatrix(product.applyfunc(lambda e: tidy(e, trig=True)))
 
-    damping = -eom.forcing.jacobian([c.q_dot for c in system.coordinates])
-    point = {c.name: solution[c.q] for c in system.coordinates}
-    linear = LinearizedSystem(
-        system,
-        point,
-        reduced(eom.mass_matrix),
-        reduced(damping),
-        reduced(stiffness),
-        dict(system.parameter_values),
-    )
-    modes = linear.normal_modes() if basis.cols else NormalModes.undetermined("no free direction")
-    multipliers = {
-        lam.name: tidy(value) for lam, value in zip(forms.multipliers, lambdas, strict=True)
-    }
-    verdict = stability_verdict(modes, damped=not linear.dissipative.is_zero_matrix)
-    return ConstrainedEquilibrium(
-        point, multipliers, modes, False, verdict.at_defaults, verdict.condition
-    )
+    def equilibrium(self, point, multipliers, *, numeric: bool) -> ConstrainedEquilibrium:
+        system = self.eom.system
+        linear = LinearizedSystem(
+            system,
+            point,
+            self.reduced(self.eom.mass_matrix),
+            self.reduced(self.damping),
+            self.reduced(self.stiffness),
+            dict(system.parameter_values),
+        )
+        if self.basis.cols:
+            modes = _in_coordinates(linear.normal_modes(), self.basis)
+        else:
+            modes = NormalModes.undetermined("no free direction")
+        verdict = stability_verdict(modes, damped=not linear.dissipative.is_zero_matrix)
+        return ConstrainedEquilibrium(
+            point, multipliers, modes, numeric, verdict.at_defaults, verdict.condition
+        )
+
+
+def _numeric_null_space(gradient: np.ndarray) -> sympy.Matrix:
+    """An orthonormal basis of the null space of ``gradient`` (by its SVD), as Floats."""
+    n = gradient.shape[1]
+    _, singular, vh = np.linalg.svd(gradient)
+    largest = singular.max(initial=0.0)
+    rank = int(np.sum(singular > 1e-8 * largest)) if largest > 0 else 0
+    null = vh[rank:].T
+    return sympy.Matrix(n, null.shape[1], [sympy.Float(x) for x in null.ravel()])
+
+
+def _in_coordinates(modes: NormalModes, basis: sympy.Matrix) -> NormalModes:
+    """``modes`` with shapes N s in the coordinates q (first non-zero entry 1)."""
+    shapes = []
+    for shape in modes.shapes:
+        vector = [tidy(x, trig=True) for x in basis * sympy.Matrix(shape)]
+        vector = [sympy.Integer(0) if _negligible(x, vector) else x for x in vector]
+        lead = next((x for x in vector if x != 0), None)
+        if lead is None:
+            return dataclasses.replace(modes, shapes=())
+        shapes.append(sympy.ImmutableMatrix([tidy(x / lead, trig=True) for x in vector]))
+    return dataclasses.replace(modes, shapes=tuple(shapes))
+
+
+def _negligible(x: sympy.Expr, vector: list) -> bool:
+    """Zero, or a float zero up to rounding beside the vector's largest number (the SVD's
+    basis gives 1e-17 where the exact entry is 0)."""
+    if x == 0:
+        return True
+    if not x.is_Number:
+        return False
+    largest = max(abs(float(y)) for y in vector if y.is_Number)
+    return abs(float(x)) <= 1e-10 * largest

@@ -18,7 +18,7 @@ from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from ..symbols import momentum_name
 from .conserved import Conservation, conserved_quantities
-from .constrained import constrained_equilibria
+from .constrained import surface_rest_points
 from .equilibria import Equilibrium, rest_points, with_modes
 from .hamiltonian import Hamiltonian, hamiltonian
 from .modes import NormalModes
@@ -114,7 +114,10 @@ def analyze(
         h = stage("Hamiltonian", hamiltonian, eom)
     points: tuple[Equilibrium, ...] = ()
     if constrained:
-        points = stage("equilibria", constrained_equilibria, eom) or ()
+        on_surface = stage("equilibria", surface_rest_points, eom)
+        if on_surface is not None:
+            points = on_surface.points
+            notes += on_surface.notes
     else:
         rest = stage("equilibria", rest_points, eom)
         if rest is not None:

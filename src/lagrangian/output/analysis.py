@@ -122,6 +122,10 @@ def _equilibrium_document(e, text, system) -> dict:
     condition = getattr(e, "stability_condition", None)
     if condition is not None:
         document["stability_condition"] = text(condition)
+    if multipliers is not None:  # additive: a constrained point's modes in the coordinates q
+        document["mode_shapes"] = [[text(x) for x in shape] for shape in e.modes.shapes]
+        if e.redundant:
+            document["redundant_constraints"] = e.redundant
     velocities = getattr(e, "velocities", None)
     if velocities:
         document["cyclic_velocities"] = {k: text(v) for k, v in velocities.items()}
@@ -247,6 +251,8 @@ def _equilibrium_lines(points, show, system, at: str = AT_DEFAULTS) -> list[str]
         if multipliers:
             forces = ", ".join(f"{unicode_name(k)} = {show(v)}" for k, v in multipliers.items())
             lines.append(f"    constraint forces at rest: {forces}")
+        elif getattr(e, "redundant", 0):
+            lines.append("    constraint forces at rest: not determined (redundant constraints)")
         if e.modes.omega_squared:
             squares = ", ".join(show(w2) for w2 in e.modes.omega_squared)
             lines.append(f"    squared angular frequencies: {squares}{units(OMEGA_SQUARED)}")
@@ -256,6 +262,10 @@ def _equilibrium_lines(points, show, system, at: str = AT_DEFAULTS) -> list[str]
         numbers = modes_at_values(e.modes, system)
         if numbers is not None:
             lines += _number_lines(numbers, words, system)
+        elif multipliers is not None and e.modes.shapes:  # numbers already: the shapes in q
+            shapes = ", ".join(_numbers(shape) for shape in e.modes.shapes)
+            names = ", ".join(map(unicode_name, system.coordinate_names))
+            lines.append(f"    mode shapes ({names}): {shapes}")
         zero_modes = list(getattr(e, "zero_modes", ()))
         for name in dict.fromkeys(zero_modes):  # each kind once, with its count
             count = zero_modes.count(name)
@@ -338,6 +348,11 @@ def _number_lines(numbers: dict, words: bool = False, system=None) -> list[str]:
         )
         lines.append(f"      mode shapes: {shapes}")
     return lines
+
+
+def _numbers(shape) -> str:
+    """A mode shape as ``(1, -0.8702, 0.3451)``: numbers to four digits, else as printed."""
+    return "(" + ", ".join(f"{float(x):.4g}" if x.is_number else str(x) for x in shape) + ")"
 
 
 def _verdict(e, show, at: str = AT_DEFAULTS) -> str:

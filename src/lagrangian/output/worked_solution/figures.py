@@ -65,12 +65,14 @@ def mode_pictures(system: System, analysis: Analysis, values_said: str, show) ->
     """The normal modes about the first stable equilibrium, drawn (or why not)."""
     from ..mode_shapes import plot_normal_modes
 
-    # drawn: a mode shape per coordinate (a constrained system's modes have fewer) and a
-    # point that oscillates (every omega^2 = 0, as for a free particle, shows nothing)
+    # drawn: a mode shape per coordinate and a point that oscillates (every omega^2 = 0, as
+    # for a free particle, shows nothing); a constrained system's shapes are tangent to its
+    # constraint surface, and q0 + A s cos(phi) would be drawn off it (a stretched rod)
     drawable = [
         e
         for e in analysis.equilibria
         if e.point
+        and not system.constraints
         and e.modes.shapes
         and len(e.modes.shapes[0]) == len(system.coordinates)
         and _oscillates(e.modes, system)
