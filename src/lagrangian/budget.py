@@ -348,7 +348,9 @@ def ops_exceed(expr: sympy.Basic, max_ops: int) -> bool:
 MAX_EXPANDED_TERMS = 2_000_000
 
 
-def expanded_terms(expr, limit: int = MAX_EXPANDED_TERMS, *, powers: bool = True) -> int:
+def expanded_terms(
+    expr, limit: int = MAX_EXPANDED_TERMS, *, powers: bool = True, kinds: set | None = None
+) -> int:
     """An upper bound of how many terms the full expansion of ``expr`` makes, counting
     every sum expanded on the way (a power of a sum inside a function, a denominator);
     any number above ``limit`` once it is clearly over.  SymPy or SymEngine alike.
@@ -357,6 +359,8 @@ def expanded_terms(expr, limit: int = MAX_EXPANDED_TERMS, *, powers: bool = True
     A sum of terms adds their counts, a product multiplies them, and a power of a sum
     of n terms to the k has C(n + k - 1, k) (the multinomial's); shared subtrees are
     counted once, so the answer costs a walk of the distinct nodes, not the expansion.
+    ``kinds``, where given, gains the type of every node walked (all of them unless the
+    count is over ``limit``), so that a caller asking which functions occur walks once.
     """
     over = limit + 1
     counts: dict = {}  # node -> terms of its own expansion
@@ -384,6 +388,8 @@ def expanded_terms(expr, limit: int = MAX_EXPANDED_TERMS, *, powers: bool = True
         else:  # a symbol, a number, a function: one term (its arguments counted in worst)
             terms = 1
         counts[node] = terms
+        if kinds is not None:
+            kinds.add(type(node))
         worst = max(worst, terms)
         if worst > limit:
             return over

@@ -178,3 +178,21 @@ def test_the_tables_refusal_of_a_particle_model_names_the_particle(monkeypatch):
 
 def test_a_lagrangian_written_as_text_is_still_named_lagrangian():
     assert fast.lagrangian_field(_system("q0_dot^2/2", 1)) == "lagrangian"
+
+
+def test_the_count_s_walk_reports_the_kind_of_every_node():
+    """The large route asks the same walk whether |u| or sign(u) occur (no second walk)."""
+    import symengine as se
+
+    expr = sympy.sin(sympy.Abs(x - y) * z) ** 2 + sympy.sign(w) * (x + y) ** 3
+    converted = algebra.to_symengine(expr)
+    kinds: set = set()
+    assert expanded_terms(converted, kinds=kinds) == expanded_terms(converted)
+    every = set()
+    pending = [converted]
+    while pending:
+        node = pending.pop()
+        every.add(type(node))
+        pending.extend(node.args)
+    assert kinds == every
+    assert {se.Abs, se.sign, se.sin} <= kinds

@@ -165,18 +165,20 @@ def derive_large(
     forces = {name: to_symengine(q, cache) for name, q in system.forces.items()}
     if any(x is None for x in (*converted.values(), *forces.values())):
         return None
-    given = {**converted, **{f"forces.{name}": x for name, x in forces.items()}}
-    for field, expr in given.items():
-        if expanded_terms(expr) > MAX_EXPANDED_TERMS:
-            raise too_many_terms(lagrangian_field(system) if field == "lagrangian" else field)
     import symengine as se
+
+    given = {**converted, **{f"forces.{name}": x for name, x in forces.items()}}
+    kinds: dict = {}  # field -> the types of its nodes, found by the same walk
+    for field, expr in given.items():
+        kinds[field] = set()
+        if expanded_terms(expr, kinds=kinds[field]) > MAX_EXPANDED_TERMS:
+            raise too_many_terms(lagrangian_field(system) if field == "lagrangian" else field)
 
     q = [to_symengine(c.q, cache) for c in coordinates]
     v = [to_symengine(c.q_dot, cache) for c in coordinates]
     t = to_symengine(system.time, cache)
     accelerations = [to_symengine(c.q_ddot, cache) for c in coordinates]
-    differentiated = (converted["lagrangian"], converted["dissipation"])
-    nonsmooth = any(x.atoms(se.Abs, se.sign) for x in differentiated)
+    nonsmooth = any(kinds[x] & {se.Abs, se.sign} for x in ("lagrangian", "dissipation"))
     tables = _Tables([*q, *v, t], nonsmooth=nonsmooth, field=lambda: lagrangian_field(system))
     lagrangian = tables.table(tables.split(converted["lagrangian"]))
     lagrangian_index = tables.index(lagrangian)

@@ -18,6 +18,7 @@ from ..errors import ModelError, ParseError
 from ..parsing import (
     DeclaredFunction,
     Namespace,
+    Terms,
     parse_expression,
     referenced_names,
 )
@@ -52,6 +53,7 @@ class ModelNames:
     def __init__(self, spec: ModelSpec, trees: dict | None = None):
         self.spec = spec
         self.trees = trees  # the syntax trees, kept for the dimension check (with units)
+        self.terms = Terms()  # terms of the texts' sums, each built once (a chain repeats them)
         self.coordinates = coordinates_named(spec.coordinates)
         self.names = self._base_names()
         self.functions = self._functions()
@@ -159,7 +161,7 @@ class ModelNames:
             raise ModelError(f"expected an expression, got {value!r}", field=where)
         if isinstance(value, str):
             try:
-                result = parse_expression(value, self.namespace, trees=self.trees)
+                result = parse_expression(value, self.namespace, trees=self.trees, terms=self.terms)
             except ParseError as error:
                 raise ModelError(str(error), field=where, text=value) from None
         elif isinstance(value, int):

@@ -7,12 +7,14 @@ expression language (see ``DESIGN.md`` section 3) with a
 bounded by :class:`ParseLimits`, so no input can hang or exhaust the machine.
 
     Namespace(symbols={name: sympy.Expr}, functions={name: DeclaredFunction})
-    parse_expression(text, namespace, limits=DEFAULT_LIMITS) -> sympy.Expr
+    parse_expression(text, namespace, limits=DEFAULT_LIMITS, terms=None) -> sympy.Expr
+    Terms()   (terms of sums built once across the texts of one namespace: a model's)
     referenced_names(text, limits=DEFAULT_LIMITS) -> ReferencedNames
     syntax_tree(text) -> Node, token_ends(text) -> {start: end}   (the text as written)
     BUILTIN_FUNCTIONS, BUILTIN_CONSTANTS, RESERVED_NAMES, ParseLimits, DEFAULT_LIMITS
 """
 
+from lagrangian.parsing.builder import Terms
 from lagrangian.parsing.expression import (
     ReferencedNames,
     parse_expression,
@@ -38,6 +40,7 @@ __all__ = [
     "Namespace",
     "ParseLimits",
     "ReferencedNames",
+    "Terms",
     "parse_expression",
     "referenced_names",
     "syntax_tree",

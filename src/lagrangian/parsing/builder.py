@@ -61,10 +61,32 @@ _GROWING = {"sinh", "cosh"}
 
 
 def build_expression(
-    node: Node, text: str, namespace: Namespace, limits: ParseLimits
+    node: Node, text: str, namespace: Namespace, limits: ParseLimits, terms: Terms | None = None
 ) -> sympy.Expr:
-    """The SymPy expression of ``node``, with names from ``namespace``."""
-    return _Builder(text, namespace, limits).build(node)
+    """The SymPy expression of ``node``, with names from ``namespace``.
+
+    ``terms``: the terms of top-level sums built before with the same namespace and limits
+    (a :class:`Terms`, shared by the texts of one model), each built once.
+    """
+    builder = _Builder(text, namespace, limits)
+    if terms is not None and isinstance(node, Sum):
+        return builder.top_sum(node, terms)
+    return builder.build(node)
+
+
+class Terms:
+    """Terms of top-level sums already built, by their text: {(text, latex): (value, charges)}.
+
+    A chain's positions repeat the same n terms n times.  A term is the same text between
+    two top-level ``+``/``-``, so it makes the same tokens, tree and value; what its build
+    charged against the text's limits (arguments' nodes, roots) is recorded with positions
+    relative to the term and charged again at each later use, in the same order, so a
+    text is refused exactly where building it afresh would refuse it.
+    """
+
+    def __init__(self, latex: bool = False):
+        self.latex = latex  # of the text now parsed: LaTeX tokenizes the same slice otherwise
+        self.built: dict = {}
 
 
 def is_non_finite(value: sympy.Expr) -> bool:
@@ -80,6 +102,29 @@ class _Builder:
         self.argument_nodes = 0
         self.charged: set[sympy.Basic] = set()
         self.constants = RealConstants()
+        self.charges: list | None = None  # while a term is recorded: what it charged
+
+    def top_sum(self, node: Sum, terms: Terms) -> sympy.Expr:
+        """:meth:`sum` of the whole text's sum, each term built once per ``terms``."""
+        values = []
+        operands = node.terms
+        for k, operand in enumerate(operands):
+            start = operand.position + (1 if k else 0)  # past the operator, 1 character
+            end = operands[k + 1].position if k + 1 < len(operands) else len(self.text)
+            key = (self.text[start:end], terms.latex)
+            found = terms.built.get(key)
+            if found is None:
+                self.charges = []
+                value = self.build(operand.node)
+                terms.built[key] = (value, [(f, args, at - start) for f, args, at in self.charges])
+                self.charges = None
+            else:
+                value, charges = found
+                for charge, args, offset in charges:  # in the order the build made them
+                    getattr(self, charge)(args, start + offset)
+            values.append(-value if operand.inverted else value)
+        self.check_digits(_sum_size(values, self.limits.max_result_digits), node.position)
+        return self.evaluate(lambda: sympy.Add(*values), "the sum", node.position)
 
     def error(self, message: str, position: int | None) -> ParseError:
         return ParseError(message, self.text, position)
@@ -319,6 +364,8 @@ class _Builder:
 
     def charge_arguments(self, args: Sequence[sympy.Expr], position: int) -> None:
         """Count ``args`` against the budget of nodes SymPy queries assumptions of."""
+        if self.charges is not None:
+            self.charges.append(("charge_arguments", tuple(args), position))
         for arg in args:
             remaining = ARGUMENT_NODE_BUDGET - self.argument_nodes
             self.argument_nodes += count_new_nodes(arg, self.charged, remaining)
@@ -331,6 +378,8 @@ class _Builder:
 
     def check_root(self, digits: float, position: int) -> None:
         """Refuse a root of a number too long to factor, or too many roots in all."""
+        if self.charges is not None:
+            self.charges.append(("check_root", digits, position))
         if digits > ROOT_DIGITS_LIMIT:
             raise self.error(
                 f"number too large for a root ({_digits(digits)}, limit {ROOT_DIGITS_LIMIT})",

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import sympy
 
 from lagrangian.errors import ParseError
-from lagrangian.parsing.builder import build_expression, is_non_finite
+from lagrangian.parsing.builder import Terms, build_expression, is_non_finite
 from lagrangian.parsing.latex import looks_like_latex, tokenize_latex
 from lagrangian.parsing.lexer import tokenize
 from lagrangian.parsing.limits import DEFAULT_LIMITS, ParseLimits, log_size
@@ -42,11 +42,15 @@ def parse_expression(
     limits: ParseLimits = DEFAULT_LIMITS,
     *,
     trees: dict[str, Node] | None = None,
+    terms: Terms | None = None,
 ) -> sympy.Expr:
     """The SymPy expression written in ``text`` (plain or LaTeX).
 
     ``trees``: where to keep the syntax tree, ``trees[text]``, for a later pass over the
     text as written (a dimensioned model's check: it is not parsed twice).
+    ``terms``: the terms already built for texts parsed with the same ``namespace`` and
+    ``limits`` (:class:`~.builder.Terms`): a term of the text's top-level sum written
+    alike is built once, its limits still charged to each text.
 
     Raises :class:`~lagrangian.errors.ParseError` (with the 0-based
     ``position``) for anything that is not a valid expression, and
@@ -62,7 +66,9 @@ def parse_expression(
     tree = _parse_tree(text, limits)
     if trees is not None:
         trees[text] = tree
-    result = build_expression(tree, text, namespace, limits)
+    if terms is not None:
+        terms.latex = looks_like_latex(text)
+    result = build_expression(tree, text, namespace, limits, terms)
     if not isinstance(result, sympy.Expr):
         raise ParseError("not an expression", text, None)
     if is_non_finite(result) or result.has(*_NON_FINITE):
