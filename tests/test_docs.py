@@ -120,6 +120,9 @@ SLOW_COMMANDS = (
     "orbits",
     "basins",
 )
+#: Lines in the slow tier by themselves: SymPy tries the four-bar's loop closures for its
+#: share of the stage (10 s of CPU) before the numerical search gives its equilibria.
+SLOW_LINES = ("lagrangian analyze four_bar",)
 #: ``python docs/make_images.py [FILTER]`` remakes the pictures (every one: about a
 #: minute; the double pendulum's: half a minute): the test runs it, into a temporary
 #: folder, with this filter instead (the pictures whose name contains it).
@@ -156,6 +159,13 @@ PRINTS = {
     "lagrangian simulate double_pendulum": ["method: dop853 in SciPy's loop on"],
     "lagrangian simulate double_pendulum --t-end 1000": ["method: "],
     "lagrangian derive simple_pendulum": ["θ:  l θ̈ + g sin(θ) = 0"],
+    "lagrangian analyze four_bar": [
+        "θ_crank = -1.8203966572",
+        "stable  [numeric, at the default parameter values]",
+        "constraint forces at rest: λ₁ = 3.2810040056",
+        "mode shapes (θ_crank, θ_coupler, θ_rocker): (1, 0.2657, -0.1097)",
+        "periods: 1.18751",
+    ],
     "lagrangian analyze simple_pendulum": ["energy = ", "θ = 0: stable", "g/l"],
     "lagrangian derive harmonic_oscillator": ["x:  m ẍ + k x = 0"],
     "lagrangian derive central_force": ["r̈ - r θ̇² + μ/r² = 0", "r² θ̈ + 2 r ṙ θ̇ = 0"],
@@ -275,7 +285,8 @@ def _shell_lines(blocks) -> list:
                             needed,
                             command,
                             id=f"{name}:{int(start) + 1 + offset}",
-                            marks=[pytest.mark.slow] * (subcommand in SLOW_COMMANDS),
+                            marks=[pytest.mark.slow]
+                            * (subcommand in SLOW_COMMANDS or command in SLOW_LINES),
                         )
                     )
     return params

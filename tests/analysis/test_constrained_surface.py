@@ -299,3 +299,15 @@ def test_analyze_of_the_four_bar_prints_its_equilibria_with_forces_and_shapes():
         (shape,) = e["mode_shapes"]
         assert len(shape) == 3 and float(shape[0]) == 1.0
     assert sorted(e["stable"] for e in document["equilibria"]) == [False, False, True, True]
+
+
+def test_a_linkage_without_gravity_rests_anywhere_on_its_loop():
+    # no force acts at rest: every configuration the loop allows stays at rest (one
+    # answer, not a root per start of the numerical search)
+    system = lg.loads(PARALLELOGRAM.replace('[gravity]\ng = "g"\n', ""))
+    (everywhere,) = constrained_equilibria(system.equations_of_motion(), timeout=NUMERIC)
+    assert everywhere.point == {} and everywhere.omega_squared == (0,)
+    assert everywhere.modes.stability is Stability.MARGINAL
+    assert dict(everywhere.multipliers) == {"lambda1": 0, "lambda2": 0}
+    block = format_analysis(system.analyze()).split("Equilibria (at rest, staying at rest):")[1]
+    assert block.startswith("\n  every configuration: marginal\n")

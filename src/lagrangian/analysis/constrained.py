@@ -38,13 +38,13 @@ import numpy as np
 import sympy
 from sympy.core.function import AppliedUndef
 
-from ..algebra import tidy
+from ..algebra import is_zero, tidy
 from ..budget import checked_seconds, remaining
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
 from .conditions import stability_verdict
 from .equilibria import SYMBOLIC_SHARE, Equilibrium, PointWithModes, equilibria
-from .linear import LinearizedSystem, NormalModes
+from .linear import LinearizedSystem, NormalModes, Stability
 from .search import number_at
 from .solving import in_child, solve_factored
 from .surface_search import RANK_TOLERANCE, SurfaceRoot, SurfaceSearch
@@ -112,6 +112,8 @@ def surface_rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> Sur
             "cannot locate equilibria: the forces at rest involve the unspecified "
             "function(s) " + ", ".join(unspecified)
         )
+    if all(is_zero(g) for g in rest_force):
+        return SurfaceRestPoints((_everywhere(eom, numeric=False),))
     gradients = forms.matrix.xreplace(at_rest)
     lambdas = list(forms.multipliers)
     equations = [
@@ -140,8 +142,22 @@ def surface_rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> Sur
             "SymPy cannot solve for the equilibria on the constraint surface; give default "
             "values for " + ", ".join(missing) + " to locate them numerically"
         )
+    table = {p.symbol: sympy.Float(defaults[p.name]) for p in system.parameters}
+    if all(is_zero(g.xreplace(table)) for g in rest_force):  # balanced at these values
+        return SurfaceRestPoints((_everywhere(eom, numeric=True),))
     found = tuple(_numeric_equilibrium(eom, root) for root in search.roots(defaults))
     return SurfaceRestPoints(found, tuple(redundancy_notes(found)))
+
+
+def _everywhere(eom: EquationsOfMotion, *, numeric: bool) -> ConstrainedEquilibrium:
+    """Every configuration on the surface at rest (no force acts at rest, as for a linkage
+    without gravity): an empty point, no constraint force, omega^2 = 0 in each free
+    direction."""
+    forms = eom.constraints
+    free = len(eom.system.coordinates) - len(forms.multipliers)
+    modes = NormalModes((sympy.Integer(0),) * free, Stability.MARGINAL, closed_form=True)
+    multipliers = {lam.name: sympy.Integer(0) for lam in forms.multipliers}
+    return ConstrainedEquilibrium({}, multipliers, modes, numeric)
 
 
 def _symbolic_points(eom: EquationsOfMotion, solutions: list) -> tuple[list, tuple[str, ...]]:
