@@ -15,8 +15,10 @@ them) is taken modulo 2π about the middle of its range.  The cells are the grid
 points, at most ``cells`` along each variable (coarser cells find a chaotic attractor's
 recurrences sooner).
 
-The starts are integrated on the numba ensemble's loop (rk4, ``steps`` steps per
-iteration), all members of a pool together for a chunk of ``chunk`` iterations, then
+The starts are integrated by rk4 (``steps`` steps per iteration) on the numba loop whose
+terms that depend on time alone (a drive) are read from a table made once
+(:mod:`lagrangian.codegen.time_terms`: every start steps at the same times), all members
+of a pool together for a chunk of ``chunk`` iterations, then
 labelled; the members done leave the pool and new starts join it.  The first pool is
 small and its starts spread over the grid, so the attractors are found by a few starts;
 the pool grows (four times, up to POOL) after each chunk in which some start was
@@ -313,12 +315,13 @@ class _Walk:
         basin_hits,
     ):  # fmt: skip
         from ..codegen.cache import load_text, package_text
-        from .numba_backend import kernel
+        from .numba_backend import tabulated_kernel
 
-        self.loop = kernel(compiled, "rk4").run
+        self.loop = tabulated_kernel(compiled, range(p.size))  # every member has p
         self.labeller = load_text(*package_text(Path(__file__).with_name("basins_numba.py")))
         self.p, self.steps, self.m = p, steps, 2 * compiled.n
         self.grid = t0 + span * (np.arange(CHUNK * steps + 1) / steps)
+        self.table = self.loop.table(self.grid, p)  # every chunk steps this same grid
         self.which, self.lows, self.widths = which, lows, widths
         self.sizes, self.angles, self.centres = sizes, angles, centres
         self.settings = np.array(
@@ -333,11 +336,7 @@ class _Walk:
         count = states.shape[0]
         paths = np.empty((count, self.m, CHUNK + 1))
         final = np.empty_like(states)
-        per_member = np.repeat(self.p[None, :], count, axis=0)
-        self.loop(
-            states, per_member, self.grid, False, False, self.steps, 0.0, 0.0, 0, final,
-            np.empty(count), np.empty(count, dtype=np.int64), paths, np.empty(count),
-        )  # fmt: skip
+        self.loop.run(states, self.p, self.grid, self.table, self.steps, final, paths)
         self.iterations += CHUNK * count
         return np.ascontiguousarray(paths[:, :, 1:])
 

@@ -62,6 +62,15 @@ def kernel(compiled: CompiledSystem, scheme: str = "rk4"):
     return numba_loop(forms, scheme, tableau=tableaus.RK4, stall=STALL_RATIO)
 
 
+def tabulated_kernel(compiled: CompiledSystem, shared):
+    """The rk4 loop of ``compiled`` whose time-only terms (over t and the parameters
+    numbered ``shared``) are read from a table (:mod:`lagrangian.codegen.time_terms`)."""
+    from ..codegen.time_terms import tabulated_loop
+    from ..integrate import tableaus
+
+    return tabulated_loop(_forms(compiled), shared, tableau=tableaus.RK4)
+
+
 class NumbaBackend(AbstractEnsembleBackend):
     """The generated parallel loop (see the module); numba is needed."""
 
