@@ -178,6 +178,24 @@ def test_normal_modes_about_an_equilibrium_stable_apart_from_a_free_translation(
     assert out.read_bytes().startswith(b"\x89PNG")
 
 
+def test_a_constrained_pendulums_mode_is_drawn_on_its_circle():
+    # the mode shape (1, 0) is tangent to x^2 + y^2 = l^2 at the bottom: each drawn phase is
+    # brought back onto the circle (q0 + A s cos(phi) alone stretched the rod by 3%)
+    figure = plot_normal_modes(lg.load("cartesian_pendulum"))  # l = 1, g = 9.81
+    (ax,) = figure.axes
+    assert f"$\\omega$ = {np.sqrt(G):.4g}" in ax.get_title()
+    bobs = [
+        (x, y)
+        for line in ax.lines
+        if line.get_marker() == "o"
+        for x, y in zip(line.get_xdata(), line.get_ydata(), strict=True)
+        if (x, y) != (0, 0)  # the pivot
+    ]
+    radii = np.hypot(*np.array(bobs, dtype=float).T)
+    assert len(bobs) >= 5 and np.allclose(radii, 1.0, atol=1e-12)
+    assert np.ptp([x for x, _ in bobs]) > 0.3  # and it swings
+
+
 def test_the_title_of_a_single_mode_fits_its_figure():
     # one panel, "Spherical pendulum: normal modes about θ = 0, φ = 0": its ends were cut
     figure = plot_normal_modes(lg.load("spherical_pendulum"))

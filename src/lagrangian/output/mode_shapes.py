@@ -32,6 +32,8 @@ if TYPE_CHECKING:
 #: Largest particle displacement in a mode picture, as a fraction of the mechanism's size.
 DISPLACEMENT = 0.25
 PHASES = np.linspace(0, np.pi, 5)
+#: Gauss-Newton steps at most that bring a drawn configuration back onto the constraints.
+PROJECTION_STEPS = 20
 #: Width of the pictures of a mechanism's modes with one panel, inches.
 STROBE_MIN_WIDTH = 6.4
 
@@ -173,7 +175,8 @@ def _strobe(system, point, omega_squared, shapes, parameters, frees) -> Figure:
         probe = scene.at(np.zeros(1), (q0 + 1e-6 * shape)[:, None])
         moved = float(np.abs(probe.particles - rest.particles).max()) / 1e-6
         amplitude = DISPLACEMENT * size / moved if moved > 0 else 0.0
-        q = q0[:, None] + amplitude * np.outer(shape, np.cos(PHASES))
+        swing = q0[:, None] + amplitude * np.outer(shape, np.cos(PHASES))
+        q = on_constraints(system, swing, parameters)
         snapshots = scene.at(np.zeros(PHASES.size), q)
         links = rods(snapshots)
         for k in range(PHASES.size):
@@ -187,6 +190,31 @@ def _strobe(system, point, omega_squared, shapes, parameters, frees) -> Figure:
         ax.grid(True, alpha=0.3)
         ax.set_title(_mode_title(i, omega_squared[i], shape, frees[i]), fontsize=9)
     return figure
+
+
+def on_constraints(system: System, q: np.ndarray, parameters=None) -> np.ndarray:
+    """Configurations ``q`` (n, k) moved onto the system's holonomic constraints by
+    Gauss-Newton steps of least norm: a constrained system's mode shape is tangent to its
+    constraint surface, and q0 + A s cos(phi) alone would draw a pendulum's rod stretched."""
+    if not system.constraints:
+        return q
+    import sympy
+
+    values = {**system.parameter_values, **(parameters or {})}
+    table = {p.symbol: values[p.name] for p in system.parameters if p.name in values}
+    symbols = [c.q for c in system.coordinates]
+    constraints = sympy.Matrix(list(system.constraints)).xreplace(table)
+    gap = sympy.lambdify([symbols], list(constraints), "numpy")
+    gradient = sympy.lambdify([symbols], constraints.jacobian(symbols).tolist(), "numpy")
+    q = np.array(q, dtype=float)
+    for k in range(q.shape[1]):
+        for _ in range(PROJECTION_STEPS):
+            residual = np.array(gap(list(q[:, k])), dtype=float).ravel()
+            if not np.all(np.isfinite(residual)) or np.abs(residual).max() < 1e-12:
+                break
+            matrix = np.array(gradient(list(q[:, k])), dtype=float).reshape(len(residual), -1)
+            q[:, k] -= np.linalg.lstsq(matrix, residual, rcond=None)[0]
+    return q
 
 
 def _draw(ax, positions, links, k, a, b, color, alpha, dashed=False) -> None:
