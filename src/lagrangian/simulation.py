@@ -7,7 +7,6 @@ then the model's ``[simulate]`` table, then the integrator's documented default.
 
 from __future__ import annotations
 
-import dataclasses
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -110,10 +109,7 @@ def simulate_system(
     )  # fmt: skip
     chosen = {"t_end": t_final, "method": run.method, "dt": dt, "rtol": run.rtol, "atol": run.atol}
     if run.linked:  # dop853's compiled loop on the llvm backend: an integrator so configured
-        integrator = method_class(run.method).configure(
-            t_span=(0.0, t_final), dt=dt, rtol=run.rtol, atol=run.atol
-        )
-        chosen = {"t_end": t_final, "method": dataclasses.replace(integrator, linked=True)}
+        chosen = {"t_end": t_final, "method": run.integrator(t_final, dt)}
     chosen = {key: value for key, value in chosen.items() if value is not None}
     return simulate(
         run.compiled, initial=initial, params=params, watch=_watch(t_final, progress, timeout),

@@ -14,6 +14,8 @@ from lagrangian.integrate import choice as choice_module
 from lagrangian.integrate import simulate
 from lagrangian.integrate.choice import choose_run, estimated_steps
 from lagrangian.integrate.events import Event
+from lagrangian.integrate.scipy_methods import Dop853
+from lagrangian.integrate.taylor import Taylor
 from lagrangian.numeric import compile_equations
 
 DOUBLE = lg.load("double_pendulum").equations_of_motion()
@@ -94,3 +96,18 @@ def test_the_summary_says_which_method_and_backend_ran_and_why(capsys):
     lines = capsys.readouterr().out.splitlines()
     assert lines[1] == f"method: {summary['choice']}"
     assert np.isfinite(summary["final_state"]["x"])
+
+
+@pytest.mark.parametrize(
+    ("method", "linked", "expected"),
+    [
+        ("dop853", True, Dop853(rtol=1e-9, atol=1e-11, linked=True)),
+        ("dop853", False, Dop853(rtol=1e-9, atol=1e-11)),
+        ("taylor", False, Taylor(tol=1e-11)),  # heyoka's one tolerance: the smaller
+    ],
+)
+def test_the_integrator_of_a_choice_is_the_one_simulate_runs(method, linked, expected):
+    # benchmarks time the default through it: the linked loop is dop853 with linked=True,
+    # not SciPy's loop on the same llvm code
+    run = choice_module.RunChoice(None, method, 1e-9, 1e-11, "why", linked=linked)
+    assert run.integrator(5.0) == expected

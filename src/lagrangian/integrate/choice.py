@@ -41,6 +41,7 @@ every step onto its constraints as well (:mod:`.compiled_dop853`).
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import math
 import warnings
@@ -65,6 +66,7 @@ from .start import constrained_start
 if TYPE_CHECKING:
     from ..derive import EquationsOfMotion
     from ..numeric.compiled import CompiledSystem
+    from .base import AbstractIntegrator
     from .events import Event
 
 #: SciPy steps taken to estimate the step size of the run.
@@ -141,6 +143,17 @@ class RunChoice:
     atol: float | None
     reason: str
     linked: bool = False  # dop853's compiled loop over the llvm backend's M and f
+
+    def integrator(self, t_end: float, dt: float | None = None) -> AbstractIntegrator:
+        """The integrator the run takes: the method configured with the tolerances (and
+        ``dt``) from 0 to ``t_end``, dop853 with its compiled loop over the llvm backend's
+        code where :attr:`linked`."""
+        from .registry import method_class
+
+        integrator = method_class(self.method).configure(
+            t_span=(0.0, t_end), dt=dt, rtol=self.rtol, atol=self.atol
+        )
+        return dataclasses.replace(integrator, linked=True) if self.linked else integrator
 
 
 def choose_run(
