@@ -311,3 +311,26 @@ def test_a_linkage_without_gravity_rests_anywhere_on_its_loop():
     assert dict(everywhere.multipliers) == {"lambda1": 0, "lambda2": 0}
     block = format_analysis(system.analyze()).split("Equilibria (at rest, staying at rest):")[1]
     assert block.startswith("\n  every configuration: marginal\n")
+
+
+@pytest.mark.parametrize("timeout", [NUMERIC, 10.0])
+def test_a_bead_held_on_a_circle_by_a_spring_from_its_centre_rests_anywhere(timeout):
+    # V = k (x^2 + y^2)/2 = k l^2/2 on the whole circle: a continuum of rest points (SymPy
+    # leaves x free; the search lands on a point of it per start), said once, its one
+    # free direction omega^2 = 0, the ring pushing out with k l (lambda = k/2, 2 lambda l)
+    system = lg.System.from_particles(
+        ["x", "y"],
+        [lg.Particle("bead", "m", ("x", "y"))],
+        springs=[lg.Spring("k", ends=("bead", (0, 0)))],
+        constraints=["x^2 + y^2 - l^2"],
+        parameters={"m": 1.0, "k": 3.0, "l": 2.0},
+    )
+    found = surface_rest_points(system.equations_of_motion(), timeout=timeout)
+    (member,) = found.points
+    assert math.hypot(*numbers(member.point)) == pytest.approx(2.0, rel=1e-12)
+    assert member.modes.stability is Stability.MARGINAL
+    assert abs(float(member.omega_squared[0])) < 1e-9
+    assert float(member.multipliers["lambda1"]) == pytest.approx(3.0 / 2, rel=1e-12)
+    (note,) = found.notes
+    assert "is one member of a family of rest points on the constraint surface" in note
+    assert "(up to 1 free directions;" in note

@@ -29,7 +29,6 @@ Constraints linear in the velocities that do not come from a c(q) are not handle
 
 from __future__ import annotations
 
-import dataclasses
 import random
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -41,12 +40,14 @@ from sympy.core.function import AppliedUndef
 from ..algebra import is_zero, tidy
 from ..budget import checked_seconds, remaining
 from ..derive import EquationsOfMotion
+from ..distributions import without_distributions
 from ..errors import ModelError
-from .conditions import stability_verdict
+from .continua import SAME_LEVEL
 from .equilibria import SYMBOLIC_SHARE, Equilibrium, PointWithModes, equilibria
-from .linear import LinearizedSystem, NormalModes, Stability
+from .linear import NormalModes, Stability
 from .search import number_at
 from .solving import in_child, solve_factored
+from .surface_modes import SurfaceModes
 from .surface_search import RANK_TOLERANCE, SurfaceRoot, SurfaceSearch
 
 
@@ -131,11 +132,12 @@ def surface_rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> Sur
         timeout if left is None else min(timeout, SYMBOLIC_SHARE * left),
         meanwhile=lambda: search.roots(values),
     )
-    symbolic, notes = _symbolic_points(eom, solutions or [])
-    families = any(len(s) < len(q) for s in symbolic)
-    if solutions is not None and (families or _confirms(search, symbolic, values)):
+    symbolic, families = _symbolic_points(eom, solutions or [])
+    if solutions is not None and (
+        (families and not complete) or (not families and _confirms(search, symbolic, values))
+    ):
         found = tuple(_equilibrium(eom, point, multipliers) for point, multipliers in symbolic)
-        return SurfaceRestPoints(found, (*notes, *redundancy_notes(found)))
+        return SurfaceRestPoints(found, (*families, *redundancy_notes(found)))
     if not complete:
         missing = [p.name for p in system.parameters if p.default is None]
         raise ModelError(
@@ -146,7 +148,52 @@ def surface_rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> Sur
     if all(is_zero(g.xreplace(table)) for g in rest_force):  # balanced at these values
         return SurfaceRestPoints((_everywhere(eom, numeric=True),))
     found = tuple(_numeric_equilibrium(eom, root) for root in search.roots(defaults))
-    return SurfaceRestPoints(found, tuple(redundancy_notes(found)))
+    found, families = _grouped(eom, found)
+    return SurfaceRestPoints(found, (*families, *redundancy_notes(found)))
+
+
+def _grouped(eom: EquationsOfMotion, found: tuple) -> tuple[tuple, tuple[str, ...]]:
+    """Numerical roots on a continuum of rest points merged (a bead held on a sphere by a
+    spring from its centre rests anywhere on it: a root per start), as :mod:`.continua`
+    does without constraints: roots with omega^2 = 0 grouped by their count and the value
+    of V, constant along a connected set of rest points; each group said once, by its
+    member nearest the origin."""
+    system = eom.system
+    values = system.parameter_values
+    at_rest = {c.q_dot: 0 for c in system.coordinates}
+    table = {p.symbol: sympy.Float(values[p.name]) for p in system.parameters}
+    level = sympy.lambdify(
+        [[c.q for c in system.coordinates]],
+        without_distributions(-system.lagrangian.xreplace(at_rest).xreplace(table)),
+        "numpy",
+    )
+    squares = [abs(complex(w)) for e in found for w in e.omega_squared]
+    zero = SAME_LEVEL * (1.0 + max(squares, default=0.0))
+    kept, families = [], {}
+    for e in found:
+        count = sum(abs(complex(w)) <= zero for w in e.omega_squared)
+        if not count or not e.point:
+            kept.append(e)
+            continue
+        q = np.array([float(e.point[c.name]) for c in system.coordinates])
+        u = float(level(list(q)))
+        key = next(
+            (k for k in families if k[0] == count and abs(k[1] - u) <= zero * max(1.0, abs(u))),
+            (count, u),
+        )
+        families.setdefault(key, []).append((float(np.linalg.norm(q)), e))
+    notes = []
+    for (count, _), members in families.items():
+        _, nearest = min(members, key=lambda item: item[0])
+        kept.append(nearest)
+        if len(members) > 1:
+            point = ", ".join(f"{k} = {float(v):.6g}" for k, v in nearest.point.items())
+            notes.append(
+                f"equilibria: {point} is one member of a family of rest points on the"
+                f" constraint surface (up to {count} free directions; {len(members)} roots"
+                " found numerically, grouped by the value of V)"
+            )
+    return tuple(kept), tuple(notes)
 
 
 def _everywhere(eom: EquationsOfMotion, *, numeric: bool) -> ConstrainedEquilibrium:
@@ -161,7 +208,8 @@ def _everywhere(eom: EquationsOfMotion, *, numeric: bool) -> ConstrainedEquilibr
 
 
 def _symbolic_points(eom: EquationsOfMotion, solutions: list) -> tuple[list, tuple[str, ...]]:
-    """(point, multipliers) of SymPy's solutions that may be real, and notes on the rest."""
+    """(point, multipliers) of SymPy's solutions that may be real, and a note on each family
+    of rest points (some coordinates left free)."""
     system, forms = eom.system, eom.constraints
     q = [c.q for c in system.coordinates]
     points, notes = [], []
@@ -237,9 +285,9 @@ def _equilibrium(
     if rank < count:
         point = {name: tidy(value) for name, value in point.items()}
         return _redundant(point, count - rank, rank, numeric=False)
-    tangent = _Surface(eom).tangent(here, list(multipliers.values()))
+    modes, verdict = SurfaceModes(eom).at(point, list(multipliers.values()))
     values = {lam.name: tidy(value) for lam, value in multipliers.items()}
-    return tangent.equilibrium(point, values, numeric=False)
+    return ConstrainedEquilibrium(point, values, modes, False, *_said(verdict))
 
 
 def _rank(gradient: sympy.Matrix, system) -> int:
@@ -261,11 +309,15 @@ def _numeric_equilibrium(eom: EquationsOfMotion, root: SurfaceRoot) -> Constrain
     redundant = len(forms.multipliers) - root.rank
     if redundant:
         return _redundant(point, redundant, root.rank, numeric=True)
-    here = {c.q: point[c.name] for c in system.coordinates}
     multipliers = [sympy.Float(x) for x in root.multipliers]
-    tangent = _Surface(eom).tangent(here, multipliers, numeric=True)
+    modes, verdict = SurfaceModes(eom).at(point, multipliers, numeric=True)
     values = {lam.name: x for lam, x in zip(forms.multipliers, multipliers, strict=True)}
-    return tangent.equilibrium(point, values, numeric=True)
+    return ConstrainedEquilibrium(point, values, modes, True, *_said(verdict))
+
+
+def _said(verdict) -> tuple:
+    """(at_defaults, stability_condition) of a stability verdict."""
+    return verdict.at_defaults, verdict.condition
 
 
 def _redundant(point, redundant: int, rank: int, *, numeric: bool) -> ConstrainedEquilibrium:
@@ -291,100 +343,3 @@ def _redundancy_note(e: ConstrainedEquilibrium) -> str:
 def redundancy_notes(points) -> list[str]:
     """The notes of :func:`_redundancy_note` for the points it applies to."""
     return [_redundancy_note(e) for e in points if e.redundant]
-
-
-class _Surface:
-    """M, C and K = -dG/dq - lambda . d^2c/dq^2 of ``eom``, to be projected at a point."""
-
-    def __init__(self, eom: EquationsOfMotion):
-        self.eom = eom
-        system = eom.system
-        self.q = [c.q for c in system.coordinates]
-        self.at_rest = {c.q_dot: sympy.Integer(0) for c in system.coordinates}
-        self.gradients = eom.constraints.matrix.xreplace(self.at_rest)
-        self.force_jacobian = eom.forcing.jacobian(self.q)
-        self.hessians = [sympy.hessian(c, self.q) for c in system.constraints]
-        self.damping = -eom.forcing.jacobian([c.q_dot for c in system.coordinates])
-
-    def tangent(self, here: Mapping, multipliers: list, *, numeric: bool = False) -> _Tangent:
-        system = self.eom.system
-        here = dict(here) | self.at_rest
-        if numeric:  # numbers throughout: the parameters at their values too
-            values = system.parameter_values
-            here |= {p.symbol: sympy.Float(values[p.name]) for p in system.parameters}
-        stiffness = -self.force_jacobian
-        for lam, hessian in zip(multipliers, self.hessians, strict=True):
-            stiffness -= lam * hessian
-        gradient = self.gradients.xreplace(here)
-        if numeric:
-            basis = _numeric_null_space(np.array(gradient.evalf(), dtype=float))
-        else:
-            tangent = gradient.nullspace()
-            basis = sympy.Matrix.hstack(*tangent) if tangent else sympy.zeros(len(self.q), 0)
-        return _Tangent(self.eom, here, basis, stiffness, self.damping)
-
-
-@dataclass(frozen=True)
-class _Tangent:
-    eom: EquationsOfMotion
-    here: Mapping
-    basis: sympy.Matrix
-    stiffness: sympy.Matrix
-    damping: sympy.Matrix
-
-    def reduced(self, matrix: sympy.Matrix) -> sympy.ImmutableMatrix:
-        product = self.basis.T * matrix.xreplace(self.here) * self.basis
-        return sympy.ImmutableMatrix(product.applyfunc(lambda e: tidy(e, trig=True)))
-
-    def equilibrium(self, point, multipliers, *, numeric: bool) -> ConstrainedEquilibrium:
-        system = self.eom.system
-        linear = LinearizedSystem(
-            system,
-            point,
-            self.reduced(self.eom.mass_matrix),
-            self.reduced(self.damping),
-            self.reduced(self.stiffness),
-            dict(system.parameter_values),
-        )
-        if self.basis.cols:
-            modes = _in_coordinates(linear.normal_modes(), self.basis)
-        else:
-            modes = NormalModes.undetermined("no free direction")
-        verdict = stability_verdict(modes, damped=not linear.dissipative.is_zero_matrix)
-        return ConstrainedEquilibrium(
-            point, multipliers, modes, numeric, verdict.at_defaults, verdict.condition
-        )
-
-
-def _numeric_null_space(gradient: np.ndarray) -> sympy.Matrix:
-    """An orthonormal basis of the null space of ``gradient`` (by its SVD), as Floats."""
-    n = gradient.shape[1]
-    _, singular, vh = np.linalg.svd(gradient)
-    largest = singular.max(initial=0.0)
-    rank = int(np.sum(singular > 1e-8 * largest)) if largest > 0 else 0
-    null = vh[rank:].T
-    return sympy.Matrix(n, null.shape[1], [sympy.Float(x) for x in null.ravel()])
-
-
-def _in_coordinates(modes: NormalModes, basis: sympy.Matrix) -> NormalModes:
-    """``modes`` with shapes N s in the coordinates q (first non-zero entry 1)."""
-    shapes = []
-    for shape in modes.shapes:
-        vector = [tidy(x, trig=True) for x in basis * sympy.Matrix(shape)]
-        vector = [sympy.Integer(0) if _negligible(x, vector) else x for x in vector]
-        lead = next((x for x in vector if x != 0), None)
-        if lead is None:
-            return dataclasses.replace(modes, shapes=())
-        shapes.append(sympy.ImmutableMatrix([tidy(x / lead, trig=True) for x in vector]))
-    return dataclasses.replace(modes, shapes=tuple(shapes))
-
-
-def _negligible(x: sympy.Expr, vector: list) -> bool:
-    """Zero, or a float zero up to rounding beside the vector's largest number (the SVD's
-    basis gives 1e-17 where the exact entry is 0)."""
-    if x == 0:
-        return True
-    if not x.is_Number:
-        return False
-    largest = max(abs(float(y)) for y in vector if y.is_Number)
-    return abs(float(x)) <= 1e-10 * largest
