@@ -3,9 +3,12 @@ with the lyapunov observable's classification, refusals."""
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
+from lagrangian.cli import ExitStatus, main
 from lagrangian.derive import derive
 from lagrangian.ensemble import run_ensemble
 from lagrangian.errors import ModelError
@@ -96,9 +99,32 @@ def test_the_sali_and_gali3_maps_agree_with_the_lyapunov_map(henon_heiles):
     assert np.mean(indicators["gali3_chaotic"].values == both) >= 0.95
 
 
+@pytest.mark.slow
+def test_the_numba_backend_gives_the_numpy_backends_indicators(henon_heiles):
+    # the k displacements of codegen.steps.rk4_tangent, renormalised in the numba loop,
+    # against the numpy backend's TangentFlows: the same rk4 steps from the same starting
+    # vectors, so the same values to rounding (a chaotic, a regular and two more starts)
+    pytest.importorskip("numba")
+    starts = _shell([-0.25, 0.1, 0.0, 0.3], [0.0, 0.3, 0.1, -0.2])
+    names = ("sali", "gali2", "gali4", "lyapunov", "final_state")
+    numpy = run_ensemble(henon_heiles, initial=starts, t_end=40.0, dt=0.05, observables=names)
+    numba = run_ensemble(
+        henon_heiles, initial=starts, t_end=40.0, dt=0.05, observables=names, backend="numba"
+    )
+    for name in ("sali", "gali2", "gali4", "lyapunov", "final_x", "final_y_dot"):
+        np.testing.assert_allclose(numba.dataset[name], numpy.dataset[name], rtol=1e-10)
+    # four different values, none at a limit (orthogonal, aligned)
+    assert np.all((numpy.dataset["gali4"].values > 1e-9) & (numpy.dataset["sali"].values < 1.4))
+    assert len(set(np.round(numpy.dataset["sali"].values, 6))) == 4
+
+
 def test_indicators_are_refused_where_they_are_not_computed(henon_heiles):
-    with pytest.raises(ModelError, match=r"^observable sali runs on backend numpy, not numba$"):
-        run_ensemble(henon_heiles, t_end=1.0, observables=("sali",), backend="numba")
+    with pytest.raises(
+        ModelError, match=r"^observable sali runs on backend numpy, numba, not jax$"
+    ):
+        run_ensemble(henon_heiles, t_end=1.0, observables=("sali",), backend="jax")
+    with pytest.raises(ModelError, match=r"^the chaos indicator observable needs an explicit"):
+        run_ensemble(henon_heiles, t_end=1.0, observables=("sali",), method="variational")
     pendulum = compile_equations(derive(load("simple_pendulum")))
     with pytest.raises(
         ModelError,
@@ -106,3 +132,28 @@ def test_indicators_are_refused_where_they_are_not_computed(henon_heiles):
         r"dimensions$",
     ):
         run_ensemble(pendulum, t_end=1.0, observables=("gali3",))
+
+
+def run(capsys, *argv):
+    status = main(list(argv))
+    return status, capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("model", "grid", "error"),
+    [
+        # 1 degree of freedom: a regular orbit's vectors are sheared together too
+        ("simple_pendulum", "theta=0:1:3",
+         r"Hamiltonian systems of 2 or more degrees of freedom; this one has 1 \(theta\)"),
+        # forces: SALI falls on an attractor whether the motion on it is chaotic or not
+        ("planar_particle_forces", "x=0:1:3",
+         r"Hamiltonian systems; this one has forces or dissipation \(Q - dF/dq' on x: F_x, "
+         r"y: F_y\)"),
+    ],
+)  # fmt: skip
+def test_sali_on_a_system_it_cannot_classify_is_one_line(capsys, model, grid, error):
+    status, err = run(capsys, "ensemble", model, "--grid", grid, "--observable", "sali")
+    assert status == ExitStatus.BAD_INPUT
+    assert len(err.strip().splitlines()) == 1
+    expected = r"lagrangian: error: observable sali classifies orbits of " + error
+    assert re.fullmatch(expected, err.strip())

@@ -2,14 +2,15 @@
 
 :func:`numba_loop` writes the template :mod:`.numba_loop` out for one system and one
 scheme (``rk4``, ``midpoint``, ``stormer-verlet``, or ``rk4-tangent``: rk4 carrying one
-displacement for the ``lyapunov`` observable): the template's globals get the import
-of the system's generated fillers (:mod:`lagrangian.codegen.numba`), the scheme's step
-printed from :mod:`.steps` goes between the ``scheme`` markers, and the text is written
-to the code cache under a hash of itself (:func:`~lagrangian.codegen.cache.load_text`),
-where numba keeps the machine code.  The loops that take the steps, ``run`` (the numba
-ensemble's) and ``advance`` (a stretch of one single run), are :mod:`.numba_stepping`,
-written once (every scheme's workspace has one type) and compiled once for every
-system and scheme: they get the system's functions as pointers (:class:`SteppingLoop`).
+displacement for the ``lyapunov`` observable, or k for the chaos indicators): the
+template's globals get the import of the system's generated fillers
+(:mod:`lagrangian.codegen.numba`), the scheme's step printed from :mod:`.steps` goes
+between the ``scheme`` markers, and the text is written to the code cache under a hash
+of itself (:func:`~lagrangian.codegen.cache.load_text`), where numba keeps the machine
+code.  The loops that take the steps, ``run`` (the numba ensemble's) and ``advance`` (a
+stretch of one single run), are :mod:`.numba_stepping`, written once (every scheme's
+workspace has one type) and compiled once for every system and scheme: they get the
+system's functions as pointers (:class:`SteppingLoop`).
 Importing this module does not import numba.
 """
 
@@ -34,7 +35,7 @@ _FILLERS = {
 _SELECTED = {
     "rk4": "rk4", "midpoint": "midpoint", "stormer-verlet": "verlet", "rk4-tangent": "tangent"
 }  # fmt: skip
-#: Displacement entries carried with each member's state (``W`` of the template).
+#: Displacement entries carried with each member's state per coordinate and displacement.
 _CARRIED = {"rk4-tangent": 2}
 _SCHEME_BEGIN, _SCHEME_END = "# -- scheme: begin", "# -- scheme: end"
 _SELECTION = "init, step = rk4_init, rk4_step"
@@ -70,13 +71,16 @@ class SteppingLoop:
         return self.loops.advance(self._steppers, *arguments)
 
 
-def numba_loop(forms: SymbolicForms, scheme: str, *, tableau, stall: float) -> SteppingLoop:
+def numba_loop(
+    forms: SymbolicForms, scheme: str, *, tableau, stall: float, vectors: int = 1
+) -> SteppingLoop:
     """The loops of ``forms`` (unconstrained) and ``scheme``, built once per process.
 
     ``tableau``: the RK4 tableau (a, b, c) printed into the rk4 step; ``stall``: the
-    Newton test's STALL_RATIO (see :func:`.steps.scheme_program`)."""
-    build = lambda: _loop_module(forms, scheme, tableau, stall)  # noqa: E731
-    return built(forms.fingerprint, "numba-loop", build, scheme)
+    Newton test's STALL_RATIO; ``vectors``: the displacements ``rk4-tangent`` carries (see
+    :func:`.steps.scheme_program`)."""
+    build = lambda: _loop_module(forms, scheme, tableau, stall, vectors)  # noqa: E731
+    return built(forms.fingerprint, "numba-loop", build, scheme, vectors)
 
 
 def scheme_fillers(forms: SymbolicForms, scheme: str) -> ModuleType:
@@ -90,7 +94,9 @@ def scheme_fillers(forms: SymbolicForms, scheme: str) -> ModuleType:
     return load_functions(forms, scheme, expressions, scalars=scalars, matrices=MATRICES)
 
 
-def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> SteppingLoop:
+def _loop_module(
+    forms: SymbolicForms, scheme: str, tableau, stall: float, vectors: int
+) -> SteppingLoop:
     from .numba import linear_import
 
     fillers = scheme_fillers(forms, scheme)
@@ -98,7 +104,7 @@ def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> St
         f"from {fillers.__name__} import {', '.join(_FILLERS[scheme])}",
         linear_import(forms.n),
     ]
-    program = scheme_program(scheme, forms.n, tableau=tableau, stall=stall)
+    program = scheme_program(scheme, forms.n, tableau=tableau, stall=stall, vectors=vectors)
     text = filled_template(Path(__file__).with_name("numba_loop.py"), generated)[1]
     before, rest = text.split(_SCHEME_BEGIN, 1)
     after = rest.split(_SCHEME_END, 1)[1].split("\n", 1)[1]
@@ -109,7 +115,8 @@ def _loop_module(forms: SymbolicForms, scheme: str, tableau, stall: float) -> St
     text = text.replace(_SELECTION, selection)
     system = load_text(hashlib.sha256(text.encode()).hexdigest(), text)
     layout = workspace_layout(program)
-    return SteppingLoop(stepping_module(), system, layout, _CARRIED.get(scheme, 0) * forms.n)
+    carried = _CARRIED.get(scheme, 0) * forms.n * vectors
+    return SteppingLoop(stepping_module(), system, layout, carried)
 
 
 def stepping_module() -> ModuleType:

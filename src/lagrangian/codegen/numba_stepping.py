@@ -16,10 +16,12 @@ matrices of rows x columns, and
         save_every, tol, floor, iterations, final, flips, failures, paths, exponents)
 
 is the ensemble's loop: one member per ``prange`` iteration, each with its own
-workspace; with a displacement of ``w`` entries carried after the state (rk4-tangent),
-it renormalises it after every step and gives each member's largest Lyapunov exponent,
-the mean of log |w| per unit time (the numpy backend's ``lyapunov`` observable,
-:mod:`lagrangian.ensemble.numpy_backend`).
+workspace.  With ``w`` entries carried after the state (rk4-tangent: k = w / 2n
+displacements, their starting values in ``y0`` after the state's, ``y0`` and ``final``
+then 2n + w wide), it renormalises each displacement to length 1 after every step and
+gives each member's largest Lyapunov exponent, the mean of log |w_1| per unit time (the
+numpy backend's ``lyapunov`` observable, :mod:`lagrangian.ensemble.numpy_backend`); the
+unit displacements at the end are in ``final`` (the chaos indicators).
 
     advance(steppers, y, p, work, grid, start, stop, tol, floor, iterations, states, counts)
 
@@ -82,15 +84,15 @@ def run(
     save_every, tol, floor, iterations, final, flips, failures, paths, exponents,
 ):  # pragma: no cover - compiled by numba  # fmt: skip
     init, step = inits[0], steppers[0]
-    count, m = y0.shape
+    count, width = y0.shape
+    m = width - w
     n = m // 2
+    vectors = w // m if w > 0 else 0
     steps = grid.shape[0] - 1
     for b in prange(count):
-        y = np.empty(m + w)
-        for i in range(m):
+        y = np.empty(width)
+        for i in range(width):
             y[i] = y0[b, i]
-        for i in range(w):
-            y[m + i] = 1.0 / math.sqrt(w)
         stretch = 0.0
         p = params[b]
         work = workspace(size, stack, rows, columns)
@@ -111,14 +113,16 @@ def run(
                 if step(ta, grid[s + 1] - ta, y, p, work, tol, floor, iterations, counts) != 0:
                     failure = s
                     break
-                if w > 0:
+                for v in range(vectors):
+                    start = m * (v + 1)
                     norm = 0.0
-                    for i in range(w):
-                        norm += y[m + i] * y[m + i]
+                    for i in range(start, start + m):
+                        norm += y[i] * y[i]
                     norm = math.sqrt(norm)
-                    stretch += math.log(norm)
-                    for i in range(w):
-                        y[m + i] /= norm
+                    if v == 0:
+                        stretch += math.log(norm)
+                    for i in range(start, start + m):
+                        y[i] /= norm
                 if save_every > 0 and (s + 1) % save_every == 0:
                     for i in range(m):
                         paths[b, i, (s + 1) // save_every] = y[i]
@@ -131,7 +135,7 @@ def run(
         flips[b] = flip
         failures[b] = failure
         exponents[b] = stretch / (grid[steps] - grid[0]) if w > 0 else math.nan
-        for i in range(m):
+        for i in range(width):
             final[b, i] = y[i]
 
 

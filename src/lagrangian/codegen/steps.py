@@ -298,17 +298,37 @@ def rk4(n: int, a, b, c) -> Scheme:
     return _runge_kutta("rk4", 2 * n, derivative, (a, b, c), (("matrix", (n, n)), ("force", (n,))))
 
 
-def rk4_tangent(n: int, a, b, c) -> Scheme:
-    """RK4 of the state with one displacement, z = [y, w] (4n): y' = [q', M^-1 f] and
-    w' = [w_q', M^-1 D w] (D from the filler ``tangent``, :mod:`lagrangian.codegen.schemes`),
-    the numpy backend's :class:`~lagrangian.integrate.lyapunov.TangentFlow` stepped by the
-    same tableau."""
+def rk4_tangent(n: int, a, b, c, vectors: int = 1) -> Scheme:
+    """RK4 of the state with ``vectors`` displacements, z = [y, w_1, ..., w_k] (2n (k + 1)):
+    y' = [q', M^-1 f] and each w' = [w_q', M^-1 D w] (D from the filler ``tangent``,
+    :mod:`lagrangian.codegen.schemes`), the numpy backend's
+    :class:`~lagrangian.integrate.lyapunov.TangentFlow` (one displacement, the ``lyapunov``
+    observable) or :class:`~lagrangian.integrate.indicators.TangentFlows` (k, the chaos
+    indicators) stepped by the same tableau."""
     matrix, force, held, slopes, pushed = (
         Name(s) for s in ("matrix", "force", "held", "slopes", "pushed")
     )
+    m = 2 * n
+
+    def displaced(state: Expr, out: Expr, base: int, last: bool) -> list:
+        # the solve overwrites its matrix: M is kept in ``held`` for the last displacement
+        # and copied into ``matrix`` (free after the state's solve) for the others
+        solved = held if last else matrix
+        copy = [] if last else [Loop("i", n, [Loop("j", n, [Assign(matrix[i, j], held[i, j])])])]
+        return [
+            *copy,
+            Loop("i", n, [
+                Assign(pushed[i], Number(0.0)),
+                Loop("j", m, [
+                    Assign(pushed[i], pushed[i] + slopes[i * m + j] * state[base + j])
+                ]),
+            ]),
+            Solve(solved, pushed, out, base + n),
+            Loop("i", n, [Assign(out[base + i], state[base + n + i])]),
+        ]  # fmt: skip
 
     def derivative(time: Expr, state: Expr, out: Expr) -> list:
-        return [
+        body = [
             Call("mass_force", (time, state, p, matrix, force)),
             Count(0),
             Loop("i", n, [Loop("j", n, [Assign(held[i, j], matrix[i, j])])]),
@@ -316,19 +336,14 @@ def rk4_tangent(n: int, a, b, c) -> Scheme:
             Loop("i", n, [Assign(out[i], state[n + i])]),
             Call("tangent", (time, state, p, *(out[n + k] for k in range(n)), slopes)),
             Count(1),
-            Loop("i", n, [
-                Assign(pushed[i], Number(0.0)),
-                Loop("j", 2 * n, [
-                    Assign(pushed[i], pushed[i] + slopes[i * (2 * n) + j] * state[2 * n + j])
-                ]),
-            ]),
-            Solve(held, pushed, out, 3 * n),
-            Loop("i", n, [Assign(out[2 * n + i], state[3 * n + i])]),
-        ]  # fmt: skip
+        ]
+        for v in range(vectors):
+            body += displaced(state, out, m * (v + 1), v == vectors - 1)
+        return body
 
     arrays = (("matrix", (n, n)), ("held", (n, n)), ("force", (n,)), ("pushed", (n,)),
               ("slopes", (2 * n * n,)))  # fmt: skip
-    return _runge_kutta("tangent", 4 * n, derivative, (a, b, c), arrays)
+    return _runge_kutta("tangent", m * (vectors + 1), derivative, (a, b, c), arrays)
 
 
 def _runge_kutta(name: str, m: int, derivative, tableau, arrays) -> Scheme:
@@ -826,10 +841,12 @@ class NumbaStepPrinter(StepPrinter):
         ])  # fmt: skip
 
 
-def scheme_program(method: str, n: int, *, tableau=None, stall: float = 0.5) -> Scheme:
-    """The :class:`Scheme` of ``method`` (``rk4``, ``midpoint``, ``stormer-verlet``) for n
-    coordinates; ``tableau``: the RK4 tableau (a, b, c); ``stall``: the Newton test's
-    STALL_RATIO."""
+def scheme_program(
+    method: str, n: int, *, tableau=None, stall: float = 0.5, vectors: int = 1
+) -> Scheme:
+    """The :class:`Scheme` of ``method`` (``rk4``, ``midpoint``, ``stormer-verlet``,
+    ``rk4-tangent``) for n coordinates; ``tableau``: the RK4 tableau (a, b, c); ``stall``:
+    the Newton test's STALL_RATIO; ``vectors``: the displacements rk4-tangent carries."""
     if method == "rk4":
         return rk4(n, tableau.a, tableau.b, tableau.c)
     if method == "midpoint":
@@ -837,5 +854,5 @@ def scheme_program(method: str, n: int, *, tableau=None, stall: float = 0.5) -> 
     if method == "stormer-verlet":
         return stormer_verlet(n)
     if method == "rk4-tangent":
-        return rk4_tangent(n, tableau.a, tableau.b, tableau.c)
+        return rk4_tangent(n, tableau.a, tableau.b, tableau.c, vectors)
     raise ValueError(f"no fixed-step scheme {method!r}")

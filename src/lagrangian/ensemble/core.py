@@ -63,7 +63,7 @@ from .jax_backend import JaxBackend
 from .members import Members, members
 from .numba_backend import NumbaBackend
 from .numpy_backend import NumpyBackend
-from .observables import INDICATORS, observable_names
+from .observables import INDICATORS, indicator_refusal, observable_names
 from .result import EnsembleTrajectory
 
 if TYPE_CHECKING:
@@ -76,7 +76,7 @@ ENSEMBLE_BACKENDS: Mapping[str, type[AbstractEnsembleBackend]] = MappingProxyTyp
 #: The backends that compute the observable ``lyapunov`` (the others refuse it at once).
 LYAPUNOV_BACKENDS = ("numpy", "numba", "jax", "dask")
 #: The backends that compute the chaos indicators (sali, gali<k>).
-INDICATOR_BACKENDS = ("numpy",)
+INDICATOR_BACKENDS = ("numpy", "numba")
 #: The (2n)-vectors of work per member of a chunk (stages, Newton, observables).
 WORK_VECTORS = 40
 #: The wall clock of a run computed elsewhere (a name, so that tests can move it).
@@ -153,6 +153,9 @@ def run_ensemble(
                 f"observable {name} needs {INDICATORS[name]} deviation vectors: the state of "
                 f"{compiled.n} coordinates has {2 * compiled.n} dimensions"
             )
+        refusal = indicator_refusal(compiled, name) if name in INDICATORS else None
+        if refusal:
+            raise ModelError(refusal)
     integrator = method_class(method).configure(t_span=(t0, t1), dt=dt)
     assert isinstance(integrator, AbstractFixedStepIntegrator)
     integrator.check(compiled)

@@ -13,7 +13,11 @@ for step on the same step grid, so results agree with it to rounding.  One membe
 iteration; a member asking only for ``flip_time`` stops when it has flipped.  For the
 ``lyapunov`` observable the loop is the scheme ``rk4-tangent``: rk4 of the state with one
 displacement from the generated variational equations, renormalised after every step,
-as the numpy backend's :class:`~lagrangian.integrate.lyapunov.TangentFlow`.
+as the numpy backend's :class:`~lagrangian.integrate.lyapunov.TangentFlow`; for the chaos
+indicators (``sali``, ``gali<k>``) it carries k displacements, each renormalised after
+every step, from the numpy backend's starting vectors
+(:class:`~lagrangian.integrate.indicators.TangentFlows`), and the indicators are computed
+here from the unit vectors at t_end, as there.
 
 A constrained system runs rk4 in the loop of :mod:`lagrangian.integrate.numba_projected`
 instead: its generated y' (the augmented system) and projection, those of the compiled DOP853 loop
@@ -30,7 +34,9 @@ from typing import TYPE_CHECKING, ClassVar
 import numpy as np
 
 from ..errors import MissingDependencyError, ModelError
+from ..integrate.indicators import starting_vectors
 from .chunk import AbstractEnsembleBackend, Chunk, Outputs, Progress, generated_forms
+from .observables import indicator_values, indicator_vectors
 
 if TYPE_CHECKING:
     from ..codegen.forms import SymbolicForms
@@ -51,15 +57,16 @@ def _forms(compiled: CompiledSystem) -> SymbolicForms:
     return forms
 
 
-def kernel(compiled: CompiledSystem, scheme: str = "rk4"):
-    """The jitted loops of ``compiled`` and ``scheme`` (built once per equations): ``run``
-    is the ensemble's (:class:`~lagrangian.codegen.loops.SteppingLoop`)."""
+def kernel(compiled: CompiledSystem, scheme: str = "rk4", vectors: int = 1):
+    """The jitted loops of ``compiled`` and ``scheme`` (built once per equations), with
+    ``vectors`` displacements for rk4-tangent: ``run`` is the ensemble's
+    (:class:`~lagrangian.codegen.loops.SteppingLoop`)."""
     from ..codegen.loops import numba_loop
     from ..integrate import tableaus
     from ..integrate.variational import STALL_RATIO
 
     forms = _forms(compiled)
-    return numba_loop(forms, scheme, tableau=tableaus.RK4, stall=STALL_RATIO)
+    return numba_loop(forms, scheme, tableau=tableaus.RK4, stall=STALL_RATIO, vectors=vectors)
 
 
 def tabulated_kernel(compiled: CompiledSystem, shared):
@@ -81,11 +88,17 @@ class NumbaBackend(AbstractEnsembleBackend):
             return projected_members(chunk)
         scheme = chunk.scheme(self.name)
         lyapunov = "lyapunov" in chunk.names
-        if lyapunov:
-            scheme = tangent_scheme(scheme, chunk.integrator.name)
-        run = kernel(chunk.compiled, scheme).run
+        vectors = indicator_vectors(chunk.names)
+        if lyapunov or vectors:
+            scheme = tangent_scheme(scheme, chunk.integrator.name, chunk.names)
+        run = kernel(chunk.compiled, scheme, max(vectors, 1)).run
         grid, count = chunk.grid, chunk.count
         states = np.ascontiguousarray(np.asarray(chunk.y0, dtype=float).T)
+        m = states.shape[1]
+        if lyapunov or vectors:  # the displacements' starting values after the state's
+            states = np.hstack(
+                [states, np.broadcast_to(displacements(m, vectors), (count, m * max(vectors, 1)))]
+            )
         p = np.asarray(chunk.params, dtype=float)
         per_member = np.ascontiguousarray(
             p.T if p.ndim == 2 else np.broadcast_to(p, (count, p.size))
@@ -101,17 +114,30 @@ class NumbaBackend(AbstractEnsembleBackend):
             newton.tol, newton.floor, newton.iterations, final, flips, failures, paths, exponents,
         )  # fmt: skip
         chunk.check_newton(failures)
-        values = chunk.result(final.T, flips, np.transpose(paths, (1, 0, 2)))
+        values = chunk.result(final[:, :m].T, flips, np.transpose(paths, (1, 0, 2)))
         if lyapunov:
             values["lyapunov"] = exponents
+        if vectors:
+            unit = final[:, m:].reshape(count, vectors, m).transpose(1, 2, 0)  # (k, 2n, B)
+            values.update(indicator_values(unit, chunk.names))
         return values
 
 
-def tangent_scheme(scheme: str, method: str) -> str:
-    """The scheme that carries a displacement with the state: rk4's (``rk4-tangent``);
+def displacements(size: int, vectors: int) -> np.ndarray:
+    """The starting displacements, one after the other: the numpy backend's, (1, ..., 1) /
+    sqrt(2n) for ``lyapunov`` alone (TangentFlow) and the orthonormal
+    :func:`~lagrangian.integrate.indicators.starting_vectors` with indicators."""
+    if not vectors:
+        return np.full(size, 1.0 / np.sqrt(size))
+    return starting_vectors(size, vectors).T.ravel()
+
+
+def tangent_scheme(scheme: str, method: str, names: tuple[str, ...] = ("lyapunov",)) -> str:
+    """The scheme that carries displacements with the state: rk4's (``rk4-tangent``);
     the other methods are refused, as by the numpy backend."""
     if scheme != "rk4":
-        raise ModelError(f"the lyapunov observable needs an explicit method (rk4), not {method}")
+        name = "lyapunov" if "lyapunov" in names else "chaos indicator"
+        raise ModelError(f"the {name} observable needs an explicit method (rk4), not {method}")
     return "rk4-tangent"
 
 

@@ -24,10 +24,10 @@ from ..errors import ModelError
 from ..integrate.base import Work
 from ..integrate.explicit_rk import AbstractExplicitRungeKutta
 from ..integrate.fixed_step import StepFailure
-from ..integrate.indicators import CHAOTIC_BELOW, TangentFlows, gali, sali
+from ..integrate.indicators import TangentFlows
 from ..integrate.lyapunov import TangentFlow
 from .chunk import AbstractEnsembleBackend, Chunk, Outputs, Progress
-from .observables import INDICATORS, flipped
+from .observables import flipped, indicator_values, indicator_vectors
 
 
 class NumpyBackend(AbstractEnsembleBackend):
@@ -49,7 +49,7 @@ class NumpyBackend(AbstractEnsembleBackend):
             flip_time[flipped(y, n)] = grid[0]
         shrink = chunk.stop
         tangent = None
-        vectors = max((INDICATORS[name] for name in chunk.names if name in INDICATORS), default=0)
+        vectors = indicator_vectors(chunk.names)
         if "lyapunov" in chunk.names or vectors:
             if not isinstance(integrator, AbstractExplicitRungeKutta):
                 name = "lyapunov" if "lyapunov" in chunk.names else "chaos indicator"
@@ -105,14 +105,3 @@ class NumpyBackend(AbstractEnsembleBackend):
         if vectors:
             values.update(indicator_values(tangent.vectors(z), chunk.names))
         return values
-
-
-def indicator_values(vectors: np.ndarray, names: tuple[str, ...]) -> dict[str, np.ndarray]:
-    """Each chaos indicator asked for, and ``<name>_chaotic`` (below CHAOTIC_BELOW)."""
-    values = {}
-    for name in names:
-        if name in INDICATORS:
-            value = sali(vectors) if name == "sali" else gali(vectors, INDICATORS[name])
-            values[name] = value
-            values[f"{name}_chaotic"] = value < CHAOTIC_BELOW
-    return values

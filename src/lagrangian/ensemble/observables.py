@@ -21,8 +21,9 @@ implementation of the physics:
 - ``sali``, ``gali2``, ``gali3``, ``gali4``: fast chaos indicators from 2 (or k)
   deviation vectors stepped with the state (:mod:`lagrangian.integrate.indicators`), the
   value at t_end and ``<name>_chaotic``, whether it is below
-  :data:`~lagrangian.integrate.indicators.CHAOTIC_BELOW` (1e-8); the numpy backend
-  computes them (rk4).
+  :data:`~lagrangian.integrate.indicators.CHAOTIC_BELOW` (1e-8); the numpy and numba
+  backends compute them (rk4), for Hamiltonian systems of 2 or more degrees of freedom
+  (:func:`indicator_refusal`).
 
 Every run also reports ``failed``: the members whose state at the end (or where
 they stopped) is not finite, NaN or overflowed.
@@ -61,7 +62,7 @@ OBSERVABLES: dict[str, Observable] = {
         Observable("energy_drift", "|E(t_end) - E(0)| / |E(0)|", True),
         Observable("flip_time", "first time some |q| exceeds pi (NaN: never)", False),
         Observable("lyapunov", "largest Lyapunov exponent over the run (rk4; not cuda)", True),
-        Observable("sali", "SALI of 2 deviation vectors at t_end; sali_chaotic (numpy)", True),
+        Observable("sali", "SALI of 2 deviation vectors at t_end; sali_chaotic", True),
         *(
             Observable(f"gali{k}", f"GALI_{k} of {k} deviation vectors; gali{k}_chaotic", True)
             for k in (2, 3, 4)
@@ -85,6 +86,47 @@ def observable_names(names: str | Iterable[str]) -> tuple[str, ...]:
 #: The chaos indicators (:mod:`lagrangian.integrate.indicators`) and the deviation
 #: vectors each needs.
 INDICATORS = {"sali": 2, "gali2": 2, "gali3": 3, "gali4": 4}
+
+
+def indicator_vectors(names: tuple[str, ...]) -> int:
+    """The deviation vectors the chaos indicators among ``names`` need (0: none asked)."""
+    return max((INDICATORS[name] for name in names if name in INDICATORS), default=0)
+
+
+def indicator_refusal(compiled: CompiledSystem, name: str) -> str | None:
+    """Why the chaos indicator ``name`` would not classify this system's orbits (None:
+    it does).  Their test, regular orbits keep the deviation vectors apart, holds for a
+    Hamiltonian flow of 2 or more degrees of freedom: with 1, even a regular orbit's
+    vectors are sheared together (SALI falls like 1/t, Skokos 2001), and dissipation
+    aligns them on any attractor, a fixed point or a limit cycle too."""
+    what = f"observable {name} classifies orbits of Hamiltonian systems"
+    if compiled.n < 2:
+        coordinate = compiled.coordinate_names[0]
+        return f"{what} of 2 or more degrees of freedom; this one has 1 ({coordinate})"
+    if compiled.has_constraints:
+        return f"{what}, not of constrained ones"
+    forms = compiled.forms
+    if forms is None:
+        return f"{what}: it needs derived equations (to check that), not given functions"
+    if not forms.conservative:
+        names, forces = compiled.coordinate_names, forms.nonconservative_forces
+        acting = ", ".join(f"{q}: {f}" for q, f in zip(names, forces, strict=True) if f != 0)
+        return f"{what}; this one has forces or dissipation (Q - dF/dq' on {acting})"
+    return None
+
+
+def indicator_values(vectors: np.ndarray, names: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """Each chaos indicator asked for from the unit deviation vectors at t_end (k, 2n, B),
+    and ``<name>_chaotic`` (below CHAOTIC_BELOW)."""
+    from ..integrate.indicators import CHAOTIC_BELOW, gali, sali
+
+    values = {}
+    for name in names:
+        if name in INDICATORS:
+            value = sali(vectors) if name == "sali" else gali(vectors, INDICATORS[name])
+            values[name] = value
+            values[f"{name}_chaotic"] = value < CHAOTIC_BELOW
+    return values
 
 
 def stops_early(names: tuple[str, ...]) -> bool:
