@@ -334,3 +334,16 @@ def test_a_bead_held_on_a_circle_by_a_spring_from_its_centre_rests_anywhere(time
     (note,) = found.notes
     assert "is one member of a family of rest points on the constraint surface" in note
     assert "(up to 1 free directions;" in note
+
+
+def test_latex_gives_the_constraint_forces_of_each_point():
+    from lagrangian.output.analysis import latex_analysis
+
+    system = lg.load("cartesian_pendulum")
+    latex = latex_analysis(analyze(system.equations_of_motion(), stages=("equilibria",)))
+    bottom, top = latex.split(r"\text{(stable)}")[1], latex.split(r"\text{(unstable)}")[1]
+    # the hanging bob: tension -2 l lambda1 = m g
+    assert bottom.startswith(
+        r" \\" + "\n" + r"&\quad\text{constraint forces at rest: } \lambda_{1} = - \frac{g m}{2 l}"
+    )
+    assert r"\lambda_{1} = \frac{g m}{2 l}" in top

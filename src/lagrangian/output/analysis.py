@@ -409,6 +409,10 @@ def latex_analysis(analysis: Analysis, *, values_given: bool = False) -> str:
             + rf"\ \text{{({e.modes.stability.value})}}"
             + remark
         )
+        multipliers = getattr(e, "multipliers", None)
+        if multipliers:  # the constraint forces that hold a constrained point
+            forces = ", ".join(f"{latex_name(k)} = {show(v)}" for k, v in multipliers.items())
+            rows.append(rf"&\quad\text{{constraint forces at rest: }} {forces}")
         numbers = modes_at_values(e.modes, system) if system.units is not None else None
         if numbers is not None:  # the text's "at g = 9.81 m/s^2: ω² = ..." with its units
             rows.append(latex_mode_numbers(numbers, system))
