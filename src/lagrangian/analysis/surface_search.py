@@ -32,8 +32,9 @@ from ..distributions import without_distributions
 
 #: Starting points: about this many, on a grid and at random in [-pi, pi]^n.
 STARTS = 100
-#: Gauss-Newton steps at most that move a start onto the surface, and the largest step.
-PROJECTION_STEPS, PROJECTION_STEP = 50, 0.5
+#: Gauss-Newton steps at most that move a start onto the surface, the largest turn of an
+#: angle in one step, and the halvings of a step that does not close the gap.
+PROJECTION_STEPS, PROJECTION_STEP, HALVINGS = 60, 0.5, 30
 #: Residual (relative to 1 + the typical size of G) below which a root is accepted.
 ROOT_TOLERANCE = 1e-9
 #: Largest last Newton step (relative to the point) of an accepted root.
@@ -101,7 +102,8 @@ class SurfaceSearch:
         starts = _starts(len(self.q))
         roots: list[SurfaceRoot] = []
         with np.errstate(all="ignore"):
-            begun = [x for x in (functions.begun(s) for s in starts) if x is not None]
+            begun = [functions.begun(s, self.angles) for s in starts]
+            begun = [x for x in begun if x is not None]
             sizes = [np.abs(functions.force(x[: len(self.q)])).max() for x in begun]
             scale = float(np.median(sizes)) if sizes else 1.0
             tolerance = ROOT_TOLERANCE * (1.0 + (scale if np.isfinite(scale) else 0.0))
@@ -170,26 +172,44 @@ class _Functions:
     def jacobian(self, x: np.ndarray) -> np.ndarray:
         return np.array(self._jacobian(list(x)), dtype=float).reshape(len(x), len(x))
 
-    def begun(self, start: np.ndarray) -> np.ndarray | None:
+    def begun(self, start: np.ndarray, angles: list[bool]) -> np.ndarray | None:
         """(q, lambda) to start from: ``start`` moved onto the surface by Gauss-Newton steps
         of least norm, with the least-squares multipliers there; None where it does not get
-        there (a start the steps cannot bring onto the surface)."""
+        there (a start the steps cannot bring onto the surface).
+
+        A step turns no angle by more than PROJECTION_STEP (past a radian it lands anywhere;
+        each angle clipped on its own, so that a length is not held back with them) and is
+        halved until the gap closes some."""
         q = np.array(start, dtype=float)
+        angle = np.array(angles, dtype=bool)
+        gap = self.gap(q)
         for _ in range(PROJECTION_STEPS):
-            gap = np.array(self._constraints(list(q)), dtype=float).ravel()
             if not np.all(np.isfinite(gap)):
                 return None
             if np.abs(gap).max() <= 1e-12 * (1.0 + np.abs(q).max()):
                 break
-            step = np.linalg.lstsq(self.gradient(q), gap, rcond=None)[0]
-            largest = np.abs(step).max()
-            if largest > PROJECTION_STEP:
-                step *= PROJECTION_STEP / largest
-            q = q - step
+            gradient = self.gradient(q)
+            # columns scaled to one size: the least-norm step in mixed units (radians and
+            # millimetres) turned a slider-crank's angles by radians and left its slide
+            scale = np.linalg.norm(gradient, axis=0)
+            scale[scale == 0] = 1.0
+            step = np.linalg.lstsq(gradient / scale, gap, rcond=None)[0] / scale
+            step[angle] = np.clip(step[angle], -PROJECTION_STEP, PROJECTION_STEP)
+            for _ in range(HALVINGS):
+                trial = self.gap(q - step)
+                if np.all(np.isfinite(trial)) and np.linalg.norm(trial) < np.linalg.norm(gap):
+                    break
+                step /= 2
+            else:
+                return None  # no step closes the gap: a point where the gradients drop rank
+            q, gap = q - step, trial
         else:
             return None
         multipliers = np.linalg.lstsq(self.gradient(q).T, -self.force(q), rcond=None)[0]
         return np.concatenate([q, multipliers])
+
+    def gap(self, q: np.ndarray) -> np.ndarray:
+        return np.array(self._constraints(list(q)), dtype=float).ravel()
 
 
 def _starts(n: int) -> list[np.ndarray]:
