@@ -359,3 +359,10 @@ def test_latex_gives_the_constraint_forces_of_each_point():
         r" \\" + "\n" + r"&\quad\text{constraint forces at rest: } \lambda_{1} = - \frac{g m}{2 l}"
     )
     assert r"\lambda_{1} = \frac{g m}{2 l}" in top
+
+
+def test_a_driven_linkage_has_no_rest_point_and_says_why():
+    # the crank turned at a given rate: the constraints depend on t, nothing stays at rest
+    text = format_analysis(lg.load("four_bar_driven").analyze())
+    block = text.split("Equilibria (at rest, staying at rest):")[1].split("\n\n")[0]
+    assert block == "\n  not computed: none in general, the system depends explicitly on t"
