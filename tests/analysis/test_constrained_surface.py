@@ -366,3 +366,19 @@ def test_a_driven_linkage_has_no_rest_point_and_says_why():
     text = format_analysis(lg.load("four_bar_driven").analyze())
     block = text.split("Equilibria (at rest, staying at rest):")[1].split("\n\n")[0]
     assert block == "\n  not computed: none in general, the system depends explicitly on t"
+
+
+def test_without_default_values_the_numerical_route_asks_for_them():
+    # SymPy ended at once, no values to search at: one line naming the parameters
+    system = lg.System.from_particles(
+        ["x", "y"],
+        [lg.Particle("bead", "m", ("x", "y"))],
+        gravity=lg.Gravity("g"),
+        constraints=["x^2 + y^2 - l^2"],
+    )
+    with pytest.raises(lg.ModelError) as error:
+        constrained_equilibria(system.equations_of_motion(), timeout=NUMERIC)
+    assert str(error.value) == (
+        "SymPy cannot solve for the equilibria on the constraint surface; give default"
+        " values for g, l, m to locate them numerically"
+    )

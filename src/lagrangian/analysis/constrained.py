@@ -140,9 +140,11 @@ def surface_rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> Sur
         return SurfaceRestPoints(found, (*families, *redundancy_notes(found)))
     if not complete:
         missing = [p.name for p in system.parameters if p.default is None]
+        said = "cannot solve for" if solutions is None else "found only some of"
         raise ModelError(
-            "SymPy cannot solve for the equilibria on the constraint surface; give default "
-            "values for " + ", ".join(missing) + " to locate them numerically"
+            f"SymPy {said} the equilibria on the constraint surface; give default values for "
+            + ", ".join(missing)
+            + " to locate them numerically"
         )
     table = {p.symbol: sympy.Float(defaults[p.name]) for p in system.parameters}
     if all(is_zero(g.xreplace(table)) for g in rest_force):  # balanced at these values
