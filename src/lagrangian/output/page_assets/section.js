@@ -42,7 +42,7 @@ function lagrangianSection(model, system, element) {
   }
   const dense = model.section.dense;
   const orbits = [];
-  let view = null; // the plane's box as drawn: {xa, xb, ya, yb, width, height}
+  let view = null; // the plane's axes as drawn (lagrangianAxes: the box, X and Y)
 
   // -- the controls ------------------------------------------------------------------------
   const choice = (label, options) => {
@@ -259,69 +259,40 @@ function lagrangianSection(model, system, element) {
   }
 
   // -- the plane -------------------------------------------------------------------------
-  const PAD = 28;
   function draw() {
-    const c = canvas.getContext("2d");
-    const ratio = window.devicePixelRatio || 1;
-    const width = Math.max(100, canvas.clientWidth);
-    const height = Math.round(width * 0.7);
-    if (canvas.width !== width * ratio) {
-      canvas.width = width * ratio;
-      canvas.height = height * ratio;
-      canvas.style.height = `${height}px`;
-    }
-    c.setTransform(ratio, 0, 0, ratio, 0, 0);
-    c.clearRect(0, 0, width, height);
-    let s;
+    let s = null;
     try {
       s = setup();
     } catch (error) {
-      return;
+      // a setting that cannot be read: the plane is left empty (the run says why)
     }
-    const all = orbits.flatMap((o) => o.points);
-    if (!all.length) {
+    const all = s === null ? [] : orbits.flatMap((o) => o.points);
+    if (s !== null && !all.length) {
       // no points yet: the plane about the run's state of the moment
       const now = system.now();
       all.push(...[-1, 1].map((d) => point(s, now.t, now.y).map((v) => v + d)));
     }
-    const range = (v) => {
-      let [lo, hi] = [Math.min(...v), Math.max(...v)];
-      if (hi - lo < 1e-12) [lo, hi] = [lo - 1, hi + 1];
-      return [lo - 0.05 * (hi - lo), hi + 0.05 * (hi - lo)];
-    };
-    const [xa, xb] = range(all.map((p) => p[0]));
-    const [ya, yb] = range(all.map((p) => p[1]));
-    view = { xa, xb, ya, yb, width, height };
-    c.strokeStyle = "#c7cdd4";
-    c.strokeRect(PAD, 6, width - PAD - 6, height - PAD);
-    c.fillStyle = "#5b6570";
-    c.font = "11px sans-serif";
-    const [labelU, labelW] = labelOf(s);
-    c.fillText(`${labelU}   (${xa.toPrecision(3)} to ${xb.toPrecision(3)})`, width / 2 - 40, height - 6);
-    c.save();
-    c.translate(11, height / 2);
-    c.rotate(-Math.PI / 2);
-    c.fillText(labelW, 0, 0);
-    c.restore();
-    c.fillText(ya.toPrecision(3), PAD + 2, height - PAD + 2);
-    c.fillText(yb.toPrecision(3), PAD + 2, 18);
+    const [labelU, labelW] = s === null ? ["", ""] : labelOf(s);
+    const range = (xa, xb) => `${labelU}   (${xa.toPrecision(3)} to ${xb.toPrecision(3)})`;
+    const frame = lagrangianAxes(canvas, all.map((p) => p[0]), all.map((p) => p[1]), [range, labelW], 40);
+    if (frame === null) return;
+    view = frame;
     orbits.forEach((orbit, k) => {
-      c.fillStyle = COLORS[k % COLORS.length];
+      frame.c.fillStyle = COLORS[k % COLORS.length];
       for (const [u, w] of orbit.points) {
         const [x, y] = screen(u, w);
-        c.fillRect(x - 1, y - 1, 2, 2);
+        frame.c.fillRect(x - 1, y - 1, 2, 2);
       }
     });
   }
 
   // CSS pixels on the canvas of (u, w), and back
   function screen(u, w) {
-    const { xa, xb, ya, yb, width, height } = view;
-    return [PAD + ((u - xa) / (xb - xa)) * (width - PAD - 6), height - PAD + 6 - ((w - ya) / (yb - ya)) * (height - PAD)];
+    return [view.X(u), view.Y(w)];
   }
   function plane(x, y) {
-    const { xa, xb, ya, yb, width, height } = view;
-    return [xa + ((x - PAD) / (width - PAD - 6)) * (xb - xa), ya + ((height - PAD + 6 - y) / (height - PAD)) * (yb - ya)];
+    const { xa, xb, ya, yb, width, height, pad } = view;
+    return [xa + ((x - pad) / (width - pad - 6)) * (xb - xa), ya + ((height - pad + 6 - y) / (height - pad)) * (yb - ya)];
   }
 
   const said = (action) => (event) => {
