@@ -158,11 +158,12 @@ class System(StudyMethods, ModelSystem):
         Options: t_end, method ("dop853", "radau", "rk4", "variational"), dt,
         rtol, atol, initial ({q: value, q_dot: value}), params, events, n_out,
         backend ("llvm", the default where SymEngine has LLVM, "numpy", or "numba"
-        for generated machine code).
+        for generated machine code).  The equations are the ones this System keeps
+        (derived once, as for ``equations_of_motion``).
         """
         from .simulation import simulate_system
 
-        return simulate_system(self, **options)
+        return simulate_system(self, equations=lambda: self._derived(inputs_held=False), **options)
 
     def ensemble(self, **options: object):
         """Many runs at once -> EnsembleTrajectory (options: lagrangian.ensemble.run_ensemble)."""

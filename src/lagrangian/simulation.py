@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from .budget import RUN_SECONDS
-from .derive import derive
+from .derive import EquationsOfMotion, derive
 from .errors import ModelError, setting
 from .integrate import method_class, simulate
 from .integrate.base import transient_setting
@@ -76,6 +76,7 @@ def simulate_system(
     definitions: Mapping[str, str] | None = None,
     backend: str | None = None,
     timeout: float | None = RUN_SECONDS,
+    equations: Callable[[], EquationsOfMotion] | None = None,
     **options: object,
 ) -> Trajectory:
     """Simulate ``system``; ``assignments`` are NAME=VALUE pairs that may name a parameter
@@ -88,7 +89,9 @@ def simulate_system(
     for short runs, its compiled loop (numba) or heyoka's taylor for long ones;
     ``timeout``: seconds the integration may take (None: no limit), a run that would
     take longer ends with :class:`~lagrangian.integrate.pace.RunTooLong` as soon as
-    its pace shows it (:mod:`lagrangian.integrate.pace`)."""
+    its pace shows it (:mod:`lagrangian.integrate.pace`); ``equations`` gives the system's
+    equations of motion (``System.simulate``: the ones it keeps, derived once), asked for
+    where ``derive(system)`` runs without it: after the values are checked."""
     settings = dict(system.simulate_settings)
     initial, params = split_assignments(system, assignments, initial, params)
     method = method or settings.get("method")
@@ -102,8 +105,9 @@ def simulate_system(
     else:
         dt = dt if dt is not None else settings.get("dt")
     t_final = _model_t_end(system, t_end)
+    derived = equations() if equations is not None else derive(system)
     run = choose_run(
-        derive(system), t_end=t_final, method=method, backend=backend, rtol=rtol, atol=atol,
+        derived, t_end=t_final, method=method, backend=backend, rtol=rtol, atol=atol,
         initial=initial, params=params, events=options.get("events", ()), definitions=definitions,
         every_step=options.get("t_eval") is None and options.get("n_out") is None,
     )  # fmt: skip
