@@ -382,3 +382,22 @@ def test_without_default_values_the_numerical_route_asks_for_them():
         "SymPy cannot solve for the equilibria on the constraint surface; give default"
         " values for g, l, m to locate them numerically"
     )
+
+
+@pytest.mark.parametrize("timeout", [NUMERIC, 10.0])
+def test_a_constraint_whose_gradient_vanishes_on_its_surface_is_said_not_none_found(timeout):
+    # (x^2 + y^2 - l^2)^2 = 0 holds the bead on the circle, but its gradient is 0 there:
+    # no multiplier balances the weight, and "none found" would say there is no rest point
+    system = lg.System.from_particles(
+        ["x", "y"],
+        [lg.Particle("bead", "m", ("x", "y"))],
+        gravity=lg.Gravity("g"),
+        constraints=["(x^2 + y^2 - l^2)^2"],
+        parameters={"m": 1.0, "g": 9.81, "l": 1.0},
+    )
+    found = surface_rest_points(system.equations_of_motion(), timeout=timeout)
+    assert found.points == ()
+    (note,) = found.notes
+    assert note.startswith(
+        "equilibria: dc/dq has rank 0 for 1 constraint all over the constraint surface"
+    )

@@ -137,7 +137,8 @@ def surface_rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> Sur
         (families and not complete) or (not families and _confirms(search, symbolic, values))
     ):
         found = tuple(_equilibrium(eom, point, multipliers) for point, multipliers in symbolic)
-        return SurfaceRestPoints(found, (*families, *redundancy_notes(found)))
+        notes = (*families, *redundancy_notes(found), *_degenerate(search, values, lambdas, found))
+        return SurfaceRestPoints(found, notes)
     if not complete:
         missing = [p.name for p in system.parameters if p.default is None]
         said = "cannot solve for" if solutions is None else "found only some of"
@@ -151,7 +152,23 @@ def surface_rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> Sur
         return SurfaceRestPoints((_everywhere(eom, numeric=True),))
     found = tuple(_numeric_equilibrium(eom, root) for root in search.roots(defaults))
     found, families = _grouped(eom, found)
-    return SurfaceRestPoints(found, (*families, *redundancy_notes(found)))
+    notes = (*families, *redundancy_notes(found), *_degenerate(search, defaults, lambdas, found))
+    return SurfaceRestPoints(found, notes)
+
+
+def _degenerate(search: SurfaceSearch, values, lambdas: list, found: tuple) -> tuple[str, ...]:
+    """Why nothing was found, where dc/dq is rank-deficient wherever the search reached the
+    surface (a point it does find there is said by :func:`redundancy_notes`)."""
+    rank = None if found else search.surface_rank(values)
+    if rank is None or rank >= len(lambdas):
+        return ()
+    count = f"{len(lambdas)} constraint{'s' if len(lambdas) > 1 else ''}"
+    return (
+        f"equilibria: dc/dq has rank {rank} for {count} all over the constraint surface (a"
+        " constraint written squared, or one that repeats another there): its multipliers"
+        " cannot hold the system at rest, and no point held by them is reported; write each"
+        " constraint so that its gradient does not vanish",
+    )
 
 
 def _grouped(eom: EquationsOfMotion, found: tuple) -> tuple[tuple, tuple[str, ...]]:

@@ -43,6 +43,9 @@ NEWTON_STEP = 1e-6
 DEDUPE_TOLERANCE = 1e-7
 #: Singular values of A below this (relative to the largest) count as zero: its rank.
 RANK_TOLERANCE = 1e-8
+#: A singular value of A on the surface below this times A's size at the starts vanishes
+#: there (a gradient that is 0 on the whole surface, as for a constraint written squared).
+VANISHING = 1e-4
 #: Root coordinates smaller than this are reported as 0.
 SNAP_TO_ZERO = 1e-12
 
@@ -73,6 +76,7 @@ class SurfaceSearch:
         self.equations = sympy.Matrix(equations + list(self.constraints))
         self.angles = [self._periodic(s) for s in self.q]
         self._searched: dict[tuple, list[SurfaceRoot]] = {}
+        self._ranks: dict[tuple, int | None] = {}  # the largest rank of A where starts landed
 
     def _periodic(self, symbol: sympy.Symbol) -> bool:
         shift = {symbol: symbol + 2 * sympy.pi}
@@ -82,10 +86,18 @@ class SurfaceSearch:
         """Distinct roots at the parameter ``values`` (by name; searched once for them)."""
         key = tuple(sorted(values.items()))
         if key not in self._searched:
-            self._searched[key] = self._search(values)
+            self._searched[key] = self._search(values, key)
         return self._searched[key]
 
-    def _search(self, values: Mapping[str, float]) -> list[SurfaceRoot]:
+    def surface_rank(self, values: Mapping[str, float]) -> int | None:
+        """The largest rank of A at the points of the surface the starts reached (at
+        ``values``; None where none reached it): short of the number of constraints, A
+        is rank-deficient all over the surface (a constraint written squared), and the
+        multipliers cannot hold anything there."""
+        self.roots(values)
+        return self._ranks[tuple(sorted(values.items()))]
+
+    def _search(self, values: Mapping[str, float], key: tuple) -> list[SurfaceRoot]:
         import scipy.optimize  # lazily: `lagrangian derive` never needs SciPy
 
         table = {p.symbol: sympy.Float(values[p.name]) for p in self.system.parameters}
@@ -104,6 +116,12 @@ class SurfaceSearch:
         with np.errstate(all="ignore"):
             begun = [functions.begun(s, self.angles) for s in starts]
             begun = [x for x in begun if x is not None]
+            # A's size at the starts, off the surface, is the scale a vanishing gradient on
+            # it is told by: (x^2 + y^2 - l^2)^2 has one of ~1e-6 of it at a gap of 1e-12
+            sizes = [np.linalg.norm(functions.gradient(x), 2) for x in starts]
+            size = float(np.median([x for x in sizes if np.isfinite(x)] or [0.0]))
+            ranks = [_rank(functions.gradient(x[: len(self.q)]), size) for x in begun]
+            self._ranks[key] = max(ranks, default=None)
             sizes = [np.abs(functions.force(x[: len(self.q)])).max() for x in begun]
             scale = float(np.median(sizes)) if sizes else 1.0
             tolerance = ROOT_TOLERANCE * (1.0 + (scale if np.isfinite(scale) else 0.0))
@@ -132,9 +150,7 @@ class SurfaceSearch:
                     q[i] = math.pi
         q[np.abs(q) < SNAP_TO_ZERO] = 0.0
         gradient = functions.gradient(q)
-        singular = np.linalg.svd(gradient, compute_uv=False)
-        largest = singular.max(initial=0.0)
-        rank = int(np.sum(singular > RANK_TOLERANCE * largest)) if largest > 0 else 0
+        rank = _rank(gradient)
         # the balance A^T lambda = -G at the reduced point (least squares where A is
         # rank-deficient: one of many multipliers that hold it)
         multipliers = np.linalg.lstsq(gradient.T, -functions.force(q), rcond=None)[0]
@@ -210,6 +226,20 @@ class _Functions:
 
     def gap(self, q: np.ndarray) -> np.ndarray:
         return np.array(self._constraints(list(q)), dtype=float).ravel()
+
+
+def _rank(matrix: np.ndarray, size: float | None = None) -> int:
+    """The rank of ``matrix`` by its SVD: singular values above RANK_TOLERANCE times the
+    largest (none where every entry is 0); given the ``size`` of the matrix elsewhere, also
+    above VANISHING times it."""
+    singular = np.linalg.svd(matrix, compute_uv=False)
+    largest = singular.max(initial=0.0)
+    if largest == 0:
+        return 0
+    floor = RANK_TOLERANCE * largest
+    if size is not None:
+        floor = max(floor, VANISHING * size)
+    return int(np.sum(singular > floor))
 
 
 def _starts(n: int) -> list[np.ndarray]:
