@@ -109,7 +109,9 @@ def test_a_click_starts_an_orbit_on_the_shell_with_the_crossings_of_lagrangian_p
     )
     x, y = page.evaluate("() => lagrangian.section.screen(0.1, 0.05)")
     page.get_by_label("Poincaré section", exact=True).click(position={"x": x, "y": y})
+    page.evaluate("() => lagrangian.section.settled()")  # integrated in slices
     (orbit,) = page.evaluate("() => lagrangian.section.orbits()")
+    assert orbit["done"]
     start = orbit["start"]
     assert start[0] == 0.0 and start[2] > 0  # on the section x = 0, crossing upwards
     assert start[1] == pytest.approx(0.1, abs=0.01) and start[3] == pytest.approx(0.05, abs=0.01)
@@ -125,6 +127,37 @@ def test_a_click_starts_an_orbit_on_the_shell_with_the_crossings_of_lagrangian_p
     assert np.allclose(orbit["points"], states[:, [1, 3]], rtol=0, atol=1e-6)
     assert np.abs(henon_heiles_energy(*states.T) - E).max() < 1e-8
     assert np.abs(states[:, 0]).max() < 1e-12
+
+
+def test_a_long_orbit_shows_its_first_points_while_the_page_keeps_running(henon_heiles):
+    # t_end = 2000: about 20,000 DOP853 steps, far more than one slice of integration; the
+    # page draws frames between the slices, and the points drawn at the first frame that
+    # shows one are the first crossings of the finished orbit
+    page = henon_heiles.page
+    page.evaluate(
+        "() => lagrangian.section.configure({coordinate: 'x', value: 0, direction: '+',"
+        " axis: 'y', kind: 'momentum', energy: 0.125, t_end: 2000})"
+    )
+    seen = page.evaluate(
+        """async () => {
+            const section = lagrangian.section;
+            const orbit = section.launch(0.1, 0.05);
+            let drawn = section.orbits()[0];
+            while (drawn.points.length === 0) {
+                await new Promise((resolve) => requestAnimationFrame(resolve));
+                drawn = section.orbits()[0];
+            }
+            return { first: drawn, status: section.status(), last: await orbit };
+        }"""
+    )
+    first, last = seen["first"], seen["last"]
+    assert not first["done"] and last["done"]
+    assert 1 <= len(first["points"]) < len(last["points"])
+    assert first["points"] == last["points"][: len(first["points"])]
+    assert first["times"] == last["times"][: len(first["times"])]
+    assert re.fullmatch(r"Orbit 1 from y = .*: \d+ crossings so far \(t = \S+\)…", seen["status"])
+    assert page.evaluate("() => lagrangian.section.status()").endswith(" crossings.")
+    assert henon_heiles.errors == []
 
 
 def test_a_click_outside_the_energy_allowed_region_starts_nothing(henon_heiles):
@@ -218,6 +251,7 @@ def test_the_section_of_the_run_is_that_of_lagrangian_poincare_from_the_models_s
         " axis: 'y', kind: 'velocity', energy: null, t_end: 100})"
     )
     page.get_by_role("button", name="Section of this run").click()
+    page.evaluate("() => lagrangian.section.settled()")
     (orbit,) = page.evaluate("() => lagrangian.section.orbits()")
     start = [0.0, -0.25, 0.42081, 0.0]  # henon_heiles.toml's [initial]
     assert orbit["start"] == start

@@ -8,7 +8,10 @@
 // 3 more stages and the coefficients D, given by lagrangian.output.page_section), found by
 // bisection to 4 ulp of t, where the sign of g at the step's ends changes in the section's
 // direction: the points of `lagrangian poincare MODEL --section "q_c = value"` from the same
-// start.  A start on the section is not a crossing (lagrangian.integrate.events).
+// start.  A start on the section is not a crossing (lagrangian.integrate.events).  An orbit
+// is integrated in slices of a few milliseconds with the page free between them (a long
+// orbit would freeze it): its points appear as they come, and the status line says how far
+// it got.
 //
 // A click at (u, w) starts an orbit with q_a = u, q_c = value, the other coordinates and
 // velocities at their values in the run now (the state of the moment), and
@@ -41,7 +44,10 @@ function lagrangianSection(model, system, element) {
     return { panel, hook: null, clear() {}, draw() {} };
   }
   const dense = model.section.dense;
+  const SLICE_MS = 12; // of integration between two chances for the page to draw and respond
   const orbits = [];
+  const running = new Set(); // the promises of the orbits being integrated (settled(), see track)
+  let clears = 0; // how many times the plane was cleared: an orbit of an earlier one stops
   let view = null; // the plane's axes as drawn (lagrangianAxes: the box, X and Y)
 
   // -- the controls ------------------------------------------------------------------------
@@ -131,8 +137,10 @@ function lagrangianSection(model, system, element) {
     };
   }
 
-  // the crossings {t, y} of the orbit from y0 over [0, tEnd] in the section's direction
-  function crossings(y0, s) {
+  // the crossings {t, y} of the orbit from y0 over [0, tEnd] in the section's direction, as
+  // they come: advance(until) steps until the orbit reaches tEnd (true) or the clock
+  // (performance.now()) passes `until` (false: call again); found holds the crossings so far
+  function crossingsOf(y0, s) {
     const g = (y) => y[s.c] - s.value;
     const steppers = lagrangianIntegrators(model.dop853, n, s.tEnd, system);
     const run = { t: 0, y: y0.slice(), f: null, h: null, p: null, steps: 0 };
@@ -144,7 +152,14 @@ function lagrangianSection(model, system, element) {
       gOld = ahead === 0 ? 0 : Math.sign(ahead) * Number.MIN_VALUE;
     }
     const found = [];
-    while (run.t < s.tEnd) {
+    const advance = (until) => {
+      while (run.t < s.tEnd) {
+        if (run.steps % 64 === 0 && performance.now() > until) return false;
+        step();
+      }
+      return true;
+    };
+    const step = () => {
       if (run.steps >= MAX_STEPS) throw new Error(`the orbit took more than ${MAX_STEPS} steps before t = ${s.tEnd}: give a shorter t_end`);
       steppers.dopStep(run, s.tEnd, RTOL, ATOL);
       const gNew = g(run.y);
@@ -166,19 +181,44 @@ function lagrangianSection(model, system, element) {
         found.push({ t, y: at(t) });
       }
       gOld = gNew;
-    }
-    return found;
+    };
+    return { found, advance, run };
   }
 
   // the plane's point (u, w) of a state
   const point = (s, t, y) => [y[s.a], s.kind === "momentum" ? system.momenta(t, y)[s.a] : y[n + s.a]];
 
-  function addOrbit(s, y0, energy) {
-    const found = crossings(y0, s);
-    const orbit = { start: y0, energy, crossings: found, points: found.map((c) => point(s, c.t, c.y)), setup: s };
+  // The orbit from y0 integrated in slices of SLICE_MS (the first at once), its points drawn
+  // after each, so that the page stays responsive through a long orbit and its points appear
+  // as they come; told(orbit) after each slice.  A promise of the orbit when it reached t_end
+  // (done), or when the plane was cleared (not done); rejected, the orbit taken off the plane,
+  // where it cannot be integrated.
+  function addOrbit(s, y0, energy, told) {
+    const trace = crossingsOf(y0, s);
+    const orbit = { start: y0, energy, crossings: trace.found, points: [], setup: s, done: false, t: 0 };
     orbits.push(orbit);
-    draw();
-    return orbit;
+    const cleared = clears;
+    return new Promise((resolve, reject) => {
+      const slice = () => {
+        if (cleared !== clears) return resolve(orbit);
+        let done;
+        try {
+          done = trace.advance(performance.now() + SLICE_MS);
+        } catch (error) {
+          if (orbits.includes(orbit)) orbits.splice(orbits.indexOf(orbit), 1);
+          draw();
+          return reject(error);
+        }
+        for (const c of trace.found.slice(orbit.points.length)) orbit.points.push(point(s, c.t, c.y));
+        orbit.done = done;
+        orbit.t = trace.run.t;
+        draw();
+        told(orbit);
+        if (done) resolve(orbit);
+        else setTimeout(slice, 0);
+      };
+      slice();
+    });
   }
 
   // -- the start of an orbit on the energy shell through (u, w) ------------------------------
@@ -235,25 +275,36 @@ function lagrangianSection(model, system, element) {
     return E;
   }
 
+  // the orbit's status: its crossings so far while it runs (where it is), then in all
+  const progress = (text, orbit) => say(orbit.done ? `${text}.` : `${text} so far (t = ${orbit.t.toPrecision(3)})…`);
+
+  // the orbit through the plane's point (u, w): a promise of it (see addOrbit); throws where
+  // no orbit starts there
   function launch(u, w) {
     const s = setup();
     const E = targetEnergy();
     const start = shellStart(s, u, w, E);
-    const orbit = addOrbit(s, start, E);
     const [labelU, labelW] = labelOf(s);
-    say(`Orbit ${orbits.length} from ${labelU} = ${u.toPrecision(4)}, ${labelW} = ${w.toPrecision(4)} at E = ${E.toPrecision(6)}: ${orbit.points.length} crossings.`);
-    return orbit;
+    const text = `Orbit ${orbits.length + 1} from ${labelU} = ${u.toPrecision(4)}, ${labelW} = ${w.toPrecision(4)} at E = ${E.toPrecision(6)}`;
+    return track(addOrbit(s, start, E, (orbit) => progress(`${text}: ${orbit.points.length} crossings`, orbit)));
   }
 
   function fromRun() {
     const s = setup();
     const start = system.start();
-    const orbit = addOrbit(s, start, system.energy(0, start));
-    say(`The run's orbit: ${orbit.points.length} crossings up to t = ${s.tEnd}.`);
-    return orbit;
+    return track(addOrbit(s, start, system.energy(0, start), (orbit) => progress(`The run's orbit: ${orbit.points.length} crossings up to t = ${s.tEnd}`, orbit)));
+  }
+
+  // the promise of an orbit, kept until it settles (settled() waits for them all)
+  function track(promise) {
+    const kept = promise.catch(() => null);
+    running.add(kept);
+    kept.then(() => running.delete(kept));
+    return promise;
   }
 
   function clear() {
+    clears += 1;
     orbits.length = 0;
     draw();
   }
@@ -295,9 +346,11 @@ function lagrangianSection(model, system, element) {
     return [xa + ((x - pad) / (width - pad - 6)) * (xb - xa), ya + ((height - pad + 6 - y) / (height - pad)) * (yb - ya)];
   }
 
+  // an action of the panel's controls: what it refuses, at once or as its orbit runs, said
   const said = (action) => (event) => {
     try {
-      action(event);
+      const orbit = action(event);
+      if (orbit instanceof Promise) orbit.catch((error) => say(error.message, true));
     } catch (error) {
       say(error.message, true);
     }
@@ -307,7 +360,7 @@ function lagrangianSection(model, system, element) {
     said((event) => {
       if (view === null) draw();
       const box = canvas.getBoundingClientRect();
-      launch(...plane(event.clientX - box.left, event.clientY - box.top));
+      return launch(...plane(event.clientX - box.left, event.clientY - box.top));
     }),
   );
   runButton.addEventListener("click", said(fromRun));
@@ -339,21 +392,26 @@ function lagrangianSection(model, system, element) {
       if ("t_end" in options) timeField.value = String(options.t_end);
       clear();
     },
-    fromRun: () => summary(fromRun()),
-    // the orbit started at (u, w), or {refused: why} (said in the status line as well)
-    launch(u, w) {
+    // the run's orbit, when integrated (a promise)
+    fromRun: async () => summary(await fromRun()),
+    // the orbit started at (u, w) when integrated, or {refused: why} (said in the status line
+    // as well): a promise
+    async launch(u, w) {
       try {
-        return summary(launch(u, w));
+        return summary(await launch(u, w));
       } catch (error) {
         say(error.message, true);
         return { refused: error.message };
       }
     },
+    // the orbits as drawn now (one being integrated: done false, its points so far)
     orbits: () => orbits.map(summary),
+    // a promise resolved when no orbit is being integrated
+    settled: () => Promise.all([...running]).then(() => undefined),
     clear,
     screen: (u, w) => (view === null ? null : screen(u, w)),
     status: () => status.textContent,
   });
-  const summary = (orbit) => ({ start: orbit.start.slice(), energy: orbit.energy, points: orbit.points.map((p) => p.slice()), times: orbit.crossings.map((c) => c.t), states: orbit.crossings.map((c) => c.y.slice()) });
+  const summary = (orbit) => ({ start: orbit.start.slice(), energy: orbit.energy, points: orbit.points.map((p) => p.slice()), times: orbit.crossings.map((c) => c.t), states: orbit.crossings.map((c) => c.y.slice()), done: orbit.done });
   return { panel, hook, clear, draw };
 }
