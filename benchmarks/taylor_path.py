@@ -24,7 +24,6 @@ tol 1e-18 and the ratio to heyoka's ``propagate_until``.  Nothing is asserted.
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import statistics
 import sys
 import time
@@ -144,23 +143,22 @@ def _default(eom, y0, t_end, tol, heyoka_error, reference, repeat):
         initial=initial, params={},
     )  # fmt: skip
     print(f"  the default's choice: {choice.method} on {choice.compiled.backend}: {choice.reason}")
-    linked = " (compiled loop on llvm)" if getattr(choice, "linked", False) else ""
-    yield _timed(f"default: {choice.method}{linked}", choice.method, choice.compiled,
-                 choice.rtol, choice.atol, y0, t_end, repeat, linked=bool(linked))  # fmt: skip
+    linked = " (compiled loop on llvm)" if choice.linked else ""
+    default = choice.integrator(t_end)  # as simulate_system runs the choice
+    yield _timed(f"default: {choice.method}{linked}", default, choice.compiled, y0, t_end, repeat)
     numba = compile_equations(eom, backend="numba")
     for tight in (tol, tol / 10, tol / 100, tol / 1000):
-        row = _timed(f"dop853 compiled, tol {tight:.0e}", "dop853", numba, max(tight, MIN_RTOL),
-                     tight, y0, t_end, repeat)  # fmt: skip
+        dop853 = method_class("dop853").configure(
+            t_span=(0.0, t_end), rtol=max(tight, MIN_RTOL), atol=tight
+        )
+        row = _timed(f"dop853 compiled, tol {tight:.0e}", dop853, numba, y0, t_end, repeat)
         yield row
         if _error(row[2], reference) <= heyoka_error:
             break
 
 
-def _timed(label, method, compiled, rtol, atol, y0, t_end, repeat, *, linked=False):
+def _timed(label, integrator, compiled, y0, t_end, repeat):
     params = compiled.parameter_vector()
-    integrator = method_class(method).configure(t_span=(0.0, t_end), rtol=rtol, atol=atol)
-    if linked:  # as simulate_system runs that choice
-        integrator = dataclasses.replace(integrator, linked=True)
     integrator.solve(compiled, (0.0, 1.0), y0, params)  # compile or build, untimed
     work = lambda: integrator.solve(compiled, (0.0, t_end), y0, params).y[:, -1]  # noqa: E731
     return interleaved([(label, work)], repeat)[0]
