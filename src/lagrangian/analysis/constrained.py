@@ -20,7 +20,8 @@ A(q0) (the tangent directions), q = q0 + N s and
 
 the curvature of the constraints entering through the multipliers (the bordered
 Hessian of W = V - lambda . c) [Goldstein, ch. 6; Arnold, Mathematical Methods, §22].
-The mode shapes are given in the coordinates q (N s, first non-zero entry 1).  Where
+The mode shapes are given in the coordinates q (N s, first non-zero entry 1; computed in
+:mod:`.surface_modes`).  Where
 A loses rank at a point (constraints redundant there) the multipliers that hold it
 are not determined and the null space of A is not the tangent space of the surface:
 the point is reported with neither (``redundant`` > 0, and a note says so).
@@ -91,8 +92,9 @@ def constrained_equilibria(
 
 
 def surface_rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> SurfaceRestPoints:
-    """:func:`constrained_equilibria` with the notes on what was not reported: a family
-    of rest points, constraints redundant at a point.  ``timeout`` bounds SymPy's solve
+    """:func:`constrained_equilibria` with the notes on what was not reported or not
+    decided: a family of rest points (one member given), constraints redundant at a point,
+    a gradient dc/dq that vanishes all over the surface.  ``timeout`` bounds SymPy's solve
     (and less when a deadline of :mod:`lagrangian.budget` ends sooner)."""
     timeout = checked_seconds(timeout, "timeout")
     system, forms = eom.system, eom.constraints
