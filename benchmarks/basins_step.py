@@ -1,8 +1,11 @@
-"""Issue 35 item 4: does a fused basin loop pay?  The generated rk4 step of the driven
+"""Issue 35 item 4: the cost of a basin map's step.  The generated rk4 step of the driven
 damped pendulum called through the typed-list function pointer that the ensemble's loop
 uses (numba_stepping.run) against the same step called directly (numba specialises on
-the dispatcher, so LLVM may inline it), one thread, CPU ns per step; the two final
-states must be bitwise equal.
+the dispatcher, so LLVM may inline it), and the two whole loops over members, the
+ensemble's plain one and the tabulated one the basin map runs (codegen/time_terms.py: the
+drive and M^-1 read from a table, the step over scalars), one thread, CPU ns per step;
+the final states must be bitwise equal (the pendulum's m = l = g = 1 make the
+tabulated step's regrouping exact).
 
     python benchmarks/basins_step.py [--members 2000] [--steps 1000] [--repeats 3]
 """
@@ -13,12 +16,13 @@ import argparse
 import math
 import statistics
 
+import numba
 import numpy as np
 from numba import njit
 
 from lagrangian.budget import cpu_seconds
 from lagrangian.derive import derive
-from lagrangian.ensemble.numba_backend import kernel
+from lagrangian.ensemble.numba_backend import kernel, tabulated_kernel
 from lagrangian.facade import load
 from lagrangian.numeric import compile_equations
 
@@ -69,6 +73,35 @@ def main() -> None:
         per_step = statistics.median(times) / (args.members * args.steps) * 1e9
         print(f"{name}: {per_step:.1f} ns CPU per step (median of {args.repeats})")
     print("final states bitwise equal:", np.array_equal(finals["direct"], finals["pointer"]))
+    grid = h * np.arange(args.steps + 1)
+    tabulated = tabulated_kernel(compiled, range(p.size))
+    table = tabulated.table(grid, p)
+    count = args.members
+    loops = {
+        "ensemble loop (plain step)": lambda out: loop.run(
+            y0, np.repeat(p[None, :], count, axis=0), grid, False, False, 0, 0.0, 0.0, 0, out,
+            np.empty(count), np.empty(count, dtype=np.int64), np.empty((1, 1, 1)),
+            np.empty(count),
+        ),
+        "basins' loop (tabulated step)": lambda out: tabulated.run(
+            y0, p, grid, table, 0, out, np.empty((1, 1, 1))
+        ),
+    }  # fmt: skip
+    numba.set_num_threads(1)
+    for name, run in loops.items():
+        out = np.empty_like(y0)
+        times = []
+        for _ in range(args.repeats):
+            cpu = cpu_seconds()
+            run(out)
+            times.append(cpu_seconds() - cpu)
+        finals[name] = out
+        per_step = statistics.median(times) / (args.members * args.steps) * 1e9
+        print(f"{name}: {per_step:.1f} ns CPU per step (median of {args.repeats})")
+    print(
+        "tabulated and plain final states bitwise equal:",
+        np.array_equal(*list(finals.values())[2:]),
+    )
 
 
 if __name__ == "__main__":
