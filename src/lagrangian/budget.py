@@ -365,24 +365,25 @@ def expanded_terms(
     over = limit + 1
     counts: dict = {}  # node -> terms of its own expansion
     worst = 0  # the largest expansion made on the way, of any node
-    pending = [(expr, False)]
+    pending: list = [(expr, None)]  # (node, its args once its args are pending)
     while pending:
-        node, ready = pending.pop()
+        node, args = pending.pop()
         if node in counts:
             continue
-        if not ready:
-            pending.append((node, True))
-            pending.extend((arg, False) for arg in node.args if arg not in counts)
+        if args is None:  # the args first (each read once: SymEngine makes them anew)
+            args = node.args
+            pending.append((node, args))
+            pending.extend((arg, None) for arg in args if arg not in counts)
             continue
         if node.is_Add:
-            terms = min(sum(counts[arg] for arg in node.args), over)
+            terms = min(sum(counts[arg] for arg in args), over)
         elif node.is_Mul:
             terms = 1
-            for arg in node.args:
+            for arg in args:
                 terms = min(terms * counts[arg], over)
-        elif powers and node.is_Pow and node.args[1].is_Rational:  # SymPy expands (a + b)^(5/2) too
-            exponent = Fraction(str(node.args[1]))
-            expanded = _multinomial_terms(counts[node.args[0]], abs(math.trunc(exponent)), over)
+        elif powers and node.is_Pow and args[1].is_Rational:  # SymPy expands (a + b)^(5/2) too
+            exponent = Fraction(str(args[1]))
+            expanded = _multinomial_terms(counts[args[0]], abs(math.trunc(exponent)), over)
             worst = max(worst, expanded)  # a denominator is expanded, but is one term
             terms = expanded if exponent > 0 else 1
         else:  # a symbol, a number, a function: one term (its arguments counted in worst)

@@ -184,15 +184,19 @@ def derive_large(
     lagrangian_index = tables.index(lagrangian)
     dissipation = tables.table(tables.split(converted["dissipation"]))
 
-    symbols = dict(system.symbols)  # the SymPy symbol of each name, with its assumptions
-    names = {s.name for x in (*converted.values(), *forces.values()) for s in x.free_symbols}
-    if not names <= symbols.keys():  # a name the model did not declare: take it from the text
-        given = (system.lagrangian, system.dissipation, *system.forces.values())
-        symbols |= {s.name: s for x in given for s in x.free_symbols}
     back: dict = {}
 
-    def sympy_of(value) -> sympy.Expr:
-        return to_sympy(value, symbols, back)
+    @functools.cache
+    def symbols() -> dict:  # the SymPy symbol of each name, with its assumptions
+        known = dict(system.symbols)
+        names = {s.name for x in (*converted.values(), *forces.values()) for s in x.free_symbols}
+        if not names <= known.keys():  # a name the model did not declare: take it from the text
+            given = (system.lagrangian, system.dissipation, *system.forces.values())
+            known |= {s.name: s for x in given for s in x.free_symbols}
+        return known
+
+    def sympy_of(value) -> sympy.Expr:  # made only when M, f or the steps are read
+        return to_sympy(value, symbols(), back)
 
     velocity_index = {vj: j for j, vj in enumerate(v)}
     position_index = {qj: j for j, qj in enumerate(q)}

@@ -179,12 +179,13 @@ def _kinetic_energy_large(
     quadratic: dict = defaultdict(lambda: defaultdict(list))
     linear: dict = defaultdict(lambda: defaultdict(list))
     constant: dict = defaultdict(list)
+    differentiated: dict = {}  # term of a position -> its derivatives (terms recur)
     for mass, position in points:
         m = to_symengine(mass, cache)
         r = [to_symengine(x, cache) for x in position]
         if m is None or any(x is None for x in r):
             return None
-        columns = _jacobian_columns(r, q)
+        columns = _jacobian_columns(r, q, differentiated)
         explicit = tuple(se.diff(x, t) for x in r)
         derivatives = [*explicit, *(x for column in columns.values() for x in column)]
         if any(x.atoms(se.Abs, se.sign) for x in r) and any(map(holds_derivative, derivatives)):
@@ -216,22 +217,29 @@ def _kinetic_energy_large(
     return _back_to_sympy(se.Add(*terms), symbols, cache, known)
 
 
-def _jacobian_columns(position, q) -> dict:
+def _jacobian_columns(position, q, differentiated: dict | None = None) -> dict:
     """{i: dr/dq_i} for the q_i that r depends on (SymEngine).
 
     Each term of r is differentiated by the coordinates it holds only: a chain's bob
-    at depth k costs O(k) derivatives, not O(k n).
+    at depth k costs O(k) derivatives, not O(k n).  ``differentiated`` keeps each term's
+    [(i, d term/dq_i)] for the next points (a chain's bobs share their terms).
     """
     import symengine as se
 
     index = {qi: i for i, qi in enumerate(q)}
+    known = {} if differentiated is None else differentiated
     parts: dict = defaultdict(lambda: [[] for _ in position])
     for k, x in enumerate(position):
         for term in x.args if type(x) is se.Add else (x,):
-            for symbol in term.free_symbols:
-                i = index.get(symbol)
-                if i is not None:
-                    parts[i][k].append(se.diff(term, symbol))
+            found = known.get(term)
+            if found is None:
+                found = known[term] = [
+                    (index[symbol], se.diff(term, symbol))
+                    for symbol in term.free_symbols
+                    if symbol in index
+                ]
+            for i, derivative in found:
+                parts[i][k].append(derivative)
     columns = {}
     for i in sorted(parts):
         column = tuple(se.Add(*terms) for terms in parts[i])
