@@ -7,6 +7,8 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import pytest
+
 import lagrangian
 
 #: Layers and libraries that deriving, analysing or writing a page never uses.
@@ -92,3 +94,24 @@ assert '"status": "success"' in out.getvalue(), out.getvalue()
     loaded = _loaded_after(code)
     assert "lagrangian.integrate" in loaded  # it did run
     assert {"xarray", "pandas", "dask"} & loaded == set()
+
+
+@pytest.mark.slow  # a fresh interpreter derives, analyses and writes a page: 2.7 s of CPU
+def test_writing_a_page_does_not_load_scipys_integrators(tmp_path):
+    """The page's DOP853 steps and dense output read their coefficients from the page's
+    assets (lagrangian.output.page_dop853), not from scipy.integrate: a first page (none
+    kept, LAGRANGIAN_NO_CACHE from the suite's fixture) is written without it."""
+    page = tmp_path / "page.html"
+    code = f"""
+import contextlib, io
+from lagrangian.cli import main
+with contextlib.redirect_stdout(io.StringIO()):
+    try:
+        main(["page", "henon_heiles", "--out", {str(page)!r}])
+    except SystemExit as stop:
+        assert not stop.code, stop.code
+"""
+    loaded = _loaded_after(code)
+    assert '"available": true' in page.read_text("utf-8")  # the section panel's numbers too
+    assert "lagrangian.output.page_dop853" in loaded
+    assert sorted(m for m in loaded if m.startswith("scipy.integrate")) == []

@@ -63,6 +63,7 @@ from .mechanism import (
 )
 from .notation import latex_name, too_long_to_print, unicode_name
 from .page_bodies import inertia_entries, mass_entries
+from .page_dop853 import stepper_coefficients
 from .page_results import results_script, results_section
 from .solids import EQUAL, FLAT, RIM_POINTS
 from .tracks import tracks
@@ -159,7 +160,7 @@ def page_content(
             for q in conserved
         ],
         "sections": _sections(eom, analysis, results),
-        "dop853": _dop853(),
+        "dop853": stepper_coefficients(),  # the page steps as simulate does
     }
     if system.units is not None:  # the readouts' units: t, the energy, each conserved one;
         # the plots' axes: t, each coordinate and its rate
@@ -419,19 +420,3 @@ def _rows(rows: list, width: int) -> sympy.Matrix:
     if not rows:
         return sympy.zeros(0, width)
     return sympy.Matrix([[as_expression(x) for x in row] for row in rows])
-
-
-def _dop853() -> dict:
-    """The coefficients of Dormand and Prince's 8(5,3) pair as SciPy's DOP853 uses them
-    (``simulate --method dop853``), so that the page steps as ``simulate`` does."""
-    from scipy.integrate._ivp import dop853_coefficients as c
-
-    stages = c.N_STAGES
-    return {
-        "stages": stages,
-        "A": [row[:stages].tolist() for row in c.A[:stages]],
-        "B": c.B.tolist(),
-        "C": c.C[:stages].tolist(),
-        "E3": c.E3.tolist(),
-        "E5": c.E5.tolist(),
-    }

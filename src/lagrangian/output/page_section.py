@@ -3,8 +3,8 @@
 The panel integrates orbits in the browser with the page's DOP853 and locates each
 crossing of the section on the step's 7th-order dense output, as ``lagrangian poincare``
 does through SciPy (:mod:`lagrangian.integrate.poincare`): the extra stages and the
-interpolant's coefficients (SciPy's ``A_EXTRA``, ``C_EXTRA`` and ``D``) travel in the
-page's document beside the stepper's (:func:`lagrangian.output.page_content._dop853`).
+interpolant's coefficients (SciPy's ``A_EXTRA``, ``C_EXTRA`` and ``D``, shipped as data:
+:mod:`lagrangian.output.page_dop853`) travel in the page's document beside the stepper's.
 
 A section of an energy shell needs a model whose energy is conserved and whose state
 is its coordinates and velocities: autonomous, without constraints, forces or
@@ -15,6 +15,7 @@ point).  Otherwise the panel says why in place of the controls.
 from __future__ import annotations
 
 from ..model import System
+from .page_dop853 import dense_coefficients
 
 
 def section_document(system: System, constraints: int) -> dict:
@@ -24,17 +25,7 @@ def section_document(system: System, constraints: int) -> dict:
     why = _unavailable(system, constraints)
     if why is not None:
         return {"available": False, "why": why}
-    from scipy.integrate._ivp import dop853_coefficients as c
-
-    extended = c.N_STAGES + 1  # the 12 stages and f at the step's end, then 3 more
-    return {
-        "available": True,
-        "dense": {
-            "A": [row[:s].tolist() for s, row in enumerate(c.A[extended:], start=extended)],
-            "C": c.C[extended:].tolist(),
-            "D": c.D.tolist(),
-        },
-    }
+    return {"available": True, "dense": dense_coefficients()}
 
 
 def _unavailable(system: System, constraints: int) -> str | None:
