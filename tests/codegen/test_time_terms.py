@@ -146,3 +146,19 @@ def test_shared_parameters_are_the_columns_every_member_has():
     params = np.array([[1.0, 2.0, 3.0], [1.0, 2.5, 3.0], [1.0, 2.0, 3.0]])
     assert shared_parameters(params) == (0, 2)
     assert shared_parameters(np.array([1.0, 2.0])) == (0, 1)
+
+
+def test_a_system_without_time_terms_has_an_empty_table_row(tmp_path):
+    # no parameters, no drive, M depends on the state: nothing to tabulate or invert
+    bare = """
+name = "Bare double pendulum"
+coordinates = ["a", "b"]
+kinetic = "a_dot^2 + a_dot*b_dot*cos(a - b) + b_dot^2/2"
+potential = "-2*cos(a) - cos(b)"
+
+[initial]
+a = 0.1
+"""
+    split = split_time_terms(_compiled(tmp_path, bare, "bare").forms, ())
+    assert (split.terms, split.inverse, split.width) == ((), False, 0)
+    assert all(not e.has(sympy.Symbol("_t")) for e in (*split.forcing, *split.mass))

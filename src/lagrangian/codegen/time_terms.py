@@ -72,8 +72,8 @@ def split_time_terms(forms: SymbolicForms, shared: Collection[int]) -> TimeTerms
     allowed = {sympy.Symbol("_t"), *(sympy.Symbol(f"_p{j}") for j in shared)}
     found: dict[sympy.Expr, sympy.Symbol] = {}
 
-    def fixed(expression: sympy.Basic) -> bool:
-        return expression.free_symbols <= allowed
+    def fixed(expression: sympy.Basic) -> bool:  # a number (not a condition) every member has
+        return isinstance(expression, sympy.Expr) and expression.free_symbols <= allowed
 
     def entry(expression: sympy.Expr) -> sympy.Symbol:
         if expression not in found:
