@@ -161,3 +161,15 @@ def rng(request: pytest.FixtureRequest) -> random.Random:
 def np_rng(request: pytest.FixtureRequest) -> np.random.Generator:
     """A NumPy generator seeded from the test's node id."""
     return np.random.default_rng(_seed_of(request))
+
+
+@pytest.fixture(scope="session")
+def browser():
+    """One headless Chromium for the run's browser tests (tests/output/browser.py), in each
+    xdist worker: a test opens its pages (each in a context of its own) and closes them.
+    A launch costs about 1.5 s of CPU: it was paid once per module and worker, and once per
+    test in two files (about 15 times a run)."""
+    from output.browser import chromium
+
+    with chromium() as launched:
+        yield launched

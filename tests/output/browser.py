@@ -28,7 +28,7 @@ def chromium_path() -> str:
 
 @contextmanager
 def chromium() -> Iterator[object]:
-    """A headless Chromium (Playwright's Browser) for one test module."""
+    """A headless Chromium (Playwright's Browser): tests/conftest.py's ``browser``, one a run."""
     sync_api = pytest.importorskip("playwright.sync_api", reason="Playwright is not installed")
     executable = chromium_path()
     with sync_api.sync_playwright() as playwright:

@@ -13,7 +13,7 @@ from analysis.test_check import CASES, MODELS
 from lagrangian.errors import ModelError
 from lagrangian.output.exercise import NO_CONSTRAINTS, NO_FUNCTIONS, STEPS
 from lagrangian.output.page import page_html
-from output.browser import chromium, open_page
+from output.browser import open_page
 
 pytestmark = pytest.mark.slow
 
@@ -24,12 +24,6 @@ PAGE_CASES = [
     for step, answer in answers.items()
     if step in STEPS and "\\" not in str(answer)
 ]
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with chromium() as browser:
-        yield browser
 
 
 @pytest.fixture(scope="module")

@@ -15,7 +15,7 @@ from lagrangian.errors import ParseError
 from lagrangian.output.exercise import STEPS
 from lagrangian.output.page import page_html
 from lagrangian.parsing import Namespace, parse_expression
-from output.browser import chromium, open_page
+from output.browser import open_page
 
 pytestmark = pytest.mark.slow
 
@@ -114,25 +114,24 @@ def system_of(name: str, folder) -> lg.System:
 
 
 @pytest.fixture(scope="module")
-def pages(tmp_path_factory):
+def pages(tmp_path_factory, browser):
     """model name -> (its system, its exercise page opened once)."""
     folder = tmp_path_factory.mktemp("exercise-latex")
     opened = {}
-    with chromium() as browser:
 
-        def page_of(name: str):
-            if name not in opened:
-                system = system_of(name, folder)
-                path = folder / f"{name}.html"
-                path.write_text(page_html(system, exercise=STEPS), "utf-8")
-                page = open_page(browser, path)
-                page.page.wait_for_function("() => window.lagrangianCheck !== undefined")
-                opened[name] = (system, page)
-            return opened[name]
+    def page_of(name: str):
+        if name not in opened:
+            system = system_of(name, folder)
+            path = folder / f"{name}.html"
+            path.write_text(page_html(system, exercise=STEPS), "utf-8")
+            page = open_page(browser, path)
+            page.page.wait_for_function("() => window.lagrangianCheck !== undefined")
+            opened[name] = (system, page)
+        return opened[name]
 
-        yield page_of
-        for _, page in opened.values():
-            page.page.close()
+    yield page_of
+    for _, page in opened.values():
+        page.page.close()
 
 
 def test_the_cases_cover_every_step_and_verdict():

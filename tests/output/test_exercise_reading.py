@@ -15,7 +15,6 @@ import sympy
 
 from lagrangian.errors import ParseError
 from lagrangian.parsing import Namespace, parse_expression
-from output.browser import chromium
 
 pytestmark = pytest.mark.slow
 
@@ -82,15 +81,14 @@ MISSPELT = [
 
 
 @pytest.fixture(scope="module")
-def reader():
-    with chromium() as browser:
-        page = browser.new_page()
-        page.set_content("<html><body></body></html>")
-        assets = resources.files("lagrangian.output").joinpath("page_assets")
-        scripts = [assets.joinpath(name).read_text("utf-8") for name in SCRIPTS]
-        page.add_script_tag(content="\n".join(scripts))
-        yield page
-        page.close()
+def reader(browser):
+    page = browser.new_page()
+    page.set_content("<html><body></body></html>")
+    assets = resources.files("lagrangian.output").joinpath("page_assets")
+    scripts = [assets.joinpath(name).read_text("utf-8") for name in SCRIPTS]
+    page.add_script_tag(content="\n".join(scripts))
+    yield page
+    page.close()
 
 
 def python_value(text: str, point: dict[str, float]) -> float:

@@ -18,7 +18,7 @@ from lagrangian.cli import ExitStatus, main
 from lagrangian.examples import example_names
 from lagrangian.output.page import page_html
 from lagrangian.output.solids import solid_shape
-from output.browser import chromium, open_page
+from output.browser import open_page
 from output.test_page import HOSTILE_DESCRIPTION, HOSTILE_MODEL, HOSTILE_NAME
 
 pytestmark = pytest.mark.slow
@@ -28,12 +28,6 @@ DRAWN_PIXELS = 30
 #: The opacities the mechanism's parts are drawn at (page.js: the planar bodies at 0.85),
 #: on the canvas' opaque white.
 DRAWN_OPACITIES = (1.0, 0.85)
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with chromium() as browser:
-        yield browser
 
 
 @pytest.fixture(scope="module")

@@ -11,7 +11,7 @@ import pytest
 
 from lagrangian.cli import ExitStatus, main
 from lagrangian.output.page import page_html
-from output.browser import chromium, open_page
+from output.browser import open_page
 
 pytestmark = pytest.mark.slow
 
@@ -96,25 +96,24 @@ def command_line_refusal(model: str, name: str, value: float, capsys) -> str | N
 
 
 @pytest.fixture(scope="module")
-def pages(tmp_path_factory):
+def pages(tmp_path_factory, browser):
     folder = tmp_path_factory.mktemp("inertia")
     opened = {}
-    with chromium() as browser:
 
-        def page_of(name: str):
-            if name not in opened:
-                import lagrangian as lg
+    def page_of(name: str):
+        if name not in opened:
+            import lagrangian as lg
 
-                model = model_path(name, folder)
-                path = folder / f"{name}.html"
-                path.write_text(page_html(lg.load(model)), "utf-8")
-                opened[name] = (model, open_page(browser, path))
-                opened[name][1].page.evaluate("() => lagrangian.pause()")
-            return opened[name]
+            model = model_path(name, folder)
+            path = folder / f"{name}.html"
+            path.write_text(page_html(lg.load(model)), "utf-8")
+            opened[name] = (model, open_page(browser, path))
+            opened[name][1].page.evaluate("() => lagrangian.pause()")
+        return opened[name]
 
-        yield page_of
-        for _, page in opened.values():
-            page.page.close()
+    yield page_of
+    for _, page in opened.values():
+        page.page.close()
 
 
 @pytest.mark.parametrize(("model", "name", "refused", "taken"), CASES)

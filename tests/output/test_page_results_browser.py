@@ -14,7 +14,7 @@ import lagrangian as lg
 from lagrangian.cli import ExitStatus, main
 from lagrangian.examples import example_names
 from lagrangian.output.page import page_html
-from output.browser import chromium, open_page
+from output.browser import open_page
 
 pytestmark = pytest.mark.slow
 
@@ -42,12 +42,6 @@ OVERFLOWING = """() => {
   }
   return wide;
 }"""
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with chromium() as browser:
-        yield browser
 
 
 @pytest.fixture(scope="module")

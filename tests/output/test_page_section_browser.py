@@ -19,7 +19,7 @@ import pytest
 import lagrangian as lg
 from lagrangian.cli import ExitStatus, main
 from lagrangian.output.page import page_html
-from output.browser import chromium, open_page
+from output.browser import open_page
 
 pytestmark = pytest.mark.slow
 
@@ -47,12 +47,6 @@ y_dot = -0.1
 t_end = 40.0
 """
 K, B, A = 0.3, 0.7, 0.5
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with chromium() as browser:
-        yield browser
 
 
 @pytest.fixture(scope="module")

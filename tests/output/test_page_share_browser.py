@@ -9,15 +9,9 @@ import pytest
 
 import lagrangian as lg
 from lagrangian.output.page import page_html
-from output.browser import chromium, open_page
+from output.browser import open_page
 
 pytestmark = pytest.mark.slow
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with chromium() as browser:
-        yield browser
 
 
 @pytest.fixture(scope="module")

@@ -8,7 +8,7 @@ import pytest
 import lagrangian as lg
 from lagrangian.output.page import page_html
 from lagrangian.output.page_content import page_content
-from output.browser import chromium, open_page
+from output.browser import open_page
 
 pytestmark = pytest.mark.slow
 
@@ -23,12 +23,6 @@ k = "2 N/cm"
 [initial]
 x = 0.1
 """
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with chromium() as browser:
-        yield browser
 
 
 def test_the_controls_and_readouts_carry_units(browser, tmp_path):

@@ -19,7 +19,6 @@ import lagrangian as lg
 from lagrangian.cli import ExitStatus, main
 from lagrangian.examples import example_names
 from lagrangian.output.worked_solution import report_text, worked_solution
-from output.browser import chromium
 
 pytestmark = pytest.mark.slow
 
@@ -90,24 +89,24 @@ def test_the_pictures_are_beside_the_document_and_in_the_pdf(written):
 
 
 @pytest.mark.parametrize("width", [1400, 412])
-def test_the_html_typesets_every_formula_offline(written, width):
-    with chromium() as browser:
-        page = browser.new_page(viewport={"width": width, "height": 900})
-        messages, requests = [], []
-        page.on("console", lambda message: messages.append((message.type, message.text)))
-        page.on("pageerror", lambda error: messages.append(("pageerror", str(error))))
-        page.on("request", lambda request: requests.append(request.url))
-        page.goto((written / "double_pendulum.html").resolve().as_uri())
-        page.wait_for_load_state("load")
-        counts = page.evaluate(
-            """() => ({
-                formulas: document.querySelectorAll('.math').length,
-                typeset: document.querySelectorAll('.math > .katex, .math > .katex-display').length,
-                errors: document.querySelectorAll('.katex-error').length,
-                pictures: [...document.images].filter(i => i.complete && i.naturalWidth > 0).length,
-                overflow: document.documentElement.scrollWidth - window.innerWidth,
-            })"""
-        )
+def test_the_html_typesets_every_formula_offline(browser, written, width):
+    page = browser.new_page(viewport={"width": width, "height": 900})
+    messages, requests = [], []
+    page.on("console", lambda message: messages.append((message.type, message.text)))
+    page.on("pageerror", lambda error: messages.append(("pageerror", str(error))))
+    page.on("request", lambda request: requests.append(request.url))
+    page.goto((written / "double_pendulum.html").resolve().as_uri())
+    page.wait_for_load_state("load")
+    counts = page.evaluate(
+        """() => ({
+            formulas: document.querySelectorAll('.math').length,
+            typeset: document.querySelectorAll('.math > .katex, .math > .katex-display').length,
+            errors: document.querySelectorAll('.katex-error').length,
+            pictures: [...document.images].filter(i => i.complete && i.naturalWidth > 0).length,
+            overflow: document.documentElement.scrollWidth - window.innerWidth,
+        })"""
+    )
+    page.close()
     assert [m for m in messages if m[0] in ("error", "pageerror")] == []
     assert all(url.startswith("file://") for url in requests), requests
     assert counts["formulas"] > 50

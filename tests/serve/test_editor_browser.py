@@ -17,7 +17,6 @@ from pathlib import Path
 
 import pytest
 
-from output.browser import chromium
 from output.test_page import HOSTILE_MODEL, HOSTILE_NAME
 
 pytest.importorskip("uvicorn", reason="the serve extra (uvicorn) is not installed")
@@ -55,12 +54,6 @@ def editor_url():
         if server.poll() is None:
             os.killpg(server.pid, signal.SIGKILL)
             server.wait(timeout=30)
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with chromium() as browser:
-        yield browser
 
 
 @pytest.mark.slow
