@@ -84,7 +84,7 @@ def main() -> None:
             np.empty(count),
         ),
         "basins' loop (tabulated step)": lambda out: tabulated.run(
-            y0, p, grid, table, 0, out, np.empty((1, 1, 1))
+            y0, np.repeat(p[None, :], count, axis=0), grid, table, 0, out, np.empty((1, 1, 1))
         ),
     }  # fmt: skip
     numba.set_num_threads(1)

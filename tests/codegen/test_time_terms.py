@@ -92,7 +92,8 @@ def _tabulated(compiled, y0, p, grid, every):
     loop = tabulated_loop(compiled.forms, range(p.size), tableau=tableaus.RK4)
     final = np.empty_like(y0)
     paths = np.empty((y0.shape[0], y0.shape[1], (grid.size - 1) // every + 1))
-    loop.run(y0, p, grid, loop.table(grid, p), every, final, paths)
+    per_member = np.repeat(p[None, :], y0.shape[0], axis=0)
+    loop.run(y0, per_member, grid, loop.table(grid, p), every, final, paths)
     assert np.array_equal(final, paths[:, :, -1])
     return paths
 
@@ -162,3 +163,24 @@ a = 0.1
     split = split_time_terms(_compiled(tmp_path, bare, "bare").forms, ())
     assert (split.terms, split.inverse, split.width) == ((), False, 0)
     assert all(not e.has(sympy.Symbol("_t")) for e in (*split.forcing, *split.mass))
+
+
+@pytest.mark.slow  # numba compiles the loop
+def test_numba_ensemble_with_a_varied_drive_equals_numpy(tmp_path):
+    # the numba backend's rk4 runs the tabulated loop; F differs between members, so the
+    # table carries cos(w t) and each member multiplies by its own F (a table made with
+    # one member's F would give every member that drive)
+    from lagrangian.ensemble import run_ensemble
+
+    compiled = _compiled(tmp_path, DUFFING, "duffing")
+    options = dict(
+        initial={"x": 0.5, "x_dot": 0.0}, params={"F": np.linspace(0.1, 0.5, 5)},
+        t_end=20.0, dt=0.01, save_every=100,
+    )  # fmt: skip
+    expected = run_ensemble(compiled, **options)
+    got = run_ensemble(compiled, backend="numba", **options)
+    assert got.attrs["backend"] == "numba"
+    for name in expected.dataset.data_vars:
+        np.testing.assert_allclose(got[name], expected[name], rtol=1e-12, atol=1e-12)
+    finals = np.asarray(got["final_x"])
+    assert np.ptp(finals) > 1e-2  # the members' drives do differ

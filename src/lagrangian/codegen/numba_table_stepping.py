@@ -6,12 +6,11 @@ the code cache, where ``@njit(cache=True)`` keeps the machine code: compiled onc
 machine, it gets a system's step (``rk4_table_step`` of :mod:`.numba_tabulated`) as a
 pointer in a typed list of one, as :mod:`.numba_stepping` gets the plain steps.
 
-    run(size, stack, rows, columns, steppers, y0, p, grid, table, every, final, paths)
+    run(size, stack, rows, columns, steppers, y0, params, grid, table, every, final, paths)
 
 steps every member of ``y0`` over ``grid`` (one member per ``prange`` iteration, each
-with its own workspace), step s reading ``table[s]``; the parameters ``p`` are one
-vector, the same for every member (what the table was made with).  This module itself is
-never run.
+with its own workspace and its row of ``params``), step s reading ``table[s]`` (made
+with the parameters every member shares).  This module itself is never run.
 """
 
 import numpy as np
@@ -35,7 +34,7 @@ def steppers(function):  # pragma: no cover - compiled by numba
 
 @njit(parallel=True, cache=True)
 def run(
-    size, stack, rows, columns, steppers, y0, p, grid, table, every, final, paths
+    size, stack, rows, columns, steppers, y0, params, grid, table, every, final, paths
 ):  # pragma: no cover - compiled by numba
     step = steppers[0]
     count, m = y0.shape
@@ -44,6 +43,7 @@ def run(
         y = np.empty(m)
         for i in range(m):
             y[i] = y0[b, i]
+        p = params[b]
         work = (np.empty(size), np.empty((stack, rows, columns)))
         counts = np.zeros(3, dtype=np.int64)
         if every > 0:

@@ -175,16 +175,17 @@ class TabulatedLoop:
         self._steppers = loops.steppers(system.rk4_table_step)
 
     def table(self, grid: np.ndarray, params: np.ndarray) -> np.ndarray:
-        """(steps, stages, width): each stage's row at t = grid[s] + c_k (grid[s+1] - grid[s])."""
+        """(steps, stages, width): each stage's row at t = grid[s] + c_k (grid[s+1] - grid[s]),
+        with ``params`` (one vector: the shared ones are read)."""
         grid = np.ascontiguousarray(grid, dtype=float)
         table = np.zeros((grid.size - 1, self._stages.size, max(self.width, 1)))
         self.system.tabulate(grid, self._stages, np.ascontiguousarray(params, dtype=float), table)
         return table
 
     def run(self, y0, params, grid, table, every: int, final, paths) -> None:
-        """Every member of ``y0`` (B, 2n) stepped over ``grid`` with ``params`` (shared),
-        the state after every ``every`` steps into ``paths`` (B, 2n, saved) when ``every``,
-        the last into ``final``."""
+        """Every member of ``y0`` (B, 2n) stepped over ``grid`` with its row of ``params``
+        (B, parameters; C order), the state after every ``every`` steps into ``paths``
+        (B, 2n, saved) when ``every``, the last into ``final``."""
         self.loops.run(*self._sizes, self._steppers, y0, params, grid, table, every, final, paths)
 
 

@@ -336,7 +336,8 @@ class _Walk:
         count = states.shape[0]
         paths = np.empty((count, self.m, CHUNK + 1))
         final = np.empty_like(states)
-        self.loop.run(states, self.p, self.grid, self.table, self.steps, final, paths)
+        per_member = np.repeat(self.p[None, :], count, axis=0)
+        self.loop.run(states, per_member, self.grid, self.table, self.steps, final, paths)
         self.iterations += CHUNK * count
         return np.ascontiguousarray(paths[:, :, 1:])
 

@@ -10,7 +10,10 @@ scheme, or Stormer-Verlet when the system is separable, as
 (:mod:`lagrangian.codegen.numba_loop`, a template written out per system and scheme
 so that numba caches the loop's machine code on disk too) follow the numpy backend step
 for step on the same step grid, so results agree with it to rounding.  One member per ``prange``
-iteration; a member asking only for ``flip_time`` stops when it has flipped.  For the
+iteration; a member asking only for ``flip_time`` stops when it has flipped.  Without
+``flip_time`` and the tangent observables, rk4 runs the tabulated loop
+(:func:`tabulated_members`): what depends on t and the parameters every member shares
+(a drive) is computed once per stage into a table, and the step reads it.  For the
 ``lyapunov`` observable the loop is the scheme ``rk4-tangent``: rk4 of the state with one
 displacement from the generated variational equations, renormalised after every step,
 as the numpy backend's :class:`~lagrangian.integrate.lyapunov.TangentFlow`; for the chaos
@@ -89,6 +92,8 @@ class NumbaBackend(AbstractEnsembleBackend):
         scheme = chunk.scheme(self.name)
         lyapunov = "lyapunov" in chunk.names
         vectors = indicator_vectors(chunk.names)
+        if scheme == "rk4" and not (lyapunov or vectors or chunk.track):
+            return tabulated_members(chunk)
         if lyapunov or vectors:
             scheme = tangent_scheme(scheme, chunk.integrator.name, chunk.names)
         run = kernel(chunk.compiled, scheme, max(vectors, 1)).run
@@ -121,6 +126,26 @@ class NumbaBackend(AbstractEnsembleBackend):
             unit = final[:, m:].reshape(count, vectors, m).transpose(1, 2, 0)  # (k, 2n, B)
             values.update(indicator_values(unit, chunk.names))
         return values
+
+
+def tabulated_members(chunk: Chunk) -> Outputs:
+    """The chunk by rk4 with what depends on t and the parameters every member shares (a
+    drive) computed once per stage into a table (:mod:`lagrangian.codegen.time_terms`): a
+    strobe map's or a bifurcation diagram's members all step at the same times."""
+    from ..codegen.time_terms import shared_parameters
+
+    count = chunk.count
+    states = np.ascontiguousarray(np.asarray(chunk.y0, dtype=float).T)
+    p = np.asarray(chunk.params, dtype=float)
+    per_member = np.ascontiguousarray(p.T if p.ndim == 2 else np.broadcast_to(p, (count, p.size)))
+    loop = tabulated_kernel(chunk.compiled, shared_parameters(per_member))
+    grid = np.ascontiguousarray(chunk.grid, dtype=float)
+    table = loop.table(grid, per_member[0])
+    final = np.empty_like(states)
+    paths = np.empty((count, states.shape[1], chunk.saved) if chunk.every else (1, 1, 1))
+    loop.run(states, per_member, grid, table, chunk.every, final, paths)
+    flips = np.full(count, np.nan)  # flip_time is tracked by the plain loop
+    return chunk.result(final.T, flips, np.transpose(paths, (1, 0, 2)))
 
 
 def displacements(size: int, vectors: int) -> np.ndarray:
