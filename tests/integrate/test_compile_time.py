@@ -20,18 +20,19 @@ import lagrangian as lg
 from lagrangian.codegen.llvm import llvm_available
 from lagrangian.integrate import simulate
 from lagrangian.integrate.base import AbstractIntegrator
+from lagrangian.integrate.compiled_loop import CompiledLoop
 from lagrangian.integrate.registry import method_class
 from lagrangian.numeric import compile_equations
 from lagrangian.numeric.compile import default_backend
 
-#: A model no other test compiles, so that its code is made here: ``{k}`` differs between
-#: the tests (the llvm backend's code is made once per process for each set of equations).
+#: A model no other test compiles, so that its code is made here: ``{n}`` differs between
+#: the tests (code is made once per process, or per cache, for each set of equations).
 COUPLED = """
-name = "coupled pair {k}"
+name = "coupled pair {n}"
 coordinates = ["x", "y"]
-parameters = {{ m = 1.0, k = {k} }}
+parameters = {{ m = 1.0, k = 1.5 }}
 kinetic = "m*(x_dot^2 + y_dot^2)/2 + x_dot*y_dot*cos(x - y)/3"
-potential = "k*(x^2 + y^2)/2 + x^2*y"
+potential = "k*(x^2 + y^2)/2 + x^2*y/{n}"
 [initial]
 x = 0.3
 y = -0.2
@@ -108,16 +109,16 @@ LLVM = pytest.mark.skipif(not llvm_available(), reason="SymEngine without LLVM")
 
 
 @pytest.mark.parametrize(
-    ("k", "backend", "method"),
+    ("n", "backend", "method"),
     [
-        pytest.param(1.25, "llvm", "dop853", marks=LLVM, id="llvm-scipy-dop853"),
-        pytest.param(1.5, "llvm", "rk4", marks=LLVM, id="llvm-rk4-step-from-the-motion"),
-        (1.75, "numpy", "dop853"),
-        (2.25, "numpy", "radau"),
+        pytest.param(3, "llvm", "dop853", marks=LLVM, id="llvm-scipy-dop853"),
+        pytest.param(5, "llvm", "rk4", marks=LLVM, id="llvm-rk4-step-from-the-motion"),
+        (7, "numpy", "dop853"),
+        (11, "numpy", "radau"),
     ],
 )
-def test_the_first_call_of_y_prime_is_compile_time(monkeypatch, k, backend, method):
-    _check(*_runs(monkeypatch, lg.loads(COUPLED.format(k=k)), backend, method))
+def test_the_first_call_of_y_prime_is_compile_time(monkeypatch, n, backend, method):
+    _check(*_runs(monkeypatch, lg.loads(COUPLED.format(n=n)), backend, method))
 
 
 @LLVM
@@ -127,14 +128,14 @@ def test_the_linked_loop_counts_the_first_call_of_y_prime_too(monkeypatch):
     # DOP853's compiled loop over the LLVM code of M and f (the CLI's choice for a new
     # system): its own y' steps, and compiled.rhs is called once, at the start check
     linked = dataclasses.replace(method_class("dop853").configure(t_span=(0.0, 0.5)), linked=True)
-    first, *rest = _runs(monkeypatch, lg.loads(COUPLED.format(k=2.75)), "llvm", linked)
+    first, *rest = _runs(monkeypatch, lg.loads(COUPLED.format(n=13)), "llvm", linked)
     assert first.attrs["compiled"]  # the loop ran
     _check(first, *rest)
 
 
 @pytest.mark.skipif(importlib.util.find_spec("heyoka") is None, reason="heyoka not installed")
 def test_a_taylor_run_counts_the_first_call_of_y_prime_besides_heyokas_build(monkeypatch):
-    system = lg.loads(COUPLED.format(k=3.25))
+    system = lg.loads(COUPLED.format(n=17))
     first, *rest = _runs(monkeypatch, system, default_backend(), "taylor")
     assert first.attrs["compiled"].startswith("heyoka's Taylor integrator")
     _check(first, *rest)
@@ -157,3 +158,19 @@ def test_in_a_fresh_process_the_first_call_of_y_prime_is_compile_time():
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert done.returncode == 0, done.stderr[-3000:]
+
+
+@pytest.mark.skipif(importlib.util.find_spec("numba") is None, reason="numba not installed")
+@pytest.mark.slow  # numba compiles a new system's functions and loops: seconds of CPU
+@pytest.mark.parametrize(("n", "method"), [(19, "rk4"), (23, "variational")])
+def test_a_fixed_step_loop_is_made_before_the_run_on_the_numba_backend(monkeypatch, n, method):
+    """The generated loop of a single rk4 or variational run (integrate.compiled_loop) is
+    compiled by the integrator's prepare, not by its first march: the first run's march
+    costs about what the second's does (the same steps), and compile_time holds the rest."""
+    marching = _timed(monkeypatch, CompiledLoop, "march")
+    first, second, total, solving, made = _runs(
+        monkeypatch, lg.loads(COUPLED.format(n=n)), "numba", method
+    )
+    _check(first, second, total, solving, made)
+    assert len(marching) == 2  # each run marched in the compiled loop
+    assert marching[0] < 3 * marching[1] + made / 100

@@ -23,6 +23,7 @@ the constraints after every step as the Python loop projects it.
 
 from __future__ import annotations
 
+import contextlib
 import time
 from collections.abc import Callable
 from typing import TYPE_CHECKING, NamedTuple
@@ -110,6 +111,23 @@ class CompiledLoop:
             work.newton_iterations += int(counts[2])
             work.steps += int(reached)
         return Marched(states, int(reached), int(failed), y)
+
+    def prepare(self, y0: np.ndarray, params: np.ndarray) -> None:
+        """Make (or load from numba's cache) the loop's code for a run from ``y0`` by calls
+        that take no step (numba compiles a function at its first call), so that its cost
+        is paid, and measured, before the run (its ``compile_time``); an error of
+        evaluation at ``y0`` is left to the run, which reports it."""
+        y = np.array(y0, dtype=float)
+        p = np.ascontiguousarray(params, dtype=float)
+        counts = np.zeros(3, dtype=np.int64)
+        states, grid, newton = np.empty((1, y.shape[0])), np.zeros(1), self.newton
+        workspace = self.module.workspace()
+        with contextlib.suppress(Unavailable):
+            _generated(self.module.init, 0.0, y, p, workspace, counts)
+            _generated(
+                self.module.advance, y, p, workspace, grid, 0, 0, newton.tol, newton.floor,
+                newton.iterations, states, counts,
+            )  # fmt: skip
 
 
 def _generated(function, *arguments):

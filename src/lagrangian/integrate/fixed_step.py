@@ -141,6 +141,16 @@ class AbstractFixedStepIntegrator(AbstractIntegrator):
         """The settings of the printed scheme's Newton iterations (none by default)."""
         return Newton(tol=0.0, floor=0.0, stall=0.0, iterations=0)
 
+    def prepare(self, compiled: CompiledSystem, y0: np.ndarray, params: np.ndarray) -> str | None:
+        """On the numba backend, the loop of a single run made or loaded (see the base class
+        and :meth:`.CompiledLoop.prepare`); nothing is said of it (None), as before."""
+        if np.ndim(y0) != 1 or np.ndim(params) != 1:
+            return None
+        loop = compiled_loop(compiled, self.printed_scheme(compiled), self.newton_settings())
+        if isinstance(loop, CompiledLoop):
+            loop.prepare(y0, params)
+        return None
+
     def integrate(self, compiled: CompiledSystem, run: Run) -> IntegrationResult:
         t0, t1, y, params, events = run.t0, run.t1, run.y0, run.params, run.events
         work = Work()
