@@ -5,11 +5,15 @@ The starts: a grid on the section plane x = 0 (y, p_y = y'), x' > 0 solved from 
 1/8 (the starts the energy does not allow left out).  The Lyapunov map: the ``lyapunov``
 observable at ``--lyapunov-t`` (chaotic where the exponent exceeds ``--above``, 0.01: a
 regular orbit's estimate falls like log(t)/t, below 0.005 at t = 2000, while the chaotic
-sea's is about 0.045).  The indicators' map: ``sali`` and ``gali3`` at ``--sali-t``
-(chaotic below 1e-8).  Both on the same ensemble backend (numpy, rk4, dt 0.05); CPU seconds
-of each, and the share of starts both call the same.
+sea's is about 0.045); with ``--long-t``, a second one over a longer run, to see how far
+the reference itself moves.  The indicators' maps: ``sali`` asked alone at ``--sali-t``
+(chaotic where SALI fell below 1e-4 at some step; each member stops there) and ``gali3``
+at ``--gali-t`` (chaotic below 1e-8 at t_end).  All on one ensemble backend (``--backend``,
+rk4, dt 0.05); CPU seconds of each after an untimed warm-up run (numba: the compile), and
+the share of starts each calls as the Lyapunov map does.
 
-    python benchmarks/indicators.py [--size 30] [--lyapunov-t 2000] [--sali-t 300]
+    python benchmarks/indicators.py [--size 16] [--lyapunov-t 4000] [--sali-t 750]
+        [--gali-t 700] [--long-t 10000] [--backend numpy]
 """
 
 from __future__ import annotations
@@ -36,35 +40,50 @@ def starts(size: int) -> dict[str, np.ndarray]:
     return {"x": 0 * y, "y": y, "x_dot": np.sqrt(kinetic[inside]), "y_dot": py}
 
 
-def timed(compiled, initial, t_end, observables):
+def timed(compiled, initial, t_end, observables, backend):
     cpu, wall = cpu_seconds(), time.perf_counter()
-    result = run_ensemble(compiled, initial=initial, t_end=t_end, dt=0.05, observables=observables)
+    result = run_ensemble(
+        compiled, initial=initial, t_end=t_end, dt=0.05, observables=observables, backend=backend
+    )
     return result.dataset, cpu_seconds() - cpu, time.perf_counter() - wall
 
 
 def main() -> None:
     parser = argparse.ArgumentParser()
-    parser.add_argument("--size", type=int, default=30)
-    parser.add_argument("--lyapunov-t", type=float, default=2000.0)
-    parser.add_argument("--sali-t", type=float, default=300.0)
+    parser.add_argument("--size", type=int, default=16)
+    parser.add_argument("--lyapunov-t", type=float, default=4000.0)
+    parser.add_argument("--sali-t", type=float, default=750.0)
+    parser.add_argument("--gali-t", type=float, default=700.0)
+    parser.add_argument("--long-t", type=float, default=0.0)
     parser.add_argument("--above", type=float, default=0.01)
+    parser.add_argument("--backend", default="numpy")
     args = parser.parse_args()
     compiled = compile_equations(derive(load("henon_heiles")))
     initial = starts(args.size)
     count = len(initial["y"])
-    timed(compiled, {k: v[:2] for k, v in initial.items()}, 1.0, ("sali", "lyapunov"))  # warm
-    lyapunov, lyapunov_cpu, lyapunov_wall = timed(compiled, initial, args.lyapunov_t, ("lyapunov",))
-    chaotic = lyapunov["lyapunov"].values > args.above
-    print(f"Hénon–Heiles E = 1/8, {count} starts on x = 0 ({args.size} x {args.size} grid)")
-    share = f"{np.mean(chaotic):.1%} chaotic (> {args.above:g})"
-    print(f"lyapunov at t = {args.lyapunov_t:g}: {lyapunov_cpu:.1f} s CPU "
-          f"({lyapunov_wall:.1f} s wall), {share}")  # fmt: skip
-    for name in ("sali", "gali3"):
-        result, cpu, wall = timed(compiled, initial, args.sali_t, (name,))
+    two = {k: v[:2] for k, v in initial.items()}
+    for names in (("lyapunov",), ("sali",), ("gali3",)):  # warm: numba compiles each loop
+        timed(compiled, two, 1.0, names, args.backend)
+    print(f"Hénon–Heiles E = 1/8, {count} starts on x = 0 ({args.size} x {args.size} grid), "
+          f"backend {args.backend}")  # fmt: skip
+    references = {}
+    for t_end in (args.lyapunov_t, args.long_t) if args.long_t else (args.lyapunov_t,):
+        lyapunov, cpu, wall = timed(compiled, initial, t_end, ("lyapunov",), args.backend)
+        references[t_end] = (lyapunov["lyapunov"].values > args.above, cpu)
+        print(f"lyapunov at t = {t_end:g}: {cpu:.1f} s CPU ({wall:.1f} s wall), "
+              f"{np.mean(references[t_end][0]):.1%} chaotic (> {args.above:g})")  # fmt: skip
+    if args.long_t:
+        short, long = references[args.lyapunov_t][0], references[args.long_t][0]
+        print(f"the two Lyapunov maps agree on {np.mean(short == long):.1%}")
+    lyapunov_cpu = references[args.lyapunov_t][1]
+    for name, t_end in (("sali", args.sali_t), ("gali3", args.gali_t)):
+        result, cpu, wall = timed(compiled, initial, t_end, (name,), args.backend)
         called = result[f"{name}_chaotic"].values
-        print(f"{name} at t = {args.sali_t:g}: {cpu:.1f} s CPU ({wall:.1f} s wall), "
+        agree = "; ".join(f"agree with t = {t:g}'s on {np.mean(called == r):.1%}"
+                          for t, (r, _) in references.items())  # fmt: skip
+        print(f"{name} at t = {t_end:g}: {cpu:.1f} s CPU ({wall:.1f} s wall), "
               f"{np.mean(called):.1%} chaotic; cost / lyapunov's {cpu / lyapunov_cpu:.2f}; "
-              f"agree on {np.mean(called == chaotic):.1%}")  # fmt: skip
+              f"{agree}")  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -596,9 +596,9 @@ def henon_heiles() -> None:
 
 def henon_heiles_sali() -> None:
     """Regular and chaotic starts of Hénon–Heiles on the section x = 0 at E = 1/8 by SALI
-    at t = 700 (the ``sali`` observable of an ensemble; x' > 0 from the energy)."""
-    from matplotlib.colors import LogNorm
-
+    up to t = 750 (the ``sali`` observable of an ensemble, numba; x' > 0 from the energy):
+    each chaotic start coloured by the time its SALI fell below 1e-4, the regular ones
+    (never) white."""
     from lagrangian.derive import derive
     from lagrangian.ensemble import run_ensemble
 
@@ -608,14 +608,15 @@ def henon_heiles_sali() -> None:
     inside = kinetic > 1e-6
     initial = {"x": 0 * y[inside], "y": y[inside], "x_dot": np.sqrt(kinetic[inside])}
     initial["y_dot"] = py[inside]
-    result = run_ensemble(compiled, initial=initial, t_end=700.0, dt=0.05, observables=("sali",))
-    values = np.full(y.shape, np.nan)
-    values[inside] = np.maximum(result.dataset["sali"].values, 1e-16)
-    figure, axes = new_figure(width=6.5, height=5.0)
-    image = axes[0, 0].pcolormesh(
-        y, py, np.ma.masked_invalid(values), norm=LogNorm(1e-16, 1.5), cmap="viridis"
+    result = run_ensemble(
+        compiled, initial=initial, t_end=750.0, dt=0.05, observables=("sali",), backend="numba"
     )
-    figure.colorbar(image, ax=axes[0, 0], label="SALI at t = 700 (chaotic below 1e-8)")
+    values = np.full(y.shape, np.nan)
+    values[inside] = result.dataset["sali_time"].values
+    figure, axes = new_figure(width=6.5, height=5.0)
+    axes[0, 0].contour(y, py, np.where(inside, 0.0, 1.0), levels=[0.5], colors="grey")
+    image = axes[0, 0].pcolormesh(y, py, np.ma.masked_invalid(values), cmap="viridis")
+    figure.colorbar(image, ax=axes[0, 0], label="time SALI fell below 1e-4 (white: never)")
     axes[0, 0].set_xlabel("$y$")
     axes[0, 0].set_ylabel("$p_y$")
     share = float(np.mean(result.dataset["sali_chaotic"].values))

@@ -80,13 +80,14 @@ SMALLER = (
     # the continuation drawn (branches over a diagram of 200 values): a shorter range, and
     # its text (checked in PRINTS) as written
     ("A=1.05:1.084:35 \\", "A=1.05:1.07:11 \\"),
-    # the SALI maps (numpy backend): 3 x 3 starts, a short run
+    # the SALI maps: 3 x 3 starts, a short run (on numpy: no compile)
     (
-        "y=-0.4:0.4:100 --grid y_dot=-0.4:0.4:100 --t-end 700",
-        "y=-0.4:0.4:3 --grid y_dot=-0.4:0.4:3 --t-end 2",
+        "y=-0.4:0.4:100 --grid y_dot=-0.4:0.4:100 --t-end 750 \\\n    --dt 0.05 --observable sali "
+        "--backend numba",
+        "y=-0.4:0.4:3 --grid y_dot=-0.4:0.4:3 --t-end 2 \\\n    --dt 0.05 --observable sali",
     ),
     (
-        "y=-0.4:0.4:20 --grid y_dot=-0.4:0.4:20 --t-end 700",
+        "y=-0.4:0.4:20 --grid y_dot=-0.4:0.4:20 --t-end 750",
         "y=-0.4:0.4:3 --grid y_dot=-0.4:0.4:3 --t-end 2",
     ),
     # the basin maps: 6 x 6 starts

@@ -111,7 +111,7 @@ def ensemble(
     from ..ensemble.observables import INDICATORS
     from ..errors import ModelError
     from ..facade import load
-    from ..integrate.indicators import CHAOTIC_BELOW
+    from ..integrate.indicators import CHAOTIC_BELOW, SALI_BELOW
 
     if scheduler is not None and backend != "dask":
         raise click.BadParameter("--scheduler needs --backend dask", param_hint="--scheduler")
@@ -175,7 +175,11 @@ def ensemble(
             click.echo(f"lyapunov: median {np.nanmedian(values):.3g}, max {np.nanmax(values):.3g}")
         elif name in INDICATORS:
             chaotic = float(np.mean(result[f"{name}_chaotic"]))
-            click.echo(f"{name}: {chaotic:.1%} of the members chaotic ({name} < {CHAOTIC_BELOW:g})")
+            rule = (
+                f"below {SALI_BELOW:g} at some step" if name == "sali"
+                else f"{name} < {CHAOTIC_BELOW:g} at t_end"
+            )  # fmt: skip
+            click.echo(f"{name}: {chaotic:.1%} of the members chaotic ({rule})")
     if out is not None:
         click.echo(f"wrote {out}")
 

@@ -20,6 +20,8 @@ import hashlib
 from pathlib import Path
 from types import ModuleType
 
+import numpy as np
+
 from .cache import built, filled_template, load_text, package_text
 from .forms import SymbolicForms
 from .schemes import MATRICES, scheme_expressions, scheme_scalars
@@ -61,10 +63,12 @@ class SteppingLoop:
         """The arrays the scheme keeps and works in, for one state."""
         return self.loops.workspace(*self._sizes)
 
-    def run(self, *arguments: object) -> None:
-        """The ensemble's loop over members (see :mod:`.numba_stepping`)."""
+    def run(self, *arguments: object, below: float = 0.0, crossings=None) -> None:
+        """The ensemble's loop over members (see :mod:`.numba_stepping`); ``below`` > 0:
+        SALI's first crossing of it into ``crossings``."""
         pointers = (*self._sizes, self._inits, self._steppers, self._carried)
-        self.loops.run(*pointers, *arguments)
+        watched = np.empty(0) if crossings is None else crossings
+        self.loops.run(*pointers, *arguments, float(below), watched)
 
     def advance(self, *arguments: object) -> tuple[int, int]:
         """A stretch of steps of one single run (see :mod:`.numba_stepping`)."""

@@ -13,7 +13,8 @@ is a workspace of a scheme for a system: ``size`` entries for its vectors, ``sta
 matrices of rows x columns, and
 
     run(size, stack, rows, columns, inits, steppers, w, y0, params, grid, track, stop,
-        save_every, tol, floor, iterations, final, flips, failures, paths, exponents)
+        save_every, tol, floor, iterations, final, flips, failures, paths, exponents,
+        below, crossings)
 
 is the ensemble's loop: one member per ``prange`` iteration, each with its own
 workspace.  With ``w`` entries carried after the state (rk4-tangent: k = w / 2n
@@ -21,7 +22,11 @@ displacements, their starting values in ``y0`` after the state's, ``y0`` and ``f
 then 2n + w wide), it renormalises each displacement to length 1 after every step and
 gives each member's largest Lyapunov exponent, the mean of log |w_1| per unit time (the
 numpy backend's ``lyapunov`` observable, :mod:`lagrangian.ensemble.numpy_backend`); the
-unit displacements at the end are in ``final`` (the chaos indicators).
+unit displacements at the end are in ``final`` (the chaos indicators).  With ``below`` > 0
+it computes SALI of the first two after every step, min(|w_1 + w_2|, |w_1 - w_2|), and
+puts the first step time at which it is below ``below`` into ``crossings`` (NaN: never).
+With ``stop``, a member stops once everything looked for has happened: its flip (with
+``track``) and its crossing (with ``below``).
 
     advance(steppers, y, p, work, grid, start, stop, tol, floor, iterations, states, counts)
 
@@ -81,7 +86,8 @@ def steppers(function):  # pragma: no cover - compiled by numba
 @njit(parallel=True, cache=True)
 def run(
     size, stack, rows, columns, inits, steppers, w, y0, params, grid, track, stop,
-    save_every, tol, floor, iterations, final, flips, failures, paths, exponents,
+    save_every, tol, floor, iterations, final, flips, failures, paths, exponents, below,
+    crossings,
 ):  # pragma: no cover - compiled by numba  # fmt: skip
     init, step = inits[0], steppers[0]
     count, width = y0.shape
@@ -98,6 +104,7 @@ def run(
         work = workspace(size, stack, rows, columns)
         counts = np.zeros(3, dtype=np.int64)
         flip = np.nan
+        crossing = np.nan
         failure = -1
         if track:
             for i in range(n):
@@ -106,7 +113,7 @@ def run(
         if save_every > 0:
             for i in range(m):
                 paths[b, i, 0] = y[i]
-        if not (stop and flip == flip):
+        if not (stop and flip == flip and below <= 0.0):
             init(grid[0], y, p, work, counts)
             for s in range(steps):
                 ta = grid[s]
@@ -130,9 +137,21 @@ def run(
                     for i in range(n):
                         if abs(y[i]) > LIMIT:
                             flip = grid[s + 1]
-                    if stop and flip == flip:
-                        break
+                if below > 0.0 and crossing != crossing:
+                    plus = 0.0
+                    minus = 0.0
+                    for i in range(m, 2 * m):
+                        plus += (y[i] + y[i + m]) * (y[i] + y[i + m])
+                        minus += (y[i] - y[i + m]) * (y[i] - y[i + m])
+                    if min(math.sqrt(plus), math.sqrt(minus)) < below:
+                        crossing = grid[s + 1]
+                flipped = flip == flip or not track
+                crossed = crossing == crossing or below <= 0.0
+                if stop and (track or below > 0.0) and flipped and crossed:
+                    break
         flips[b] = flip
+        if below > 0.0:
+            crossings[b] = crossing
         failures[b] = failure
         exponents[b] = stretch / (grid[steps] - grid[0]) if w > 0 else math.nan
         for i in range(width):

@@ -37,7 +37,7 @@ from typing import TYPE_CHECKING, ClassVar
 import numpy as np
 
 from ..errors import MissingDependencyError, ModelError
-from ..integrate.indicators import starting_vectors
+from ..integrate.indicators import SALI_BELOW, starting_vectors
 from .chunk import AbstractEnsembleBackend, Chunk, Outputs, Progress, generated_forms
 from .observables import indicator_values, indicator_vectors
 
@@ -114,9 +114,11 @@ class NumbaBackend(AbstractEnsembleBackend):
         exponents = np.empty(count)
         paths = np.empty((count, states.shape[1], chunk.saved) if chunk.every else (1, 1, 1))
         newton = chunk.newton
+        crossings = np.full(count, np.nan)
         run(
             states, per_member, grid, chunk.track, chunk.stop, chunk.every,
             newton.tol, newton.floor, newton.iterations, final, flips, failures, paths, exponents,
+            below=SALI_BELOW if "sali" in chunk.names else 0.0, crossings=crossings,
         )  # fmt: skip
         chunk.check_newton(failures)
         values = chunk.result(final[:, :m].T, flips, np.transpose(paths, (1, 0, 2)))
@@ -124,7 +126,7 @@ class NumbaBackend(AbstractEnsembleBackend):
             values["lyapunov"] = exponents
         if vectors:
             unit = final[:, m:].reshape(count, vectors, m).transpose(1, 2, 0)  # (k, 2n, B)
-            values.update(indicator_values(unit, chunk.names))
+            values.update(indicator_values(unit, chunk.names, crossings))
         return values
 
 

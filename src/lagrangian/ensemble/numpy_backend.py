@@ -24,7 +24,7 @@ from ..errors import ModelError
 from ..integrate.base import Work
 from ..integrate.explicit_rk import AbstractExplicitRungeKutta
 from ..integrate.fixed_step import StepFailure
-from ..integrate.indicators import TangentFlows
+from ..integrate.indicators import SALI_BELOW, TangentFlows, sali
 from ..integrate.lyapunov import TangentFlow
 from .chunk import AbstractEnsembleBackend, Chunk, Outputs, Progress
 from .observables import flipped, indicator_values, indicator_vectors
@@ -50,6 +50,8 @@ class NumpyBackend(AbstractEnsembleBackend):
         shrink = chunk.stop
         tangent = None
         vectors = indicator_vectors(chunk.names)
+        watch = "sali" in chunk.names  # SALI's first crossing, every step
+        sali_time = np.full(count, np.nan)
         if "lyapunov" in chunk.names or vectors:
             if not isinstance(integrator, AbstractExplicitRungeKutta):
                 name = "lyapunov" if "lyapunov" in chunk.names else "chaos indicator"
@@ -59,8 +61,9 @@ class NumpyBackend(AbstractEnsembleBackend):
             # with indicators, w_1 is the lyapunov observable's displacement
             tangent = TangentFlows(compiled, vectors) if vectors else TangentFlow(compiled)
             z, stretch = tangent.start(y), np.zeros(count)
+            ends = z.copy()  # each member's z where it stopped
         state = integrator.init(compiled, grid[0], y, p, work)
-        if shrink and state is None:
+        if shrink and state is None and not watch:
             keep = np.isnan(flip_time)
             active, y = active[keep], y[:, keep]
             p = p[:, keep] if per_member else p
@@ -74,7 +77,7 @@ class NumpyBackend(AbstractEnsembleBackend):
                 if tangent is not None:  # the same step of the state with its displacement
                     z, state = integrator.step(tangent, ta, tb - ta, z, state, p, work)
                     z, logarithm = tangent.renormalised(z)
-                    stretch += logarithm
+                    stretch[active] += logarithm
                     y = z[: 2 * n]
                 else:
                     y, state = integrator.step(compiled, ta, tb - ta, y, state, p, work)
@@ -87,9 +90,19 @@ class NumpyBackend(AbstractEnsembleBackend):
             if chunk.track:
                 new = flipped(y, n) & np.isnan(flip_time[active])
                 flip_time[active[new]] = tb
-                if shrink and state is None and np.any(new):
-                    final[:, active[new]] = y[:, new]
-                    keep = ~new
+            if watch:
+                new = (sali(tangent.vectors(z)) < SALI_BELOW) & np.isnan(sali_time[active])
+                sali_time[active[new]] = tb
+            if shrink and state is None:
+                done = np.ones(active.size, dtype=bool)
+                for times in [flip_time] * chunk.track + [sali_time] * watch:
+                    done &= ~np.isnan(times[active])
+                if np.any(done):
+                    final[:, active[done]] = y[:, done]
+                    keep = ~done
+                    if tangent is not None:
+                        ends[:, active[done]] = z[:, done]
+                        z = z[:, keep]
                     active, y = active[keep], y[:, keep]
                     p = p[:, keep] if per_member else p
             if chunk.every and k % chunk.every == 0:
@@ -103,5 +116,6 @@ class NumpyBackend(AbstractEnsembleBackend):
         if tangent is not None and "lyapunov" in chunk.names:
             values["lyapunov"] = stretch / (grid[-1] - grid[0])
         if vectors:
-            values.update(indicator_values(tangent.vectors(z), chunk.names))
+            ends[:, active] = z
+            values.update(indicator_values(tangent.vectors(ends), chunk.names, sali_time))
         return values

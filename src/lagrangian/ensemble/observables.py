@@ -19,11 +19,16 @@ implementation of the physics:
   renormalised every step; the numpy, numba (the variational equations generated,
   :mod:`lagrangian.codegen.schemes`), jax and dask backends compute it;
 - ``sali``, ``gali2``, ``gali3``, ``gali4``: fast chaos indicators from 2 (or k)
-  deviation vectors stepped with the state (:mod:`lagrangian.integrate.indicators`), the
-  value at t_end and ``<name>_chaotic``, whether it is below
-  :data:`~lagrangian.integrate.indicators.CHAOTIC_BELOW` (1e-8); the numpy and numba
-  backends compute them (rk4), for Hamiltonian systems of 2 or more degrees of freedom
-  (:func:`indicator_refusal`).
+  deviation vectors stepped with the state (:mod:`lagrangian.integrate.indicators`);
+  the numpy and numba backends compute them (rk4), for Hamiltonian systems of 2 or more
+  degrees of freedom (:func:`indicator_refusal`).  ``sali``: SALI is checked after every
+  step; ``sali_time`` is the first step time at which it is below
+  :data:`~lagrangian.integrate.indicators.SALI_BELOW` (1e-4; NaN: never),
+  ``sali_chaotic`` whether that happened, and ``sali`` its value at the member's last
+  step.  Like ``flip_time`` it needs no state at t_end: a run asking for nothing else
+  stops each member at its crossing.  ``gali<k>``: the value at t_end and
+  ``gali<k>_chaotic``, whether it is below
+  :data:`~lagrangian.integrate.indicators.CHAOTIC_BELOW` (1e-8).
 
 Every run also reports ``failed``: the members whose state at the end (or where
 they stopped) is not finite, NaN or overflowed.
@@ -62,7 +67,11 @@ OBSERVABLES: dict[str, Observable] = {
         Observable("energy_drift", "|E(t_end) - E(0)| / |E(0)|", True),
         Observable("flip_time", "first time some |q| exceeds pi (NaN: never)", False),
         Observable("lyapunov", "largest Lyapunov exponent over the run (rk4; not cuda)", True),
-        Observable("sali", "SALI of 2 deviation vectors at t_end; sali_chaotic", True),
+        Observable(
+            "sali",
+            "SALI of 2 deviation vectors; sali_time (its first step below 1e-4), sali_chaotic",
+            False,
+        ),
         *(
             Observable(f"gali{k}", f"GALI_{k} of {k} deviation vectors; gali{k}_chaotic", True)
             for k in (2, 3, 4)
@@ -115,23 +124,35 @@ def indicator_refusal(compiled: CompiledSystem, name: str) -> str | None:
     return None
 
 
-def indicator_values(vectors: np.ndarray, names: tuple[str, ...]) -> dict[str, np.ndarray]:
-    """Each chaos indicator asked for from the unit deviation vectors at t_end (k, 2n, B),
-    and ``<name>_chaotic`` (below CHAOTIC_BELOW)."""
+def indicator_values(
+    vectors: np.ndarray, names: tuple[str, ...], sali_time: np.ndarray
+) -> dict[str, np.ndarray]:
+    """Each chaos indicator asked for from the unit deviation vectors at each member's last
+    step (k, 2n, B), and ``<name>_chaotic``: for SALI, whether it fell below SALI_BELOW at
+    some step (``sali_time``, the first such step's time, NaN: never, is reported too); for
+    GALI_k, whether it is below CHAOTIC_BELOW at t_end."""
     from ..integrate.indicators import CHAOTIC_BELOW, gali, sali
 
     values = {}
     for name in names:
-        if name in INDICATORS:
-            value = sali(vectors) if name == "sali" else gali(vectors, INDICATORS[name])
-            values[name] = value
-            values[f"{name}_chaotic"] = value < CHAOTIC_BELOW
+        if name == "sali":
+            values["sali"] = sali(vectors)
+            values["sali_time"] = np.asarray(sali_time, dtype=float)
+            values["sali_chaotic"] = np.isfinite(sali_time)
+        elif name in INDICATORS:
+            values[name] = gali(vectors, INDICATORS[name])
+            values[f"{name}_chaotic"] = values[name] < CHAOTIC_BELOW
     return values
 
 
+#: The observables whose value is known once something happens: a flip, SALI's crossing.
+SETTLING = ("flip_time", "sali")
+
+
 def stops_early(names: tuple[str, ...]) -> bool:
-    """Whether members may stop once flipped: no observable needs the state at t_end."""
-    return "flip_time" in names and not any(OBSERVABLES[n].needs_end for n in names)
+    """Whether members may stop once every value asked for is known (flipped, SALI below
+    SALI_BELOW): no observable needs the state at t_end."""
+    return any(n in SETTLING for n in names) and not any(OBSERVABLES[n].needs_end for n in names)
 
 
 def flipped(y: np.ndarray, n: int) -> np.ndarray:
