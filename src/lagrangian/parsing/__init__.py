@@ -14,7 +14,6 @@ bounded by :class:`ParseLimits`, so no input can hang or exhaust the machine.
     BUILTIN_FUNCTIONS, BUILTIN_CONSTANTS, RESERVED_NAMES, ParseLimits, DEFAULT_LIMITS
 """
 
-from lagrangian.parsing.builder import Terms
 from lagrangian.parsing.expression import (
     ReferencedNames,
     parse_expression,
@@ -30,6 +29,7 @@ from lagrangian.parsing.names import (
     DeclaredFunction,
     Namespace,
 )
+from lagrangian.parsing.terms import Terms
 
 __all__ = [
     "BUILTIN_CONSTANTS",

@@ -47,6 +47,7 @@ from lagrangian.parsing.names import (
 )
 from lagrangian.parsing.nodes import Call, Name, Negate, Node, Number, Power, Product, Sum
 from lagrangian.parsing.suggest import likely_meant
+from lagrangian.parsing.terms import Terms
 
 _NON_FINITE = (sympy.S.ComplexInfinity, sympy.S.NaN, sympy.S.Infinity, sympy.S.NegativeInfinity)
 _TRIGONOMETRIC = frozenset({"sin", "cos", "tan", "cot", "sec", "csc"})
@@ -72,21 +73,6 @@ def build_expression(
     if terms is not None and isinstance(node, Sum):
         return builder.top_sum(node, terms)
     return builder.build(node)
-
-
-class Terms:
-    """Terms of top-level sums already built, by their text: {(text, latex): (value, charges)}.
-
-    A chain's positions repeat the same n terms n times.  A term is the same text between
-    two top-level ``+``/``-``, so it makes the same tokens, tree and value; what its build
-    charged against the text's limits (arguments' nodes, roots) is recorded with positions
-    relative to the term and charged again at each later use, in the same order, so a
-    text is refused exactly where building it afresh would refuse it.
-    """
-
-    def __init__(self, latex: bool = False):
-        self.latex = latex  # of the text now parsed: LaTeX tokenizes the same slice otherwise
-        self.built: dict = {}
 
 
 def is_non_finite(value: sympy.Expr) -> bool:

@@ -14,13 +14,14 @@ from dataclasses import dataclass
 import sympy
 
 from lagrangian.errors import ParseError
-from lagrangian.parsing.builder import Terms, build_expression, is_non_finite
+from lagrangian.parsing.builder import build_expression, is_non_finite
 from lagrangian.parsing.latex import looks_like_latex, tokenize_latex
 from lagrangian.parsing.lexer import tokenize
 from lagrangian.parsing.limits import DEFAULT_LIMITS, ParseLimits, log_size
 from lagrangian.parsing.names import BUILTIN_CONSTANTS, BUILTIN_FUNCTIONS, Namespace
 from lagrangian.parsing.nodes import Call, Kind, Name, Negate, Node, Number, Power, Product, Sum
 from lagrangian.parsing.parser import parse_tokens
+from lagrangian.parsing.terms import Terms
 
 
 @dataclass(frozen=True)
@@ -49,7 +50,7 @@ def parse_expression(
     ``trees``: where to keep the syntax tree, ``trees[text]``, for a later pass over the
     text as written (a dimensioned model's check: it is not parsed twice).
     ``terms``: the terms already built for texts parsed with the same ``namespace`` and
-    ``limits`` (:class:`~.builder.Terms`): a term of the text's top-level sum written
+    ``limits`` (:class:`~.terms.Terms`): a term of the text's top-level sum written
     alike is built once, its limits still charged to each text.
 
     Raises :class:`~lagrangian.errors.ParseError` (with the 0-based

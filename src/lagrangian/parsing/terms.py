@@ -1,0 +1,22 @@
+"""``Terms``: the terms of top-level sums a model's texts share, each built once.
+
+The builder (:mod:`.builder`, ``_Builder.top_sum``) keeps them here and charges again,
+at each use, what a term's build charged against the text's limits.
+"""
+
+from __future__ import annotations
+
+
+class Terms:
+    """Terms of top-level sums already built, by their text: {(text, latex): (value, charges)}.
+
+    A chain's positions repeat the same n terms n times.  A term is the same text between
+    two top-level ``+``/``-``, so it makes the same tokens, tree and value; what its build
+    charged against the text's limits (arguments' nodes, roots) is recorded with positions
+    relative to the term and charged again at each later use, in the same order, so a
+    text is refused exactly where building it afresh would refuse it.
+    """
+
+    def __init__(self, latex: bool = False):
+        self.latex = latex  # of the text now parsed: LaTeX tokenizes the same slice otherwise
+        self.built: dict = {}
