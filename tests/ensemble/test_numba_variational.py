@@ -184,12 +184,13 @@ def test_a_second_process_loads_the_compiled_loop_from_the_cache(tmp_path):
     script = (
         "import lagrangian as lg\n"
         "from lagrangian.ensemble import run_ensemble\n"
-        "from lagrangian.ensemble.numba_backend import kernel\n"
+        "from lagrangian.ensemble.numba_backend import tabulated_kernel\n"
         "from lagrangian.numeric import compile_equations\n"
         "c = compile_equations(lg.load('harmonic_oscillator').equations_of_motion())\n"
         "run_ensemble(c, initial={'x': [0.1, 0.2]}, t_end=0.1, dt=0.01, backend='numba')\n"
-        "loop = kernel(c)\n"
-        "stats = [loop.loops.run.stats, loop.system.step.stats]\n"
+        "loop = tabulated_kernel(c, range(len(c.parameter_names)))\n"
+        "s = loop.system\n"
+        "stats = [loop.loops.run.stats, s.rk4_table_step.stats, s.tabulate.stats]\n"
         "hits = sum(sum(s.cache_hits.values()) for s in stats)\n"
         "misses = sum(sum(s.cache_misses.values()) for s in stats)\n"
         "print(hits, misses)\n"
@@ -202,6 +203,7 @@ def test_a_second_process_loads_the_compiled_loop_from_the_cache(tmp_path):
         ).stdout.split()
         for _ in range(2)
     ]
-    # the loop shared by every system of the scheme, and the system's step
-    assert outputs[0] == ["0", "2"]  # compiled and written
-    assert outputs[1] == ["2", "0"]  # read back, nothing compiled
+    # rk4 on numba runs the tabulated loop (codegen/time_terms.py): the loop shared by
+    # every system, and the system's step and table
+    assert outputs[0] == ["0", "3"]  # compiled and written
+    assert outputs[1] == ["3", "0"]  # read back, nothing compiled
