@@ -258,10 +258,16 @@ def _confirms(search: SurfaceSearch, symbolic: list, values: Mapping[str, float]
     """Every numerical root (at ``values``) is one of SymPy's points there."""
     expected = []
     for point, _ in symbolic:
-        numbers = [number_at(sympy.sympify(v), values) for v in point.values()]
+        numbers = [number_at(_expression(v), values) for v in point.values()]
         if all(z is not None and abs(z.imag) <= 1e-9 * (1 + abs(z.real)) for z in numbers):
             expected.append(np.array([z.real for z in numbers]))
     return all(any(_near(search, root.q, e) for e in expected) for root in search.roots(values))
+
+
+def _expression(value) -> sympy.Basic:
+    """A point's coordinate as SymPy: a plain number from the solver made a Float, never
+    parsed (the package evaluates no text)."""
+    return value if isinstance(value, sympy.Basic) else sympy.Float(value)
 
 
 def _near(search: SurfaceSearch, a: np.ndarray, b: np.ndarray) -> bool:
@@ -315,7 +321,7 @@ def _rank(gradient: sympy.Matrix, system) -> int:
     """The rank of A at a point: of its numbers at the parameter values (random ones for
     those without), where every entry has one; else SymPy's."""
     values = _random_values(system)
-    entries = [number_at(sympy.sympify(x), values) for x in gradient]
+    entries = [number_at(x, values) for x in gradient]  # a Matrix holds SymPy objects
     if any(z is None for z in entries):
         return gradient.rank()
     matrix = np.array([z.real for z in entries]).reshape(gradient.shape)
