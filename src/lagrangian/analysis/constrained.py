@@ -38,7 +38,7 @@ import numpy as np
 import sympy
 from sympy.core.function import AppliedUndef
 
-from ..algebra import is_zero, tidy
+from ..algebra import as_expression, is_zero, tidy
 from ..budget import checked_seconds, remaining
 from ..derive import EquationsOfMotion
 from ..distributions import without_distributions
@@ -258,16 +258,10 @@ def _confirms(search: SurfaceSearch, symbolic: list, values: Mapping[str, float]
     """Every numerical root (at ``values``) is one of SymPy's points there."""
     expected = []
     for point, _ in symbolic:
-        numbers = [number_at(_expression(v), values) for v in point.values()]
+        numbers = [number_at(as_expression(v), values) for v in point.values()]
         if all(z is not None and abs(z.imag) <= 1e-9 * (1 + abs(z.real)) for z in numbers):
             expected.append(np.array([z.real for z in numbers]))
     return all(any(_near(search, root.q, e) for e in expected) for root in search.roots(values))
-
-
-def _expression(value) -> sympy.Basic:
-    """A point's coordinate as SymPy: a plain number from the solver made a Float, never
-    parsed (the package evaluates no text)."""
-    return value if isinstance(value, sympy.Basic) else sympy.Float(value)
 
 
 def _near(search: SurfaceSearch, a: np.ndarray, b: np.ndarray) -> bool:

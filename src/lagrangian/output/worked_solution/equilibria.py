@@ -59,10 +59,19 @@ def equilibria_sections(analysis: Analysis, show, values_said: str) -> list[Sect
             intro.append(Paragraph(parts(said[:1].upper() + said[1:] + ".")))
     sections = [Section(parts("Equilibria and normal modes"), tuple(intro))]
     for e in analysis.equilibria:
-        point = [parts(Math(f"{latex_name(k)} = {show(v)}")) for k, v in e.point.items()]
+        found = e.point.items()
+        if getattr(e, "numeric", False):  # a root found numerically: its digits fit a title
+            found = [(k, _digits(v)) for k, v in found]
+        point = [parts(Math(f"{latex_name(k)} = {show(v)}")) for k, v in found]
         title = joined(point) if point else parts("every configuration")
         sections.append(Section(title, _equilibrium_blocks(e, show, system, values_said), 2))
     return sections
+
+
+def _digits(value, significant: int = 6):
+    """A number shown with ``significant`` digits (as the tables show it); else as it is."""
+    value = as_expression(value)
+    return sympy.Float(value, significant) if value.is_Float else value
 
 
 def _equilibrium_blocks(e, show, system, values_said: str) -> tuple:
