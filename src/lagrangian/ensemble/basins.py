@@ -346,11 +346,14 @@ class _Walk:
         shape = tuple(len(v) for v in axes.values())
         total = int(np.prod(shape))
         order = np.argsort((np.arange(total) * 0.6180339887498949) % 1.0, kind="stable")
-        labels = np.full(total, -2, dtype=np.int64)  # -2: not done
+        # each start's label by its place in ``order`` (-2: not done); the labeller marks
+        # cells with that place, so that the start taken first keeps its marks (see label)
+        done_in_order = np.full(total, -2, dtype=np.int64)
         kept = np.zeros((CAPACITY, LOCATE, self.m))
         found = np.zeros(1, dtype=np.int64)
         alias = np.arange(CAPACITY, dtype=np.int64)
         ids = np.empty(0, dtype=np.int64)
+        ranks = np.empty(0, dtype=np.int64)
         states = np.empty((0, self.m))
         status = np.empty(0, dtype=np.int64)
         counters = np.empty((0, 7), dtype=np.int64)
@@ -365,28 +368,33 @@ class _Walk:
                 for d, row in enumerate(self.which):
                     fresh[:, row] = values[d][index[d]]
                 ids = np.concatenate([ids, new])
+                ranks = np.concatenate([ranks, np.arange(taken - new.size, taken)])
                 states = np.concatenate([states, fresh])
                 status = np.concatenate([status, np.full(new.size, -2, dtype=np.int64)])
                 counters = np.concatenate([counters, np.zeros((new.size, 7), dtype=np.int64)])
             points = self.advance(np.ascontiguousarray(states))
             self.labeller.label(
-                points, ids, status, counters, self.cells, self.which, self.lows, self.widths,
-                self.sizes, self.angles, self.centres, self.settings, found, kept, alias, labels,
+                points, ranks, status, counters, self.cells, self.which, self.lows, self.widths,
+                self.sizes, self.angles, self.centres, self.settings, found, kept, alias,
+                done_in_order,
             )  # fmt: skip
             states = points[:, :, -1].copy()
             if self.angle_rows.size:  # the map is the same a turn on: keep angles small
                 states[:, self.angle_rows] = np.mod(states[:, self.angle_rows] + np.pi, 2 * np.pi)
                 states[:, self.angle_rows] -= np.pi
             over = status >= -1
-            labels[ids[over]] = status[over]
+            done_in_order[ranks[over]] = status[over]
             finished = status[over]
             done += int(np.count_nonzero(over))
             keep = ~over
-            ids, states, status, counters = ids[keep], states[keep], status[keep], counters[keep]
+            ids, ranks, states = ids[keep], ranks[keep], states[keep]
+            status, counters = status[keep], counters[keep]
             if np.any(finished >= 0):  # more starts once some have marked basins
                 pool = min(POOL, 4 * pool)
             if progress is not None:
                 progress(done / total)
+        labels = np.empty(total, dtype=np.int64)
+        labels[order] = done_in_order
         return labels.reshape(shape), kept, int(found[0]), alias
 
     def cell(self, point: np.ndarray) -> int:

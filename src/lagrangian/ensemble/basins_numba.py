@@ -19,13 +19,18 @@ state machine of Attractors.jl's ``AttractorsViaRecurrences``:
   points);
 - ``max_iterations`` iterations without any of that, or a point that is not finite: -1.
 
-A cell holds -1 (never visited), k >= 0 (a cell of attractor k), or -(id + 2): the last
-member (by its id) that visited it while searching; a member that finds its own mark
-there has been there before.  The mark of a member since labelled k makes the cell one
-of k's basin; the mark of a member still searching (or labelled -1) is taken over (the
-cell is new to this one).  The module goes into the code cache as it is
-(``package_text``), where numba keeps its machine code; importing
-:mod:`lagrangian.ensemble.basins` does not import it.
+A cell holds -1 (never visited), k >= 0 (a cell of attractor k), or -(id + 2): a member
+(by its id, the place of its start in the order the starts are taken) that visited it
+while searching; a member that finds its own mark there has been there before.  The mark
+of a member since labelled k makes the cell one of k's basin; the mark of a member
+labelled -1, or of one still searching that was taken after this one, is taken over (the
+cell is new to this one); the mark of one still searching that was taken before it is
+left alone.  So the earliest start still searching runs as it would alone, as each start
+does in Attractors.jl, which runs them one after another: members that share the cells of
+one orbit cannot keep wiping each other's marks (with a chunk of iterations no longer
+than the orbit's period none of them would ever see its own mark again).  The module goes
+into the code cache as it is (``package_text``), where numba keeps its machine code;
+importing :mod:`lagrangian.ensemble.basins` does not import it.
 """
 
 import math
@@ -150,6 +155,8 @@ def label(
                             break
                         continue
                     counters[b, 5] = 0
+                    if value <= -2 and value != mark and -value - 2 < ids[b] and done[owner] == -2:
+                        continue  # an earlier start, still searching, keeps its mark
                     if value == mark:
                         counters[b, 1] += 1
                         if counters[b, 1] >= recurrences:
