@@ -198,13 +198,7 @@ class RootSearch:
         function = sympy.lambdify([q], list(system), "numpy")
         jacobian = sympy.lambdify([q], without_distributions(system.jacobian(q)).tolist(), "numpy")
         n = len(q)
-        per_axis = max(2, round(STARTS ** (1 / n)))
-        grid = np.linspace(-math.pi, math.pi, per_axis + 1)[:-1] + math.pi / (2 * per_axis)
-        starts = []
-        if per_axis**n <= 4 * STARTS:
-            starts = [np.array(p) for p in itertools.product(grid, repeat=n)]
-        rng = np.random.default_rng(5)
-        starts += list(rng.uniform(-math.pi, math.pi, size=(max(8, STARTS // 4), n)))
+        starts = starting_points(n)
         if n == len(self.equations):
             options = {"method": "hybr", "jac": lambda x: np.array(jacobian(x), dtype=float)}
         else:
@@ -282,3 +276,15 @@ def number_at(expr: sympy.Expr, values: Mapping[str, float]) -> complex | None:
     except (TypeError, ValueError):
         return None
     return number if np.isfinite(number) else None
+
+
+def starting_points(n: int) -> list[np.ndarray]:
+    """The starts of a search in n angles: a grid of about STARTS points (where it is not
+    much larger) and STARTS / 4 random ones, the same at every call."""
+    per_axis = max(2, round(STARTS ** (1 / n)))
+    grid = np.linspace(-math.pi, math.pi, per_axis + 1)[:-1] + math.pi / (2 * per_axis)
+    starts = []
+    if per_axis**n <= 4 * STARTS:
+        starts = [np.array(p) for p in itertools.product(grid, repeat=n)]
+    rng = np.random.default_rng(5)
+    return starts + list(rng.uniform(-math.pi, math.pi, size=(max(8, STARTS // 4), n)))

@@ -18,7 +18,6 @@ not determined by the point and ``rank`` says so.
 
 from __future__ import annotations
 
-import itertools
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -29,9 +28,8 @@ import sympy
 from ..algebra import is_zero
 from ..derive import EquationsOfMotion
 from ..distributions import without_distributions
+from .search import starting_points
 
-#: Starting points: about this many, on a grid and at random in [-pi, pi]^n.
-STARTS = 100
 #: Gauss-Newton steps at most that move a start onto the surface, the largest turn of an
 #: angle in one step, and the halvings of a step that does not close the gap.
 PROJECTION_STEPS, PROJECTION_STEP, HALVINGS = 60, 0.5, 30
@@ -111,7 +109,7 @@ class SurfaceSearch:
             sympy.lambdify([unknowns], equations.jacobian(unknowns).tolist(), "numpy"),
             len(self.q),
         )
-        starts = _starts(len(self.q))
+        starts = starting_points(len(self.q))
         roots: list[SurfaceRoot] = []
         with np.errstate(all="ignore"):
             begun = [functions.begun(s, self.angles) for s in starts]
@@ -240,16 +238,6 @@ def _rank(matrix: np.ndarray, size: float | None = None) -> int:
     if size is not None:
         floor = max(floor, VANISHING * size)
     return int(np.sum(singular > floor))
-
-
-def _starts(n: int) -> list[np.ndarray]:
-    per_axis = max(2, round(STARTS ** (1 / n)))
-    grid = np.linspace(-math.pi, math.pi, per_axis + 1)[:-1] + math.pi / (2 * per_axis)
-    starts = []
-    if per_axis**n <= 4 * STARTS:
-        starts = [np.array(p) for p in itertools.product(grid, repeat=n)]
-    rng = np.random.default_rng(5)
-    return starts + list(rng.uniform(-math.pi, math.pi, size=(max(8, STARTS // 4), n)))
 
 
 def _polished(functions: _Functions, x: np.ndarray) -> np.ndarray | None:
