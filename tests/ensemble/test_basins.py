@@ -177,3 +177,25 @@ def test_a_grid_must_cover_the_state(well):
 
     with pytest.raises(ModelError, match=r"the grid must cover the whole state \(x, x_dot\)"):
         basins_of_attraction(well, grid={"x": (-1.0, 1.0, 4)}, interval=1.0)
+
+
+@pytest.mark.slow
+def test_a_start_kept_out_of_an_earlier_starts_cells_still_stops_at_max_iterations():
+    """The labeller's paths that go on to the next point (a cell an earlier start still
+    searching owns, a run in basin cells) skipped the iteration limit: a start that only
+    ever met such cells was never labelled and the walk would not end."""
+    from lagrangian.ensemble import basins_numba as walk
+
+    cells = np.full(10, -1, dtype=np.int64)
+    cells[3] = -(0 + 2)  # the mark of the start taken first, still searching
+    status = np.array([walk.SEARCHING], dtype=np.int64)
+    counters = np.zeros((1, 7), dtype=np.int64)
+    settings = np.array([40, 3, 20, 5, 200, 10], dtype=np.int64)  # max_iterations 5
+    walk.label(
+        np.full((1, 1, 10), 3.0), np.array([1], dtype=np.int64), status, counters, cells,
+        np.array([0]), np.array([0.0]), np.array([1.0]), np.array([10]), np.array([False]),
+        np.array([0.0]), settings, np.zeros(1, dtype=np.int64), np.zeros((4, 200, 1)),
+        np.arange(4, dtype=np.int64), np.full(2, -2, dtype=np.int64),
+    )  # fmt: skip
+    assert status[0] == -1 and counters[0, 0] == 6
+    assert cells[3] == -2  # the earlier start's mark is left alone

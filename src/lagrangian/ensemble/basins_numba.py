@@ -110,6 +110,9 @@ def label(
                 break
             point = points[b, :, j]
             counters[b, 0] += 1
+            if state == SEARCHING and counters[b, 0] > limit:
+                status[b] = -1  # the check at the end is skipped by the paths that continue
+                break
             cell = cell_of(point, which, lows, widths, sizes, angles, centres)
             if cell == -2:
                 status[b] = -1
