@@ -352,22 +352,20 @@ class _Walk:
         kept = np.zeros((CAPACITY, LOCATE, self.m))
         found = np.zeros(1, dtype=np.int64)
         alias = np.arange(CAPACITY, dtype=np.int64)
-        ids = np.empty(0, dtype=np.int64)
         ranks = np.empty(0, dtype=np.int64)
         states = np.empty((0, self.m))
         status = np.empty(0, dtype=np.int64)
         counters = np.empty((0, 7), dtype=np.int64)
         values = list(axes.values())
         taken, done, pool = 0, 0, FIRST_POOL
-        while taken < total or ids.size:
-            new = order[taken : taken + max(0, pool - ids.size)]
+        while taken < total or ranks.size:
+            new = order[taken : taken + max(0, pool - ranks.size)]
             taken += new.size
             if new.size:
                 index = np.unravel_index(new, shape)
                 fresh = np.zeros((new.size, self.m))
                 for d, row in enumerate(self.which):
                     fresh[:, row] = values[d][index[d]]
-                ids = np.concatenate([ids, new])
                 ranks = np.concatenate([ranks, np.arange(taken - new.size, taken)])
                 states = np.concatenate([states, fresh])
                 status = np.concatenate([status, np.full(new.size, -2, dtype=np.int64)])
@@ -387,7 +385,7 @@ class _Walk:
             finished = status[over]
             done += int(np.count_nonzero(over))
             keep = ~over
-            ids, ranks, states = ids[keep], ranks[keep], states[keep]
+            ranks, states = ranks[keep], states[keep]
             status, counters = status[keep], counters[keep]
             if np.any(finished >= 0):  # more starts once some have marked basins
                 pool = min(POOL, 4 * pool)
