@@ -28,6 +28,7 @@ import sympy
 from ..errors import MissingDependencyError, ModelError
 from .arrays import eliminated
 from .program import Program
+from .subtrees import hoisted
 from .target import AbstractLoadedTarget
 
 
@@ -110,31 +111,14 @@ def _hoisted(
     or one parameter aside) replaced by a symbol that ``table`` keeps for it."""
     known = set(parameters)
 
-    def fixed(part: sympy.Expr) -> bool:
-        symbols = part.free_symbols
-        return bool(symbols) and symbols <= known
-
-    def name(part: sympy.Expr) -> sympy.Expr:
-        if part.is_Atom:
-            return part
+    def entry(part: sympy.Expr) -> sympy.Expr | None:  # numbers stay as they are
+        if part.is_Atom or not part.free_symbols:
+            return None
         if part not in table:
             table[part] = sympy.Dummy(f"c{len(table)}")
         return table[part]
 
-    def walk(part: sympy.Expr) -> sympy.Expr:
-        if part.is_Atom:
-            return part
-        if fixed(part):
-            return name(part)
-        if isinstance(part, (sympy.Add, sympy.Mul)):  # its parameters' terms or factors
-            constant = [arg for arg in part.args if not arg.free_symbols or fixed(arg)]
-            varying = [walk(arg) for arg in part.args if arg.free_symbols and not fixed(arg)]
-            if any(fixed(arg) for arg in constant):
-                return part.func(name(part.func(*constant)), *varying)
-            return part.func(*constant, *varying)
-        return part.func(*(walk(arg) for arg in part.args))
-
-    return walk(expression)
+    return hoisted(expression, lambda part: part.free_symbols <= known, entry)
 
 
 def _from_sympy(expression, replace: dict):

@@ -36,6 +36,7 @@ from .cache import built, filled_template, load_text, package_text
 from .forms import SymbolicForms
 from .program import indexed_renaming
 from .steps import LEAN
+from .subtrees import hoisted
 
 _SCHEME_BEGIN, _SCHEME_END = "# -- scheme: begin", "# -- scheme: end"
 
@@ -80,23 +81,10 @@ def split_time_terms(forms: SymbolicForms, shared: Collection[int]) -> TimeTerms
             found[expression] = sympy.Symbol(f"_d{len(found)}")
         return found[expression]
 
-    def walk(expression: sympy.Expr) -> sympy.Expr:
-        if expression.is_Atom:
-            return expression
-        if fixed(expression):
-            return entry(expression)
-        if expression.is_Add or expression.is_Mul:  # regroup: (fixed part) op (the rest)
-            inside = [a for a in expression.args if fixed(a)]
-            rest = [walk(a) for a in expression.args if not fixed(a)]
-            if len(inside) > 1 or (inside and not inside[0].is_Atom):
-                return expression.func(entry(expression.func(*inside)), *rest)
-            return expression.func(*inside, *rest)
-        return expression.func(*(walk(a) for a in expression.args))
-
     inverse = all(fixed(entry_) for entry_ in mass)
-    forcing = [walk(e) for e in forcing]
+    forcing = [hoisted(e, fixed, entry) for e in forcing]
     if not inverse:
-        mass = [walk(e) for e in mass]
+        mass = [hoisted(e, fixed, entry) for e in mass]
     return TimeTerms(n, tuple(found), tuple(found.values()), tuple(forcing), tuple(mass), inverse)
 
 
