@@ -79,6 +79,10 @@ def test_basins_csv_and_json(capsys, tmp_path):
             "Invalid value for --phase: --phase goes with --strobe",
         ),
         (
+            ("--grid", "theta=-1e308:1e308:10", "--grid", "theta_dot=-3:3:10", "--strobe", DRIVE),
+            "Invalid value for --grid: 'theta' from -1e+308 to 1e+308: the range's width overflows",
+        ),
+        (
             (
                 "--grid",
                 "theta=-3:3:10",

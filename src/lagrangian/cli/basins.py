@@ -7,7 +7,7 @@ import click
 
 from . import options
 from .app import MODEL_HELP, app
-from .chaos import _check_outputs, _wrote, phase_option
+from .chaos import _check_outputs, _wrote, phase_option, phase_with_strobe
 
 
 @app.command(epilog=MODEL_HELP)
@@ -62,8 +62,7 @@ def basins(
     from .ensemble import _grids
 
     _check_outputs(out, (".csv", ".nc", ".png"), None)
-    if strobe is None and phase is not None:
-        raise click.BadParameter("--phase goes with --strobe", param_hint="--phase")
+    phase_with_strobe(strobe, phase)
     if strobe is not None and interval is not None:
         raise click.BadParameter("give --strobe or --interval, not both", param_hint="--interval")
     system, grid = _grids(grids, load(model), "--grid")

@@ -37,11 +37,21 @@ def section_options(command):
     )(command)
 
 
+def transient_option(help: str):
+    """--transient T, the time run before anything is kept (0 unless given)."""
+    return click.option("--transient", type=float, default=0.0, show_default=True, help=help)
+
+
 def _one_section(section: str | None, strobe: float | None, phase: float | None) -> None:
     """A usage error unless exactly one of --section and --strobe is given, and --phase
     only with --strobe."""
     if (section is None) == (strobe is None):
         raise click.BadParameter("give --section or --strobe (one of them)", param_hint="--section")
+    phase_with_strobe(strobe, phase)
+
+
+def phase_with_strobe(strobe: float | None, phase: float | None) -> None:
+    """A usage error for --phase without --strobe."""
     if phase is not None and strobe is None:
         raise click.BadParameter("--phase goes with --strobe", param_hint="--phase")
 
@@ -104,13 +114,7 @@ def _png(path: str | None, hint: str) -> None:
 @app.command(epilog=MODEL_HELP)
 @click.argument("model")
 @click.option("--t-end", type=float, help="Averaging time (default: the model's t_end).")
-@click.option(
-    "--transient",
-    type=float,
-    default=0.0,
-    show_default=True,
-    help="Time run first and not averaged (to settle on an attractor).",
-)
+@transient_option("Time run first and not averaged (to settle on an attractor).")
 @click.option("--count", type=int, help="How many exponents, largest first (default: all 2n).")
 @click.option("--largest", is_flag=True, help="Only the largest exponent (--count 1).")
 @click.option(
@@ -173,11 +177,7 @@ def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
                 f"expected NAME=LO:HI (LO and HI finite numbers), got {f'{name}={text}'!r}",
                 param_hint="--spread",
             ) from None
-        if not np.isfinite(high - low):  # +-1e308: the starts between would be nan
-            raise click.BadParameter(
-                f"'{name}' from {low:g} to {high:g}: the range's width overflows",
-                param_hint="--spread",
-            )
+        options.check_width(name, low, high, "--spread")
         spread[name] = (low, high)
     return spread
 
@@ -190,13 +190,7 @@ def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
 @section_options
 @click.option("--strobe", type=float, metavar="PERIOD", help="A stroboscopic section instead.")
 @phase_option
-@click.option(
-    "--transient",
-    type=float,
-    default=0.0,
-    show_default=True,
-    help="Time before the first point kept (strobe or section).",
-)
+@transient_option("Time before the first point kept (strobe or section).")
 @click.option("--energy", type=float, help="Start the orbits on this energy shell.")
 @click.option("--orbits", type=int, help="How many orbits (default 10 with --energy/--spread).")
 @options.repeated(
@@ -275,7 +269,7 @@ def poincare(
 @phase_option
 @section_options
 @options.required("--axis", "NAME", "The coordinate or velocity drawn.", dest="variable")
-@click.option("--transient", type=float, default=0.0, show_default=True, help="Time dropped first.")
+@transient_option("Time dropped first.")
 @click.option("--samples", type=int, help="Points kept per value (default 100).")
 @click.option("--steps-per-period", type=int, help="Fixed steps per period (default 200).")
 @options.number("--t-end", "With --section: time after the transient (default: the model's).")

@@ -49,12 +49,7 @@ def _grids(
     system, lows = options.given_values({n: s[0] for n, s in specs.items()}, system, option)
     system, highs = options.given_values({n: s[1] for n, s in specs.items()}, system, option)
     for name in specs:
-        low, high = float(lows[name]), float(highs[name])
-        if not np.isfinite(high - low):  # +-1e308: every value between would be nan
-            raise click.BadParameter(
-                f"'{name}' from {low:g} to {high:g}: the range's width overflows",
-                param_hint=option,
-            )
+        options.check_width(name, float(lows[name]), float(highs[name]), option)
     ndim = len(specs)
     return system, {
         name: GridAxis(lows[name], highs[name], count, axis, ndim)

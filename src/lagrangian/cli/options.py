@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import math
 import sys
 import time
 from collections.abc import Callable, Iterable
@@ -203,6 +204,15 @@ def numbers(pairs: dict[str, str], hint: str) -> dict[str, float]:
                 f"expected NAME=NUMBER, got {f'{name}={text}'!r}", param_hint=hint
             ) from None
     return numbers
+
+
+def check_width(name: str, low: float, high: float, hint: str) -> None:
+    """A usage error where LO to HI of ``name`` (--grid, --spread, --vary) is too wide for
+    a float: +-1e308 would make every value between nan."""
+    if not math.isfinite(high - low):
+        raise click.BadParameter(
+            f"'{name}' from {low:g} to {high:g}: the range's width overflows", param_hint=hint
+        )
 
 
 @contextlib.contextmanager
