@@ -9,7 +9,10 @@ uses), at the models' default parameters; each file is kept under 200 KB.
 
 from __future__ import annotations
 
+import contextlib
+import shutil
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -35,12 +38,16 @@ DPI = 80
 POINCARE_H = -22.0
 
 
-def save(figure, name: str) -> None:
-    path = save_figure(figure, IMAGES / name, dpi=DPI)
+def kept(path: Path, note: str = "") -> None:
+    """The picture at ``path`` listed with its size; over LIMIT, the script stops."""
     size = path.stat().st_size
-    print(f"  {name:34s} {size / 1000:6.1f} kB")
+    print(f"  {path.name:34s} {size / 1000:6.1f} kB{note}")
     if size > LIMIT:
-        raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+        raise SystemExit(f"{path.name} is larger than {LIMIT // 1000} kB")
+
+
+def save(figure, name: str) -> None:
+    kept(save_figure(figure, IMAGES / name, dpi=DPI))
 
 
 def still(system, run, name: str, frame: int, **options) -> None:
@@ -49,7 +56,7 @@ def still(system, run, name: str, frame: int, **options) -> None:
 
     view, _ = mechanism_view(run, system, **options)
     Image.fromarray(view.render(frame)).convert("RGB").save(IMAGES / name, optimize=True)
-    print(f"  {name:34s} {(IMAGES / name).stat().st_size / 1000:6.1f} kB")
+    kept(IMAGES / name)
 
 
 def orbit(run, x, y, title: str, name: str, *, origin: bool = True) -> None:
@@ -127,10 +134,7 @@ def double_pendulum() -> None:
     still(system, run, "double_pendulum_frame.png", 140)
     first = system.simulate(t_end=4.0, method="variational", dt=0.005)  # 100 frames, real time
     result = animate(first, system, IMAGES / "double_pendulum.gif", size=3.0, dpi=60)
-    print(f"  {'double_pendulum.gif':34s} {result.path.stat().st_size / 1000:6.1f} kB"
-          f"  ({result.plan.description})")  # fmt: skip
-    if result.path.stat().st_size > LIMIT:
-        raise SystemExit("double_pendulum.gif is larger than 200 kB")
+    kept(result.path, f"  ({result.plan.description})")
     save(plot_phase_portrait(run, system), "double_pendulum_phase.png")
     save(plot_energy_error([run, reference], system), "double_pendulum_energy.png")
     save(plot_normal_modes(system, {"theta1": 0, "theta2": 0}), "double_pendulum_modes.png")
@@ -171,10 +175,7 @@ def double_pendulum_flip_map() -> None:
                  "--out", str(IMAGES / name)]  # fmt: skip
     if cli(arguments) != ExitStatus.SUCCESS:
         raise SystemExit("the ensemble run failed")
-    size = (IMAGES / name).stat().st_size
-    print(f"  {name:34s} {size / 1000:6.1f} kB")
-    if size > LIMIT:
-        raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+    kept(IMAGES / name)
 
 
 def vertical_spring() -> None:
@@ -252,19 +253,14 @@ def heavy_top() -> None:
     still(system, run, "heavy_top_frame.png", 60, trail=2.5)
     first = system.simulate(t_end=3.0, n_out=601)  # 75 frames, real time
     result = animate(first, system, IMAGES / "heavy_top.gif", size=2.6, dpi=50, trail=0.5)
-    print(f"  {'heavy_top.gif':34s} {result.path.stat().st_size / 1000:6.1f} kB"
-          f"  ({result.plan.description})")  # fmt: skip
-    if result.path.stat().st_size > LIMIT:
-        raise SystemExit("heavy_top.gif is larger than 200 kB")
+    kept(result.path, f"  ({result.plan.description})")
     save(plot_timeseries(run, system), "heavy_top_timeseries.png")
 
 
 def film(system, run, name: str, size: float = 2.6, **options) -> None:
     """An animation of ``run`` as a small GIF (under the size limit)."""
     result = animate(run, system, IMAGES / name, size=size, dpi=50, **options)
-    print(f"  {name:34s} {result.path.stat().st_size / 1000:6.1f} kB  ({result.plan.description})")
-    if result.path.stat().st_size > LIMIT:
-        raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+    kept(result.path, f"  ({result.plan.description})")
 
 
 def linkages() -> None:
@@ -306,96 +302,77 @@ def impacts() -> None:
     film(block, block.simulate(t_end=1.0, n_out=501), "rocking_block.gif", size=3.0, trail=0.3)
 
 
-def double_pendulum_page() -> None:
-    """A screenshot of ``lagrangian page double_pendulum`` in headless Chromium after a few
-    seconds of play (Debian's chromium, driven by Playwright)."""
-    import shutil
-    import tempfile
-
+@contextlib.contextmanager
+def chromium(what: str = "the page's screenshot"):
+    """Debian's headless Chromium, driven by Playwright (pip install playwright): the
+    browser, closed afterwards."""
     from playwright.sync_api import sync_playwright
 
+    executable = shutil.which("chromium") or shutil.which("chromium-browser")
+    if executable is None:
+        raise SystemExit(f"{what} needs chromium on the PATH")
+    with sync_playwright() as playwright:
+        browser = playwright.chromium.launch(executable_path=executable, args=["--no-sandbox"])
+        try:
+            yield browser
+        finally:
+            browser.close()
+
+
+@contextlib.contextmanager
+def page_tab(model: str, ready: str = "window.lagrangian", **page_options):
+    """A 1280 x 900 tab of Chromium showing the page of ``model`` (``page_html`` with
+    ``page_options``, from a temporary file), once ``ready`` is defined."""
     from lagrangian.output.page import page_html
 
-    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
-    if chromium is None:
-        raise SystemExit("the page's screenshot needs chromium on the PATH")
+    with chromium() as browser, tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / f"{model}.html"
+        path.write_text(page_html(lg.load(model), **page_options), encoding="utf-8")
+        tab = browser.new_page(viewport={"width": 1280, "height": 900})
+        tab.goto(path.as_uri())
+        tab.wait_for_function(f"() => {ready} !== undefined")
+        yield tab
+
+
+def double_pendulum_page() -> None:
+    """A screenshot of ``lagrangian page double_pendulum`` in headless Chromium after a few
+    seconds of play."""
     name = "double_pendulum_page.png"
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "double_pendulum.html"
-        path.write_text(page_html(lg.load("double_pendulum")), encoding="utf-8")
-        with sync_playwright() as playwright:
-            browser = playwright.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
-            tab = browser.new_page(viewport={"width": 1280, "height": 900})
-            tab.goto(path.as_uri())
-            tab.wait_for_function("() => window.lagrangian !== undefined")
-            tab.wait_for_function("() => lagrangian.state().t > 3", timeout=60_000)
-            tab.evaluate("() => lagrangian.pause()")
-            tab.wait_for_timeout(300)
-            tab.screenshot(path=str(IMAGES / name))
-            browser.close()
-    size = (IMAGES / name).stat().st_size
-    print(f"  {name:34s} {size / 1000:6.1f} kB")
-    if size > LIMIT:
-        raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+    with page_tab("double_pendulum") as tab:
+        tab.wait_for_function("() => lagrangian.state().t > 3", timeout=60_000)
+        tab.evaluate("() => lagrangian.pause()")
+        tab.wait_for_timeout(300)
+        tab.screenshot(path=str(IMAGES / name))
+    kept(IMAGES / name)
 
 
 def henon_heiles_section_panel() -> None:
     """The Poincaré section panel of ``lagrangian page henon_heiles``, built by hand as a
     student builds it: twelve clicks in the plane (y, p_y) of the section x = 0 at
     E = 1/8, each an orbit of t = 1000 in its own colour."""
-    import shutil
-    import tempfile
-
-    from playwright.sync_api import sync_playwright
-
-    from lagrangian.output.page import page_html
-
-    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
-    if chromium is None:
-        raise SystemExit("the page's screenshot needs chromium on the PATH")
     name = "henon_heiles_section_panel.png"
     clicks = [
         (-0.35, 0.0), (-0.25, 0.0), (-0.1, 0.0), (0.05, 0.0), (0.2, 0.0), (0.32, 0.0),
         (0.45, 0.0), (0.55, 0.0), (0.0, 0.3), (0.0, 0.4), (-0.15, 0.2), (0.35, 0.2),
     ]  # fmt: skip
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "henon_heiles.html"
-        path.write_text(page_html(lg.load("henon_heiles")), encoding="utf-8")
-        with sync_playwright() as playwright:
-            browser = playwright.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
-            tab = browser.new_page(viewport={"width": 1280, "height": 900})
-            tab.goto(path.as_uri())
-            tab.wait_for_function("() => window.lagrangian !== undefined")
-            tab.evaluate("() => lagrangian.pause()")
-            tab.evaluate(
-                "(clicks) => { lagrangian.section.configure({axis: 'y', kind: 'momentum',"
-                " energy: 0.125, t_end: 1000}); for (const [u, w] of clicks)"
-                " lagrangian.section.launch(u, w); }",
-                clicks,
-            )
-            tab.locator("fieldset.poincare").screenshot(path=str(IMAGES / name))
-            browser.close()
-    size = (IMAGES / name).stat().st_size
-    print(f"  {name:34s} {size / 1000:6.1f} kB")
-    if size > LIMIT:
-        raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+    with page_tab("henon_heiles") as tab:
+        tab.evaluate("() => lagrangian.pause()")
+        tab.evaluate(
+            "(clicks) => { lagrangian.section.configure({axis: 'y', kind: 'momentum',"
+            " energy: 0.125, t_end: 1000}); for (const [u, w] of clicks)"
+            " lagrangian.section.launch(u, w); }",
+            clicks,
+        )
+        tab.locator("fieldset.poincare").screenshot(path=str(IMAGES / name))
+    kept(IMAGES / name)
 
 
 def exercise_page() -> None:
     """The exercise page of the simple pendulum (``lagrangian page simple_pendulum
     --exercise``) in headless Chromium, a student's answers typed and checked: a T with a
     wrong factor, V up to a constant, the equation divided through."""
-    import shutil
-    import tempfile
-
-    from playwright.sync_api import sync_playwright
-
     from lagrangian.output.exercise import STEPS
-    from lagrangian.output.page import page_html
 
-    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
-    if chromium is None:
-        raise SystemExit("the page's screenshot needs chromium on the PATH")
     name = "exercise_page.png"
     answers = {
         "kinetic": "m*l^2*theta_dot^2",
@@ -403,41 +380,22 @@ def exercise_page() -> None:
         "lagrangian": "m*l^2*theta_dot^2/2 - m*g*l*cos(theta)",
         "equations-0": "theta_ddot = -g/l*sin(theta)",
     }
-    with tempfile.TemporaryDirectory() as folder:
-        path = Path(folder) / "simple_pendulum.html"
-        path.write_text(page_html(lg.load("simple_pendulum"), exercise=STEPS), encoding="utf-8")
-        with sync_playwright() as playwright:
-            browser = playwright.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
-            tab = browser.new_page(viewport={"width": 1280, "height": 900})
-            tab.goto(path.as_uri())
-            tab.wait_for_function("() => window.lagrangianCheck !== undefined")
-            tab.evaluate("() => lagrangian.pause()")
-            for field, text in answers.items():
-                tab.fill(f"#exercise-{field}", text)
-                tab.locator(f"#exercise-{field}").press("Enter")
-            tab.locator("#exercise").screenshot(path=str(IMAGES / name))
-            browser.close()
-    size = (IMAGES / name).stat().st_size
-    print(f"  {name:34s} {size / 1000:6.1f} kB")
-    if size > LIMIT:
-        raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+    with page_tab("simple_pendulum", ready="window.lagrangianCheck", exercise=STEPS) as tab:
+        tab.evaluate("() => lagrangian.pause()")
+        for field, text in answers.items():
+            tab.fill(f"#exercise-{field}", text)
+            tab.locator(f"#exercise-{field}").press("Enter")
+        tab.locator("#exercise").screenshot(path=str(IMAGES / name))
+    kept(IMAGES / name)
 
 
 def page_share_and_embed() -> None:
     """The double pendulum's page as a course page embeds it (``#embed`` in an
     ``<iframe sandbox="allow-scripts">``, with g = 3.7 from a share link), and its
     equilibria at a phone's width (412 px): verdicts and numbers in view."""
-    import shutil
-    import tempfile
-
-    from playwright.sync_api import sync_playwright
-
     from lagrangian.output.page import page_html
 
-    chromium = shutil.which("chromium") or shutil.which("chromium-browser")
-    if chromium is None:
-        raise SystemExit("the page's screenshots need chromium on the PATH")
-    with tempfile.TemporaryDirectory() as folder:
+    with chromium("the page's screenshots") as browser, tempfile.TemporaryDirectory() as folder:
         page = Path(folder) / "double_pendulum.html"
         page.write_text(page_html(lg.load("double_pendulum")), encoding="utf-8")
         course = Path(folder) / "week3.html"
@@ -449,39 +407,31 @@ def page_share_and_embed() -> None:
             ' width="640" height="470" style="border: 1px solid #ccc"></iframe></body></html>',
             encoding="utf-8",
         )
-        with sync_playwright() as playwright:
-            browser = playwright.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
-            tab = browser.new_page(viewport={"width": 700, "height": 620})
-            tab.goto(course.as_uri())
-            frame = tab.frames[1]
-            frame.wait_for_function("() => window.lagrangian !== undefined")
-            frame.wait_for_function("() => lagrangian.state().t > 2", timeout=60_000)
-            frame.evaluate("() => lagrangian.pause()")
-            tab.wait_for_timeout(300)
-            tab.screenshot(path=str(IMAGES / "page_embed.png"))
-            phone = browser.new_page(viewport={"width": 412, "height": 900})
-            phone.goto(page.as_uri())
-            phone.wait_for_function("() => window.lagrangian !== undefined")
-            phone.evaluate("() => lagrangian.pause()")
-            phone.wait_for_timeout(500)
-            phone.locator(".equilibrium").first.screenshot(
-                path=str(IMAGES / "page_equilibrium_phone.png")
-            )
-            browser.close()
+        tab = browser.new_page(viewport={"width": 700, "height": 620})
+        tab.goto(course.as_uri())
+        frame = tab.frames[1]
+        frame.wait_for_function("() => window.lagrangian !== undefined")
+        frame.wait_for_function("() => lagrangian.state().t > 2", timeout=60_000)
+        frame.evaluate("() => lagrangian.pause()")
+        tab.wait_for_timeout(300)
+        tab.screenshot(path=str(IMAGES / "page_embed.png"))
+        phone = browser.new_page(viewport={"width": 412, "height": 900})
+        phone.goto(page.as_uri())
+        phone.wait_for_function("() => window.lagrangian !== undefined")
+        phone.evaluate("() => lagrangian.pause()")
+        phone.wait_for_timeout(500)
+        phone.locator(".equilibrium").first.screenshot(
+            path=str(IMAGES / "page_equilibrium_phone.png")
+        )
     for name in ("page_embed.png", "page_equilibrium_phone.png"):
-        size = (IMAGES / name).stat().st_size
-        print(f"  {name:34s} {size / 1000:6.1f} kB")
-        if size > LIMIT:
-            raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+        kept(IMAGES / name)
 
 
 def double_pendulum_report() -> None:
     """Two pages of ``lagrangian report double_pendulum --to tex`` as pdflatex sets them
     (the derivation, and the normal modes with their numbers), rendered by pdftoppm or
     mutool, whichever is installed."""
-    import shutil
     import subprocess
-    import tempfile
 
     from lagrangian.output.worked_solution import worked_solution, write_report
 
@@ -518,22 +468,16 @@ def double_pendulum_report() -> None:
                     str(page),
                 ]
             subprocess.run(command, cwd=folder, check=True, capture_output=True)
-            size = target.stat().st_size
-            print(f"  {name:34s} {size / 1000:6.1f} kB")
-            if size > LIMIT:
-                raise SystemExit(f"{name} is larger than {LIMIT // 1000} kB")
+            kept(target)
 
 
 def serve_editor() -> None:
     """A screenshot of `lagrangian serve`: the editor beside the double pendulum's page,
-    taken by Debian's Chromium through Playwright (pip install playwright)."""
+    taken by Debian's Chromium through Playwright."""
     import os
     import re
-    import shutil
     import signal
     import subprocess
-
-    from playwright.sync_api import sync_playwright
 
     sources = Path(__file__).resolve().parents[1] / "src"
     server = subprocess.Popen(
@@ -544,9 +488,7 @@ def serve_editor() -> None:
     )
     try:
         url = re.search(r"http://\S+", server.stdout.readline())[0]
-        with sync_playwright() as driver:
-            chromium = shutil.which("chromium") or "/usr/bin/chromium"  # Debian's
-            browser = driver.chromium.launch(executable_path=chromium)
+        with chromium() as browser:
             page = browser.new_page(viewport={"width": 1280, "height": 760})
             page.set_default_timeout(120_000)
             page.goto(url)
@@ -554,13 +496,10 @@ def serve_editor() -> None:
             page.wait_for_timeout(3000)  # the page's typesetting and a few frames of motion
             picture = IMAGES / "serve_editor.png"
             page.screenshot(path=picture)
-            browser.close()
     finally:
         server.send_signal(signal.SIGINT)
         server.wait(timeout=30)
-    print(f"  {picture.name:34s} {picture.stat().st_size / 1000:6.1f} kB")
-    if picture.stat().st_size > LIMIT:
-        raise SystemExit(f"{picture.name} is larger than {LIMIT // 1000} kB")
+    kept(picture)
 
 
 #: The Baker-Gollub pendulum's drive period 2 pi / (2/3).
