@@ -72,6 +72,39 @@ assert Trajectory.plot.__name__ == "_plot"
     _loaded_after(code)  # check=True: an assertion that fails fails the run
 
 
+def test_the_package_leaves_the_import_system_as_it_found_it():
+    """The display methods of results whose modules ``import lagrangian`` leaves out are
+    declared on their classes (lagrangian.provided), not added by an import hook."""
+    code = """
+import sys
+finders = list(sys.meta_path)
+import lagrangian
+assert sys.meta_path == finders, sys.meta_path
+assert "lagrangian.integrate.lyapunov" not in sys.modules
+"""
+    _loaded_after(code)
+
+
+def test_a_provided_method_is_missing_until_given_then_bound():
+    from lagrangian.provided import Provided, provide
+
+    class Result:
+        plot = Provided()
+
+    result = Result()
+    assert not hasattr(result, "plot")  # as an undeclared method: Jupyter skips it
+    key = f"{__name__}.{Result.__qualname__}.plot"
+    with pytest.raises(AttributeError, match=f"{key} is given by lagrangian.facade"):
+        Result.plot  # noqa: B018
+
+    def draw(self, size=1.0):
+        return self, size
+
+    provide({key: draw})
+    assert Result.plot is draw
+    assert result.plot(size=2.0) == (result, 2.0)
+
+
 def test_the_command_line_does_not_load_the_unit_library():
     """pint is read only for a model with units (issue 31): the start-up stays as it was."""
     assert "pint" not in _loaded_after("import lagrangian.cli")

@@ -16,9 +16,10 @@ plotting.  This module sees them all and gives the user the convenient forms:
   and ``_repr_html_``, and the ``_repr_latex_`` of equations of motion, a Hamiltonian, an
   analysis report and a state space.  Those objects are made inside the layers (a
   Trajectory by integrate, ensemble and ``Trajectory.load``), so no constructor here can
-  hand out a subclass; their printers are in output/, above them.  This module adds the
-  methods to those classes, once, when ``lagrangian`` is imported, which Python does
-  before it runs any module of the package.
+  hand out a subclass; their printers are in output/, above them.  This module gives
+  those classes the methods when ``lagrangian`` is imported, which Python does before it
+  runs any module of the package: it sets them on the classes it imports itself, and
+  the others declare them (:class:`lagrangian.provided.Provided`).
 
 The layers are imported inside the methods, as the CLI does, so that ``import
 lagrangian`` loads no analysis, ensemble, xarray or matplotlib until they are used.
@@ -26,12 +27,9 @@ lagrangian`` loads no analysis, ensemble, xarray or matplotlib until they are us
 
 from __future__ import annotations
 
-import importlib.abc
 import os
-import sys
 from collections.abc import Mapping
 from pathlib import Path
-from types import ModuleType
 
 from .budget import STAGE_SECONDS
 from .derive import EquationsOfMotion, derive
@@ -40,6 +38,7 @@ from .model import System as ModelSystem
 from .model import load as load_model
 from .model import load_file as load_model_file
 from .model import loads as loads_model
+from .provided import provide
 from .trajectory import Trajectory
 
 __all__ = ["System", "load", "load_file", "loads"]
@@ -298,88 +297,22 @@ def _state_space_latex(self) -> str:
     return latex_state_space(self)
 
 
-#: module -> {class: {method name: function}}: what the facade adds to the classes of the
-#: layers, each module's as soon as it is imported (see :class:`_OnImport`).
-_DISPLAY_METHODS = {
-    "lagrangian.trajectory": {
-        "Trajectory": {"plot": _plot, "animate": _animate, "_repr_html_": _trajectory_html}
-    },
-    "lagrangian.derive.equations": {
-        # the REPL shows what the CLI prints, not the dataclass fields (pages of SymPy)
-        "EquationsOfMotion": {"_repr_latex_": _equations_latex, "__repr__": _equations_text}
-    },
-    "lagrangian.analysis.report": {
-        "Analysis": {"__repr__": _report_text, "_repr_latex_": _report_latex}
-    },
-    "lagrangian.analysis.hamiltonian": {"Hamiltonian": {"_repr_latex_": _hamiltonian_latex}},
-    "lagrangian.analysis.state_space": {"StateSpace": {"_repr_latex_": _state_space_latex}},
-    "lagrangian.integrate.lyapunov": {"LyapunovSpectrum": {"plot": _plot_lyapunov}},
-    "lagrangian.integrate.poincare": {"PoincareSection": {"plot": _plot_section}},
-    "lagrangian.ensemble.bifurcation": {"BifurcationDiagram": {"plot": _plot_bifurcation}},
-}
-
-
-def _add_methods(module: ModuleType) -> None:
-    for cls, methods in _DISPLAY_METHODS[module.__name__].items():
-        for name, method in methods.items():
-            setattr(getattr(module, cls), name, method)
-
-
-class _OnImport(importlib.abc.MetaPathFinder):
-    """Runs :func:`_add_methods` on each module of :data:`_DISPLAY_METHODS` right after it is
-    first imported.  Importing them all here would load the integrators and the ensemble
-    (a third of ``import lagrangian``) for every command, the ones that never run a motion
-    included; a layer cannot add the methods itself, they call the layers above it."""
-
-    def __init__(self, names: set[str]) -> None:
-        self.waiting = names
-
-    def find_spec(self, name: str, path, target=None):
-        if name not in self.waiting:
-            return None
-        for finder in sys.meta_path:  # the spec the other finders give, its loader wrapped
-            if finder is self or not hasattr(finder, "find_spec"):
-                continue
-            spec = finder.find_spec(name, path, target)
-            if spec is not None:
-                break
-        else:
-            return None
-        if spec.loader is not None and hasattr(spec.loader, "exec_module"):
-            spec.loader = _ThenAddMethods(spec.loader, self)
-        return spec
-
-
-class _ThenAddMethods(importlib.abc.Loader):
-    """A module's own loader, then :func:`_add_methods` on the module it ran."""
-
-    def __init__(self, loader, finder: _OnImport) -> None:
-        self.loader, self.finder = loader, finder
-
-    def create_module(self, spec):
-        return self.loader.create_module(spec)
-
-    def exec_module(self, module: ModuleType) -> None:
-        self.loader.exec_module(module)
-        _add_methods(module)
-        self.finder.waiting.discard(module.__name__)
-        if not self.finder.waiting and self.finder in sys.meta_path:
-            sys.meta_path.remove(self.finder)
-
-    def __getattr__(self, name: str):  # get_source, get_filename, ...: the module's loader's
-        return getattr(self.loader, name)
-
-
-def _add_display_methods() -> None:
-    """The methods of the modules imported already now, the others' when they are."""
-    waiting = set()
-    for name in _DISPLAY_METHODS:
-        if name in sys.modules:
-            _add_methods(sys.modules[name])
-        else:
-            waiting.add(name)
-    if waiting:
-        sys.meta_path.insert(0, _OnImport(waiting))
-
-
-_add_display_methods()
+# Trajectory and EquationsOfMotion come with this module (imported above): their methods
+# are set here.  The other results' modules load the integrators, the ensemble or the
+# analyses, which ``import lagrangian`` leaves out: their classes declare the methods
+# (``plot = Provided()``) and are given the functions here, whenever they are imported.
+Trajectory.plot, Trajectory.animate = _plot, _animate
+Trajectory._repr_html_ = _trajectory_html
+# the REPL shows what the CLI prints, not the dataclass fields (pages of SymPy)
+EquationsOfMotion._repr_latex_, EquationsOfMotion.__repr__ = _equations_latex, _equations_text
+provide(
+    {
+        "lagrangian.analysis.report.Analysis.__repr__": _report_text,
+        "lagrangian.analysis.report.Analysis._repr_latex_": _report_latex,
+        "lagrangian.analysis.hamiltonian.Hamiltonian._repr_latex_": _hamiltonian_latex,
+        "lagrangian.analysis.state_space.StateSpace._repr_latex_": _state_space_latex,
+        "lagrangian.integrate.lyapunov.LyapunovSpectrum.plot": _plot_lyapunov,
+        "lagrangian.integrate.poincare.PoincareSection.plot": _plot_section,
+        "lagrangian.ensemble.bifurcation.BifurcationDiagram.plot": _plot_bifurcation,
+    }
+)

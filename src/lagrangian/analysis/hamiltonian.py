@@ -24,6 +24,7 @@ from ..budget import exceeds
 from ..derive import EquationsOfMotion
 from ..derive.solve import diagonal_blocks, solve_linear
 from ..errors import ModelError
+from ..provided import Provided
 
 #: Largest H (tree nodes) whose derivatives are formed and tidied.
 DIFFERENTIATE_MAX_NODES = 5_000
@@ -32,6 +33,9 @@ DIFFERENTIATE_MAX_NODES = 5_000
 @dataclass(frozen=True)
 class Hamiltonian:
     """H(q, p, t) with the velocities q'(q, p, t) used to build it."""
+
+    # the LaTeX of output/, given by the facade (see lagrangian.provided)
+    _repr_latex_ = Provided()
 
     expression: sympy.Expr
     momenta: Mapping[str, sympy.Symbol]  # coordinate name -> p_q

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from ..budget import STAGE_SECONDS, Undecided, attempt, checked_seconds, generous
 from ..derive import EquationsOfMotion
 from ..errors import ModelError
+from ..provided import Provided
 from ..symbols import momentum_name
 from .conserved import Conservation, conserved_quantities
 from .constrained import surface_rest_points
@@ -47,6 +48,10 @@ class Analysis:
     ``None`` or empty, never silently wrong); ``undecided`` lists the stages that
     ran out of time (their parts are ``None`` or empty, and say nothing).
     """
+
+    # the text and LaTeX of output/, given by the facade (see lagrangian.provided)
+    __repr__ = Provided()
+    _repr_latex_ = Provided()
 
     equations: EquationsOfMotion
     conservation: Conservation | None

@@ -38,6 +38,7 @@ from ..algebra import tidy
 from ..derive import EquationsOfMotion
 from ..errors import MissingDependencyError, ModelError
 from ..model import System
+from ..provided import Provided
 from .modes import vanishes
 from .operating_point import OperatingPoint, chosen_inputs, chosen_outputs, first_equilibrium
 
@@ -73,6 +74,9 @@ class StateSpace:
     [   0, 1],
     [-g/l, 0]])
     """
+
+    # the LaTeX of output/, given by the facade (see lagrangian.provided)
+    _repr_latex_ = Provided()
 
     system: System
     point: Mapping[str, sympy.Expr]

@@ -33,6 +33,7 @@ from ..errors import LagrangianWarning, ModelError, setting
 from ..files import write_csv
 from ..integrate.base import positive_setting, transient_setting
 from ..integrate.strobe import Strobe
+from ..provided import Provided
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
@@ -48,6 +49,9 @@ class BifurcationDiagram:
     """``points`` (M, samples) of ``variable`` at the times ``times`` for each of the M
     ``values`` of ``parameter``: the strobe times (samples,), shared, or the crossing
     times of a section (M, samples), NaN (as the point) past a value's last crossing."""
+
+    # drawn by output/, given by the facade (see lagrangian.provided)
+    plot = Provided()
 
     parameter: str
     values: np.ndarray

@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ModelError, setting
+from ..provided import Provided
 from .base import check_time_span, positive_setting, transient_setting
 from .compiled_dop853 import MIN_FACTOR, TOO_SMALL_STEP, first_step, tangent_loop
 from .guard import parameter_problem, start_problem
@@ -55,6 +56,9 @@ class LyapunovSpectrum:
     re-orthonormalisations after the transient; ``history`` (m, k) the estimates
     then (the last row is ``exponents``).
     """
+
+    # drawn by output/, given by the facade (see lagrangian.provided)
+    plot = Provided()
 
     exponents: np.ndarray
     times: np.ndarray

@@ -32,6 +32,7 @@ import numpy as np
 
 from ..errors import LagrangianWarning, ModelError, setting
 from ..files import write_atomically, write_csv
+from ..provided import Provided
 from .base import Status, check_time_span, transient_setting
 from .compiled_sections import crossings, section_loop
 from .events import Event
@@ -55,6 +56,9 @@ SHELL_SPAN, SHELL_CHUNK = 100_000, 1000
 class PoincareSection:
     """The points of a section: ``values`` (V, K) of ``variables`` (the state, then any
     momentum axes) at K crossings (or strobe times) ``times``, of orbit ``orbits`` (K,)."""
+
+    # drawn by output/, given by the facade (see lagrangian.provided)
+    plot = Provided()
 
     variables: tuple[str, ...]
     values: np.ndarray
