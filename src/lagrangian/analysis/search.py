@@ -141,27 +141,24 @@ class RootSearch:
         if all(any(self._same(root, e, 1e-6) for e in expected) for root in found):
             return True
         if not self.complete:
-            missing = [p.name for p in self.system.parameters if p.default is None]
-            raise ModelError(
-                "SymPy found only some of the equilibria; give default values for "
-                + ", ".join(missing)
-                + " to locate them numerically"
-            )
+            raise self._defaults_needed("SymPy found only some of the equilibria")
         return False
 
     def numeric(self) -> list[dict[str, sympy.Expr]]:
         """Roots at the default parameter values; ModelError when some are missing."""
         if not self.complete:
-            missing = [p.name for p in self.system.parameters if p.default is None]
-            raise ModelError(
-                "SymPy cannot solve for the equilibria; give default values for "
-                + ", ".join(missing)
-                + " to locate them numerically"
-            )
+            raise self._defaults_needed("SymPy cannot solve for the equilibria")
         return [
             {c.name: sympy.Float(float(x)) for c, x in zip(self.unknowns, root, strict=True)}
             for root in self._roots(self.defaults)
         ]
+
+    def _defaults_needed(self, problem: str) -> ModelError:
+        """``problem``, and the parameters without a default that a numerical search needs."""
+        missing = [p.name for p in self.system.parameters if p.default is None]
+        return ModelError(
+            f"{problem}; give default values for {', '.join(missing)} to locate them numerically"
+        )
 
     def _check_values(self) -> dict[str, float]:
         """The defaults, or random values for the parameters without one."""
