@@ -171,15 +171,10 @@ def jax_backend() -> ArrayBackend:
     except ImportError:
         raise MissingDependencyError("backend 'jax'", "JAX", "jax") from None
 
-    def stack(values: Sequence[Any], batch_shape: tuple[int, ...]):
+    def stack(values: Sequence[Any], batch_shape: tuple[int, ...], axis: int = -1):
         dtype = jnp.result_type(float)  # float64 with x64 enabled, else float32
         entries = [jnp.broadcast_to(jnp.asarray(v, dtype=dtype), batch_shape) for v in values]
-        return jnp.stack(entries, axis=-1)
-
-    def stack_leading(values: Sequence[Any], batch_shape: tuple[int, ...]):
-        dtype = jnp.result_type(float)
-        entries = [jnp.broadcast_to(jnp.asarray(v, dtype=dtype), batch_shape) for v in values]
-        return jnp.stack(entries, axis=0)
+        return jnp.stack(entries, axis=axis)
 
     def iterate(step, x, count: int, tolerance: float):
         """A fixed number of steps (traceable), compiled once as a loop."""
@@ -191,7 +186,7 @@ def jax_backend() -> ArrayBackend:
         xp=jnp,
         eager=False,
         stack=stack,
-        stack_leading=stack_leading,
+        stack_leading=functools.partial(stack, axis=0),
         asarray=jnp.asarray,
         iterate=iterate,
     )
