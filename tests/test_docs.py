@@ -121,8 +121,8 @@ SLOW_COMMANDS = (
     "orbits",
     "basins",
 )
-#: Lines in the slow tier by themselves: SymPy tries the four-bar's loop closures for its
-#: share of the stage (10 s of CPU) before the numerical search gives its equilibria.
+#: Lines in the slow tier by themselves: the four-bar's derivation, its numerical search
+#: and SymPy's try at the exact forms (2.4 s of CPU in all).
 SLOW_LINES = ("lagrangian analyze four_bar",)
 #: ``python docs/make_images.py [FILTER]`` remakes the pictures (every one: about a
 #: minute; the double pendulum's: half a minute): the test runs it, into a temporary

@@ -7,11 +7,15 @@ constraints c(q, t) = 0, leave q'' = 0 when
 
 n + m equations for q and the multipliers lambda (the constraint forces that
 hold the system at rest: for a pendulum in Cartesian coordinates, -2 l lambda
-is the tension m g).  SymPy solves them first (in a child process, within a
-share of the stage's time); a numerical multi-start search on the constraint
-surface (:mod:`.surface_search`) runs meanwhile and checks the answer, and gives
-the points at the default parameter values (``numeric=True``) where SymPy fails,
-runs out of time or misses one (a four-bar's loop closures).
+is the tension m g).  A numerical multi-start search on the constraint surface
+(:mod:`.surface_search`) finds the points at the default parameter values first: they
+are always the answer.  SymPy then gives their exact forms where it can within a small
+CPU budget, the same for every model (:mod:`.surface_exact`: the values a point very
+likely has exactly, 0 or a multiple of pi/12, put in first); a point it does not give
+in time stays numerical (``numeric=True``: a four-bar's loop closures are beyond it),
+so that what runs out of time is only the exact form, never a point.  Where some
+parameters have no value there is nothing to search at: SymPy solves the whole system
+then (a share of the stage's time), and a search at random values checks the answer.
 
 Small motions stay on the constraint surface: with N a basis of the null space of
 A(q0) (the tangent directions), q = q0 + N s and
@@ -38,8 +42,8 @@ import numpy as np
 import sympy
 from sympy.core.function import AppliedUndef
 
-from ..algebra import as_expression, is_zero, tidy
-from ..budget import checked_seconds, remaining
+from ..algebra import is_zero, tidy
+from ..budget import checked_seconds, remaining, within
 from ..derive import EquationsOfMotion
 from ..distributions import without_distributions
 from ..errors import ModelError
@@ -48,6 +52,7 @@ from .equilibria import SYMBOLIC_SHARE, Equilibrium, PointWithModes, equilibria
 from .linear import NormalModes, Stability
 from .search import number_at
 from .solving import in_child, solve_factored
+from .surface_exact import EXACT_SECONDS, covered, exact_solutions
 from .surface_modes import SurfaceModes
 from .surface_search import RANK_TOLERANCE, SurfaceRoot, SurfaceSearch
 
@@ -95,7 +100,8 @@ def surface_rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> Sur
     """:func:`constrained_equilibria` with the notes on what was not reported or not
     decided: a family of rest points (one member given), constraints redundant at a point,
     a gradient dc/dq that vanishes all over the surface.  ``timeout`` bounds SymPy's solve
-    (and less when a deadline of :mod:`lagrangian.budget` ends sooner)."""
+    (at most :data:`~.surface_exact.EXACT_SECONDS` where every parameter has a value, and
+    less when a deadline of :mod:`lagrangian.budget` ends sooner)."""
     timeout = checked_seconds(timeout, "timeout")
     system, forms = eom.system, eom.constraints
     if forms is None:
@@ -124,10 +130,44 @@ def surface_rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> Sur
         for i in range(len(q))
     ] + [tidy(c) for c in system.constraints]
     search = SurfaceSearch(eom)
+    if len(system.parameter_values) < len(system.parameters):
+        return _solved_first(eom, equations, search, timeout)
     defaults = dict(system.parameter_values)
-    complete = len(defaults) == len(system.parameters)
-    values = defaults if complete else _random_values(system)
-    left = remaining()  # SymPy gets a share of a stage's time: the numerical route the rest
+    table = {p.symbol: sympy.Float(defaults[p.name]) for p in system.parameters}
+    if all(is_zero(g.xreplace(table)) for g in rest_force):  # balanced at these values
+        return SurfaceRestPoints((_everywhere(eom, numeric=True),))
+    roots = search.roots(defaults)
+    numeric = tuple(_numeric_equilibrium(eom, root) for root in roots)
+    kept, families = _grouped(eom, numeric)
+    alone = [i for i in kept if i not in families]  # a family's member has no exact form
+    left = remaining()
+    seconds = min(timeout, EXACT_SECONDS, *(() if left is None else (SYMBOLIC_SHARE * left,)))
+    exact = exact_solutions(
+        equations, q, lambdas, [roots[i] for i in alone], search.angles, defaults, seconds
+    )
+    by_root = {alone[j]: solution for j, solution in exact.items()}
+    found = tuple(
+        _exact_or(eom, by_root[i], numeric[i], seconds) if i in by_root else numeric[i]
+        for i in kept
+    )
+    notes = (
+        *families.values(),
+        *redundancy_notes(found),
+        *_degenerate(search, defaults, lambdas, found),
+    )
+    return SurfaceRestPoints(found, notes)
+
+
+def _solved_first(
+    eom: EquationsOfMotion, equations: list, search: SurfaceSearch, timeout: float
+) -> SurfaceRestPoints:
+    """The rest points where some parameters have no value: there is no number to give,
+    and SymPy's solve of the whole system has the time (a share of the stage's); the
+    numerical search at random values meanwhile checks that it missed none."""
+    system = eom.system
+    q, lambdas = [c.q for c in system.coordinates], list(eom.constraints.multipliers)
+    values = _random_values(system)
+    left = remaining()
     solutions = in_child(
         solve_factored,
         (equations, q + lambdas),
@@ -135,27 +175,32 @@ def surface_rest_points(eom: EquationsOfMotion, *, timeout: float = 10.0) -> Sur
         meanwhile=lambda: search.roots(values),
     )
     symbolic, families = _symbolic_points(eom, solutions or [])
-    if solutions is not None and (
-        (families and not complete) or (not families and _confirms(search, symbolic, values))
-    ):
+    roots = search.roots(values)
+    if solutions is not None and (families or covered(solutions, q, roots, search.angles, values)):
         found = tuple(_equilibrium(eom, point, multipliers) for point, multipliers in symbolic)
         notes = (*families, *redundancy_notes(found), *_degenerate(search, values, lambdas, found))
         return SurfaceRestPoints(found, notes)
-    if not complete:
-        missing = [p.name for p in system.parameters if p.default is None]
-        said = "cannot solve for" if solutions is None else "found only some of"
-        raise ModelError(
-            f"SymPy {said} the equilibria on the constraint surface; give default values for "
-            + ", ".join(missing)
-            + " to locate them numerically"
-        )
-    table = {p.symbol: sympy.Float(defaults[p.name]) for p in system.parameters}
-    if all(is_zero(g.xreplace(table)) for g in rest_force):  # balanced at these values
-        return SurfaceRestPoints((_everywhere(eom, numeric=True),))
-    found = tuple(_numeric_equilibrium(eom, root) for root in search.roots(defaults))
-    found, families = _grouped(eom, found)
-    notes = (*families, *redundancy_notes(found), *_degenerate(search, defaults, lambdas, found))
-    return SurfaceRestPoints(found, notes)
+    missing = [p.name for p in system.parameters if p.default is None]
+    said = "cannot solve for" if solutions is None else "found only some of"
+    raise ModelError(
+        f"SymPy {said} the equilibria on the constraint surface; give default values for "
+        + ", ".join(missing)
+        + " to locate them numerically"
+    )
+
+
+def _exact_or(
+    eom: EquationsOfMotion, solution: dict, numeric: ConstrainedEquilibrium, seconds: float
+) -> ConstrainedEquilibrium:
+    """The point of SymPy's ``solution`` with its modes in closed form, found within
+    ``seconds``; else the ``numeric`` one (the same point)."""
+    points, _ = _symbolic_points(eom, [solution])
+    if not points or seconds <= 0:
+        return numeric
+    point, multipliers = points[0]
+    return within(
+        seconds, "exact form", lambda: _equilibrium(eom, point, multipliers), lambda: numeric
+    )
 
 
 def _degenerate(search: SurfaceSearch, values, lambdas: list, found: tuple) -> tuple[str, ...]:
@@ -173,12 +218,13 @@ def _degenerate(search: SurfaceSearch, values, lambdas: list, found: tuple) -> t
     )
 
 
-def _grouped(eom: EquationsOfMotion, found: tuple) -> tuple[tuple, tuple[str, ...]]:
+def _grouped(eom: EquationsOfMotion, found: tuple) -> tuple[list[int], dict[int, str]]:
     """Numerical roots on a continuum of rest points merged (a bead held on a sphere by a
     spring from its centre rests anywhere on it: a root per start), as :mod:`.continua`
     does without constraints: roots with omega^2 = 0 grouped by their count and the value
     of V, constant along a connected set of rest points; each group said once, by its
-    member nearest the origin."""
+    member nearest the origin.  The indices of the points kept, and a note by the index of
+    each that stands for a family."""
     system = eom.system
     values = system.parameter_values
     at_rest = {c.q_dot: 0 for c in system.coordinates}
@@ -191,10 +237,10 @@ def _grouped(eom: EquationsOfMotion, found: tuple) -> tuple[tuple, tuple[str, ..
     squares = [abs(complex(w)) for e in found for w in e.omega_squared]
     zero = SAME_LEVEL * (1.0 + max(squares, default=0.0))
     kept, families = [], {}
-    for e in found:
+    for index, e in enumerate(found):
         count = sum(abs(complex(w)) <= zero for w in e.omega_squared)
         if not count or not e.point:
-            kept.append(e)
+            kept.append(index)
             continue
         q = np.array([float(e.point[c.name]) for c in system.coordinates])
         u = float(level(list(q)))
@@ -202,19 +248,19 @@ def _grouped(eom: EquationsOfMotion, found: tuple) -> tuple[tuple, tuple[str, ..
             (k for k in families if k[0] == count and abs(k[1] - u) <= zero * max(1.0, abs(u))),
             (count, u),
         )
-        families.setdefault(key, []).append((float(np.linalg.norm(q)), e))
-    notes = []
+        families.setdefault(key, []).append((float(np.linalg.norm(q)), index))
+    notes = {}
     for (count, _), members in families.items():
-        _, nearest = min(members, key=lambda item: item[0])
+        _, nearest = min(members)
         kept.append(nearest)
         if len(members) > 1:
-            point = ", ".join(f"{k} = {float(v):.6g}" for k, v in nearest.point.items())
-            notes.append(
+            point = ", ".join(f"{k} = {float(v):.6g}" for k, v in found[nearest].point.items())
+            notes[nearest] = (
                 f"equilibria: {point} is one member of a family of rest points on the"
                 f" constraint surface (up to {count} free directions; {len(members)} roots"
                 " found numerically, grouped by the value of V)"
             )
-    return tuple(kept), tuple(notes)
+    return kept, notes
 
 
 def _everywhere(eom: EquationsOfMotion, *, numeric: bool) -> ConstrainedEquilibrium:
@@ -252,24 +298,6 @@ def _symbolic_points(eom: EquationsOfMotion, solutions: list) -> tuple[list, tup
         multipliers = {lam: solution.get(lam) for lam in forms.multipliers}
         points.append((point, multipliers))
     return points, tuple(notes)
-
-
-def _confirms(search: SurfaceSearch, symbolic: list, values: Mapping[str, float]) -> bool:
-    """Every numerical root (at ``values``) is one of SymPy's points there."""
-    expected = []
-    for point, _ in symbolic:
-        numbers = [number_at(as_expression(v), values) for v in point.values()]
-        if all(z is not None and abs(z.imag) <= 1e-9 * (1 + abs(z.real)) for z in numbers):
-            expected.append(np.array([z.real for z in numbers]))
-    return all(any(_near(search, root.q, e) for e in expected) for root in search.roots(values))
-
-
-def _near(search: SurfaceSearch, a: np.ndarray, b: np.ndarray) -> bool:
-    for x, y, angle in zip(a, b, search.angles, strict=True):
-        d = abs(np.remainder(x - y + np.pi, 2 * np.pi) - np.pi) if angle else abs(x - y)
-        if d > 1e-6 * max(1.0, abs(x), abs(y)):
-            return False
-    return True
 
 
 def _random_values(system) -> dict[str, float]:

@@ -37,9 +37,13 @@ MAX_COMBINATIONS = 64
 WALL_FACTOR, WALL_EXTRA = 30.0, 5.0
 
 
-def solve_factored(equations: list[sympy.Expr], unknowns: list[sympy.Symbol]) -> list[dict]:
+def solve_factored(
+    equations: list[sympy.Expr], unknowns: list[sympy.Symbol], *, simplify: bool = True
+) -> list[dict]:
     """Solutions of the equations, each split into its factors (a product is zero
-    when one factor is), with those that make a denominator vanish dropped."""
+    when one factor is), with those that make a denominator vanish dropped; ``simplify``:
+    SymPy's own simplification of each solution (3/4 of its time on a slider-crank's
+    pinned loop closures: off where the caller tidies what it keeps)."""
     options = []
     denominators = []
     for equation in equations:
@@ -53,7 +57,7 @@ def solve_factored(equations: list[sympy.Expr], unknowns: list[sympy.Symbol]) ->
         options = [[sympy.fraction(sympy.together(e))[0]] for e in equations]
     solutions: list[dict] = []
     for combination in itertools.product(*options):
-        for solution in sympy.solve(list(combination), unknowns, dict=True):
+        for solution in sympy.solve(list(combination), unknowns, dict=True, simplify=simplify):
             if any(d.xreplace(solution).is_zero for d in denominators):
                 continue
             if solution and solution not in solutions:
