@@ -63,7 +63,13 @@ def test_tolerances_it_cannot_use_are_refused(settings, match):
 
 def test_the_tolerance_is_echoed_as_rtol_and_atol():
     settings = Taylor.configure(t_span=(0.0, 1.0), rtol=1e-9, atol=1e-11).settings()
-    assert settings == {"method": "taylor", "tol": 1e-11, "rtol": 1e-11, "atol": 1e-11}
+    assert settings == {
+        "method": "taylor",
+        "tol": 1e-11,
+        "rtol": 1e-11,
+        "atol": 1e-11,
+        "backend": "heyoka",
+    }
 
 
 def test_an_indefinite_mass_matrix_is_refused_naming_dop853():

@@ -40,6 +40,7 @@ the last finite state.
 
 from __future__ import annotations
 
+import importlib.util
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
@@ -47,7 +48,8 @@ import numpy as np
 
 from ..codegen.cache import built, built_already
 from ..codegen.heyoka import HeyokaTarget
-from ..errors import ModelError
+from ..errors import MissingDependencyError, ModelError
+from . import taylor_compiled
 from .base import (
     AbstractIntegrator,
     IntegrationResult,
@@ -56,13 +58,16 @@ from .base import (
     adaptive_settings,
     tolerance_setting,
 )
-from .compiled_dop853 import TERMINATED
+from .compiled_dop853 import TERMINATED, TOO_SMALL_STEP, numba_installed
 from .compiled_events import StepEvents
 from .guard import UNDEFINED, describe_state
 from .taylor_propagate import propagate
 
 if TYPE_CHECKING:
     from ..numeric.compiled import CompiledSystem
+
+#: The implementations of the method: heyoka's, and ours (our code generation, numba).
+BACKENDS = ("heyoka", "numba")
 
 #: The smallest tolerance, heyoka's default: machine epsilon (Taylor order 20).
 MIN_TOL = float(np.finfo(float).eps)
@@ -73,6 +78,8 @@ class Taylor(AbstractIntegrator):
     """Adaptive Taylor method of heyoka with tolerance ``tol``; see the module."""
 
     tol: float = 1e-15
+    #: "heyoka", "numba" (:mod:`.taylor_compiled`), or None: heyoka where it is installed
+    backend: str | None = None
     name: ClassVar[str] = "taylor"
     order: ClassVar[int] = 0  # variable: chosen from tol
     symplectic: ClassVar[bool] = False
@@ -82,6 +89,18 @@ class Taylor(AbstractIntegrator):
 
     def __post_init__(self) -> None:
         _tolerance("tol", self.tol)
+        if self.backend not in (None, *BACKENDS):
+            raise ModelError(
+                f"unknown backend {self.backend!r} of method 'taylor' (backends: "
+                f"{', '.join(BACKENDS)})"
+            )
+
+    @property
+    def chosen_backend(self) -> str:
+        """The backend a run uses: the one given, else heyoka where it is installed."""
+        if self.backend is not None:
+            return self.backend
+        return "heyoka" if heyoka_installed() else "numba"
 
     @classmethod
     def configure(cls, *, t_span, dt=None, rtol=None, atol=None):
@@ -96,10 +115,16 @@ class Taylor(AbstractIntegrator):
 
     def settings(self) -> dict[str, object]:
         """heyoka's one tolerance is relative and absolute at once: echoed as both."""
-        return {"method": self.name, "tol": self.tol, "rtol": self.tol, "atol": self.tol}
+        return {
+            "method": self.name, "tol": self.tol, "rtol": self.tol, "atol": self.tol,
+            "backend": self.chosen_backend,
+        }  # fmt: skip
 
     def check(self, compiled: CompiledSystem) -> None:
-        HeyokaTarget().check()
+        if self.chosen_backend == "heyoka":
+            HeyokaTarget().check()
+        elif not numba_installed():
+            raise MissingDependencyError("method 'taylor' (backend numba)", "numba", "numba")
         if compiled.has_constraints:
             raise ModelError("method 'taylor' does not handle constraints: use dop853 or radau")
         if compiled.forms is None:
@@ -108,7 +133,10 @@ class Taylor(AbstractIntegrator):
     def prepare(self, compiled: CompiledSystem, y0: np.ndarray, params: np.ndarray) -> str | None:
         """heyoka's integrator built (LLVM compiles its Taylor series: 0.1 s for the double
         pendulum, seconds for a long chain), or taken from this process, before the run so
-        that the run's ``compile_time`` counts it (see the base class)."""
+        that the run's ``compile_time`` counts it (see the base class); with the numba
+        backend its Taylor loop (:mod:`.taylor_compiled`)."""
+        if self.chosen_backend == "numba":
+            return taylor_compiled.what_is_compiled(compiled)
         if built_already(compiled.forms.fingerprint, "heyoka", self.tol):
             return "nothing: heyoka's integrator was built earlier in this process"
         integrator, _ = _integrator(compiled, self.tol)
@@ -121,6 +149,8 @@ class Taylor(AbstractIntegrator):
         if run.problem is not None:  # as dop853 reports it
             return self._result(compiled, [t0], y0[:, None], Status.FAILED, run.problem, 0)
         _check_definite(compiled, t0, y0, params)
+        if self.chosen_backend == "numba":
+            return self._numba(compiled, run)
         if watch is not None:  # the budget's clock starts before the build, which counts
             watch(t0)
         integrator, constants = _integrator(compiled, self.tol)  # built by prepare, or now
@@ -153,6 +183,34 @@ class Taylor(AbstractIntegrator):
             message = f"heyoka stopped ({outcome.name}) after {where}"
         return self._result(compiled, times, values, Status.FAILED, message, steps, records)
 
+    def _numba(self, compiled: CompiledSystem, run: Run) -> IntegrationResult:
+        if run.events:
+            raise ModelError(
+                "method 'taylor' with backend 'numba' does not locate events: use backend "
+                "'heyoka' (pip install \".[taylor]\") or method dop853"
+            )
+        if run.watch is not None:  # the budget's clock starts before the build, which counts
+            run.watch(run.t0)
+        loop = taylor_compiled.taylor_loop(compiled)
+        reached = taylor_compiled.propagate(loop, run, self.tol)
+        times, values, steps = reached.times, reached.values, reached.steps
+        if reached.status == 1:
+            return self._result(
+                compiled, times, values, Status.SUCCESS, "reached the end time", steps
+            )
+        where = f"t = {reached.last_t:.6g} ({describe_state(compiled, reached.last_y)})"
+        if reached.status == 3:
+            message = (
+                f"the state is not finite after {where}: {UNDEFINED}, "
+                "or the motion reaches a singularity"
+            )
+        else:
+            message = f"{TOO_SMALL_STEP.rstrip('.')} at {where}"
+        if t_eval_missing_last(run, times, reached.last_t):
+            times = np.append(times, reached.last_t)
+            values = np.concatenate([values, reached.last_y[:, None]], axis=1)
+        return self._result(compiled, times, values, Status.FAILED, message, steps)
+
     def _result(
         self, compiled, times, values, status, message, steps, records=()
     ) -> IntegrationResult:
@@ -167,6 +225,17 @@ class Taylor(AbstractIntegrator):
             events=records,
             settings=self.settings_for(compiled),
         )
+
+
+def heyoka_installed() -> bool:
+    """Whether heyoka can be imported (without importing it: 0.3 s)."""
+    return importlib.util.find_spec("heyoka") is not None
+
+
+def t_eval_missing_last(run: Run, times: np.ndarray, last_t: float) -> bool:
+    """Whether a failed run's outputs (on ``t_eval``) lack its last state, which names where
+    it failed (as the compiled DOP853 appends it)."""
+    return run.t_eval is not None and (not times.size or times[-1] < last_t)
 
 
 def _integrator(compiled: CompiledSystem, tol: float):

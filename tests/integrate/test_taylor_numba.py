@@ -1,0 +1,219 @@
+"""Taylor's method by our own code generation (backend "numba"): the coefficients of every
+elementary operation against SymPy, runs against exact solutions and SciPy's DOP853."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import sympy
+from scipy.integrate import solve_ivp
+
+import lagrangian as lg
+from lagrangian.codegen.taylor_numba import module_text
+from lagrangian.codegen.taylor_tape import tape_of
+from lagrangian.errors import ModelError
+from lagrangian.integrate.events import Event
+from lagrangian.integrate.taylor import Taylor, heyoka_installed
+from lagrangian.integrate.taylor_compiled import order_for
+from lagrangian.numeric import compile_equations
+
+pytest.importorskip("numba")
+
+#: Lagrangians whose equations, together, use every operation of the tape: products,
+#: squares, quotients (a mass that depends on x), sqrt, a real power, exp, log, sin/cos and
+#: tan, sinh/cosh and tanh, negation, time, and parameters alone (hoisted into constants);
+#: each small, so that SymPy differentiates it along the flow in a fraction of a second.
+EVERY_OPERATION = (
+    ("(1 + x**2/4)*x_dot**2/2 - k*x**2/2 - exp(-x**2) + x*log(3 + x**2)", {"k": 1.3}),
+    ("x_dot**2/2 - sqrt(3 + x**2) - x*(2 + x**2)**(5/3)/9 + x*cos(w*t)", {"w": 2.1}),
+    (
+        "x_dot**2/2 + a*cos(x)*sinh(x/2) + tan(x/4) - x*tanh(x/5) + cosh(x/7)*exp(b)",
+        {"a": 0.7, "b": 0.4},
+    ),
+)
+
+
+def _compiled(lagrangian: str, coordinates: list[str], **parameters: float):
+    system = lg.System.from_lagrangian(lagrangian, coordinates=coordinates, parameters=parameters)
+    return compile_equations(system.equations_of_motion())
+
+
+def _python_coefficients(compiled, t: float, y: np.ndarray, params: np.ndarray, order: int):
+    """The generated module's coefficients run as plain Python (numba's decorator made a
+    no-op): the same text, without compiling it."""
+    tape = tape_of(compiled.forms)
+    namespace: dict = {}
+    text = module_text(tape)[1]
+    text = text.replace("from numba import njit", "njit = lambda **options: lambda f: f")
+    text = text.replace("from lagrangian.codegen.numba_cache import tolerate_full_disk", "")
+    text = text.replace("tolerate_full_disk()", "")
+    exec(compile(text, "<generated>", "exec"), namespace)  # our own text
+    c = np.zeros(max(len(tape.constants), 1))
+    namespace["constants"](params, c)
+    tc = np.zeros((tape.rows, order + 1))
+    tc[: y.shape[0], 0] = y
+    namespace["coefficients"](t, c, order, tc)
+    return tape, tc[: y.shape[0]]
+
+
+def _lie_coefficients(compiled, t: float, y: np.ndarray, params: np.ndarray, order: int):
+    """y^(k)(t) / k! by differentiating F along the flow in SymPy: y^(k+1) = dy^(k)/dt + J F,
+    independent of the tape."""
+    forms = compiled.forms
+    n = forms.n
+    state = [*forms.coordinates, *forms.velocities]
+    rates = [*forms.velocities, *forms.mass_matrix.LUsolve(forms.forcing)]
+    values = dict(zip(forms.parameters, params, strict=True))
+    rates = [sympy.sympify(rate).subs(values) for rate in rates]
+    point = {forms.time: t, **dict(zip(state, y, strict=True))}
+    columns = [np.array(y, dtype=float)]
+    derivatives = list(state)
+    for k in range(1, order + 1):
+        derivatives = [
+            sympy.diff(d, forms.time)
+            + sum(sympy.diff(d, s) * r for s, r in zip(state, rates, strict=True))
+            for d in derivatives
+        ]
+        columns.append(
+            np.array([float(d.evalf(30, subs=point)) for d in derivatives]) / math.factorial(k)
+        )
+    assert len(columns[0]) == 2 * n
+    return np.array(columns).T
+
+
+@pytest.mark.slow  # derives the three systems (9 s)
+def test_the_tapes_use_every_operation():
+    kinds = set()
+    for lagrangian, parameters in EVERY_OPERATION:
+        compiled = _compiled(lagrangian, ["x"], **parameters)
+        kinds |= {op.kind for op in tape_of(compiled.forms).ops}
+    assert kinds == {"add", "sub", "mul", "square", "div", "neg", "sqrt", "pow", "exp", "log",
+                     "sincos", "sinhcosh"}  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("lagrangian", "parameters"),
+    [
+        pytest.param(*case, marks=pytest.mark.slow) if "cosh" in case[0] else case
+        for case in EVERY_OPERATION
+    ],
+)  # the hyperbolic one derives and differentiates in 10 s
+def test_coefficients_are_those_of_differentiating_along_the_flow(lagrangian, parameters):
+    compiled = _compiled(lagrangian, ["x"], **parameters)
+    params = compiled.parameter_vector({})
+    y, t = np.array([0.4, -0.3]), 0.6
+    _, ours = _python_coefficients(compiled, t, y, params, 4)
+    reference = _lie_coefficients(compiled, t, y, params, 4)
+    np.testing.assert_allclose(ours, reference, rtol=1e-12, atol=1e-13)
+
+
+@pytest.mark.slow  # SymPy's series to order 12 (2 s)
+def test_charged_particle_coefficients_are_the_exact_circle():
+    # L = m v^2/2 + (qB/2)(x y' - y x'): a circle of angular frequency w = qB/m, whose
+    # Taylor coefficients at t are those of x = cx + R cos(w t + phi), y = cy + R sin(...)
+    compiled = _compiled(
+        "m*(x_dot**2 + y_dot**2)/2 + qB*(x*y_dot - y*x_dot)/2", ["x", "y"], m=2.0, qB=3.0
+    )
+    params = compiled.parameter_vector({})
+    w = -1.5  # the sign: the force q v x B turns the velocity clockwise for qB > 0
+    state = np.array([0.3, -0.2, 0.5, 0.8])
+    _, ours = _python_coefficients(compiled, 0.0, state, params, 12)
+    s = sympy.Symbol("s")
+    center = (state[0] - state[3] / w, state[1] + state[2] / w)
+    x = (
+        center[0]
+        + (state[0] - center[0]) * sympy.cos(w * s)
+        - (state[1] - center[1]) * sympy.sin(w * s)
+    )
+    yy = (
+        center[1]
+        + (state[0] - center[0]) * sympy.sin(w * s)
+        + (state[1] - center[1]) * sympy.cos(w * s)
+    )
+    for row, path in enumerate((x, yy, sympy.diff(x, s), sympy.diff(yy, s))):
+        series = sympy.series(path, s, 0, 13).removeO()
+        exact = [float(series.coeff(s, k)) for k in range(13)]
+        np.testing.assert_allclose(ours[row], exact, rtol=1e-12, atol=1e-14)
+
+
+def test_the_order_follows_the_tolerance_as_heyokas():
+    assert [order_for(tol) for tol in (1e-10, 1e-12, 1e-15, 2**-52)] == [13, 15, 19, 20]
+
+
+def test_an_unsupported_function_is_refused_naming_it():
+    compiled = _compiled("x_dot**2/2 - x*atan(x)", ["x"])
+    with pytest.raises(ModelError) as error:
+        tape_of(compiled.forms)
+    assert str(error.value) == (
+        "method 'taylor' (numba) cannot differentiate atan (in atan(x)): its Taylor "
+        "recurrences cover sin, cos, tan, exp, log, sqrt, sinh, cosh, tanh, powers; use "
+        "backend 'heyoka' or dop853"
+    )
+
+
+def test_an_unknown_backend_is_refused():
+    with pytest.raises(
+        ModelError, match=r"unknown backend 'c' of method 'taylor' \(backends: heyoka, numba\)"
+    ):
+        Taylor(backend="c")
+
+
+KEPLER = "m*(r_dot**2 + r**2*theta_dot**2)/2 + k*m/r"
+
+
+@pytest.mark.slow  # compiles the loop (2-3 s)
+def test_kepler_orbit_matches_dop853_and_keeps_energy_and_angular_momentum():
+    compiled = _compiled(KEPLER, ["r", "theta"], m=1.0, k=1.0)
+    params = compiled.parameter_vector({})
+    y0 = np.array([1.0, 0.0, 0.0, 1.2])  # eccentricity 0.44, period about 9.2
+    grid = np.linspace(0.0, 50.0, 11)
+    result = Taylor(tol=1e-15, backend="numba").solve(
+        compiled, (0.0, 50.0), y0, params, t_eval=grid
+    )
+    assert result.success and result.settings["backend"] == "numba"
+    reference = solve_ivp(
+        lambda t, y: compiled.rhs(t, y, params), (0.0, 50.0), y0, method="DOP853",
+        rtol=1e-13, atol=1e-13, t_eval=grid,
+    )  # fmt: skip
+    np.testing.assert_allclose(result.y, reference.y, rtol=0, atol=1e-8)
+    r, theta_dot, r_dot = result.y[0], result.y[3], result.y[2]
+    energy = (r_dot**2 + r**2 * theta_dot**2) / 2 - 1 / r
+    momentum = r**2 * theta_dot
+    assert np.max(np.abs(energy - energy[0])) < 1e-10
+    assert np.max(np.abs(momentum - momentum[0])) < 1e-10
+    every = Taylor(tol=1e-12, backend="numba").solve(compiled, (0.0, 50.0), y0, params)
+    assert every.t[0] == 0.0 and every.t[-1] == 50.0 and np.all(np.diff(every.t) > 0)
+    assert every.steps == every.t.shape[0] - 1
+
+
+@pytest.mark.slow  # compiles the loop (2-3 s)
+def test_driven_duffing_matches_dop853_and_heyokas_steps():
+    compiled = _compiled(
+        "x_dot**2/2 - a*x**2/2 - b*x**4/4 + F*x*cos(w*t)", ["x"], a=-1.0, b=1.0, F=0.3, w=1.2
+    )
+    params = compiled.parameter_vector({})
+    y0 = np.array([0.5, 0.1])
+    ours = Taylor(tol=1e-13, backend="numba").solve(compiled, (0.0, 20.0), y0, params)
+    reference = solve_ivp(
+        lambda t, y: compiled.rhs(t, y, params), (0.0, 20.0), y0, method="DOP853",
+        rtol=1e-13, atol=1e-13,
+    )  # fmt: skip
+    np.testing.assert_allclose(ours.y[:, -1], reference.y[:, -1], rtol=0, atol=1e-9)
+    if heyoka_installed():
+        theirs = Taylor(tol=1e-13, backend="heyoka").solve(compiled, (0.0, 20.0), y0, params)
+        assert ours.steps == theirs.steps  # the same order and step rule
+
+
+@pytest.mark.slow  # compiles the loop (2-3 s)
+def test_events_are_refused_and_a_singularity_fails_naming_the_state():
+    compiled = _compiled("x_dot**2/2 + 1/x", ["x"])  # falls into x = 0 in finite time
+    params = compiled.parameter_vector({})
+    result = Taylor(tol=1e-12, backend="numba").solve(compiled, (0.0, 10.0), [1.0, 0.0], params)
+    assert not result.success
+    assert "t = " in result.message and "x = " in result.message
+    with pytest.raises(ModelError, match="backend 'numba' does not locate events"):
+        Taylor(backend="numba").solve(
+            compiled, (0.0, 1.0), [1.0, 0.0], params, events=[Event(lambda t, y, p: y[0] - 0.5)]
+        )
