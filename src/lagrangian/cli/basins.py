@@ -7,7 +7,7 @@ import click
 
 from . import options
 from .app import MODEL_HELP, app
-from .chaos import _check_outputs, _wrote, phase_option, phase_with_strobe
+from .chaos import phase_option, phase_with_strobe
 
 
 @app.command(epilog=MODEL_HELP)
@@ -59,13 +59,12 @@ def basins(
     from ..facade import load
     from ..output.basins import basins_json, basins_text
     from ..simulation import split_assignments
-    from .ensemble import _grids
 
-    _check_outputs(out, (".csv", ".nc", ".png"), None)
+    options.check_outputs(out, (".csv", ".nc", ".png"), None)
     phase_with_strobe(strobe, phase)
     if strobe is not None and interval is not None:
         raise click.BadParameter("give --strobe or --interval, not both", param_hint="--interval")
-    system, grid = _grids(grids, load(model), "--grid")
+    system, grid = options.grid_axes(grids, load(model), "--grid")
     system, given = options.assignments(assignments, system)
     initial, params = split_assignments(system, given)
     if initial:
@@ -88,7 +87,7 @@ def basins(
     if options.echo_json(document, as_json):
         return
     click.echo(basins_text(result))
-    _wrote(out)
+    options.wrote(out)
 
 
 def _write(result, out: str) -> None:

@@ -67,26 +67,6 @@ def phase_option(command):
     )(command)
 
 
-def _check_outputs(out: str | None, suffixes: tuple[str, ...], picture: str | None) -> None:
-    """Usage errors, before any run, for an --out without one of ``suffixes`` or a --plot
-    that is not a .png, and for either where it cannot be written."""
-    if out is not None and not out.endswith(suffixes):
-        raise click.BadParameter(
-            f"the output file must end in {' or '.join(suffixes)}", param_hint="--out"
-        )
-    if out is not None:
-        from ..files import check_output_path
-
-        check_output_path(out)
-    _png(picture, "--plot")
-
-
-def _wrote(*paths: str | None) -> None:
-    for path in paths:
-        if path is not None:
-            click.echo(f"wrote {path}")
-
-
 def _drawn(picture: str | None, points: int) -> str | None:
     """The picture to draw: none where there are no points (an empty frame is no result;
     the command's warning says why there are none)."""
@@ -98,17 +78,6 @@ def _drawn(picture: str | None, points: int) -> str | None:
 
     warnings.warn(LagrangianWarning(f"no points to draw: {picture} was not written"), stacklevel=2)
     return None
-
-
-def _png(path: str | None, hint: str) -> None:
-    """A usage error unless ``path`` (when given) is a PNG file that can be written."""
-    if path is None:
-        return
-    if not path.endswith(".png"):
-        raise click.BadParameter("the picture must be a .png file", param_hint=hint)
-    from ..files import check_output_path
-
-    check_output_path(path)  # before the run: a typo fails at once
 
 
 @app.command(epilog=MODEL_HELP)
@@ -141,7 +110,7 @@ def lyapunov(
 
     if largest and count not in (None, 1):
         raise click.BadParameter("--largest is --count 1", param_hint="--count")
-    _png(picture, "--plot")
+    options.check_png(picture, "--plot")
     system, values = options.assignments(assignments, load(model))
     with options.progress_bar(enabled=not as_json) as progress:
         spectrum = lyapunov_of_system(
@@ -161,7 +130,7 @@ def lyapunov(
     ):
         return
     click.echo(lyapunov_text(spectrum, system))
-    _wrote(picture)
+    options.wrote(picture)
 
 
 def _spread(values: tuple[str, ...]) -> dict[str, tuple[float, float]]:
@@ -220,7 +189,7 @@ def poincare(
     if len(names) != 2 or not all(names):
         raise click.BadParameter("give two names, e.g. y,p_y", param_hint="--axes")
     _one_section(section, strobe, phase)
-    _check_outputs(out, (".csv", ".nc"), picture)
+    options.check_outputs(out, (".csv", ".nc"), picture)
     system, values = options.assignments(assignments, load(model))
     with options.progress_bar(enabled=not as_json) as progress:
         points = poincare_of_system(
@@ -259,7 +228,7 @@ def poincare(
         f"{points.name}: {where}, {points.orbit_count} orbits to t = {summary['t_end']:g}, "
         f"{points.count} points ({counts.min()} to {counts.max()} per orbit)"
     )
-    _wrote(out, picture)
+    options.wrote(out, picture)
 
 
 @app.command(epilog=MODEL_HELP)
@@ -298,15 +267,14 @@ def bifurcation(
     from ..ensemble import bifurcation_of_system
     from ..facade import load
     from ..simulation import split_assignments
-    from .ensemble import _grids
 
     _one_section(section, strobe, phase)
     if strobe is not None and (t_end is not None or dt is not None):
         raise click.BadParameter("--t-end and --dt go with --section", param_hint="--t-end")
     if section is not None and steps_per_period is not None:
         raise click.BadParameter("--steps-per-period goes with --strobe", param_hint="--strobe")
-    _check_outputs(out, (".csv",), picture)
-    system, grid = _grids((vary,), load(model), "--vary")
+    options.check_outputs(out, (".csv",), picture)
+    system, grid = options.grid_axes((vary,), load(model), "--vary")
     ((parameter, values),) = grid.items()
     system, given = options.assignments(assignments, system)
     initial, params = split_assignments(system, given)
@@ -355,4 +323,4 @@ def bifurcation(
         f"{settings['method']} dt={settings['dt']:g}, backend {settings['backend']}, "
         f"{settings['wall_time']:.3f} s"
     )
-    _wrote(out, picture)
+    options.wrote(out, picture)

@@ -2,59 +2,11 @@
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
-
 import click
 import numpy as np
 
 from . import options
 from .app import MODEL_HELP, app
-
-if TYPE_CHECKING:
-    from ..ensemble.members import GridAxis
-    from ..model.system import System
-
-
-def _grids(
-    values: tuple[str, ...], system: System, option: str = "--grid"
-) -> tuple[System, dict[str, GridAxis]]:
-    """NAME=LO:HI:N of --grid, each on its own axis (a bad one: a usage error naming
-    ``option``, the one the user typed: bifurcation's --vary too); the values are made
-    only once the ensemble is known to fit in memory.
-
-    LO and HI may carry units (``l=20cm:1m:50``), converted as --set's values are
-    (:func:`.options.given_values`): the system returned is dimensioned if they made it so.
-    """
-    from ..ensemble.members import GridAxis
-    from ..model.quantities import has_unit
-
-    specs: dict[str, tuple[str, str, int]] = {}
-    for name, text in options.pairs(values, option, "NAME=LO:HI:N").items():
-        parts = text.split(":")
-        try:
-            if len(parts) != 3:
-                raise ValueError
-            for part in parts[:2]:
-                if not has_unit(part) and not np.isfinite(float(part)):
-                    raise ValueError
-            count = int(parts[2])
-            if count < 1:
-                raise ValueError
-        except ValueError:
-            raise click.BadParameter(
-                f"expected NAME=LO:HI:N (N a whole number >= 1), got {f'{name}={text}'!r}",
-                param_hint=option,
-            ) from None
-        specs[name] = (parts[0], parts[1], count)
-    system, lows = options.given_values({n: s[0] for n, s in specs.items()}, system, option)
-    system, highs = options.given_values({n: s[1] for n, s in specs.items()}, system, option)
-    for name in specs:
-        options.check_width(name, float(lows[name]), float(highs[name]), option)
-    ndim = len(specs)
-    return system, {
-        name: GridAxis(lows[name], highs[name], count, axis, ndim)
-        for axis, (name, (_, _, count)) in enumerate(specs.items())
-    }
 
 
 @app.command(epilog=MODEL_HELP)
@@ -125,7 +77,7 @@ def ensemble(
     if both:  # one would silently win over the other
         raise click.BadParameter(f"'{both[0]}' is given by --grid too", param_hint="--set")
     names = observable_names(observables or ("final_state",))
-    system, grid = _grids(grids, load(model))
+    system, grid = options.grid_axes(grids, load(model))
     system, fixed = options.given_values(given, system, "--set")
     initial, params = {}, {}
     for name, values in {**fixed, **grid}.items():

@@ -20,6 +20,7 @@ import click
 from ..budget import RUN_SECONDS, checked_seconds
 
 if TYPE_CHECKING:
+    from ..ensemble.members import GridAxis
     from ..model.system import System
 
 #: --define NAME=EXPR, read by :func:`definitions` (simulate, ensemble).
@@ -292,3 +293,77 @@ def operating_point(texts: dict[str, str], system: System) -> tuple[System, dict
 def definitions(values: tuple[str, ...]) -> dict[str, str]:
     """NAME=EXPR pairs of --define (the expression is parsed later by the safe parser)."""
     return pairs(values, "--define")
+
+
+def grid_axes(
+    values: tuple[str, ...], system: System, option: str = "--grid"
+) -> tuple[System, dict[str, GridAxis]]:
+    """NAME=LO:HI:N of --grid, each on its own axis (a bad one: a usage error naming
+    ``option``, the one the user typed: bifurcation's --vary too); the values are made
+    only once the ensemble is known to fit in memory.
+
+    LO and HI may carry units (``l=20cm:1m:50``), converted as --set's values are
+    (:func:`given_values`): the system returned is dimensioned if they made it so.
+    """
+    from ..ensemble.members import GridAxis
+    from ..model.quantities import has_unit
+
+    specs: dict[str, tuple[str, str, int]] = {}
+    for name, text in pairs(values, option, "NAME=LO:HI:N").items():
+        parts = text.split(":")
+        try:
+            if len(parts) != 3:
+                raise ValueError
+            for part in parts[:2]:
+                if not has_unit(part) and not math.isfinite(float(part)):
+                    raise ValueError
+            count = int(parts[2])
+            if count < 1:
+                raise ValueError
+        except ValueError:
+            raise click.BadParameter(
+                f"expected NAME=LO:HI:N (N a whole number >= 1), got {f'{name}={text}'!r}",
+                param_hint=option,
+            ) from None
+        specs[name] = (parts[0], parts[1], count)
+    system, lows = given_values({n: s[0] for n, s in specs.items()}, system, option)
+    system, highs = given_values({n: s[1] for n, s in specs.items()}, system, option)
+    for name in specs:
+        check_width(name, float(lows[name]), float(highs[name]), option)
+    ndim = len(specs)
+    return system, {
+        name: GridAxis(lows[name], highs[name], count, axis, ndim)
+        for axis, (name, (_, _, count)) in enumerate(specs.items())
+    }
+
+
+def check_outputs(out: str | None, suffixes: tuple[str, ...], picture: str | None) -> None:
+    """Usage errors, before any run, for an --out without one of ``suffixes`` or a --plot
+    that is not a .png, and for either where it cannot be written."""
+    if out is not None and not out.endswith(suffixes):
+        raise click.BadParameter(
+            f"the output file must end in {' or '.join(suffixes)}", param_hint="--out"
+        )
+    if out is not None:
+        from ..files import check_output_path
+
+        check_output_path(out)
+    check_png(picture, "--plot")
+
+
+def wrote(*paths: str | None) -> None:
+    """A line "wrote PATH" for each file written (None: not asked for)."""
+    for path in paths:
+        if path is not None:
+            click.echo(f"wrote {path}")
+
+
+def check_png(path: str | None, hint: str) -> None:
+    """A usage error unless ``path`` (when given) is a PNG file that can be written."""
+    if path is None:
+        return
+    if not path.endswith(".png"):
+        raise click.BadParameter("the picture must be a .png file", param_hint=hint)
+    from ..files import check_output_path
+
+    check_output_path(path)  # before the run: a typo fails at once

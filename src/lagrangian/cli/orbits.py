@@ -98,7 +98,6 @@ def orbits(
     from ..facade import load
     from ..output.orbits import orbits_json, orbits_text
     from ..simulation import orbits_of_system
-    from .ensemble import _grids
 
     _one_section(section, strobe, phase)
     if section is not None and (grids or transient is not None):
@@ -117,7 +116,7 @@ def orbits(
     system = load(model)
     grid = {}
     if grids:
-        system, grid = _grids(grids, system, "--grid")
+        system, grid = options.grid_axes(grids, system, "--grid")
     if vary is not None:
         system, varied = _varied(vary, system)
         _continued(
@@ -192,13 +191,12 @@ def _continued(
         write_continuation_csv,
     )
     from ..simulation import continuation_of_system
-    from .chaos import _png, _wrote
 
     if strobe is None:
         raise click.BadParameter("--vary follows the orbits of a --strobe", param_hint="--vary")
     for path in outputs:
         if path.endswith(".png"):
-            _png(path, "--out")
+            options.check_png(path, "--out")
         elif path.endswith(".csv"):
             from ..files import check_output_path
 
@@ -240,7 +238,7 @@ def _continued(
     if options.echo_json(summary, as_json):
         return
     click.echo(continuation_text(result))
-    _wrote(*outputs)
+    options.wrote(*outputs)
 
 
 def _background(system, result, variable, assigned, definitions, timeout):
