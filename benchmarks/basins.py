@@ -9,7 +9,7 @@ on every k-th start (``--peer-starts`` of them) and its CPU time per start scale
 the whole grid; the labels of both compared on those starts.
 
     python benchmarks/basins.py [--size 1000] [--drive 1.073] [--steps 100]
-        [--basin-hits 10] [--peer-periods 100] [--peer-starts 20000]
+        [--basin-hits 5] [--peer-periods 100] [--peer-starts 20000]
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from numba import njit, prange
 
 from lagrangian.budget import cpu_seconds
 from lagrangian.derive import derive
-from lagrangian.ensemble.basins import basins_of_attraction
+from lagrangian.ensemble.basins import BASIN_HITS, basins_of_attraction
 from lagrangian.facade import load
 from lagrangian.numeric import compile_equations
 
@@ -69,7 +69,7 @@ def main() -> None:
     parser.add_argument("--size", type=int, default=1000)
     parser.add_argument("--drive", type=float, default=1.073)
     parser.add_argument("--steps", type=int, default=100)
-    parser.add_argument("--basin-hits", type=int, default=10)
+    parser.add_argument("--basin-hits", type=int, default=BASIN_HITS)
     parser.add_argument("--peer-periods", type=int, default=100)
     parser.add_argument("--peer-starts", type=int, default=20000)
     args = parser.parse_args()

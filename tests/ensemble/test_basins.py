@@ -189,13 +189,45 @@ def test_a_start_kept_out_of_an_earlier_starts_cells_still_stops_at_max_iteratio
     cells = np.full(10, -1, dtype=np.int64)
     cells[3] = -(0 + 2)  # the mark of the start taken first, still searching
     status = np.array([walk.SEARCHING], dtype=np.int64)
-    counters = np.zeros((1, 7), dtype=np.int64)
+    counters = np.zeros((1, 8), dtype=np.int64)
     settings = np.array([40, 3, 20, 5, 200, 10], dtype=np.int64)  # max_iterations 5
     walk.label(
         np.full((1, 1, 10), 3.0), np.array([1], dtype=np.int64), status, counters, cells,
         np.array([0]), np.array([0.0]), np.array([1.0]), np.array([10]), np.array([False]),
         np.array([0.0]), settings, np.zeros(1, dtype=np.int64), np.zeros((4, 200, 1)),
         np.arange(4, dtype=np.int64), np.full(2, -2, dtype=np.int64),
+        np.full(10, walk.UNSEEN, dtype=np.int16), np.zeros((1, 32), dtype=np.int64),
     )  # fmt: skip
     assert status[0] == -1 and counters[0, 0] == 6
     assert cells[3] == -2  # the earlier start's mark is left alone
+
+
+@pytest.mark.slow
+def test_cells_passed_by_starts_of_two_attractors_label_no_start():
+    """A cell of a fractal basin boundary holds points of both basins.  Before, the first
+    start labelled that passed a cell made it its attractor's basin for good, and a later
+    start that ran through such cells basin_hits times in a row took that label, wherever
+    it went on.  Now a start passing a cell where starts of two attractors passed (MIXED)
+    counts no basin hit there: the third start below ends on attractor 1's cells and is
+    labelled 1 (before: 0, from the first start's cells 2, 3, 4)."""
+    from lagrangian.ensemble import basins_numba as walk
+
+    cells = np.full(10, -1, dtype=np.int64)
+    cells[8], cells[9] = 0, 1  # the cells of attractors 0 and 1, found before
+    paths = np.array([[2, 3, 4, 8, 8, 8, 8], [2, 3, 4, 9, 9, 9, 9], [2, 3, 4, 2, 9, 9, 9]])
+    status = np.full(3, walk.SEARCHING, dtype=np.int64)
+    counters = np.zeros((3, 8), dtype=np.int64)
+    seen = np.full(10, walk.UNSEEN, dtype=np.int16)
+    done = np.full(3, -2, dtype=np.int64)
+    settings = np.array([40, 3, 20, 2000, 200, 4], dtype=np.int64)  # basin hits 4
+    for b in range(3):  # one start after another, each done before the next, as the walk does
+        walk.label(
+            paths[b : b + 1, None, :].astype(float), np.array([b], dtype=np.int64),
+            status[b : b + 1], counters[b : b + 1], cells, np.array([0]), np.array([0.0]),
+            np.array([1.0]), np.array([10]), np.array([False]), np.array([0.0]), settings,
+            np.array([2], dtype=np.int64), np.zeros((4, 200, 1)), np.arange(4, dtype=np.int64),
+            done, seen, np.zeros((1, 32), dtype=np.int64),
+        )  # fmt: skip
+        done[b] = status[b]
+    assert status.tolist() == [0, 1, 1]
+    assert seen[[2, 3, 4]].tolist() == [walk.MIXED] * 3 and seen[8] == 0 and seen[9] == 1

@@ -39,9 +39,9 @@ from .chaos import phase_option, phase_with_strobe
     help="Iterations after which a start that reached nothing gets -1.",
 )  # fmt: skip
 @click.option(
-    "--basin-hits", type=int, default=10, show_default=True,
-    help="Iterations in a row in cells of one attractor's basin that label a start with it "
-    "(fewer can be faster; more starts near a basin boundary are mislabelled).",
+    "--basin-hits", type=int, default=5, show_default=True,
+    help="Iterations in a row in cells of one attractor's basin (cells only its starts "
+    "passed) that label a start with it (fewer can be faster).",
 )  # fmt: skip
 @options.out("Write F.csv (the grid and an attractor column), F.nc or a map F.png.")
 @options.set_values("A parameter value (repeatable).")

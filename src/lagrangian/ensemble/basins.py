@@ -18,12 +18,13 @@ recurrences sooner).
 The starts are integrated by rk4 (``steps`` steps per iteration) on the numba loop whose
 terms that depend on time alone (a drive) are read from a table made once
 (:mod:`lagrangian.codegen.time_terms`: every start steps at the same times), all members
-of a pool together for a chunk of ``chunk`` iterations, then
-labelled; the members done leave the pool and new starts join it.  The first pool is
-small and its starts spread over the grid, so the attractors are found by a few starts;
-the pool grows (four times, up to POOL) after each chunk in which some start was
-labelled, and the later starts are labelled as soon as they reach an attractor or, most
-of them, the cells of its basin that the starts before them passed through.
+of a pool together for CHUNK iterations, then labelled; the members done leave the pool
+and new starts join it.  The first pool is small and its starts spread over the grid, so
+the attractors are found by a few starts; the pool grows (four times, up to POOL) after
+each chunk in which some start was labelled, and the later starts are labelled as soon
+as they reach an attractor or, most of them, the cells of its basin: cells that only
+starts labelled with that attractor passed through before them (where starts of two
+attractors passed, on a fractal boundary, a cell counts for neither).
 
 Each attractor is classified from ``locate`` iterations on it: a fixed point (the map's
 period 1; for the sampled flow an equilibrium), periodic of period K (K <= 64, the
@@ -53,8 +54,12 @@ RECURRENCES = 40
 #: Iterations in a row in an attractor's cells that label a start with it (Attractors.jl: 2).
 HITS = 3
 #: Iterations in a row in cells of an attractor's basin that label a start with it
-#: (Attractors.jl: 10).
-BASIN_HITS = 10
+#: (Attractors.jl: 10; 5 here, where a basin cell is one only that attractor's starts
+#: passed: at 5 and at 10 the driven pendulum's labels are those of its map iterated
+#: 300 periods, see basins_numba).
+BASIN_HITS = 5
+#: The cells of a start's last iterations that become its attractor's basin when labelled.
+TRAIL = 32
 #: Iterations in a row outside the box that label a start -1 (Attractors.jl: 20).
 LOST = 20
 #: Iterations after which a start that found nothing is labelled -1.
@@ -65,8 +70,9 @@ LOCATE = 200
 CELLS = 250
 #: Rk4 steps per iteration of the map.
 STEPS = 100
-#: Iterations integrated between labellings.
-CHUNK = 4
+#: Iterations integrated between labellings (one: no iteration is integrated after a
+#: start is labelled, and every iteration steps the same times, so the map is one map).
+CHUNK = 1
 #: Starts integrated together at most, and in the first pool.
 POOL, FIRST_POOL = 65_536, 256
 #: The attractors a map may have; a start finding one more is labelled -1.
@@ -165,8 +171,8 @@ def basins_of_attraction(
     """The basins of the starts of ``grid`` ({state variable: (low, high, count)} or
     GridAxis values, covering the state) under the strobe map of ``period`` (at
     ``phase``) or the flow sampled every ``interval``; see the module docstring.
-    ``basin_hits``: iterations in a row in cells of one attractor's basin that label a
-    start with it (fewer can be faster; more starts near a basin boundary are mislabelled)."""
+    ``basin_hits``: iterations in a row in cells of one attractor's basin (cells that only
+    starts labelled with it passed) that label a start with it (fewer can be faster)."""
     from ..integrate.orbits import _angles
     from ..integrate.strobe import Strobe
 
@@ -278,7 +284,7 @@ def _check_memory(sizes: np.ndarray, cells: int) -> None:
     starts = math.prod(int(size) for size in sizes)  # Python ints: no overflow
     kept = math.prod(min(int(size), cells) for size in sizes)
     check_fits(
-        8.0 * (3.0 * starts + kept) + 8.0 * POOL * len(sizes) * (CHUNK + 12),
+        8.0 * (3.0 * starts + kept) + 2.0 * kept + 8.0 * POOL * (len(sizes) * (CHUNK + 12) + TRAIL),
         f"a basin map of {count_text(starts)} starts",
         f"use fewer points per {setting('grid')}",
     )
@@ -328,6 +334,7 @@ class _Walk:
             [RECURRENCES, HITS, LOST, limit, LOCATE, basin_hits], dtype=np.int64
         )
         self.cells = np.full(int(np.prod(sizes)), -1, dtype=np.int64)
+        self.seen = np.full(self.cells.size, -1, dtype=np.int16)  # UNSEEN (CAPACITY < 2**15)
         self.angle_rows = which[angles]
         self.iterations = 0
 
@@ -355,7 +362,8 @@ class _Walk:
         ranks = np.empty(0, dtype=np.int64)
         states = np.empty((0, self.m))
         status = np.empty(0, dtype=np.int64)
-        counters = np.empty((0, 7), dtype=np.int64)
+        counters = np.empty((0, 8), dtype=np.int64)
+        trail = np.empty((0, TRAIL), dtype=np.int64)
         values = list(axes.values())
         taken, done, pool = 0, 0, FIRST_POOL
         while taken < total or ranks.size:
@@ -369,12 +377,13 @@ class _Walk:
                 ranks = np.concatenate([ranks, np.arange(taken - new.size, taken)])
                 states = np.concatenate([states, fresh])
                 status = np.concatenate([status, np.full(new.size, -2, dtype=np.int64)])
-                counters = np.concatenate([counters, np.zeros((new.size, 7), dtype=np.int64)])
+                counters = np.concatenate([counters, np.zeros((new.size, 8), dtype=np.int64)])
+                trail = np.concatenate([trail, np.empty((new.size, TRAIL), dtype=np.int64)])
             points = self.advance(np.ascontiguousarray(states))
             self.labeller.label(
                 points, ranks, status, counters, self.cells, self.which, self.lows, self.widths,
                 self.sizes, self.angles, self.centres, self.settings, found, kept, alias,
-                done_in_order,
+                done_in_order, self.seen, trail,
             )  # fmt: skip
             states = points[:, :, -1].copy()
             if self.angle_rows.size:  # the map is the same a turn on: keep angles small
@@ -386,7 +395,7 @@ class _Walk:
             done += int(np.count_nonzero(over))
             keep = ~over
             ranks, states = ranks[keep], states[keep]
-            status, counters = status[keep], counters[keep]
+            status, counters, trail = status[keep], counters[keep], trail[keep]
             if np.any(finished >= 0):  # more starts once some have marked basins
                 pool = min(POOL, 4 * pool)
             if progress is not None:
