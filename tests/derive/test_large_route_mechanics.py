@@ -4,8 +4,9 @@ The large route (SymEngine term tables, M and f made in SymPy when read, L taken
 the build's SymEngine assembly, the model's terms parsed once) is checked at random
 points against ``LagrangesMethod`` of the same geometry, written independently with
 dynamic symbols: a 4-link chain of unequal links with a spring, a bead on a hoop
-turning at a rate that changes in time (a constraint that moves), and a 3-D spherical
-pendulum, each forced onto the large route (its 7-coordinate threshold set to 1).
+turning at a rate that changes in time (a constraint that moves), a 3-D spherical
+pendulum, and two of them joined by a spring, each forced onto the large route (its
+7-coordinate threshold set to 1).
 """
 
 from __future__ import annotations
@@ -165,3 +166,55 @@ def test_a_spherical_pendulum_in_3d(monkeypatch, rng):
         ["theta", "phi"], [r], [lambda s: s["m"]], lambda s: s["m"] * s["g"] * r[2](s), sym
     )
     _compare(system, eom, reference, rng, count=3)
+
+
+@pytest.mark.slow
+def test_two_spherical_pendulums_joined_by_a_spring(monkeypatch, rng):
+    """Two 3-D pendulums hung a apart and joined by a spring of rest length r0: the
+    spring's length is a power of a sum (differentiated whole), the rest products of
+    sines and cosines (the product rule, factor by factor)."""
+    names = ["theta1", "phi1", "theta2", "phi2"]
+
+    def bob(k, shift):
+        return [
+            f"{shift}l{k}*sin(theta{k})*cos(phi{k})",
+            f"l{k}*sin(theta{k})*sin(phi{k})",
+            f"-l{k}*cos(theta{k})",
+        ]
+
+    system, eom = _on_large_route(
+        monkeypatch,
+        lambda: lg.System.from_particles(
+            coordinates=names,
+            particles=[
+                lg.Particle("bob1", mass="m1", position=bob(1, "")),
+                lg.Particle("bob2", mass="m2", position=bob(2, "a + ")),
+            ],
+            gravity=lg.Gravity(g="g"),
+            springs=[lg.Spring(stiffness="k", ends=("bob1", "bob2"), rest_length="r0")],
+        ),
+    )
+    assert eom.symengine is not None
+    sym = {s: sympy.Symbol(s, positive=True) for s in ("g", "k", "a", "r0", "l1", "l2", "m1", "m2")}
+
+    def position(k, shifted):
+        def r(s):
+            theta, phi, length = s[f"theta{k}"], s[f"phi{k}"], s[f"l{k}"]
+            return [
+                (s["a"] if shifted else 0) + length * sympy.sin(theta) * sympy.cos(phi),
+                length * sympy.sin(theta) * sympy.sin(phi),
+                -length * sympy.cos(theta),
+            ]
+
+        return [lambda s, c=c: r(s)[c] for c in range(3)]
+
+    bobs = [position(1, False), position(2, True)]
+
+    def potential(s):
+        heights = sum(s[f"m{k}"] * bobs[k - 1][2](s) for k in (1, 2))
+        gap = [bobs[1][c](s) - bobs[0][c](s) for c in range(3)]
+        stretch = sympy.sqrt(sum(d**2 for d in gap)) - s["r0"]
+        return s["g"] * heights + s["k"] * stretch**2 / 2
+
+    masses = [lambda s: s["m1"], lambda s: s["m2"]]
+    _compare(system, eom, _reference(names, bobs, masses, potential, sym), rng)

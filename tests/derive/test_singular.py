@@ -180,3 +180,32 @@ def test_the_large_route_rank_check_agrees_with_sympys(singular):
             check_regular(matrix, coordinates)
     else:
         check_regular(matrix, coordinates)
+
+
+@pytest.mark.parametrize("singular", [False, True])
+def test_the_large_route_rank_check_on_an_indefinite_matrix(singular):
+    """The rank is counted from eigenvalue magnitudes (a symmetric matrix's singular values):
+    an indefinite regular matrix (eigenvalues of both signs) is full rank, and a sum of
+    u u^T and -w w^T is rank two of three, as SymPy's exact check says."""
+    import symengine as se
+
+    x, y, a = se.symbols("x y a")
+    u = [se.cos(x), se.sin(y), a]
+    w = [a * se.sin(x), se.cos(x - y), se.Integer(1)]
+    rows = [tuple(u[i] * u[j] - w[i] * w[j] for j in range(3)) for i in range(3)]
+    if not singular:
+        rows[0] = (rows[0][0] + 2 * a, *rows[0][1:])
+    assert _regular_at_random_points_of(rows) is not singular
+    matrix = sympy.Matrix([[entry._sympy_() for entry in row] for row in rows])
+    coordinates = [Coordinate.named(f"q{i}") for i in range(3)]
+    if singular:
+        with pytest.raises(lg.SingularMassMatrixError):
+            check_regular(matrix, coordinates)
+    else:
+        check_regular(matrix, coordinates)
+
+
+def _regular_at_random_points_of(rows) -> bool:
+    from lagrangian.derive.fast import _regular_at_random_points
+
+    return _regular_at_random_points(rows)

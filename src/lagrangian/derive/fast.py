@@ -22,126 +22,23 @@ need M and f alone).
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
+import gc
 import random
 from collections import defaultdict
 
 import numpy as np
 import sympy
 
-from ..algebra import factor_common, holds_derivative, to_symengine, to_sympy
+from ..algebra import holds_derivative, to_symengine, to_sympy
 from ..budget import MAX_EXPANDED_TERMS, expanded_terms
-from ..errors import ModelError
 from ..model import System
 from .constraints import ConstraintForms
 from .equations import CoordinateDerivation, Deferred, EquationsOfMotion, Later, SymEngineForms
 from .solve import SYMBOLIC_MAX_SIZE, check_regular, diagonal_blocks, solve_accelerations
-
-
-class _Tables:
-    """Splitting SymEngine expressions into {monomial: coefficient} over the state symbols."""
-
-    def __init__(self, state, *, nonsmooth: bool = False, field=lambda: None):
-        import symengine as se
-
-        self.se = se
-        self.state = frozenset(state)
-        self.symbols: dict = {}  # monomial -> its state symbols
-        self.nonsmooth = nonsmooth  # whether an |u| or sign(u) may be differentiated
-        self.absolute: set = set()  # the monomials that hold an |u|
-        self._depends: dict = {}  # factor -> whether it holds a state symbol
-        self.made = 0  # terms split so far: all the tables' terms are bounded together
-        self.field = field  # () -> the model's field a refusal names (found only then)
-
-    def depends(self, factor) -> bool:
-        """Whether ``factor`` holds a state symbol (cached: the same factors recur)."""
-        found = self._depends.get(factor)
-        if found is None:
-            found = self._depends[factor] = bool(factor.free_symbols & self.state)
-        return found
-
-    def split(self, expr, into=None, scale=None) -> dict:
-        """Add ``scale * expr`` term by term to ``into`` ({monomial: [coefficients]})."""
-        se = self.se
-        into = defaultdict(list) if into is None else into
-        added = 0
-        one = se.Integer(1) if scale is None else scale
-        depends = self.depends
-        for term in _args(expr, se.Add):
-            coefficient, dependent = [one], []
-            for factor in _args(term, se.Mul):
-                (dependent if depends(factor) else coefficient).append(factor)
-            added += 1
-            if not dependent:
-                into[se.Integer(1)].append(one * term)
-                continue
-            outer = se.Mul(*coefficient)
-            if not any(_has_sum(factor) for factor in dependent):
-                into[se.Mul(*dependent)].append(outer)
-                continue
-            # SymEngine's expand runs in C++, out of reach of the deadline and of memory's
-            # limits: the terms it would make are counted first, all tables' together
-            product = se.Mul(*dependent)
-            left = MAX_EXPANDED_TERMS - self.made - added
-            if expanded_terms(product, left) > left:
-                raise too_many_terms(self.field())
-            for part in _args(se.expand(product), se.Add):
-                added += 1
-                inner, monomial = [outer], []
-                for factor in _args(part, se.Mul):
-                    (monomial if depends(factor) else inner).append(factor)
-                into[se.Mul(*monomial)].append(se.Mul(*inner))
-        self.made += added
-        if self.made > MAX_EXPANDED_TERMS:
-            raise too_many_terms(self.field())
-        return into
-
-    def table(self, lists: dict) -> dict:
-        """{monomial: coefficient} from {monomial: [coefficients]}, zeros dropped."""
-        result = {}
-        for monomial, coefficients in lists.items():
-            coefficient = factor_common(coefficients)
-            if not coefficient.is_zero:
-                result[monomial] = coefficient
-                if monomial not in self.symbols:
-                    self.symbols[monomial] = monomial.free_symbols & self.state
-                    if self.nonsmooth and monomial.atoms(self.se.Abs):
-                        self.absolute.add(monomial)
-        return result
-
-    def derivative(self, monomial, symbol):
-        """d monomial / d symbol; d|u|/dx = sign(u) du/dx, as SymPy has it for real u
-        (every symbol of a model is real), where SymEngine leaves Derivative(|u|, x)."""
-        se = self.se
-        result = se.diff(monomial, symbol)
-        if monomial in self.absolute:
-            undone = [d for d in result.atoms(se.Derivative) if type(d.args[0]) is se.Abs]
-            inner = [d.args[0].args[0] for d in undone]
-            result = result.subs(
-                {d: se.sign(u) * se.diff(u, symbol) for d, u in zip(undone, inner, strict=True)}
-            )
-        return result
-
-    def index(self, table: dict) -> dict:
-        """{state symbol: the monomials of ``table`` that hold it}."""
-        found = defaultdict(list)
-        for monomial in table:
-            for symbol in self.symbols[monomial]:
-                found[symbol].append(monomial)
-        return found
-
-    def diff(self, table: dict, symbol, index: dict | None = None) -> dict:
-        """``d table / d symbol`` as {monomial: [coefficients]} (``index``: of ``table``)."""
-        into = defaultdict(list)
-        if index is None:
-            index = {symbol: [m for m in table if symbol in self.symbols[m]]}
-        for monomial in index.get(symbol, ()):
-            self.split(self.derivative(monomial, symbol), into, table[monomial])
-        return into
-
-    def expr(self, table: dict):
-        return self.se.Add(*(c * m for m, c in table.items()))
+from .term_tables import TermTables, too_many_terms
 
 
 def derive_large(
@@ -153,6 +50,29 @@ def derive_large(
     them), each equation holds its constraint force A^T lambda; q'' and lambda are left
     to the numerical solve (their closed forms are out of reach at this size).
     """
+    with _cycle_collector_paused():
+        return _derived_by_tables(system, constraints)
+
+
+@contextlib.contextmanager
+def _cycle_collector_paused():
+    """Python's cycle collector off while the tables are made.  They hold no reference
+    cycles (reference counting frees them), but the hundreds of thousands of objects they
+    keep alive set off full collections, each walking the whole heap with the model's
+    SymPy trees: 0.36 of 1.8 s of the 100-link chain's derivation.  Any cycle made
+    meanwhile is collected once the collector is back."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
+def _derived_by_tables(
+    system: System, constraints: ConstraintForms | None
+) -> EquationsOfMotion | None:
     coordinates = system.coordinates
     cache: dict = {}
     built = system.symengine_lagrangian  # L as the build made it in SymEngine, if it did
@@ -179,10 +99,10 @@ def derive_large(
     t = to_symengine(system.time, cache)
     accelerations = [to_symengine(c.q_ddot, cache) for c in coordinates]
     nonsmooth = any(kinds[x] & {se.Abs, se.sign} for x in ("lagrangian", "dissipation"))
-    tables = _Tables([*q, *v, t], nonsmooth=nonsmooth, field=lambda: lagrangian_field(system))
-    lagrangian = tables.table(tables.split(converted["lagrangian"]))
+    tables = TermTables([*q, *v, t], nonsmooth=nonsmooth, field=lambda: lagrangian_field(system))
+    lagrangian = tables.table(tables.split(converted["lagrangian"]), differentiated=True)
     lagrangian_index = tables.index(lagrangian)
-    dissipation = tables.table(tables.split(converted["dissipation"]))
+    dissipation = tables.table(tables.split(converted["dissipation"]), differentiated=True)
 
     back: dict = {}
 
@@ -203,7 +123,9 @@ def derive_large(
     n = len(coordinates)
     numeric_rows, terms, rest_terms = [], [], []
     for i, c in enumerate(coordinates):
-        momentum = tables.table(tables.diff(lagrangian, v[i], lagrangian_index))
+        momentum = tables.table(
+            tables.diff(lagrangian, v[i], lagrangian_index), differentiated=True
+        )
         # One pass over the momentum's terms gives row i of M = dp_i/dq' and the part
         # sum_j dp_i/dq_j q_j' + dp_i/dt of dp_i/dt along the motion.  M is symmetric (a
         # Hessian): the entries left of the diagonal are known already.
@@ -226,9 +148,11 @@ def derive_large(
         gradient = tables.table(tables.diff(lagrangian, q[i], lagrangian_index))
         friction = tables.table(tables.diff(dissipation, v[i]))
         total = defaultdict(list)
-        for table, sign in [(gradient, 1), (velocity_terms, -1), (friction, -1)]:
+        for monomial, coefficient in gradient.items():
+            total[monomial].append(coefficient)
+        for table in (velocity_terms, friction):
             for monomial, coefficient in table.items():
-                total[monomial].append(sign * coefficient)
+                total[monomial].append(-coefficient)
         if c.name in forces:
             tables.split(forces[c.name], total)
         rest = tables.expr(tables.table(total))
@@ -303,15 +227,6 @@ def derive_large(
     )
 
 
-def too_many_terms(field: str | None = None) -> ModelError:
-    """The one-line refusal of a model whose expansion is too large to derive."""
-    return ModelError(
-        f"expanded, it makes more than {MAX_EXPANDED_TERMS:,} terms (a power of a sum of "
-        "n terms to the k makes C(n + k - 1, k)): the model is too large to derive",
-        field=field,
-    )
-
-
 def lagrangian_field(system: System) -> str:
     """The field a refusal of L names: "lagrangian" where the model gives it (or its
     energies) as text, else the field of a particle, body or spring that expands to the
@@ -351,8 +266,11 @@ def _regular_at_random_points(rows) -> bool:
     """Full numeric rank of the symmetric matrix ``rows`` (SymEngine) at one of three random
     points (as in ``check_regular``, compiled).
 
-    Only the upper triangle is evaluated, in one substitution (a row of its entries): the
-    substitution is most of the cost, and the lower triangle holds the same entries.
+    Only the upper triangle is evaluated, in one replacement of the symbols (a row of its
+    entries): that is most of the cost, and the lower triangle holds the same entries.  The
+    rank is counted from the eigenvalues, whose magnitudes are a symmetric matrix's singular
+    values: LAPACK's symmetric solver takes about 3 ms of CPU at n = 100 where its SVD
+    took 75-140 ms (OpenBLAS's threads waiting on each other on a busy machine).
     """
     import symengine as se
 
@@ -366,7 +284,7 @@ def _regular_at_random_points(rows) -> bool:
         values = {a: se.RealDouble(rng.uniform(0.5, 2.5)) for a in arguments}
         numeric = np.zeros((n, n))
         try:
-            numeric[where] = np.array(entries.subs(values).tolist(), dtype=float).ravel()
+            numeric[where] = np.array(entries.xreplace(values).tolist(), dtype=float).ravel()
         except (TypeError, ValueError, RuntimeError):
             return False
         numeric.T[where] = numeric[where]
@@ -376,7 +294,8 @@ def _regular_at_random_points(rows) -> bool:
         if np.any(diagonal == 0):
             return False
         scaled = numeric / np.sqrt(np.outer(diagonal, diagonal))
-        if np.linalg.matrix_rank(scaled, tol=1e-9 * np.abs(scaled).max()) == n:
+        magnitudes = np.abs(np.linalg.eigvalsh(scaled))
+        if np.count_nonzero(magnitudes > 1e-9 * np.abs(scaled).max()) == n:
             return True
     return False
 
@@ -388,15 +307,3 @@ def _too_large_to_solve(rows) -> bool:
 
     blocks = diagonal_blocks(se.DenseMatrix(rows))
     return any(len(block) > SYMBOLIC_MAX_SIZE for block in blocks)
-
-
-def _has_sum(factor) -> bool:
-    """A sum, or a power of one, that expansion would distribute (not inside a function)."""
-    import symengine as se
-
-    kind = type(factor)
-    return kind is se.Add or (kind is se.Pow and type(factor.args[0]) is se.Add)
-
-
-def _args(expr, kind) -> tuple:
-    return expr.args if type(expr) is kind else (expr,)
