@@ -22,6 +22,16 @@ def _solved(name: str, value: sympy.Expr, system: System) -> str:
 
 def latex_equations(eom: EquationsOfMotion) -> str:
     """An ``align*`` block: L, each equation (= 0) and each solved acceleration."""
+    return aligned(equation_rows(eom))
+
+
+def aligned(rows: list[str]) -> str:
+    """The ``align*`` block of ``rows`` (each ``lhs &= rhs``)."""
+    return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
+
+
+def equation_rows(eom: EquationsOfMotion) -> list[str]:
+    """The rows of :func:`latex_equations`."""
     system = eom.system
     show = latex_printer(system)  # linear-time printing for large systems
     shown = printed(eom)
@@ -35,7 +45,7 @@ def latex_equations(eom: EquationsOfMotion) -> str:
         ]
     if eom.multipliers is not None:
         rows += [_solved(latex_name(n), v, system) for n, v in eom.multipliers.items()]
-    return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
+    return rows
 
 
 #: The row of each term of a coordinate's equation (see notation.step_terms).
@@ -52,6 +62,11 @@ _STEP_ROWS = {
 
 def latex_steps(eom: EquationsOfMotion) -> str:
     """The derivation step by step as LaTeX (one ``align*`` block)."""
+    return aligned(step_rows(eom))
+
+
+def step_rows(eom: EquationsOfMotion) -> list[str]:
+    """The rows of :func:`latex_steps`."""
     system = eom.system
     show = latex_printer(system)  # linear-time printing for large systems
     rows = [row for row in (latex_units_row(system),) if row is not None]
@@ -74,4 +89,43 @@ def latex_steps(eom: EquationsOfMotion) -> str:
         ]
         if eom.accelerations is not None:
             rows.append(_solved(latex_name(c.q_ddot.name), eom.accelerations[c.name], system))
-    return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
+    return rows
+
+
+def top_level_terms(latex: str) -> list[str]:
+    """``latex`` cut before each `` + `` and `` - `` outside every group (braces,
+    ``\\left ... \\right``, environments): the first piece keeps its own sign, the others
+    begin with ``+ `` or ``- ``."""
+    pieces, start, depth = [], 0, 0
+    i = 0
+    while i < len(latex):
+        if latex.startswith("\\left", i) and not latex[i + 5 : i + 6].isalpha():
+            depth += 1
+            i += 5
+            continue
+        if latex.startswith("\\right", i) and not latex[i + 6 : i + 7].isalpha():
+            depth -= 1
+            i += 6
+            continue
+        if latex.startswith("\\begin", i):
+            depth += 1
+            i += 6
+            continue
+        if latex.startswith("\\end", i):
+            depth -= 1
+            i += 4
+            continue
+        char = latex[i]
+        if char == "\\":
+            i += 2  # an escaped character (\{, \}) is no group
+            continue
+        if char == "{":
+            depth += 1
+        elif char == "}":
+            depth -= 1
+        elif depth == 0 and latex[i : i + 3] in (" + ", " - ") and latex[start:i].strip():
+            pieces.append(latex[start:i].strip())
+            start = i + 1
+        i += 1
+    pieces.append(latex[start:].strip())
+    return [p for p in pieces if p]

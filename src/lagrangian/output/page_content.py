@@ -49,7 +49,7 @@ from ..model.values import check_parameter_values
 from .exercise import exercise_document, exercise_steps
 from .geometry import ROD_TOLERANCE, coordinates_drawn, geometry
 from .large import latex_printer
-from .latex import latex_equations, latex_steps
+from .latex import equation_rows, step_rows
 from .linkage_drawing import links_as_bars
 from .mechanism import (
     BODY_COLOR,
@@ -64,6 +64,7 @@ from .mechanism import (
 from .notation import latex_name, too_long_to_print, unicode_name
 from .page_bodies import inertia_entries, mass_entries
 from .page_dop853 import stepper_coefficients
+from .page_folding import folded_block
 from .page_results import results_script, results_section
 from .solids import EQUAL, FLAT, RIM_POINTS
 from .tracks import tracks
@@ -238,14 +239,15 @@ def _initial_state(system: System, given: Mapping[str, float] | None) -> dict[st
 
 def _sections(eom: EquationsOfMotion, analysis: Analysis, results: dict) -> list[dict]:
     """Titled blocks: each a list of items, ``{"latex": ...}`` (display math, or inline
-    math that breaks across lines with ``"wrap": true``), ``{"text": ...}`` (a sentence,
+    math that breaks across lines with ``"wrap": true``; with ``"folded": LHS`` a long row
+    typeset when opened, :mod:`.page_folding`), ``{"text": ...}`` (a sentence,
     shown as text) or ``{"equilibrium": ...}`` (:mod:`.page_results`, whose section
     ``results`` is)."""
     system = eom.system
     show = latex_printer(system)
     sections = [
-        {"title": "Lagrange's equations", "items": [{"latex": latex_equations(eom)}]},
-        {"title": "Step by step", "items": [{"latex": latex_steps(eom)}], "folded": True},
+        {"title": "Lagrange's equations", "items": folded_block(equation_rows(eom))},
+        {"title": "Step by step", "items": folded_block(step_rows(eom)), "folded": True},
         {"title": "M q'' = f", "items": [{"latex": _matrix_form(eom, show)}]},
     ]
     conservation = analysis.conservation

@@ -955,28 +955,56 @@ function lagrangianPage(model, code) {
     for (const section of model.sections) {
       const box = section.folded ? element("details") : element("div");
       box.append(section.folded ? element("summary", {}, section.title) : element("h2", {}, section.title));
-      for (const item of section.items) {
-        const node = element("div", { class: "item" });
-        if (item.equilibrium) {
-          node.append(results.block(item.equilibrium));
-        } else if (item.latex && item.wrap) {
-          const math = element("div", { class: "math wrap" });
-          typesetMath(item.latex, math, false);
-          node.append(math);
-        } else if (item.latex) {
-          const math = element("div", { class: "math" });
-          if (window.katex) {
-            window.katex.render(item.latex, math, { displayMode: true, throwOnError: false, strict: "ignore", trust: false });
-          } else {
-            math.textContent = item.latex;
-          }
-          node.append(math);
-        }
-        if (item.text) node.append(element("p", {}, item.text));
-        box.append(node);
-      }
+      // a folded section is typeset when first opened (a linkage's steps: rows of 28k characters)
+      const fill = () => { for (const item of section.items) box.append(itemNode(item)); };
+      if (section.folded) whenOpened(box, fill);
+      else fill();
       solution.append(box);
     }
+  }
+
+  function itemNode(item) {
+    if (item.folded !== undefined) return foldedRow(item);
+    const node = element("div", { class: "item" });
+    if (item.equilibrium) {
+      node.append(results.block(item.equilibrium));
+    } else if (item.latex && item.wrap) {
+      const math = element("div", { class: "math wrap" });
+      typesetMath(item.latex, math, false);
+      node.append(math);
+    } else if (item.latex) {
+      const math = element("div", { class: "math" });
+      typesetMath(item.latex, math, true);
+      node.append(math);
+    }
+    if (item.text) node.append(element("p", {}, item.text));
+    return node;
+  }
+
+  // a row too long to typeset at load (page_folding.py): its left side in a closed
+  // <details>, the whole row typeset when it is first opened
+  function foldedRow(item) {
+    const box = element("details", { class: "item folded-row" });
+    const summary = element("summary");
+    const name = element("span");
+    typesetMath(item.folded, name, false);
+    summary.append(name, ` in full (${item.latex.length.toLocaleString("en")} characters of LaTeX)`);
+    box.append(summary);
+    whenOpened(box, () => {
+      const math = element("div", { class: "math" });
+      typesetMath(item.latex, math, true);
+      box.append(math);
+    });
+    return box;
+  }
+
+  function whenOpened(details, fill) {
+    const opened = () => {
+      if (!details.open) return;
+      details.removeEventListener("toggle", opened);
+      fill();
+    };
+    details.addEventListener("toggle", opened);
   }
 
   // display math (or inline, which KaTeX breaks after a top-level + or =) into `node`

@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import re
 
+from ..latex import top_level_terms
+
 #: Characters of mathematics a broken line holds (right-hand sides).
 LINE_WIDTH = 56.0
 #: Commands that show nothing of their own.
@@ -46,45 +48,6 @@ _FRACTIONS = frozenset({"frac", "dfrac", "tfrac"})
 _SPACES = {",": 0.3, ":": 0.35, ";": 0.4, " ": 0.5, "quad": 2.0, "qquad": 4.0, "!": -0.2}
 _TOKEN = re.compile(r"\\[A-Za-z]+|\\.|[{}^_]|\s+|.")
 _OPERATORS = frozenset("+-=<>")
-
-
-def top_level_terms(latex: str) -> list[str]:
-    """``latex`` cut before each `` + `` and `` - `` outside every group (braces,
-    ``\\left ... \\right``, environments): the first piece keeps its own sign, the others
-    begin with ``+ `` or ``- ``."""
-    pieces, start, depth = [], 0, 0
-    i = 0
-    while i < len(latex):
-        if latex.startswith("\\left", i) and not latex[i + 5 : i + 6].isalpha():
-            depth += 1
-            i += 5
-            continue
-        if latex.startswith("\\right", i) and not latex[i + 6 : i + 7].isalpha():
-            depth -= 1
-            i += 6
-            continue
-        if latex.startswith("\\begin", i):
-            depth += 1
-            i += 6
-            continue
-        if latex.startswith("\\end", i):
-            depth -= 1
-            i += 4
-            continue
-        char = latex[i]
-        if char == "\\":
-            i += 2  # an escaped character (\{, \}) is no group
-            continue
-        if char == "{":
-            depth += 1
-        elif char == "}":
-            depth -= 1
-        elif depth == 0 and latex[i : i + 3] in (" + ", " - ") and latex[start:i].strip():
-            pieces.append(latex[start:i].strip())
-            start = i + 1
-        i += 1
-    pieces.append(latex[start:].strip())
-    return [p for p in pieces if p]
 
 
 def broken_lines(latex: str, width: float = LINE_WIDTH) -> list[str]:
