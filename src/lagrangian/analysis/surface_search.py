@@ -4,9 +4,10 @@ The rest points of a system with holonomic constraints c(q) = 0 (A = dc/dq) solv
 
     F(q, lambda) = [G(q) + A(q)^T lambda ; c(q)] = 0,     G(q) = f(q, 0),
 
-n + m equations for n coordinates and m multipliers.  Where SymPy cannot solve them
-(a four-bar's loop closures), each start q0 in [-pi, pi]^n is first moved onto the
-surface by Gauss-Newton steps of least norm (q -= A^+ c: general, not only for
+n + m equations for n coordinates and m multipliers.  They are solved numerically first
+(SymPy, which cannot solve a four-bar's loop closures, then gives the exact forms of the
+points found where it can: :mod:`.surface_exact`): each start q0 in [-pi, pi]^n is first
+moved onto the surface by Gauss-Newton steps of least norm (q -= A^+ c: general, not only for
 linkages), the multipliers there are the least-squares balance A^T lambda = -G, and
 Powell's hybrid method with the exact Jacobian [[dG/dq + d(A^T lambda)/dq, A^T], [A, 0]]
 (the bordered Hessian) then finds the root nearest it, polished by Newton's method.
