@@ -22,6 +22,7 @@ class TermTables:
         import symengine as se
 
         self.se = se
+        self.one = se.Integer(1)
         self.state = frozenset(state)
         self.symbols: dict = {}  # monomial -> its state symbols
         self.nonsmooth = nonsmooth  # whether an |u| or sign(u) may be differentiated
@@ -40,34 +41,43 @@ class TermTables:
     def split(self, expr, into=None, scale=None) -> dict:
         """Add ``scale * expr`` term by term to ``into`` ({monomial: [coefficients]})."""
         se = self.se
+        Add, Mul, Pow = se.Add, se.Mul, se.Pow
         into = defaultdict(list) if into is None else into
         added = 0
-        one = se.Integer(1) if scale is None else scale
-        depends = self.depends
-        for term in _args(expr, se.Add):
+        one = self.one if scale is None else scale
+        known = self._depends
+        for term in expr.args if type(expr) is Add else (expr,):
             coefficient, dependent = [one], []
-            for factor in _args(term, se.Mul):
-                (dependent if depends(factor) else coefficient).append(factor)
+            for factor in term.args if type(term) is Mul else (term,):
+                found = known.get(factor)
+                if found is None:
+                    found = self.depends(factor)
+                (dependent if found else coefficient).append(factor)
             added += 1
             if not dependent:
-                into[se.Integer(1)].append(one * term)
+                into[self.one].append(one * term)
                 continue
-            outer = se.Mul(*coefficient)
-            if not any(_has_sum(factor) for factor in dependent):
-                into[se.Mul(*dependent)].append(outer)
+            # (a product of one factor is that factor: the keys and coefficients of Mul)
+            outer = one if len(coefficient) == 1 else Mul(*coefficient)
+            for factor in dependent:
+                kind = type(factor)
+                if kind is Add or (kind is Pow and type(factor.args[0]) is Add):
+                    break  # a sum, or a power of one, that expansion distributes
+            else:
+                into[dependent[0] if len(dependent) == 1 else Mul(*dependent)].append(outer)
                 continue
             # SymEngine's expand runs in C++, out of reach of the deadline and of memory's
             # limits: the terms it would make are counted first, all tables' together
-            product = se.Mul(*dependent)
+            product = Mul(*dependent)
             left = MAX_EXPANDED_TERMS - self.made - added
             if expanded_terms(product, left) > left:
                 raise too_many_terms(self.field())
-            for part in _args(se.expand(product), se.Add):
+            for part in _args(se.expand(product), Add):
                 added += 1
                 inner, monomial = [outer], []
-                for factor in _args(part, se.Mul):
-                    (monomial if depends(factor) else inner).append(factor)
-                into[se.Mul(*monomial)].append(se.Mul(*inner))
+                for factor in _args(part, Mul):
+                    (monomial if self.depends(factor) else inner).append(factor)
+                into[Mul(*monomial)].append(Mul(*inner))
         self.made += added
         if self.made > MAX_EXPANDED_TERMS:
             raise too_many_terms(self.field())
@@ -97,7 +107,7 @@ class TermTables:
         (every symbol of a model is real), where SymEngine leaves Derivative(|u|, x)."""
         se = self.se
         result = se.diff(monomial, symbol)
-        if monomial in self.absolute:
+        if self.absolute and monomial in self.absolute:
             undone = [d for d in result.atoms(se.Derivative) if type(d.args[0]) is se.Abs]
             inner = [d.args[0].args[0] for d in undone]
             result = result.subs(
@@ -133,14 +143,6 @@ def too_many_terms(field: str | None = None) -> ModelError:
         "n terms to the k makes C(n + k - 1, k)): the model is too large to derive",
         field=field,
     )
-
-
-def _has_sum(factor) -> bool:
-    """A sum, or a power of one, that expansion would distribute (not inside a function)."""
-    import symengine as se
-
-    kind = type(factor)
-    return kind is se.Add or (kind is se.Pow and type(factor.args[0]) is se.Add)
 
 
 def _args(expr, kind) -> tuple:
