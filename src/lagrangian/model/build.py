@@ -21,7 +21,13 @@ from ..errors import ModelError
 from ..symbols import time_symbol
 from .build_names import ModelNames
 from .components import Gravity, RigidBody, Spring
-from .energy import conservative_potential, gravity_potential, kinetic_energy, spring_potential
+from .energy import (
+    conservative_potential,
+    difference_in_symengine,
+    gravity_potential,
+    kinetic_energy,
+    spring_potential,
+)
 from .impacts import check_initial_gaps, check_restitutions, resolve_impacts
 from .inputs import assemble_inputs, with_input_forces
 from .limits import check_kinetic_work
@@ -142,6 +148,7 @@ class _Builder(ModelNames):
                 conservative_potential(self.coordinates, conservative, "conservative_forces")
             )
         potential = sympy.Add(*potential_terms) if potential_terms else None
+        converted = None  # L in SymEngine, where T was assembled there
 
         if spec.lagrangian is not None:
             if kinetic is not None or potential is not None:
@@ -157,10 +164,15 @@ class _Builder(ModelNames):
                 field="kinetic",
             )
         else:
-            lagrangian = kinetic - (potential if potential is not None else 0)
+            lagrangian = None
+            if known:  # T (and V) made in SymEngine: so is L, T - V (SymPy would sort it)
+                lagrangian, converted = difference_in_symengine(kinetic, potential, known)
+            if lagrangian is None:
+                lagrangian = kinetic - (potential if potential is not None else 0)
         # where T (and V) were made in SymEngine, so is L: its SymPy form converts back
         # at the cost of its top level, and the large route of derive starts from it
-        converted = to_symengine(lagrangian, known) if known else None
+        if converted is None and known:
+            converted = to_symengine(lagrangian, known)
 
         self._check_initial()
         inputs = assemble_inputs(

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 from collections.abc import Mapping, Sequence
+from itertools import combinations_with_replacement
 
 import sympy
 
@@ -175,37 +176,48 @@ def _kinetic_energy_large(
             products[a, b] = found
         return found
 
-    # (i, j) -> {(column id, column id): masses}
-    quadratic: dict = defaultdict(lambda: defaultdict(list))
+    # ((i, column id), (j, column id)) -> the masses of the points that move with both
+    pairs: dict = defaultdict(list)
     linear: dict = defaultdict(lambda: defaultdict(list))
     constant: dict = defaultdict(list)
-    differentiated: dict = {}  # term of a position -> its derivatives (terms recur)
+    terms_seen = _PositionTerms(q)  # each distinct term of the positions, looked at once
     for mass, position in points:
         m = to_symengine(mass, cache)
         r = [to_symengine(x, cache) for x in position]
         if m is None or any(x is None for x in r):
             return None
-        columns = _jacobian_columns(r, q, differentiated)
+        columns, nonsmooth = terms_seen.columns(r)
         explicit = tuple(se.diff(x, t) for x in r)
         derivatives = [*explicit, *(x for column in columns.values() for x in column)]
-        if any(x.atoms(se.Abs, se.sign) for x in r) and any(map(holds_derivative, derivatives)):
+        if nonsmooth and any(map(holds_derivative, derivatives)):
             return None  # d|u|/dq or d sign(u)/dq, which SymEngine leaves undone
         active = [(i, column_id(column)) for i, column in columns.items()]
-        for a, (i, ci) in enumerate(active):
-            for j, cj in active[a:]:
-                quadratic[i, j][ci, cj].append(m)
+        for pair in combinations_with_replacement(active, 2):
+            pairs[pair].append(m)
         if not all(x.is_zero for x in explicit):
             e = column_id(explicit)
             for i, ci in active:
                 linear[i][ci, e].append(m)
             constant[e, e].append(m)
+    quadratic: dict = defaultdict(dict)  # (i, j) -> {(column id, column id): masses}
+    for ((i, ci), (j, cj)), masses in pairs.items():
+        quadratic[i, j][ci, cj] = masses
+
+    grouped: dict = {}  # the sum of masses -> its common factor pulled out (lists recur)
+
+    def mass_sum(masses):
+        key = tuple(masses)
+        found = grouped.get(key)
+        if found is None:
+            found = grouped[key] = factor_common(masses)
+        return found
 
     def total(groups):
         # the same product under several pairs of ids is added, not kept twice
         by_product: dict = defaultdict(list)
         for pair, masses in groups.items():
-            by_product[dot(*pair)].append(factor_common(masses))
-        return se.Add(*(factor_common(masses) * product for product, masses in by_product.items()))
+            by_product[dot(*pair)].append(mass_sum(masses))
+        return se.Add(*(mass_sum(masses) * product for product, masses in by_product.items()))
 
     velocities = [to_symengine(c.q_dot, cache) for c in coordinates]
     symbols = _converted_symbols(cache) | {c.q_dot.name: c.q_dot for c in coordinates}
@@ -217,35 +229,56 @@ def _kinetic_energy_large(
     return _back_to_sympy(se.Add(*terms), symbols, cache, known)
 
 
-def _jacobian_columns(position, q, differentiated: dict | None = None) -> dict:
-    """{i: dr/dq_i} for the q_i that r depends on (SymEngine).
+class _PositionTerms:
+    """The Jacobian columns of positions (SymEngine), each distinct term of them looked at once.
 
     Each term of r is differentiated by the coordinates it holds only: a chain's bob
-    at depth k costs O(k) derivatives, not O(k n).  ``differentiated`` keeps each term's
-    [(i, d term/dq_i)] for the next points (a chain's bobs share their terms).
+    at depth k costs O(k) derivatives, not O(k n).  A term's derivatives, and whether it
+    holds |u| or sign(u), are kept for the next points (a chain's bobs share their
+    terms), and so is each column made of the same derivatives (their sums are made once).
     """
-    import symengine as se
 
-    index = {qi: i for i, qi in enumerate(q)}
-    known = {} if differentiated is None else differentiated
-    parts: dict = defaultdict(lambda: [[] for _ in position])
-    for k, x in enumerate(position):
-        for term in x.args if type(x) is se.Add else (x,):
-            found = known.get(term)
-            if found is None:
-                found = known[term] = [
-                    (index[symbol], se.diff(term, symbol))
-                    for symbol in term.free_symbols
-                    if symbol in index
-                ]
-            for i, derivative in found:
-                parts[i][k].append(derivative)
-    columns = {}
-    for i in sorted(parts):
-        column = tuple(se.Add(*terms) for terms in parts[i])
-        if not all(x.is_zero for x in column):
-            columns[i] = column
-    return columns
+    def __init__(self, q):
+        self.index = {qi: i for i, qi in enumerate(q)}
+        self.known: dict = {}  # term -> ([(i, d term/dq_i)], whether it holds Abs or sign)
+        self.made: dict = {}  # the derivatives a column adds up, per component -> the column
+
+    def term(self, term) -> tuple[list, bool]:
+        import symengine as se
+
+        found = self.known.get(term)
+        if found is None:
+            index = self.index
+            derivatives = [
+                (index[symbol], se.diff(term, symbol))
+                for symbol in term.free_symbols
+                if symbol in index
+            ]
+            found = self.known[term] = (derivatives, bool(term.atoms(se.Abs, se.sign)))
+        return found
+
+    def columns(self, position) -> tuple[dict, bool]:
+        """({i: dr/dq_i} for the q_i that r depends on, whether r holds |u| or sign(u))."""
+        import symengine as se
+
+        nonsmooth = False
+        parts: dict = defaultdict(lambda: [[] for _ in position])
+        for k, x in enumerate(position):
+            for term in x.args if type(x) is se.Add else (x,):
+                derivatives, holds = self.term(term)
+                nonsmooth = nonsmooth or holds
+                for i, derivative in derivatives:
+                    parts[i][k].append(derivative)
+        columns = {}
+        for i in sorted(parts):
+            key = tuple(map(tuple, parts[i]))
+            column = self.made.get(key)
+            if column is None:
+                column = tuple(se.Add(*terms) for terms in parts[i])
+                self.made[key] = column = None if all(x.is_zero for x in column) else column
+            if column is not None:
+                columns[i] = column
+        return columns, nonsmooth
 
 
 def gravity_potential(
@@ -284,6 +317,34 @@ def _gravity_potential_large(gravity: Gravity, points, known: dict | None) -> sy
         for mass, r in points
     ]
     return _back_to_sympy(se.Add(*terms), _converted_symbols(cache), cache, known)
+
+
+def difference_in_symengine(kinetic: sympy.Expr, potential: sympy.Expr | None, known: dict):
+    """(T - V, its SymEngine form) made in SymEngine, where T and V convert to it; else
+    (None, None).
+
+    ``known`` is what :func:`kinetic_energy` and :func:`gravity_potential` collected: T and
+    V convert at the cost of their top level, and L converts back reusing their SymPy
+    terms.  SymPy's ``T - V`` would sort the terms of the sum anew (0.17 s for the
+    100-link chain's 5150); L's terms come in SymEngine's order instead, as T's do.
+    """
+    import symengine as se
+
+    t = to_symengine(kinetic, known)
+    v = se.Integer(0) if potential is None else to_symengine(potential, known)
+    if t is None or v is None:
+        return None, None
+    # -V term by term, as SymPy distributes it (SymEngine would keep -(a + b) whole)
+    difference = se.Add(*_terms(t), *(-term for term in _terms(v)))
+    made = {node: expr for expr, node in known.items()}
+    symbols = {expr.name: expr for expr in known if expr.is_Symbol}
+    return to_sympy(difference, symbols, made), difference
+
+
+def _terms(expr) -> tuple:
+    import symengine as se
+
+    return expr.args if type(expr) is se.Add else (expr,)
 
 
 def _back_to_sympy(expr, symbols: dict, cache: dict, known: dict | None) -> sympy.Expr:

@@ -75,6 +75,23 @@ def build_expression(
     return builder.build(node)
 
 
+def build_terms(
+    text: str,
+    pieces: Sequence[tuple[int, int, bool]],
+    namespace: Namespace,
+    limits: ParseLimits,
+    terms: Terms,
+    parse: Callable[[int, int], Node],
+) -> sympy.Expr:
+    """The sum of the terms of ``text`` at ``pieces`` ((start, end, negated), as
+    :func:`~.split.top_level_terms` finds them), each built once per ``terms``; a term not
+    built before is ``parse(start, end)``.  The same value, charged against the same limits,
+    as :func:`build_expression` of the text's tree."""
+    builder = _Builder(text, namespace, limits)
+    position = pieces[0][0]
+    return builder.sum_of_terms([(*piece, None) for piece in pieces], position, terms, parse)
+
+
 def is_non_finite(value: sympy.Expr) -> bool:
     return any(value is special for special in _NON_FINITE)
 
@@ -92,25 +109,45 @@ class _Builder:
 
     def top_sum(self, node: Sum, terms: Terms) -> sympy.Expr:
         """:meth:`sum` of the whole text's sum, each term built once per ``terms``."""
-        values = []
+        pieces = []
         operands = node.terms
         for k, operand in enumerate(operands):
             start = operand.position + (1 if k else 0)  # past the operator, 1 character
             end = operands[k + 1].position if k + 1 < len(operands) else len(self.text)
+            pieces.append((start, end, operand.inverted, operand.node))
+        return self.sum_of_terms(pieces, node.position, terms)
+
+    def sum_of_terms(
+        self,
+        pieces: Sequence[tuple[int, int, bool, Node | None]],
+        position: int,
+        terms: Terms,
+        parse: Callable[[int, int], Node] | None = None,
+    ) -> sympy.Expr:
+        """The sum of the terms written at ``text[start:end]`` (negated where marked), each
+        built once per ``terms``; a term not built before is ``parse(start, end)`` where no
+        tree of it is given."""
+        values = []
+        for start, end, negated, node in pieces:
             key = (self.text[start:end], terms.latex)
             found = terms.built.get(key)
             if found is None:
                 self.charges = []
-                value = self.build(operand.node)
+                value = self.build(parse(start, end) if node is None else node)
                 terms.built[key] = (value, [(f, args, at - start) for f, args, at in self.charges])
                 self.charges = None
             else:
                 value, charges = found
                 for charge, args, offset in charges:  # in the order the build made them
                     getattr(self, charge)(args, start + offset)
-            values.append(-value if operand.inverted else value)
-        self.check_digits(_sum_size(values, self.limits.max_result_digits), node.position)
-        return self.evaluate(lambda: sympy.Add(*values), "the sum", node.position)
+            if negated:  # -value made once per term (SymPy makes a new product each time)
+                negation = terms.negated.get(key)
+                if negation is None:
+                    negation = terms.negated[key] = -value
+                value = negation
+            values.append(value)
+        self.check_digits(_sum_size(values, self.limits.max_result_digits), position)
+        return self.evaluate(lambda: sympy.Add(*values), "the sum", position)
 
     def error(self, message: str, position: int | None) -> ParseError:
         return ParseError(message, self.text, position)

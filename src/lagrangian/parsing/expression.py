@@ -9,18 +9,30 @@ by calling ``Add``, ``Mul``, ``Pow`` and the function classes directly.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy
 
 from lagrangian.errors import ParseError
-from lagrangian.parsing.builder import build_expression, is_non_finite
+from lagrangian.parsing.builder import build_expression, build_terms, is_non_finite
 from lagrangian.parsing.latex import looks_like_latex, tokenize_latex
 from lagrangian.parsing.lexer import tokenize
 from lagrangian.parsing.limits import DEFAULT_LIMITS, ParseLimits, log_size
 from lagrangian.parsing.names import BUILTIN_CONSTANTS, BUILTIN_FUNCTIONS, Namespace
-from lagrangian.parsing.nodes import Call, Kind, Name, Negate, Node, Number, Power, Product, Sum
+from lagrangian.parsing.nodes import (
+    Call,
+    Kind,
+    Name,
+    Negate,
+    Node,
+    Number,
+    Power,
+    Product,
+    Sum,
+    Token,
+)
 from lagrangian.parsing.parser import parse_tokens
+from lagrangian.parsing.split import top_level_terms
 from lagrangian.parsing.terms import Terms
 
 
@@ -64,12 +76,16 @@ def parse_expression(
     """
     if not isinstance(namespace, Namespace):
         raise TypeError(f"namespace must be a Namespace, not {type(namespace).__name__}")
-    tree = _parse_tree(text, limits)
-    if trees is not None:
-        trees[text] = tree
-    if terms is not None:
-        terms.latex = looks_like_latex(text)
-    result = build_expression(tree, text, namespace, limits, terms)
+    result = None
+    if terms is not None and trees is None:
+        result = _built_by_terms(text, namespace, limits, terms)
+    if result is None:
+        tree = _parse_tree(text, limits)
+        if trees is not None:
+            trees[text] = tree
+        if terms is not None:
+            terms.latex = looks_like_latex(text)
+        result = build_expression(tree, text, namespace, limits, terms)
     if not isinstance(result, sympy.Expr):
         raise ParseError("not an expression", text, None)
     if is_non_finite(result) or result.has(*_NON_FINITE):
@@ -145,6 +161,47 @@ def _check_numbers(result: sympy.Expr, text: str, limits: ParseLimits) -> None:
             raise ParseError(
                 f"number too large (limit {limits.max_result_digits} digits)", text, None
             )
+
+
+def _built_by_terms(
+    text: object, namespace: Namespace, limits: object, terms: Terms
+) -> sympy.Expr | None:
+    """The value of a long plain sum whose terms are split without a parse
+    (:func:`~.split.top_level_terms`), only the terms not built before parsed; None where
+    the split does not apply or anything is wrong: the full parse then refuses the text
+    where it does, with its message.
+    """
+    if not (
+        isinstance(text, str)
+        and isinstance(limits, ParseLimits)
+        and len(text) <= limits.max_length
+        and not looks_like_latex(text)
+    ):
+        return None
+    pieces = top_level_terms(text)
+    if pieces is None:
+        return None
+    made: dict[int, list[Token]] = {}  # start -> the tokens of a term not met before
+    count = len(pieces) - 1  # the signs between the terms
+    try:
+        for start, end, _ in pieces:
+            written = text[start:end]
+            found = terms.tokens.get(written)
+            if found is None or (written, False) not in terms.built:
+                tokens = tokenize(written, limits)
+                found = terms.tokens[written] = len(tokens) - 1  # without END
+                made[start] = [replace(t, position=t.position + start) for t in tokens]
+            count += found
+        if count > limits.max_nodes:
+            return None  # refused by the full parse ("too large"), at its token
+        terms.latex = False
+
+        def parse(start: int, end: int) -> Node:
+            return parse_tokens(made[start], text, limits, latex=False)
+
+        return build_terms(text, pieces, namespace, limits, terms, parse)
+    except ParseError:
+        return None
 
 
 def _parse_tree(text: str, limits: ParseLimits) -> Node:

@@ -20,3 +20,5 @@ class Terms:
     def __init__(self, latex: bool = False):
         self.latex = latex  # of the text now parsed: LaTeX tokenizes the same slice otherwise
         self.built: dict = {}
+        self.negated: dict = {}  # {(text, latex): -value} of the terms written after a minus
+        self.tokens: dict = {}  # {text: its token count} of the terms split without a parse

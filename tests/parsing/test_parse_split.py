@@ -1,0 +1,135 @@
+"""Long sums split into their terms without a parse (``parsing.split``): the same outcome.
+
+With ``terms=Terms()`` (a model's texts), a plain text's top-level sum is split by one scan
+of its signs and parentheses, and only the terms not built before are tokenized and
+parsed.  Every text, valid or not, must come out as a fresh parse gives it: the same
+value, or the same message at the same position.
+"""
+
+from __future__ import annotations
+
+import random
+
+import pytest
+import sympy
+
+from lagrangian.errors import ParseError
+from lagrangian.parsing import Namespace, ParseLimits, Terms, parse_expression
+from lagrangian.parsing import expression as expression_module
+from lagrangian.parsing.split import top_level_terms
+
+NAMES = ["x", "y", "a1e", "theta1", "theta2", "l1", "l2"]
+NAMESPACE = Namespace(symbols={name: sympy.Symbol(name) for name in NAMES})
+
+# pieces of terms, some of them broken on purpose (an error inside a term, at a sign
+# that is not a split, across the split)
+ATOMS = ["x", "y", "2", "0.5", "1e-3", "2.5E+2", "1.e-2", ".5e-1", "a1e", "theta1", "l2"]
+BROKEN = ["z", "1e-x", "x__y", "(", ")", "*", "sin(", "_x", "−x", "x[1]", "2x", "1e-", ""]
+
+
+def _term(rng: random.Random, depth: int = 0) -> str:
+    roll = rng.random()
+    if roll < 0.008:
+        return rng.choice(BROKEN)
+    if depth > 2 or roll < 0.35:
+        return rng.choice(ATOMS)
+    if roll < 0.5:
+        return f"{_term(rng, depth + 1)}*{_term(rng, depth + 1)}"
+    if roll < 0.6:
+        return f"{_term(rng, depth + 1)}{rng.choice(['**', '^', '/', '*'])}-{_term(rng, depth + 1)}"
+    if roll < 0.75:
+        return f"{rng.choice(['sin', 'cos', 'sqrt', 'exp'])}({_sum(rng, depth + 1)})"
+    if roll < 0.85:
+        return f"({_sum(rng, depth + 1)})"
+    return f"{rng.choice(['-', '+', ' - '])}{_term(rng, depth + 1)}"
+
+
+def _sum(rng: random.Random, depth: int = 0) -> str:
+    text = _term(rng, depth)
+    for _ in range(rng.randint(0, 6 if depth else 12)):
+        text += rng.choice([" + ", " - ", "+", "-", " -  ", "\t+ ", " - -", "+-"]) + _term(
+            rng, depth
+        )
+    return rng.choice(["", " ", "\n"]) + text + rng.choice(["", " "])
+
+
+def _outcome(text: str, terms: Terms | None = None, limits: ParseLimits | None = None):
+    try:
+        return parse_expression(text, NAMESPACE, limits or ParseLimits(), terms=terms)
+    except ParseError as error:
+        return (type(error).__name__, error.message, error.position)
+
+
+def test_random_texts_come_out_as_a_fresh_parse_gives_them():
+    rng = random.Random(36)
+    texts = [_sum(rng) for _ in range(300)]
+    terms = Terms()  # shared, as a model's texts share it: terms are met again and again
+    split = 0
+    for text in texts:
+        fresh = _outcome(text)
+        assert _outcome(text, terms) == fresh, text
+        split += top_level_terms(text) is not None
+    assert split > 150  # most texts took the split
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "x + y",
+        "  -x + 2*y - 1e-3",
+        "x*-y + 2^-x - x/-y",
+        "x - -y + +x",
+        "sin(x - y) + (x - y)*2",
+        "1e-3 + 2.5e+2*x - .5e-1",
+        "a1e-3 + x",  # a name ending in e: the sign is an operator
+        "x + y)",
+        "(x + y",
+        "x + ",
+        "x +* y",
+        "x + z",  # an unknown name in a later term
+        "x + y − x",  # a Unicode minus: not split
+        "x + 1e-x",
+    ],
+)
+def test_written_cases_come_out_as_a_fresh_parse_gives_them(text):
+    terms = Terms()
+    _outcome("x + y + 2*y + sin(x - y)", terms)
+    assert _outcome(text, terms) == _outcome(text)
+
+
+def test_the_split_is_the_parsers():
+    assert top_level_terms(" -x + 2*y - 1e-3*x") == [(1, 4, False), (5, 10, False), (11, 18, True)]
+    assert top_level_terms("x*-y - 2^-x") == [(0, 5, False), (6, 11, True)]
+    assert top_level_terms("sin(x - y) + x") == [(0, 11, False), (12, 14, False)]
+    assert top_level_terms("x") is None  # one term: the parse as before
+    assert top_level_terms("x + y)") is None
+    assert top_level_terms("x − y + x") is None  # not ASCII
+
+
+def test_too_many_tokens_are_refused_where_a_fresh_parse_refuses_them():
+    limits = ParseLimits(max_nodes=40)
+    terms = Terms()
+    assert isinstance(_outcome(" + ".join(["x*y"] * 10), terms, limits), sympy.Expr)  # 39 tokens
+    longer = " + ".join(["x*y"] * 11)  # 43 tokens
+    assert _outcome(longer, terms, limits) == _outcome(longer, limits=limits)
+    assert "more than 40 tokens" in _outcome(longer, terms, limits)[1]
+
+
+def test_only_the_terms_not_met_before_are_tokenized(monkeypatch):
+    seen: list[str] = []
+    tokenize = expression_module.tokenize
+
+    def counting(text, limits):
+        seen.append(text)
+        return tokenize(text, limits)
+
+    monkeypatch.setattr(expression_module, "tokenize", counting)
+    chains = ["0"]
+    for i in range(1, 31):
+        chains.append(chains[-1] + f" + l{1 + i % 2}*sin(theta{1 + i % 2})")
+    terms = Terms()
+    split = [_outcome(chain, terms) for chain in chains]
+    with_terms = sum(map(len, seen))
+    seen.clear()
+    assert split == [_outcome(chain) for chain in chains]
+    assert with_terms < sum(map(len, seen)) / 20
