@@ -499,9 +499,16 @@ def combine_angles(expr):
 
     if expanded_terms(expr) > MAX_EXPANDED_TERMS:
         return expr  # SymEngine's expand, in C++, is out of reach of deadlines and memory limits
+    return combine_expanded_angles(se.expand(expr))
+
+
+def combine_expanded_angles(expanded):
+    """:func:`combine_angles` of an expression already expanded (SymEngine)."""
+    import symengine as se
+
     pairs: dict[tuple, dict[type, object]] = {}
     kept = []
-    for term in _args(se.expand(expr), se.Add):
+    for term in _args(expanded, se.Add):
         rest, trig = [], []
         for factor in _args(term, se.Mul):
             if type(factor) in (se.sin, se.cos):

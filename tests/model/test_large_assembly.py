@@ -12,6 +12,7 @@ from __future__ import annotations
 import importlib
 import math
 
+import pytest
 import sympy
 
 from derive.test_chain_pendulum import chain_pendulum
@@ -93,3 +94,75 @@ def test_the_lagrangian_is_not_sorted_anew_by_sympy(monkeypatch, rng):
         evaluate(system.kinetic, point) - evaluate(system.potential, point),
         scale=1.0,
     )
+
+
+def test_products_of_columns_by_their_monomials_are_combine_angles_of_the_product(rng):
+    """u . v made from the columns' monomials equals ``combine_angles`` of u . v, for
+    columns of monomials and for columns the shortcut leaves to it (sums inside powers,
+    products of sums, |u|)."""
+    import symengine as se
+
+    from lagrangian.algebra import combine_angles
+    from lagrangian.model.energy import _Monomials
+
+    a, b, c, l1, l2 = se.symbols("a b c l1 l2")
+    components = [
+        l1 * se.cos(a),
+        -l1 * se.sin(a),
+        l2 * se.cos(b) + l1 * se.cos(a),
+        2 * se.sin(a) * se.cos(b) ** 2,
+        se.sqrt(l1) * se.sin(c),
+        l1 * (se.cos(a) + se.sin(b)),  # a product holding a sum: expanded first
+        (l1 + l2) ** se.Rational(3, 2) * se.cos(a),  # a power of a sum: left to combine_angles
+        se.cos(a) / (l1 + se.sin(b)),
+        se.Abs(a) * se.sin(a),
+        se.Integer(0),
+    ]
+    shortcut = 0
+    for _ in range(200):
+        u = tuple(rng.choice(components) for _ in range(2))
+        v = tuple(rng.choice(components) for _ in range(2))
+        left, right = _Monomials(u), _Monomials(v)
+        shortcut += left.terms is not None and right.terms is not None
+        expected = combine_angles(se.Add(*(x * y for x, y in zip(u, v, strict=True))))
+        assert left.dot(right) == expected, (u, v)
+    assert 50 < shortcut < 200  # both ways were taken
+
+
+def test_the_products_of_columns_are_not_counted_one_by_one(monkeypatch):
+    """The expansion bound is taken once per column, not walked for each of the n(n+1)/2
+    products (before: one expanded_terms walk per product)."""
+    counted = _counting(monkeypatch, "lagrangian.model.energy", "expanded_terms")
+    walked = _counting(monkeypatch, "lagrangian.algebra", "expanded_terms")
+    n = 12
+    chain_pendulum(n)
+    assert len(counted) + len(walked) <= 2 * n  # two components a column, n columns
+
+
+def _chain_with_last_position(n: int, last_x: str) -> str:
+    """The n-link pendulum's model file, the last bob's x written as ``last_x``."""
+    lines = [f"coordinates = [{', '.join(f'{chr(34)}theta{i}{chr(34)}' for i in range(1, n + 1))}]"]
+    lines += ["[parameters]", *(f"l{i} = 1.0" for i in range(1, n + 1)), "g = 9.81"]
+    x = "0"
+    for i in range(1, n + 1):
+        x += f" + l{i}*sin(theta{i})"
+        shown = last_x if i == n else x
+        lines += ["[[particles]]", 'mass = "1"', f'position = ["{shown}", "l1*cos(theta1)"]']
+    return "\n".join(lines)
+
+
+def test_a_sum_of_terms_met_before_is_checked_whole():
+    """The checks of a position see the sum SymPy made of its terms: a number the sum made
+    beyond double precision is refused, a name that cancels is not there."""
+    from lagrangian.errors import ModelError
+    from lagrangian.model.toml_io import loads
+
+    n = 8
+    terms = " + ".join(f"l{i}*sin(theta{i})" for i in range(1, n + 1))
+    beyond = f"{terms} + 1e308*l1 + 1e308*l1"  # each term a double, their sum 2e308 not
+    with pytest.raises(ModelError, match=r"the number 2000.* is beyond double precision"):
+        loads(_chain_with_last_position(n, beyond))
+    cancelled = f"{terms} + theta1_dot - theta1_dot"  # a velocity, gone from the sum
+    system = loads(_chain_with_last_position(n, cancelled))
+    names = {s.name for s in system.particles[-1].position[0].free_symbols}
+    assert names == {f"{kind}{i}" for kind in ("l", "theta") for i in range(1, n + 1)}

@@ -227,9 +227,7 @@ class _Builder(ModelNames):
         points = [p.position for p in particles] + [
             moving_with(b) if isinstance(b, RigidBody) else (*b.center, b.angle) for b in bodies
         ]
-        check_kinetic_work(
-            len(q & set().union(*(x.free_symbols for x in point))) for point in points
-        )
+        check_kinetic_work(len(q & set().union(*map(self.free_symbols, point))) for point in points)
 
     def _by_coordinate(self, table, where, resolved) -> dict[str, sympy.Expr]:
         names = {c.name for c in self.coordinates}

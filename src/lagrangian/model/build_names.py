@@ -176,14 +176,14 @@ class ModelNames:
             raise ModelError(
                 f"expected an expression, got {type(value).__name__}", field=where, text=str(value)
             )
-        beyond = _beyond_double(result)
+        beyond = _beyond_double(self.terms.union(result, _numbers))
         if beyond is not None:
             raise ModelError(
                 f"the number {beyond} is beyond double precision",
                 field=where,
                 text=value if isinstance(value, str) else str(value),
             )
-        for symbol in result.free_symbols:
+        for symbol in self.free_symbols(result):
             category = self._category(symbol)
             if category not in allowed:
                 raise ModelError(
@@ -193,6 +193,10 @@ class ModelNames:
                     text=value if isinstance(value, str) else str(value),
                 )
         return result
+
+    def free_symbols(self, expr: sympy.Basic) -> set:
+        """``expr.free_symbols``, each term of a sum looked at once per model (they recur)."""
+        return self.terms.union(expr, _free_symbols)
 
     def _adopt(self, value: sympy.Expr, where: str) -> sympy.Expr:
         """Rebind the symbols of a user's SymPy expression to the model's, by name."""
@@ -219,9 +223,18 @@ class ModelNames:
         return adopted
 
 
-def _beyond_double(expr: sympy.Expr) -> str | None:
-    """A number of ``expr`` outside the range of doubles (shown short), or None."""
-    for number in expr.atoms(sympy.Number):
+def _numbers(expr: sympy.Basic) -> set:
+    return expr.atoms(sympy.Number)
+
+
+def _free_symbols(expr: sympy.Basic) -> set:
+    return expr.free_symbols
+
+
+def _beyond_double(numbers: set) -> str | None:
+    """A number of ``numbers`` (an expression's) outside the range of doubles (shown
+    short), or None."""
+    for number in numbers:
         if number == 0 or not number.is_finite:
             continue
         if number.is_Rational:

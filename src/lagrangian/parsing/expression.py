@@ -88,9 +88,10 @@ def parse_expression(
         result = build_expression(tree, text, namespace, limits, terms)
     if not isinstance(result, sympy.Expr):
         raise ParseError("not an expression", text, None)
-    if is_non_finite(result) or result.has(*_NON_FINITE):
+    union = terms.union if terms is not None else _whole  # a sum's terms looked at once
+    if is_non_finite(result) or union(result, _non_finite):
         raise ParseError("division by zero", text, None)
-    _check_numbers(result, text, limits)
+    _check_numbers(union(result, _rationals), text, limits)
     return result
 
 
@@ -149,14 +150,28 @@ def token_ends(text: str, limits: ParseLimits = DEFAULT_LIMITS) -> dict[int, int
 _NON_FINITE = (sympy.zoo, sympy.nan, sympy.oo, -sympy.oo)
 
 
-def _check_numbers(result: sympy.Expr, text: str, limits: ParseLimits) -> None:
-    """A last check that no number in the result is longer than the limit allows.
+def _whole(expr: sympy.Basic, what):
+    return what(expr)
+
+
+def _non_finite(expr: sympy.Basic) -> set:
+    """{True} where ``expr`` holds an infinity or nan (a set: see Terms.union)."""
+    return {True} if expr.has(*_NON_FINITE) else set()
+
+
+def _rationals(expr: sympy.Basic) -> set:
+    return expr.atoms(sympy.Rational)
+
+
+def _check_numbers(numbers: set, text: str, limits: ParseLimits) -> None:
+    """A last check that no number in the result (``numbers``: its rationals) is longer
+    than the limit allows.
 
     The estimates made before each operation should already have refused such
     a number; this guards the printing of the result (Python cannot print an
     integer of more than 4,300 digits) against anything they missed.
     """
-    for number in result.atoms(sympy.Rational):
+    for number in numbers:
         if max(log_size(number.p), log_size(number.q)) >= limits.max_result_digits:
             raise ParseError(
                 f"number too large (limit {limits.max_result_digits} digits)", text, None
