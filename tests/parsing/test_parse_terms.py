@@ -57,3 +57,33 @@ def test_a_text_of_terms_built_before_is_refused_where_it_would_be_alone(first, 
     alone = _outcome(second)
     assert isinstance(alone, str) and "too costly" in alone
     assert _outcome(second, terms) == alone  # same message, same position
+
+
+def test_terms_are_put_in_the_order_sympy_sorts_a_sum_in():
+    """``Terms.in_canonical_order`` sorts as SymPy's Add does (``Basic.compare``): Add then
+    sorts a model's sums with n - 1 comparisons; the sum is the same whatever the order."""
+    import functools
+
+    rng = random.Random(3)
+    x, l = X, NAMESPACE.symbols["l"]
+    pool = [x, -x, 2 * x, l * sympy.sin(x), -l * sympy.cos(Y["y1"]), sympy.Rational(1, 3)]
+    pool += [Y[f"y{i}"] * x**i for i in range(1, 30)] + [sympy.sqrt(2) * Y["y2"], sympy.exp(x)]
+    terms = Terms()
+    for _ in range(40):
+        values = rng.sample(pool, rng.randint(1, 20))
+        ordered = terms.in_canonical_order(values)
+        assert ordered == sorted(values, key=functools.cmp_to_key(sympy.Basic.compare))
+        assert sympy.Add(*ordered).args == sympy.Add(*values).args
+
+
+def test_the_sizes_of_a_sums_numbers_are_estimated_alike_from_terms_seen_before():
+    from lagrangian.parsing.builder import _sum_size
+
+    rng = random.Random(5)
+    pool = [X / 3, X**2 / 7, sympy.Rational(10**30, 11) * X, sympy.sqrt(2) * Y["y1"] / 13]
+    pool += [Y[f"y{i}"] / (i + 2) for i in range(40)] + [X, 2 ** (X + 1)]
+    known: dict = {}
+    for limit in (5, 50, 1000):
+        for _ in range(30):
+            values = rng.sample(pool, rng.randint(1, 30))
+            assert _sum_size(values, limit, known) == _sum_size(values, limit)

@@ -146,8 +146,10 @@ class _Builder:
                     negation = terms.negated[key] = -value
                 value = negation
             values.append(value)
-        self.check_digits(_sum_size(values, self.limits.max_result_digits), position)
-        return self.evaluate(lambda: sympy.Add(*values), "the sum", position)
+        limit = self.limits.max_result_digits
+        self.check_digits(_sum_size(values, limit, terms.number_sizes), position)
+        ordered = terms.in_canonical_order(values)  # the same sum, its sort done mostly
+        return self.evaluate(lambda: sympy.Add(*ordered), "the sum", position)
 
     def error(self, message: str, position: int | None) -> ParseError:
         return ParseError(message, self.text, position)
@@ -413,21 +415,39 @@ class _Builder:
             raise self.error("expression too costly: too many roots of numbers", position)
 
 
-def _sum_size(terms: Sequence[sympy.Expr], limit: int) -> float:
+def _sum_size(terms: Sequence[sympy.Expr], limit: int, known: dict | None = None) -> float:
     """Estimated size of the numbers in a sum: a common denominator makes them grow.
 
     ``log10`` of the least common multiple of the denominators (computed until
-    it passes ``limit`` digits) plus the size of the largest term.
+    it passes ``limit`` digits) plus the size of the largest term.  ``known`` keeps each
+    term's (size, denominators) for the next sums (a model's sums share their terms).
     """
     largest = 0.0
     common = 1
     for term in terms:
-        for part in sympy.Add.make_args(term):
-            largest = max(largest, numeric_size(part))
-            coefficient = part.as_coeff_Mul()[0]
-            if coefficient.is_Rational and coefficient.q != 1 and log_size(common) <= limit:
-                common = math.lcm(common, coefficient.q)
+        found = None if known is None else known.get(term)
+        if found is None:
+            found = _term_numbers(term)
+            if known is not None:
+                known[term] = found
+        size, denominators = found
+        largest = max(largest, size)
+        for q in denominators:
+            if log_size(common) <= limit:
+                common = math.lcm(common, q)
     return largest + log_size(common) + log_size(len(terms))
+
+
+def _term_numbers(term: sympy.Expr) -> tuple[float, tuple[int, ...]]:
+    """(the largest numeric size of ``term``'s parts, their coefficients' denominators)."""
+    largest = 0.0
+    denominators = []
+    for part in sympy.Add.make_args(term):
+        largest = max(largest, numeric_size(part))
+        coefficient = part.as_coeff_Mul()[0]
+        if coefficient.is_Rational and coefficient.q != 1:
+            denominators.append(coefficient.q)
+    return largest, tuple(denominators)
 
 
 def _clip(shown: str) -> str:

@@ -6,9 +6,13 @@ at each use, what a term's build charged against the text's limits.
 
 from __future__ import annotations
 
+import bisect
+import functools
 from collections.abc import Callable
 
 import sympy
+
+_CANONICAL = functools.cmp_to_key(sympy.Basic.compare)  # the key of SymPy's Add's sort
 
 
 class Terms:
@@ -27,6 +31,9 @@ class Terms:
         self.negated: dict = {}  # {(text, latex): -value} of the terms written after a minus
         self.tokens: dict = {}  # {text: its token count} of the terms split without a parse
         self.parts: dict = {}  # {what: {term: what(term)}} (see union)
+        self.number_sizes: dict = {}  # {term: (numeric size, denominators)} (builder's)
+        self._ordered: list = []  # the distinct terms met, in SymPy's canonical order
+        self._rank: dict = {}  # term -> its place in _ordered
 
     def union(self, expr: sympy.Basic, what: Callable[[sympy.Basic], set]) -> set:
         """``what(expr)`` for a ``what`` that is the union of its values on a sum's terms
@@ -42,3 +49,21 @@ class Terms:
                 part = found[term] = what(term)
             union |= part
         return union
+
+    def in_canonical_order(self, values: list) -> list:
+        """``values`` sorted as SymPy's ``Add`` sorts its terms (``Basic.compare``).
+
+        ``Add`` sorts the terms of each sum it makes, about n log n comparisons of
+        expressions; given them in order, its sort makes n - 1.  Each distinct term is
+        placed once among those met before (log n comparisons), so a model's sums of
+        the same terms are sorted by numbers.  Only the work changes: ``Add`` still
+        sorts, so the sum is the same whatever the order given.
+        """
+        rank = self._rank
+        new = {value for value in values if value not in rank}
+        if new:
+            ordered = self._ordered
+            for value in new:
+                bisect.insort(ordered, value, key=_CANONICAL)
+            self._rank = rank = {value: place for place, value in enumerate(ordered)}
+        return sorted(values, key=rank.__getitem__)
