@@ -153,3 +153,18 @@ def test_text_and_latex_documents_of_a_large_chain():
     latex = output.latex_equations(eom)
     assert r"\ddot{\theta}_{1}" in latex and "**" not in latex
     assert latex.count(r"0 &= ") == FAST_MIN_COORDINATES + 1
+
+
+def test_each_distinct_entry_of_a_large_mass_matrix_is_written_once():
+    """M is symmetric: the JSON's lower triangle is the upper's text, written once (the
+    same string), and the same text SymEngine writes for each entry."""
+    system = chain(FAST_MIN_COORDINATES)
+    eom = system.equations_of_motion()
+    rows = eom.symengine.mass_matrix
+    show = plain_printer(system)
+    for i in range(len(rows)):
+        for j in range(i):
+            assert show(rows[i][j]) is show(rows[j][i])
+            assert show(rows[i][j]) == str(rows[j][i])
+    document = output.derive_document(eom)
+    assert document["mass_matrix"][2][1] == str(rows[1][2])

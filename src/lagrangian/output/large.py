@@ -79,10 +79,14 @@ def plain_printer(system) -> Printer:
     """SymPy ``str()`` text; SymEngine's ``str`` of the same expression where it is large."""
     large = is_large(system)
     cache: dict = {}
+    written: dict = {}  # SymEngine form -> its text: M's lower triangle is the upper's entries
 
     def show(expr: sympy.Expr) -> str:
-        if not isinstance(expr, sympy.Basic):
-            return str(expr)  # a SymEngine form (see printed)
+        if not isinstance(expr, sympy.Basic):  # a SymEngine form (see printed)
+            text = written.get(expr)
+            if text is None:
+                text = written[expr] = str(expr)
+            return text
         if large or longer_than(expr, PLAIN_MAX_NODES):
             converted = to_symengine(expr, cache)
             if converted is not None:
