@@ -172,6 +172,62 @@ def test_attractors_of_period_four_are_found_while_many_starts_share_them():
     assert sum(same) >= 18, same
 
 
+#: m x'' = -d x' + x - x^3 + F cos(w t): at these values two attractors of period 1 of the
+#: strobe map coexist, one in each well (not a model of the project).
+DRIVEN_DUFFING = """
+name = "Driven double-well Duffing oscillator"
+coordinates = ["x"]
+kinetic = "x_dot^2/2"
+potential = "-x^2/2 + x^4/4"
+
+[parameters]
+d = 0.3
+F = 0.2
+w = 1.2
+
+[forces]
+x = "F*cos(w*t) - d*x_dot"
+
+[initial]
+x = 0.1
+"""
+
+
+@pytest.mark.slow
+def test_driven_duffing_basins_match_long_scipy_runs(tmp_path):
+    """A driven system that is not the pendulum: each start's label against where scipy's
+    DOP853 (the equations written by hand; all starts as one system, the tolerance
+    divided by sqrt(2k) for the RMS norm) puts it after 100 drive periods."""
+    path = tmp_path / "duffing.toml"
+    path.write_text(DRIVEN_DUFFING)
+    compiled = compile_equations(derive(load(str(path))))
+    period = 2 * np.pi / 1.2
+    grid = {"x": (-2.0, 2.0, 40), "x_dot": (-2.0, 2.0, 40)}
+    basins = basins_of_attraction(compiled, grid=grid, period=period)
+    assert [(a.kind, a.period) for a in basins.attractors] == [("fixed point", 1)] * 2
+    assert basins.counts()[-1] == 0
+    x0, v0 = np.meshgrid(*basins.axes, indexing="ij")
+    k = x0.size
+
+    def flow(t, y):
+        x, v = y[:k], y[k:]
+        return np.concatenate([v, x - x**3 - 0.3 * v + 0.2 * np.cos(1.2 * t)])
+
+    tol = 1e-9 / np.sqrt(2 * k)
+    end = 100 * period
+    solution = solve_ivp(
+        flow, (0.0, end), np.concatenate([x0.ravel(), v0.ravel()]), method="DOP853",
+        rtol=tol, atol=tol, t_eval=[end],
+    )  # fmt: skip
+    x, v = solution.y[:k, -1], solution.y[k:, -1]
+    reference = np.full(k, -1)
+    for attractor in basins.attractors:  # a fixed point of the strobe map: one point
+        point_x, point_v = attractor.points[:, 0]
+        reference[np.hypot(x - point_x, v - point_v) < 0.05] = attractor.label
+    assert np.all(reference >= 0)  # every start settled on one of the two
+    assert np.mean(reference == basins.labels.ravel()) >= 0.995
+
+
 def test_a_grid_must_cover_the_state(well):
     from lagrangian.errors import ModelError
 
