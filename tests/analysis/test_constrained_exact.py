@@ -11,6 +11,7 @@ from __future__ import annotations
 import itertools
 import math
 
+import numpy as np
 import pytest
 import scipy.optimize
 import sympy
@@ -195,3 +196,53 @@ def test_with_sympy_ended_at_once_the_same_points_come_numerically():
         assert float(e.omega_squared[0].subs(values)) == pytest.approx(
             float(twin.omega_squared[0]), rel=1e-9
         )
+
+
+HOOP = """
+name = "Bead on a turning hoop, in polar coordinates"
+coordinates = ["r", "theta"]
+constraints = ["r - R"]
+kinetic = "m*(r_dot^2 + r^2*theta_dot^2 + Omega^2*r^2*sin(theta)^2)/2"
+potential = "-m*g*r*cos(theta)"
+
+[parameters]
+m = 0.2
+g = 9.81
+Omega = 5.0
+R = 0.5
+"""
+
+
+def test_a_bead_on_a_turning_hoop_rests_off_its_axis_exactly():
+    # r = R pinned (the value of R and of no other parameter): SymPy solves the rest at
+    # once, where the whole system takes it 2.3 s.  By hand: U(theta) = -m g R cos(theta) -
+    # m Omega^2 R^2 sin(theta)^2/2 is stationary at cos(theta0) = g/(Omega^2 R), where
+    # U'' = m Omega^2 R^2 sin(theta0)^2 and the inertia is m R^2
+    system = lg.loads(HOOP)
+    points = surface_rest_points(system.equations_of_motion()).points
+    m, g, omega, radius = (system.symbol(k) for k in ("m", "g", "Omega", "R"))
+    assert len(points) == 4 and not any(e.numeric for e in points)
+    assert all(e.point["r"] == radius for e in points)
+    cosine = g / (omega**2 * radius)
+    off = [e for e in points if sympy.simplify(sympy.cos(e.point["theta"]) - cosine) == 0]
+    assert len(off) == 2
+    for e in off:
+        expected = omega**2 * (1 - cosine**2)
+        assert sympy.simplify(e.omega_squared[0] - expected) == 0
+        # the hoop pulls the bead in with the centripetal force m Omega^2 R
+        assert sympy.simplify(e.multipliers["lambda1"] + m * omega**2 * radius) == 0
+        assert e.modes.stability is Stability.STABLE
+
+
+def test_a_length_is_pinned_at_a_parameters_value_only_where_one_parameter_has_it():
+    from lagrangian.analysis.surface_exact import pinned
+    from lagrangian.analysis.surface_search import SurfaceRoot
+
+    r, theta, lam, radius, m = sympy.symbols("r theta lambda1 R m")
+    root = SurfaceRoot(np.array([0.5, 0.7]), np.array([-2.5]), rank=1)
+    pins = pinned(root, [r, theta], [lam], [False, True], {radius: 0.5, m: 0.2})
+    assert pins == {r: radius}
+    assert pinned(root, [r, theta], [lam], [False, True], {radius: 0.5, m: 0.5}) == {}
+    below = SurfaceRoot(np.array([-0.5, math.pi / 3]), np.array([0.0]), rank=1)
+    pins = pinned(below, [r, theta], [lam], [False, True], {radius: 0.5, m: 0.2})
+    assert pins == {r: -radius, theta: sympy.pi / 3, lam: 0}

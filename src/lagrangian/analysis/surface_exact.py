@@ -7,7 +7,9 @@ F(q, lambda) = 0 of :mod:`.constrained` are hard to solve whole (a four-bar's lo
 closures: not within minutes; a slider-crank's: 5 s), but a point's coordinates at 0, its
 angles at a multiple of pi/12 and its multipliers at 0 are very likely exact values: with
 them put in ("pinned") the equations left are smaller, and SymPy solves them at once (the
-slider-crank's: 0.2 s for two of its points).  A pin that holds at these values only, not
+slider-crank's: 0.2 s for two of its points).  So is a length at the value of a parameter
+(a bead on a turning hoop at r = R, at the angle acos(g/(Omega^2 R)): SymPy takes 2.3 s
+for the whole system, 0.1 s with r = R put in).  A pin that holds at these values only, not
 for all values of the parameters, leaves the equations without a solution, and SymPy
 says so: an exact solution is one for every value.  A solution is the exact form of a
 point where its numbers at the values are the point's.  Points no pinned system gives
@@ -65,9 +67,12 @@ def exact_solutions(
     SymPy left it free), found within ``seconds`` of CPU.  The solutions that are none of
     the roots are left out: the search's points are the answer, SymPy gives their forms."""
     begun = cpu_seconds()
+    unknowns = {*q, *lambdas}
+    symbols = {s for e in equations for s in e.free_symbols} - unknowns
+    parameters = {s: values[s.name] for s in symbols if s.name in values}
     systems: dict[tuple, list[int]] = {}
     for index, root in enumerate(roots):
-        key = tuple(pinned(root, q, lambdas, angles).items())
+        key = tuple(pinned(root, q, lambdas, angles, parameters).items())
         if key:
             systems.setdefault(key, []).append(index)
     # most pins first: the smallest systems, the quickest to solve
@@ -93,10 +98,13 @@ def pinned(
     q: Sequence[sympy.Symbol],
     lambdas: Sequence[sympy.Symbol],
     angles: Sequence[bool],
+    parameters: Mapping[sympy.Symbol, float],
 ) -> dict[sympy.Symbol, sympy.Expr]:
-    """The exact values ``root`` very likely has: a coordinate at 0 or (an angle) at a
-    multiple of pi/PI_DIVISIONS, a multiplier at 0 (where A has full rank: elsewhere the
-    least-squares multipliers are one choice of many)."""
+    """The exact values ``root`` very likely has: a coordinate at 0, (an angle) at a
+    multiple of pi/PI_DIVISIONS, or (a length) at plus or minus the value of one of the
+    ``parameters`` and of no other (a bead held on a hoop at r = R); a multiplier at 0
+    (where A has full rank: elsewhere the least-squares multipliers are one choice of
+    many)."""
     pins: dict[sympy.Symbol, sympy.Expr] = {}
     scale = 1.0 + float(np.abs(root.q).max(initial=0.0))
     for symbol, x, angle in zip(q, root.q, angles, strict=True):
@@ -105,6 +113,15 @@ def pinned(
             pins[symbol] = sympy.Integer(0)
         elif angle and abs(steps - round(steps)) <= PIN_TOLERANCE * scale:
             pins[symbol] = sympy.pi * sympy.Rational(round(steps), PI_DIVISIONS)
+        elif not angle:
+            same = [
+                sign * p
+                for p, v in parameters.items()
+                for sign in (1, -1)
+                if abs(x - sign * v) <= PIN_TOLERANCE * scale
+            ]
+            if len(same) == 1:  # two parameters of that value: which one it is, is unknown
+                pins[symbol] = same[0]
     if root.rank == len(lambdas):
         size = 1.0 + float(np.abs(root.multipliers).max(initial=0.0))
         for symbol, x in zip(lambdas, root.multipliers, strict=True):
