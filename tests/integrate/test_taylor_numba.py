@@ -4,6 +4,7 @@ elementary operation against SymPy, runs against exact solutions and SciPy's DOP
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -14,8 +15,10 @@ import lagrangian as lg
 from lagrangian.codegen.taylor_numba import module_text
 from lagrangian.codegen.taylor_tape import tape_of
 from lagrangian.errors import ModelError
+from lagrangian.integrate import choice as choice_module
+from lagrangian.integrate.choice import choose_run, heyoka_installed
 from lagrangian.integrate.events import Event
-from lagrangian.integrate.taylor import Taylor, heyoka_installed
+from lagrangian.integrate.taylor import Taylor
 from lagrangian.integrate.taylor_compiled import order_for
 from lagrangian.numeric import compile_equations
 
@@ -46,7 +49,9 @@ def _python_coefficients(compiled, t: float, y: np.ndarray, params: np.ndarray, 
     tape = tape_of(compiled.forms)
     namespace: dict = {}
     text = module_text(tape)[1]
-    text = text.replace("from numba import njit", "njit = lambda **options: lambda f: f")
+    text = text.replace(
+        "from numba import njit, uint64", "njit = lambda **options: lambda f: f\nuint64 = int"
+    )
     text = text.replace("from lagrangian.codegen.numba_cache import tolerate_full_disk", "")
     text = text.replace("tolerate_full_disk()", "")
     exec(compile(text, "<generated>", "exec"), namespace)  # our own text
@@ -54,7 +59,7 @@ def _python_coefficients(compiled, t: float, y: np.ndarray, params: np.ndarray, 
     namespace["constants"](params, c)
     tc = np.zeros((tape.rows, order + 1))
     tc[: y.shape[0], 0] = y
-    namespace["coefficients"](t, c, order, tc)
+    namespace["coefficients"](t, c, order, tc, None, None)
     return tape, tc[: y.shape[0]]
 
 
@@ -217,3 +222,61 @@ def test_events_are_refused_and_a_singularity_fails_naming_the_state():
         Taylor(backend="numba").solve(
             compiled, (0.0, 1.0), [1.0, 0.0], params, events=[Event(lambda t, y, p: y[0] - 0.5)]
         )
+
+
+def _choose(t_end: float, **given):
+    settings = {"method": None, "backend": None, "rtol": None, "atol": None, "params": {}}
+    settings.update(given)
+    eom = lg.load("double_pendulum").equations_of_motion()
+    return choose_run(eom, t_end=t_end, initial={"theta1": 2.0, "theta2": 0.5}, **settings)
+
+
+def test_without_heyoka_method_taylor_is_ours_and_says_so(monkeypatch):
+    monkeypatch.setattr(choice_module, "heyoka_installed", lambda: False)
+    run = _choose(20.0, method="taylor")
+    assert run.method == "taylor"
+    assert run.reason == f"taylor (numba) on {run.compiled.backend}: the method asked for"
+    taylor = run.integrator(20.0)
+    assert taylor.chosen_backend == "numba" and taylor.settings()["backend"] == "numba"
+
+
+@pytest.mark.slow  # the probe and the numba backend's text for three runs (10 s)
+def test_without_heyoka_a_long_smooth_run_takes_ours_unless_it_has_events(monkeypatch):
+    monkeypatch.setattr(choice_module, "heyoka_installed", lambda: False)
+    monkeypatch.setattr(choice_module, "taylor_compiled_ready", lambda compiled: False)
+    run = _choose(1e5)
+    assert run.method == "taylor"
+    assert run.reason.startswith("taylor (numba, tol 1e-12): about ")
+    assert "taylor (numba) ~" in run.reason and "compiled loop ~" in run.reason
+    with_events = _choose(1e5, events=(Event(lambda t, y, p: y[0]),))
+    assert with_events.method == "dop853" and "taylor" not in with_events.reason
+    assert _choose(20.0).method == "dop853"  # too short to pay for a compile
+
+
+@pytest.mark.slow  # compiles the compact mode's walk (4 s)
+def test_the_compact_mode_gives_the_printed_coefficients_and_run(monkeypatch):
+    from lagrangian.codegen.cache import load_text, package_text
+    from lagrangian.integrate import taylor_compiled
+
+    walk = load_text(
+        *package_text(Path(taylor_compiled.__file__).with_name("numba_taylor_tape.py"))
+    )
+    y, t = np.array([0.4, -0.3]), 0.6
+    for lagrangian, parameters in EVERY_OPERATION:
+        compiled = _compiled(lagrangian, ["x"], **parameters)
+        params = compiled.parameter_vector({})
+        tape, printed = _python_coefficients(compiled, t, y, params, 8)
+        program, exponents = taylor_compiled._program(tape)
+        tc = np.zeros((tape.rows, 9))
+        tc[:2, 0] = y
+        c = taylor_compiled.constant_values(tape, params)
+        walk.coefficients(t, c, 8, tc, program, exponents)
+        np.testing.assert_allclose(tc[:2], printed, rtol=1e-13, atol=1e-15)
+    compiled = _compiled(KEPLER, ["r", "theta"], m=1.0, k=1.0)
+    params, y0 = compiled.parameter_vector({}), np.array([1.0, 0.0, 0.0, 1.2])
+    runs = []
+    for operations in (10**6, 0):
+        monkeypatch.setattr(taylor_compiled, "COMPACT_OPERATIONS", operations)
+        runs.append(Taylor(tol=1e-13, backend="numba").solve(compiled, (0.0, 30.0), y0, params))
+    assert runs[0].steps == runs[1].steps
+    np.testing.assert_allclose(runs[1].y[:, -1], runs[0].y[:, -1], rtol=0, atol=1e-12)

@@ -249,11 +249,11 @@ class _Converter:
             signed.sort(key=lambda pair: pair[0])  # a positive term first, where there is one
             total = None
             for negative, term in signed:
+                if total is None:  # its sign kept: -c*x is one product with the constant -c
+                    total = self(-term) if negative else self(term)
+                    continue
                 node = self(term)
-                if total is None:
-                    total = -node if negative else node
-                else:
-                    total = total - node if negative else total + node
+                total = total - node if negative else total + node
             return total
         if e.is_Mul:
             return self._product(e.args)

@@ -128,6 +128,31 @@ TAYLOR_PACE, TAYLOR_COMPACT_PACE = 0.45, 5.0
 TAYLOR_STEP_OUTPUT = 3e-7
 
 
+#: Our Taylor method's integration time (backend numba, :mod:`.taylor_compiled`) relative
+#: to the compiled DOP853 at the same tolerance, CPU: 0.38 for the double pendulum at 1e-10
+#: (0.016 s against DOP853's 18,961 steps at 2.2 us; its printed coefficients), 3.5 for a
+#: 3-link chain and 18 for a 10-link chain in the compact mode that larger systems take
+#: (benchmarks/taylor_numba.py): only two coordinates pay.  Every step kept costs little
+#: more (the loop writes each step's end).
+TAYLOR_NUMBA_PACE, TAYLOR_NUMBA_COMPACT_PACE = 0.38, 4.0
+
+
+def taylor_numba_start_seconds(n: int, cached: bool) -> float:
+    """CPU seconds before our Taylor method's first step: the tape and its module made
+    (milliseconds), then numba's compile of the printed coefficients and the loop (2 s for
+    the double pendulum; the compact mode's walk of larger systems 4 s once per machine),
+    or the machine code loaded from the code cache (0.2-0.3 s; benchmarks/taylor_numba.py)."""
+    if cached:
+        return 0.3
+    return 2.0 if n <= 2 else 4.0
+
+
+def taylor_numba_seconds(n: int, steps: float, cached: bool) -> float:
+    """Our Taylor method's estimate for a run DOP853 takes ``steps`` for: start and pace."""
+    relative = TAYLOR_NUMBA_PACE if n <= 2 else TAYLOR_NUMBA_COMPACT_PACE
+    return taylor_numba_start_seconds(n, cached) + relative * steps * compiled_step_seconds(n)
+
+
 #: A way that must compile first is chosen over SciPy's loop only when its estimate is this
 #: many times smaller: near a tie the estimates cannot tell, and SciPy's loop starts at once.
 SWITCH_MARGIN = 1.5
@@ -182,6 +207,8 @@ def choose_run(
         chosen = method or "dop853"
         compiled = compiled_on(backend or default_backend())
         how = " with its loop compiled" if _compiled_loop_applies(chosen, compiled) else ""
+        if chosen == "taylor":  # Taylor's default backend: heyoka where installed
+            how = " (heyoka)" if heyoka_installed() else " (numba)"
         asked = " and ".join(
             name for name, value in (("method", method), ("backend", backend)) if value
         )
@@ -226,6 +253,12 @@ def choose_run(
             costs["compiled loop on llvm"] = start + steps * linked_step_seconds(n)
     else:
         notes.append("numba is not installed (the compiled loop)")
+    if method is None and not heyoka_installed() and numba_installed() and not events:
+        problem = _taylor_problem(quick, y0, p)  # our Taylor method (it locates no events)
+        if problem is None:
+            costs["taylor (numba)"] = taylor_numba_seconds(n, steps, taylor_compiled_ready(quick))
+        else:
+            notes.append(f"taylor {problem}")
     if method is None and heyoka_installed():
         problem = _taylor_problem(quick, y0, p)
         if problem is None:
@@ -253,7 +286,8 @@ def choose_run(
             fast, "dop853", rtol, atol, f"dop853 with its loop compiled (numba): {why}"
         )
     tol = min(rtol, atol)
-    return RunChoice(quick, "taylor", rtol, atol, f"taylor (heyoka, tol {tol:g}): {why}")
+    backend = "numba" if best == "taylor (numba)" else "heyoka"
+    return RunChoice(quick, "taylor", rtol, atol, f"taylor ({backend}, tol {tol:g}): {why}")
 
 
 def _compiled_loop_applies(method: str, compiled: CompiledSystem) -> bool:
@@ -304,6 +338,13 @@ def estimated_steps(
 def heyoka_installed() -> bool:
     """Whether heyoka can be imported (without importing it: 0.3 s)."""
     return importlib.util.find_spec("heyoka") is not None
+
+
+def taylor_compiled_ready(compiled: CompiledSystem) -> bool:
+    """Whether our Taylor loop of ``compiled`` is built in this process or in the code cache."""
+    from .taylor_compiled import loop_ready
+
+    return loop_ready(compiled)
 
 
 def _taylor_problem(compiled, y0, params) -> str | None:

@@ -1,15 +1,17 @@
-"""Taylor's method's step loop in numba, as the text of a generated module per system.
+"""Taylor's method's step loop in numba, as the text of a generated module.
 
-:mod:`lagrangian.integrate.taylor_compiled` writes, per system, a copy of this text into the
-code cache with the import of the system's generated ``coefficients``
-(:mod:`lagrangian.codegen.taylor_numba`) between the ``generated`` markers, where
-``@njit(cache=True)`` keeps the compiled loop.  Unlike DOP853's loop (:mod:`.numba_dop853`,
-one for every system, calling the system's y' through a function pointer) the loop is
-compiled for each system: a call through a pointer cost 0.15 us a step, 15% of the double
-pendulum's step, where compiling the loop costs about 0.5 s once per system and machine.
+:mod:`lagrangian.integrate.taylor_compiled` writes a copy of this text into the code cache
+with the import of ``coefficients`` between the ``generated`` markers, where
+``@njit(cache=True)`` keeps the compiled loop: a small system's own generated coefficients
+(:mod:`lagrangian.codegen.taylor_numba`; the loop compiled for each such system), or for a
+large one the compact mode's walk of the tape as data (:mod:`.numba_taylor_tape`, the same
+text for every system: compiled once per machine), which reads ``program`` and
+``exponents`` (empty for the other).  Unlike DOP853's loop (:mod:`.numba_dop853`, one for
+every system, calling the system's y' through a function pointer) a small system's loop
+is its own: a call through a pointer cost 0.15 us a step, 15% of the double pendulum's.
 
     advance(size, c, order, t_end, clock, tc, work, t_eval, out, ts, ys, counts, limit,
-            keep) -> status
+            keep, program, exponents) -> status
 
 takes steps from (t, y) = (``clock[0]``, ``tc[:size, 0]``) towards ``t_end``, at most
 ``limit`` of them, the step's order ``order`` and size by Jorba and Zou's rule as heyoka
@@ -30,10 +32,10 @@ never run.
 
 import math
 
-from numba import njit
+from numba import njit, uint64
 
 # -- generated: begin (each generated module imports its system's coefficients here) --
-coefficients = None  # coefficients(t, c, order, tc) of lagrangian.codegen.taylor_numba
+coefficients = None  # coefficients(t, c, order, tc, program, exponents): see below
 # -- generated: end ------------------------------------------------------------------
 
 #: heyoka's safety factor on rho at order p: exp(-0.7 / (p - 1)) / e^2.
@@ -63,16 +65,32 @@ def step_size(tc, size, order):  # pragma: no cover - compiled by numba
 @njit(cache=True)
 def evaluate(tc, size, order, h, into, column):  # pragma: no cover - compiled by numba
     """into[:, column] = the Taylor polynomial of every state row at h (Horner)."""
+    top = uint64(order)  # unsigned: indexed without numba's check for negative indices
     for i in range(size):
-        value = tc[i, order]
-        for k in range(order - 1, -1, -1):
-            value = value * h + tc[i, k]
+        value = tc[i, top]
+        for k in range(uint64(1), top + uint64(1)):
+            value = value * h + tc[i, top - k]
         into[i, column] = value
 
 
 @njit(cache=True)
 def advance(
-    size, c, order, t_end, clock, tc, work, t_eval, out, ts, ys, counts, limit, keep
+    size,
+    c,
+    order,
+    t_end,
+    clock,
+    tc,
+    work,
+    t_eval,
+    out,
+    ts,
+    ys,
+    counts,
+    limit,
+    keep,
+    program,
+    exponents,
 ):  # pragma: no cover - compiled by numba
     """Steps towards ``t_end`` (see the module docstring)."""
     t = clock[0]
@@ -82,7 +100,7 @@ def advance(
             return 1
         if keep and counts[1] >= ts.shape[0]:
             return 0
-        coefficients(t, c, order, tc)
+        coefficients(t, c, order, tc, program, exponents)
         h = step_size(tc, size, order)
         if math.isnan(h):
             return 3

@@ -2,14 +2,16 @@
 
 The system's Taylor coefficients come from :mod:`lagrangian.codegen.taylor_numba` (its
 tape of elementary operations and their recurrences, printed as a numba module per system,
-kept in the code cache), the step loop from :mod:`.numba_taylor` (one module for every
-system, compiled once per machine, calling the system's coefficients through a function
-pointer).  The order and the step follow the tolerance as heyoka's do (Jorba and Zou's
-rule, :mod:`.numba_taylor`): order ceil(-ln(tol) / 2 + 1), 13 at 1e-10, 20 at machine
-epsilon.  The run goes in chunks of steps with Python between them only (``watch`` told
-the time, a run that keeps every step checked to fit in memory), as the compiled DOP853's.
-Outputs are every step's end, or with ``t_eval`` each step's Taylor polynomial at the
-times it covers.  Not handled: events (their detection is heyoka's path and dop853's).
+kept in the code cache), the step loop from :mod:`.numba_taylor` (a template, its
+machine code kept per system).  The order and the step follow the tolerance as heyoka's
+do (Jorba and Zou's rule, :mod:`.numba_taylor`): order ceil(-ln(tol) / 2 + 1), 13 at
+1e-10, 20 at machine epsilon.  A tape of more than :data:`COMPACT_OPERATIONS` operations is
+walked as data by one loop for every system (:mod:`.numba_taylor_tape`, as heyoka's compact
+mode), as numba would take minutes over its printed text.  The run goes in chunks of steps
+with Python between them only (``watch`` told the time, a run that keeps every step
+checked to fit in memory), as the compiled DOP853's.  Outputs are every step's end, or
+with ``t_eval`` each step's Taylor polynomial at the times it covers.  Not handled:
+events (their detection is heyoka's path and dop853's).
 """
 
 from __future__ import annotations
@@ -21,7 +23,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..codegen.cache import built, built_already, filled_template
+from ..codegen.cache import built, built_already, filled_template, package_text
+from ..errors import ModelError
 from .memory import PROJECT_AFTER_STEPS, check_kept_steps
 
 if TYPE_CHECKING:
@@ -33,6 +36,11 @@ if TYPE_CHECKING:
 
 #: Steps per call of the loop: the first chunk, and the most (it doubles).
 FIRST_CHUNK, LARGEST_CHUNK = 256, 8192
+#: Tapes of more operations than this are walked as data, not printed (compact mode):
+#: numba compiles a printed tape in about 0.13 s per operation (the double pendulum's 25
+#: in 2 s, a 3-link chain's 66 in 8.8 s, a 4-link chain's 131 in 19 s), the compact mode's
+#: walk once per machine (4 s), which then runs 2.5-4x slower (the 3- and 4-link chains).
+COMPACT_OPERATIONS = 40
 #: The largest order the loop is asked for (tolerances down to 1e-300 would ask for 346).
 MAX_ORDER = 60
 
@@ -49,39 +57,139 @@ class TaylorLoop:
     method: ModuleType
     system: ModuleType
     tape: Tape
+    program: np.ndarray  # the compact mode's tape as data (empty otherwise)
+    exponents: np.ndarray
 
     def constants(self, params: np.ndarray) -> np.ndarray:
+        """The tape's constants for the parameters ``params`` (inf or NaN where they are
+        not finite: the run reports it)."""
+        if compact(self.tape):
+            return constant_values(self.tape, params)
         c = np.zeros(max(len(self.tape.constants), 1))
-        with np.errstate(all="ignore"):
-            self.system.constants(np.ascontiguousarray(params, dtype=float), c)
+        self.system.constants(np.ascontiguousarray(params, dtype=float), c)
         return c
+
+
+#: The operations' kinds, numbered as :mod:`.numba_taylor_tape` reads them.
+KINDS = ("add", "sub", "mul", "square", "div", "neg", "sqrt", "pow", "exp", "log", "sincos",
+         "sinhcosh")  # fmt: skip
+_NO_PROGRAM = np.zeros((0, 4), dtype=np.int64)
+_CONSTANT_FUNCTIONS = {
+    "add": lambda a, b: a + b, "sub": lambda a, b: a - b, "mul": lambda a, b: a * b,
+    "div": lambda a, b: a / b, "neg": lambda a: -a, "square": lambda a: a * a,
+    "sqrt": np.sqrt, "exp": np.exp, "log": np.log, "sin": np.sin, "cos": np.cos,
+    "sinh": np.sinh, "cosh": np.cosh,
+}  # fmt: skip
+
+
+def constant_values(tape: Tape, params: np.ndarray) -> np.ndarray:
+    """The tape's constants computed in NumPy's floating point (the printed ``constants``
+    of a small system computes the same operations in the same order)."""
+    values = np.zeros(max(len(tape.constants), 1))
+    with np.errstate(all="ignore"):
+        for j, entry in enumerate(tape.constants):
+            if entry.kind == "number":
+                values[j] = entry.number
+            elif entry.kind == "parameter":
+                values[j] = params[entry.index]
+            elif entry.kind == "pow":
+                values[j] = np.float64(values[entry.args[0]]) ** entry.number
+            else:
+                arguments = [np.float64(values[i]) for i in entry.args]
+                values[j] = _CONSTANT_FUNCTIONS[entry.kind](*arguments)
+    return values
+
+
+def _program(tape: Tape) -> tuple[np.ndarray, np.ndarray]:
+    """The compact mode's ``program`` and ``exponents`` of ``tape`` (see
+    :mod:`.numba_taylor_tape`)."""
+
+    def where(arg: tuple[str, int]) -> int:
+        return arg[1] if arg[0] == "s" else -1 - arg[1]
+
+    rows = []
+    for op in tape.ops:
+        a = where(op.args[0])
+        b = where(op.args[1]) if len(op.args) > 1 else 0
+        rows.append([KINDS.index(op.kind), op.rows[0], a, b])
+    rows += [[where(rate), 0, 0, 0] for rate in tape.rates]
+    rows.append([tape.size, int(tape.uses_time), tape.size, 0])
+    exponents = np.array([op.exponent for op in tape.ops] or [0.0])
+    return np.array(rows, dtype=np.int64), exponents
 
 
 def taylor_loop(compiled: CompiledSystem) -> TaylorLoop:
     """The loop of ``compiled``: built once per process, machine code from the code cache."""
-    return built(compiled.forms.fingerprint, "taylor-numba", lambda: _build(compiled))
+    build = lambda: _build(compiled)  # noqa: E731
+    return built(compiled.forms.fingerprint, "taylor-numba", build, COMPACT_OPERATIONS)
 
 
 def what_is_compiled(compiled: CompiledSystem) -> str:
     """What making the loop compiles now, in words, for the run's summary."""
-    if built_already(compiled.forms.fingerprint, "taylor-numba"):
+    if built_already(compiled.forms.fingerprint, "taylor-numba", COMPACT_OPERATIONS):
         return "nothing: the Taylor loop was made earlier in this process"
     loop = taylor_loop(compiled)
     return f"the Taylor coefficients by numba ({len(loop.tape.ops)} operations)"
 
 
-def _build(compiled: CompiledSystem) -> TaylorLoop:
-    from ..codegen.cache import load_text, module_name, usable_directory
+def loop_ready(compiled: CompiledSystem) -> bool:
+    """Whether the loop of ``compiled`` is built in this process or its machine code is in
+    the code cache (a run then loads it in a fraction of a second instead of compiling)."""
+    from ..codegen.cache import compiled_on_disk
+
+    if built_already(compiled.forms.fingerprint, "taylor-numba", COMPACT_OPERATIONS):
+        return True
+    try:
+        loop_text = _texts(compiled)[2]
+    except ModelError:  # a function the tape cannot take: the run says which
+        return False
+    return compiled_on_disk(loop_text[0], "advance")
+
+
+def _texts(compiled: CompiledSystem):
+    """(the tape, (sha256, text) of the coefficients' module, of the loop's module)."""
+    from ..codegen.cache import module_name, usable_directory
     from ..codegen.taylor_numba import module_text
     from ..codegen.taylor_tape import tape_of
 
     tape = tape_of(compiled.forms)
-    digest, text = module_text(tape)
-    system = load_text(digest, text)  # loaded first: the loop's text imports it
+    if compact(tape):
+        digest, text = package_text(Path(__file__).with_name("numba_taylor_tape.py"))
+    else:
+        digest, text = module_text(tape)
     name = module_name(usable_directory() / f"{digest}.py")
     generated = [f"from {name} import coefficients"]
-    method = load_text(*filled_template(Path(__file__).with_name("numba_taylor.py"), generated))
-    return TaylorLoop(method, system, tape)
+    loop = filled_template(Path(__file__).with_name("numba_taylor.py"), generated)
+    return tape, (digest, text), loop
+
+
+def compact(tape: Tape) -> bool:
+    """Whether the tape is walked as data (:mod:`.numba_taylor_tape`) rather than printed."""
+    return len(tape.ops) > COMPACT_OPERATIONS
+
+
+def _build(compiled: CompiledSystem) -> TaylorLoop:
+    from ..codegen.cache import load_text
+
+    tape, system_text, loop_text = _texts(compiled)
+    system = load_text(*system_text)  # loaded first: the loop's text imports it
+    program, exponents = _program(tape) if compact(tape) else (_NO_PROGRAM, np.zeros(0))
+    loop = TaylorLoop(load_text(*loop_text), system, tape, program, exponents)
+    _compile(loop)
+    return loop
+
+
+def _compile(loop: TaylorLoop) -> None:
+    """Compile (or load from the code cache) the loop and the coefficients now, for the types
+    :func:`propagate` calls them with, by a call that takes no step: what the build costs
+    is then the run's ``compile_time``."""
+    size = loop.tape.size
+    tc = np.zeros((loop.tape.rows, 3))
+    loop.method.advance(
+        size, loop.constants(np.ones(loop.tape.parameters)), 2, 1.0, np.zeros(1), tc,
+        np.empty((size, 1)), np.zeros(0), np.empty((size, 0)), np.empty(0),
+        np.empty((0, size)), np.zeros(3, dtype=np.int64), 0, True, loop.program, loop.exponents,
+    )  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -120,7 +228,7 @@ def propagate(loop: TaylorLoop, run: Run, tol: float) -> Reached:
         t_before, counts[1] = float(clock[0]), 0
         status = loop.method.advance(
             size, c, order, t1, clock, tc, work, grid, out, ts, ys, counts,
-            chunk, keep,
+            chunk, keep, loop.program, loop.exponents,
         )  # fmt: skip
         if keep:
             kept = int(counts[1])
