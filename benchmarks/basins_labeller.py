@@ -158,6 +158,13 @@ def main() -> None:
             if name != "same":
                 differ = np.count_nonzero(found != runs["same"])
                 print(f"{name} vs same bits: {100 * differ / args.samples:.2f} % differ ({differ})")
+    if {"same", "shift", "peer"} <= runs.keys():
+        # where rounding alone does not move a start (its attractor the same one period
+        # later), the outcome is decided: there the map is checked against the peer
+        decided = runs["same"] == runs["shift"]
+        print(f"decided (same bits = t + one period): {100 * np.mean(decided):.2f} % of the "
+              f"starts; there the labeller equals the peer on "
+              f"{100 * np.mean(ours[decided] == runs['peer'][decided]):.2f} %")  # fmt: skip
     if args.labels and not args.reference:
         out = Path(args.labels).with_suffix(".runs.npz")
         np.savez(out, chosen=chosen, ours=ours, **runs)
