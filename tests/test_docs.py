@@ -121,8 +121,8 @@ SLOW_COMMANDS = (
     "orbits",
     "basins",
 )
-#: Lines in the slow tier by themselves: the four-bar's derivation, its numerical search
-#: and SymPy's try at the exact forms (2.4 s of CPU in all).
+#: Lines in the slow tier by themselves: the four-bar's derivation and its numerical
+#: search for its equilibria (2 s of CPU in all).
 SLOW_LINES = ("lagrangian analyze four_bar",)
 #: ``python docs/make_images.py [FILTER]`` remakes the pictures (every one: about a
 #: minute; the double pendulum's: half a minute): the test runs it, into a temporary

@@ -13,7 +13,10 @@ for the whole system, 0.1 s with r = R put in).  A pin that holds at these value
 for all values of the parameters, leaves the equations without a solution, and SymPy
 says so: an exact solution is one for every value.  A solution is the exact form of a
 point where its numbers at the values are the point's.  Points no pinned system gives
-are tried with the whole system in the time left.
+are tried with the whole system in the time left, where at most one unknown appears
+inside a function: SymPy's solve decides a system trigonometric in one unknown (it
+factors, then inverts), not one coupled in several (a four-bar's, or a two-link chain's
+loop closure: no answer in 30 s), whose points stay numerical at once.
 
 The numerical point is always there; what runs out of time is only its exact form, and
 each point says which one it is (``numeric``).  The budget is CPU time (the child's own,
@@ -40,8 +43,8 @@ from .surface_search import SurfaceRoot
 EXACT_SECONDS = 1.0
 #: The part of them the whole system, nothing pinned, may take: SymPy solves a simple one
 #: whole in 0.07-0.23 s (a bead on a turning tilted wire, a Cartesian or spherical
-#: pendulum, two masses on a rod); one it cannot solve (a four-bar's loop closures)
-#: would take any budget, and it costs this much before its points are given numerically.
+#: pendulum, two masses on a rod); one it cannot solve would take any budget, and costs
+#: this much before its points are given numerically.
 UNPINNED_SECONDS = 0.3
 #: A coordinate or multiplier within this of a pin (relative to 1 + its size) is pinned.
 PIN_TOLERANCE = 1e-10
@@ -76,7 +79,9 @@ def exact_solutions(
         if key:
             systems.setdefault(key, []).append(index)
     # most pins first: the smallest systems, the quickest to solve
-    order = [*sorted(systems, key=lambda key: -len(key)), ()]
+    order = sorted(systems, key=lambda key: -len(key))
+    if len(_inside_functions(equations, unknowns)) <= 1:
+        order.append(())
     matched: dict[int, dict] = {}
     for key in order:
         wanted = systems.get(key, range(len(roots)))
@@ -91,6 +96,15 @@ def exact_solutions(
             if index is not None and index not in matched:
                 matched[index] = solution
     return matched
+
+
+def _inside_functions(equations: Sequence[sympy.Expr], unknowns: set) -> set:
+    """The unknowns that appear inside a function (sin, cos, exp, ...) of ``equations``."""
+    inside: set = set()
+    for equation in equations:
+        for call in equation.atoms(sympy.Function):
+            inside |= call.free_symbols & unknowns
+    return inside
 
 
 def pinned(
