@@ -82,6 +82,10 @@ def file_size_problem(size: int, unit: str = "bytes") -> str | None:
 
 def check_toml_keys(text: str) -> None:
     """Refuse a dotted key too long for the TOML reader (before it runs)."""
+    # such a key has more than MAX_KEY_PARTS dots on one line: most files have no such
+    # line, and the scan of every position costs (0.03 s for the 100-link chain's 200 kB)
+    if all(line.count(".") < MAX_KEY_PARTS for line in text.split("\n")):
+        return
     found = _DEEP_KEY.search(text)
     if found is not None:
         line = text.count("\n", 0, found.start()) + 1

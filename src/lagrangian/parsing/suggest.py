@@ -45,6 +45,7 @@ class Slips:
     def __init__(self, known: Iterable[str]):
         self.known = sorted(set(known))
         self.spellings: dict[str, list[str]] = {}  # folded spelling -> candidates, in order
+        self.by_length: dict[int, list[str]] = {}  # see _near
         for candidate in self.known:
             for suffix, forms in ((VELOCITY_SUFFIX, _VELOCITY_FORMS),
                                   (ACCELERATION_SUFFIX, _ACCELERATION_FORMS)):  # fmt: skip
@@ -61,10 +62,20 @@ class Slips:
         for candidate in self.spellings.get(name.lower(), ()):
             if candidate != name:
                 return candidate
-        for candidate in self.known:
+        for candidate in self._near(len(name)):
             if len(candidate) >= MIN_EDIT_LENGTH and _one_slip_apart(name, candidate):
                 return candidate
         return None
+
+    def _near(self, length: int) -> list[str]:
+        """The known names one character longer or shorter than ``length`` or as long, in
+        order: only these can be one slip apart (a model of n coordinates checks its
+        parameters against 3n names)."""
+        found = self.by_length.get(length)
+        if found is None:
+            found = [c for c in self.known if abs(len(c) - length) <= 1]
+            self.by_length[length] = found
+        return found
 
 
 def _one_slip_apart(a: str, b: str) -> bool:
