@@ -87,3 +87,29 @@ def test_the_sizes_of_a_sums_numbers_are_estimated_alike_from_terms_seen_before(
         for _ in range(30):
             values = rng.sample(pool, rng.randint(1, 30))
             assert _sum_size(values, limit, known) == _sum_size(values, limit)
+
+
+def test_a_sum_of_plain_terms_is_the_sum_sympy_makes():
+    """``sorted_sum`` makes Add's result without its evaluation where Add would only keep
+    the terms in order; sums of numbers, like terms, nested sums, numeric powers are left
+    to Add (None).  Whatever it makes is Add's sum, argument for argument."""
+    import functools
+
+    from lagrangian.parsing.terms import sorted_sum
+
+    rng = random.Random(8)
+    x, l, y1, y2 = X, NAMESPACE.symbols["l"], Y["y1"], Y["y2"]
+    pool = [x, -x, 2 * x, l * sympy.sin(x), -l * sympy.cos(y1), sympy.Rational(1, 3), y1 + y2]
+    pool += [y1 * x**2, sympy.sqrt(2) * y2, sympy.exp(x), sympy.Pow(2, 3, evaluate=False)]
+    pool += [sympy.Integer(0), sympy.Function("f")(x), -3 * l * y1 / 7, x**y1, sympy.sqrt(l)]
+    key = functools.cmp_to_key(sympy.Basic.compare)
+    made = 0
+    for _ in range(400):
+        values = sorted(rng.sample(pool, rng.randint(1, 8)), key=key)
+        fast = sorted_sum(values)
+        if fast is not None:
+            made += 1
+            expected = sympy.Add(*values)
+            assert type(fast) is type(expected) and fast.args == expected.args
+            assert fast == expected and hash(fast) == hash(expected)
+    assert 100 < made < 400

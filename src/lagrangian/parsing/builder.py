@@ -47,7 +47,7 @@ from lagrangian.parsing.names import (
 )
 from lagrangian.parsing.nodes import Call, Name, Negate, Node, Number, Power, Product, Sum
 from lagrangian.parsing.suggest import likely_meant
-from lagrangian.parsing.terms import Terms
+from lagrangian.parsing.terms import Terms, sorted_sum
 
 _NON_FINITE = (sympy.S.ComplexInfinity, sympy.S.NaN, sympy.S.Infinity, sympy.S.NegativeInfinity)
 _TRIGONOMETRIC = frozenset({"sin", "cos", "tan", "cot", "sec", "csc"})
@@ -149,6 +149,9 @@ class _Builder:
         limit = self.limits.max_result_digits
         self.check_digits(_sum_size(values, limit, terms.number_sizes), position)
         ordered = terms.in_canonical_order(values)  # the same sum, its sort done mostly
+        made = sorted_sum(ordered)  # the same sum, where Add would only keep the terms
+        if made is not None:
+            return made
         return self.evaluate(lambda: sympy.Add(*ordered), "the sum", position)
 
     def error(self, message: str, position: int | None) -> ParseError:

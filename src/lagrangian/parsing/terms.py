@@ -11,6 +11,7 @@ import functools
 from collections.abc import Callable
 
 import sympy
+from sympy.core.parameters import global_parameters
 
 _CANONICAL = functools.cmp_to_key(sympy.Basic.compare)  # the key of SymPy's Add's sort
 
@@ -67,3 +68,35 @@ class Terms:
                 bisect.insort(ordered, value, key=_CANONICAL)
             self._rank = rank = {value: place for place, value in enumerate(ordered)}
         return sorted(values, key=rank.__getitem__)
+
+
+#: What a term of a sum may be for :func:`sorted_sum` (a number, a sum, an infinity, an
+#: order term, a matrix or tensor expression, is left to ``Add``'s own rules).
+_PLAIN_TERMS = (sympy.Symbol, sympy.Mul, sympy.Pow, sympy.Function)
+
+
+def sorted_sum(ordered: list) -> sympy.Expr | None:
+    """``sympy.Add(*ordered)`` for terms already in ``Add``'s order that it would only
+    keep, made without ``Add``'s evaluation; None where that would do more.
+
+    ``Add.flatten`` combines numbers, like terms (x and 2 x), nested sums and the special
+    values, then sorts; with none of these, its result is the terms in their order, the
+    zeros dropped.  The first evaluated sum of a process also imports sympy.tensor and
+    sympy.combinatorics (0.03 s), which a model of plain terms then never needs.
+    """
+    terms = [term for term in ordered if term is not sympy.S.Zero]
+    if len(terms) < 2 or not global_parameters.evaluate:
+        return None
+    seen = set()
+    for term in terms:
+        if not isinstance(term, _PLAIN_TERMS) or term.is_commutative is not True:
+            return None
+        if term.is_Pow and term.base.is_Number:
+            return None  # 2**(-1/2): Add evaluates it again
+        part = term.as_coeff_Mul()[1] if term.is_Mul else term
+        if part in seen:
+            return None  # like terms: Add adds their coefficients
+        seen.add(part)
+    return sympy.Add._exec_constructor_postprocessors(
+        sympy.Add._from_args(terms, is_commutative=True)
+    )
