@@ -280,3 +280,23 @@ def test_the_compact_mode_gives_the_printed_coefficients_and_run(monkeypatch):
         runs.append(Taylor(tol=1e-13, backend="numba").solve(compiled, (0.0, 30.0), y0, params))
     assert runs[0].steps == runs[1].steps
     np.testing.assert_allclose(runs[1].y[:, -1], runs[0].y[:, -1], rtol=0, atol=1e-12)
+
+
+def test_the_tape_keeps_no_dead_operation_nor_a_reciprocal_or_square_as_a_product():
+    # the elimination divides by its pivot as a product with 1/pivot, and M[1][0]/M[0][0]
+    # times M[0][1] is c x * x: a quotient and a square are cheaper (each a sum of k terms,
+    # the square half of one), and the reciprocal, no longer read, is dropped
+    compiled = compile_equations(lg.load("double_pendulum").equations_of_motion())
+    tape = tape_of(compiled.forms)
+    read = {row for op in tape.ops for kind, row in op.args if kind == "s"}
+    read |= {row for kind, row in tape.rates if kind == "s"}
+    assert all(set(op.rows) & read for op in tape.ops)
+    one = next(j for j, entry in enumerate(tape.constants) if entry.number == 1.0)
+    assert not [op for op in tape.ops if op.kind == "div" and op.args[0] == ("c", one)]
+    made = {op.rows[0]: op for op in tape.ops}
+    for op in tape.ops:
+        if op.kind == "mul" and all(kind == "s" for kind, _ in op.args):
+            for (_, a), b in (op.args, op.args[::-1]):
+                inner = made.get(a)
+                assert not (inner and inner.kind == "mul" and b in inner.args), op
+    assert [op.kind for op in tape.ops].count("square") == 3  # v1^2, v2^2, cos^2

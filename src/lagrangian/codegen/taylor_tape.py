@@ -75,6 +75,7 @@ class Tape:
     rates: list[tuple[str, int]] = field(default_factory=list)
     uses_time: bool = False
     _seen: dict = field(default_factory=dict, repr=False)
+    _made: dict = field(default_factory=dict, repr=False)
 
     @property
     def rows(self) -> int:
@@ -91,6 +92,24 @@ class Tape:
     def number(self, value: float) -> Node:
         return self.constant(Constant("number", number=float(value)))
 
+    @property
+    def one(self) -> int:
+        """The index of the constant 1."""
+        return self.number(1.0).index
+
+    def node(self, arg: tuple[str, int]) -> Node:
+        """The node of an operand (``where``, index)."""
+        if arg[0] == "c":
+            return Node(self, "c", arg[1])
+        return Node(self, "s", arg[1])
+
+    def made(self, node: Node) -> Op | None:
+        """The operation that made the series ``node`` (None for the state, time and
+        constants)."""
+        if node.where != "s":
+            return None
+        return self._made.get(node.index)
+
     def series(self, kind: str, args: tuple[Node, ...], exponent: float = 0.0) -> Node:
         """The node of ``kind`` of ``args``, recorded unless it was (its first row for a pair;
         :meth:`partner` gives the second)."""
@@ -102,6 +121,7 @@ class Tape:
             start = self.rows
             rows = tuple(range(start, start + width))
             self.ops.append(Op(kind, key[1], rows, exponent))
+            self._made[start] = self.ops[-1]
             self._seen[key] = Node(self, "s", start)
         return self._seen[key]
 
@@ -176,9 +196,18 @@ class Node:
                 return b
             if a._value() == -1.0:
                 return -b
+        tape = self.tape
+        for a, b in ((self, other), (other, self)):
+            made = tape.made(a)
+            if made is not None and made.kind == "div" and made.args[0] == ("c", tape.one):
+                return tape.series("div", (b, tape.node(made.args[1])))  # b / x, not b * (1/x)
+            if b.where == "s" and made is not None and made.kind == "mul":
+                scale, factor = sorted(made.args)  # a constant sorts first: ("c", j)
+                if scale[0] == "c" and factor == (b.where, b.index):  # (c x) x = c x^2:
+                    return tape.node(scale) * tape.series("square", (b,))  # half a product
         if (self.where, self.index) == (other.where, other.index):
-            return self.tape.series("square", (self,))
-        return self.tape.series("mul", (self, other))
+            return tape.series("square", (self,))
+        return tape.series("mul", (self, other))
 
     __rmul__ = __mul__
 
@@ -216,9 +245,34 @@ def tape_of(forms: SymbolicForms) -> Tape:
     accelerations = eliminated(mass, force)
     rates = [symbols[v] for v in forms.velocities] + list(accelerations)
     tape.rates = [(node.where, node.index) for node in rates]
-    tape.uses_time = any(2 * n in (row for kind, row in op.args if kind == "s") for op in tape.ops)
-    tape.uses_time |= any(rate == ("s", 2 * n) for rate in tape.rates)
-    return tape
+    live = _live(tape)
+    tape.uses_time = any(("s", 2 * n) in op.args for op in live)
+    tape.uses_time |= ("s", 2 * n) in tape.rates
+    return _renumbered(tape, live)
+
+
+def _live(tape: Tape) -> list[Op]:
+    """The operations the rates need (a reciprocal folded into a quotient is not)."""
+    needed = {row for kind, row in tape.rates if kind == "s"}
+    live = []
+    for op in reversed(tape.ops):
+        if needed.intersection(op.rows):
+            live.append(op)
+            needed.update(row for kind, row in op.args if kind == "s")
+    return live[::-1]
+
+
+def _renumbered(tape: Tape, live: list[Op]) -> Tape:
+    """``tape`` with only the ``live`` operations, their rows numbered anew in order."""
+    rows = {row: row for row in range(tape.size + 1)}
+    ops = []
+    for op in live:
+        start = tape.size + 1 + sum(len(kept.rows) for kept in ops)
+        rows.update({old: start + i for i, old in enumerate(op.rows)})
+        args = tuple((kind, rows[row] if kind == "s" else row) for kind, row in op.args)
+        ops.append(Op(op.kind, args, tuple(start + i for i in range(len(op.rows))), op.exponent))
+    renamed = [(kind, rows[row] if kind == "s" else row) for kind, row in tape.rates]
+    return Tape(tape.size, tape.parameters, ops, tape.constants, renamed, tape.uses_time)
 
 
 class _Converter:

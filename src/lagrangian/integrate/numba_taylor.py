@@ -67,10 +67,10 @@ def evaluate(tc, size, order, h, into, column):  # pragma: no cover - compiled b
     """into[:, column] = the Taylor polynomial of every state row at h (Horner)."""
     top = uint64(order)  # unsigned: indexed without numba's check for negative indices
     for i in range(size):
-        value = tc[i, top]
-        for k in range(uint64(1), top + uint64(1)):
-            value = value * h + tc[i, top - k]
-        into[i, column] = value
+        into[i, column] = tc[i, top]
+    for k in range(uint64(1), top + uint64(1)):  # the rows side by side: independent chains
+        for i in range(size):
+            into[i, column] = into[i, column] * h + tc[i, top - k]
 
 
 @njit(cache=True)
