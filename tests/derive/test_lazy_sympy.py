@@ -16,6 +16,7 @@ import math
 import pytest
 import sympy
 
+import lagrangian as lg
 from helpers import assert_close, evaluate, random_point
 from lagrangian.derive.equations import EquationsOfMotion, Later
 from lagrangian.output import derive_document
@@ -74,6 +75,33 @@ def test_a_lagrangian_changed_after_the_build_is_the_one_derived(rng):
     assert_close(evaluate(eom.forcing[0], point), forcing[0] - 1.7 * point["theta1"], scale=1.0)
     for i in range(1, 8):
         assert_close(evaluate(eom.forcing[i], point), forcing[i], scale=1.0)
+
+
+def test_accelerations_in_the_build_s_lagrangian_are_found_in_its_symengine_form(monkeypatch):
+    """The check for q'' in L reads the SymEngine form the build made (SymPy's ``has`` is
+    not run on L), and still refuses an L that holds one, as before; an L replaced after
+    the build is checked by SymPy's ``has``."""
+    from lagrangian.algebra import to_symengine
+
+    system = chain_pendulum(8)
+    acceleration = system.coordinates[2].q_ddot
+    held = system.lagrangian + sympy.Symbol("m1", positive=True) * acceleration**2
+    accelerated = dataclasses.replace(
+        system, lagrangian=held, symengine_lagrangian=(held, to_symengine(held, {}))
+    )
+    looked_at: list = []
+    has = sympy.Basic.has
+    monkeypatch.setattr(
+        sympy.Basic, "has", lambda self, *a: looked_at.append(self) or has(self, *a)
+    )
+    with pytest.raises(lg.ModelError, match=r"accelerations \(q_ddot\) are not allowed") as refused:
+        accelerated.equations_of_motion()
+    assert refused.value.field == "lagrangian"
+    assert all(part is not held for part in looked_at)
+    replaced = dataclasses.replace(system, lagrangian=held)  # the build's pair no longer is L
+    with pytest.raises(lg.ModelError, match="not allowed"):
+        replaced.equations_of_motion()
+    assert any(part is held for part in looked_at)
 
 
 def test_a_later_field_is_made_once_on_first_read_and_kept_by_replace():
