@@ -52,7 +52,7 @@ def _closed_form_energies(n: int, point: dict) -> tuple[float, float]:
 
 
 def test_each_distinct_sum_of_masses_is_grouped_once(monkeypatch, rng):
-    grouped = _counting(monkeypatch, "lagrangian.model.energy", "factor_common")
+    grouped = _counting(monkeypatch, "lagrangian.model.energy_large", "factor_common")
     n = 12
     system = chain_pendulum(n)
     # n sums m_j + ... + m_n, each once, and once more as the coefficient of its products
@@ -103,7 +103,7 @@ def test_products_of_columns_by_their_monomials_are_combine_angles_of_the_produc
     import symengine as se
 
     from lagrangian.algebra import combine_angles
-    from lagrangian.model.energy import _Monomials
+    from lagrangian.model.energy_large import _Monomials
 
     a, b, c, l1, l2 = se.symbols("a b c l1 l2")
     components = [
@@ -132,7 +132,7 @@ def test_products_of_columns_by_their_monomials_are_combine_angles_of_the_produc
 def test_the_products_of_columns_are_not_counted_one_by_one(monkeypatch):
     """The expansion bound is taken once per column, not walked for each of the n(n+1)/2
     products (before: one expanded_terms walk per product)."""
-    counted = _counting(monkeypatch, "lagrangian.model.energy", "expanded_terms")
+    counted = _counting(monkeypatch, "lagrangian.model.energy_large", "expanded_terms")
     walked = _counting(monkeypatch, "lagrangian.algebra", "expanded_terms")
     n = 12
     chain_pendulum(n)

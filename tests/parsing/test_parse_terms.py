@@ -77,7 +77,7 @@ def test_terms_are_put_in_the_order_sympy_sorts_a_sum_in():
 
 
 def test_the_sizes_of_a_sums_numbers_are_estimated_alike_from_terms_seen_before():
-    from lagrangian.parsing.builder import _sum_size
+    from lagrangian.parsing.limits import sum_size
 
     rng = random.Random(5)
     pool = [X / 3, X**2 / 7, sympy.Rational(10**30, 11) * X, sympy.sqrt(2) * Y["y1"] / 13]
@@ -86,7 +86,7 @@ def test_the_sizes_of_a_sums_numbers_are_estimated_alike_from_terms_seen_before(
     for limit in (5, 50, 1000):
         for _ in range(30):
             values = rng.sample(pool, rng.randint(1, 30))
-            assert _sum_size(values, limit, known) == _sum_size(values, limit)
+            assert sum_size(values, limit, known) == sum_size(values, limit)
 
 
 def test_a_sum_of_plain_terms_is_the_sum_sympy_makes():

@@ -21,13 +21,8 @@ from ..errors import ModelError
 from ..symbols import time_symbol
 from .build_names import ModelNames
 from .components import Gravity, RigidBody, Spring
-from .energy import (
-    conservative_potential,
-    difference_in_symengine,
-    gravity_potential,
-    kinetic_energy,
-    spring_potential,
-)
+from .energy import conservative_potential, gravity_potential, kinetic_energy, spring_potential
+from .energy_large import difference_in_symengine
 from .impacts import check_initial_gaps, check_restitutions, resolve_impacts
 from .inputs import assemble_inputs, with_input_forces
 from .limits import check_kinetic_work

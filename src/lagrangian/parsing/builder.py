@@ -32,12 +32,12 @@ from lagrangian.parsing.limits import (
     ParseLimits,
     count_new_nodes,
     exp_size,
-    log_size,
     magnitude,
     numeric_size,
     rational_size,
     root_sizes,
     root_work_us,
+    sum_size,
 )
 from lagrangian.parsing.names import (
     BUILTIN_CONSTANTS,
@@ -147,7 +147,7 @@ class _Builder:
                 value = negation
             values.append(value)
         limit = self.limits.max_result_digits
-        self.check_digits(_sum_size(values, limit, terms.number_sizes), position)
+        self.check_digits(sum_size(values, limit, terms.number_sizes), position)
         ordered = terms.in_canonical_order(values)  # the same sum, its sort done mostly
         made = sorted_sum(ordered)  # the same sum, where Add would only keep the terms
         if made is not None:
@@ -262,7 +262,7 @@ class _Builder:
         for operand in node.terms:
             value = self.build(operand.node)
             terms.append(-value if operand.inverted else value)
-        self.check_digits(_sum_size(terms, self.limits.max_result_digits), node.position)
+        self.check_digits(sum_size(terms, self.limits.max_result_digits), node.position)
         return self.evaluate(lambda: sympy.Add(*terms), "the sum", node.position)
 
     def product(self, node: Product) -> sympy.Expr:
@@ -416,41 +416,6 @@ class _Builder:
         self.root_work_us += root_work_us(digits)
         if self.root_work_us > ROOT_WORK_BUDGET_US:
             raise self.error("expression too costly: too many roots of numbers", position)
-
-
-def _sum_size(terms: Sequence[sympy.Expr], limit: int, known: dict | None = None) -> float:
-    """Estimated size of the numbers in a sum: a common denominator makes them grow.
-
-    ``log10`` of the least common multiple of the denominators (computed until
-    it passes ``limit`` digits) plus the size of the largest term.  ``known`` keeps each
-    term's (size, denominators) for the next sums (a model's sums share their terms).
-    """
-    largest = 0.0
-    common = 1
-    for term in terms:
-        found = None if known is None else known.get(term)
-        if found is None:
-            found = _term_numbers(term)
-            if known is not None:
-                known[term] = found
-        size, denominators = found
-        largest = max(largest, size)
-        for q in denominators:
-            if log_size(common) <= limit:
-                common = math.lcm(common, q)
-    return largest + log_size(common) + log_size(len(terms))
-
-
-def _term_numbers(term: sympy.Expr) -> tuple[float, tuple[int, ...]]:
-    """(the largest numeric size of ``term``'s parts, their coefficients' denominators)."""
-    largest = 0.0
-    denominators = []
-    for part in sympy.Add.make_args(term):
-        largest = max(largest, numeric_size(part))
-        coefficient = part.as_coeff_Mul()[0]
-        if coefficient.is_Rational and coefficient.q != 1:
-            denominators.append(coefficient.q)
-    return largest, tuple(denominators)
 
 
 def _clip(shown: str) -> str:

@@ -23,6 +23,7 @@ Three costs are bounded by internal constants rather than by :class:`ParseLimits
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, fields
 
 import sympy
@@ -187,3 +188,38 @@ def exp_size(argument: sympy.Expr) -> float:
             if isinstance(factor, sympy.log):
                 size += numeric_size(factor.args[0]) * magnitude(term)
     return size
+
+
+def sum_size(terms: Sequence[sympy.Expr], limit: int, known: dict | None = None) -> float:
+    """Estimated size of the numbers in a sum: a common denominator makes them grow.
+
+    ``log10`` of the least common multiple of the denominators (computed until
+    it passes ``limit`` digits) plus the size of the largest term.  ``known`` keeps each
+    term's (size, denominators) for the next sums (a model's sums share their terms).
+    """
+    largest = 0.0
+    common = 1
+    for term in terms:
+        found = None if known is None else known.get(term)
+        if found is None:
+            found = _term_numbers(term)
+            if known is not None:
+                known[term] = found
+        size, denominators = found
+        largest = max(largest, size)
+        for q in denominators:
+            if log_size(common) <= limit:
+                common = math.lcm(common, q)
+    return largest + log_size(common) + log_size(len(terms))
+
+
+def _term_numbers(term: sympy.Expr) -> tuple[float, tuple[int, ...]]:
+    """(the largest numeric size of ``term``'s parts, their coefficients' denominators)."""
+    largest = 0.0
+    denominators = []
+    for part in sympy.Add.make_args(term):
+        largest = max(largest, numeric_size(part))
+        coefficient = part.as_coeff_Mul()[0]
+        if coefficient.is_Rational and coefficient.q != 1:
+            denominators.append(coefficient.q)
+    return largest, tuple(denominators)

@@ -1,0 +1,297 @@
+"""The large route of the energies: T, V and L = T - V assembled with SymEngine.
+
+Above ``FAST_MIN_COORDINATES`` coordinates (:mod:`.energy` decides) T is assembled in the
+quadratic form of :mod:`.energy` from the Jacobian columns of the positions, in
+SymEngine: each distinct term of the positions is differentiated once, each distinct
+product of two columns simplified once by the sum-of-angles rule
+(:func:`~lagrangian.algebra.combine_angles`) and the masses sharing it added,
+M_ij = (m_j + ... + m_n) l_i l_j cos(theta_i - theta_j) for a chain.  The SymPy forms are
+converted back at the cost of their top level, and ``known`` collects the SymEngine form
+of each, so that L = T - V is made in SymEngine too (:func:`difference_in_symengine`).
+"""
+
+from __future__ import annotations
+
+from collections import defaultdict
+from collections.abc import Sequence
+from itertools import combinations_with_replacement
+
+import sympy
+
+from ..algebra import (
+    combine_angles,
+    combine_expanded_angles,
+    factor_common,
+    holds_derivative,
+    to_symengine,
+    to_sympy,
+)
+from ..budget import MAX_EXPANDED_TERMS, expanded_terms
+from ..symbols import Coordinate
+from .components import Gravity, Particle, RigidBody2D
+
+
+def kinetic_energy_large(
+    coordinates: Sequence[Coordinate],
+    time: sympy.Symbol,
+    particles: Sequence[Particle],
+    bodies: Sequence[RigidBody2D],
+    known: dict | None = None,
+) -> sympy.Expr | None:
+    """T as in :func:`kinetic_energy`, assembled with SymEngine (None: not expressible there)."""
+    import symengine as se
+
+    cache: dict = {}
+    points = [(p.mass, p.position) for p in particles]
+    points += [(b.mass, b.center) for b in bodies]
+    points += [(b.inertia, (b.angle,)) for b in bodies]
+    q = [to_symengine(c.q, cache) for c in coordinates]
+    t = to_symengine(time, cache)
+    # Equal Jacobian columns recur from point to point (every bob of a chain moves with
+    # link 1 alike), so each distinct column gets a number once and the O(n^3) loop over
+    # pairs of columns below hashes pairs of numbers, not of expressions.
+    column_ids: dict = {}
+    columns_by_id: list = []
+    products: dict = {}
+
+    def column_id(column) -> int:
+        found = column_ids.get(column)
+        if found is None:
+            found = column_ids[column] = len(columns_by_id)
+            columns_by_id.append(column)
+        return found
+
+    monomials: dict = {}  # column id -> its components' monomials (see _Monomials)
+
+    def expanded(c: int) -> _Monomials:
+        found = monomials.get(c)
+        if found is None:
+            found = monomials[c] = _Monomials(columns_by_id[c])
+        return found
+
+    def dot(a: int, b: int):
+        found = products.get((a, b))
+        if found is None:
+            found = products[a, b] = expanded(a).dot(expanded(b))
+        return found
+
+    # ((i, column id), (j, column id)) -> the masses of the points that move with both
+    pairs: dict = defaultdict(list)
+    linear: dict = defaultdict(lambda: defaultdict(list))
+    constant: dict = defaultdict(list)
+    terms_seen = _PositionTerms(q)  # each distinct term of the positions, looked at once
+    for mass, position in points:
+        m = to_symengine(mass, cache)
+        r = [to_symengine(x, cache) for x in position]
+        if m is None or any(x is None for x in r):
+            return None
+        columns, nonsmooth = terms_seen.columns(r)
+        explicit = tuple(se.diff(x, t) for x in r)
+        derivatives = [*explicit, *(x for column in columns.values() for x in column)]
+        if nonsmooth and any(map(holds_derivative, derivatives)):
+            return None  # d|u|/dq or d sign(u)/dq, which SymEngine leaves undone
+        active = [(i, column_id(column)) for i, column in columns.items()]
+        for pair in combinations_with_replacement(active, 2):
+            pairs[pair].append(m)
+        if not all(x.is_zero for x in explicit):
+            e = column_id(explicit)
+            for i, ci in active:
+                linear[i][ci, e].append(m)
+            constant[e, e].append(m)
+    quadratic: dict = defaultdict(dict)  # (i, j) -> {(column id, column id): masses}
+    for ((i, ci), (j, cj)), masses in pairs.items():
+        quadratic[i, j][ci, cj] = masses
+
+    grouped: dict = {}  # the sum of masses -> its common factor pulled out (lists recur)
+
+    def mass_sum(masses):
+        key = tuple(masses)
+        found = grouped.get(key)
+        if found is None:
+            found = grouped[key] = factor_common(masses)
+        return found
+
+    def total(groups):
+        # the same product under several pairs of ids is added, not kept twice
+        by_product: dict = defaultdict(list)
+        for pair, masses in groups.items():
+            by_product[dot(*pair)].append(mass_sum(masses))
+        return se.Add(*(mass_sum(masses) * product for product, masses in by_product.items()))
+
+    velocities = [to_symengine(c.q_dot, cache) for c in coordinates]
+    symbols = _converted_symbols(cache) | {c.q_dot.name: c.q_dot for c in coordinates}
+    terms = [total(constant) / 2]
+    for (i, j), groups in quadratic.items():
+        weight = velocities[i] ** 2 / 2 if i == j else velocities[i] * velocities[j]
+        terms.append(total(groups) * weight)
+    terms += [total(groups) * velocities[i] for i, groups in linear.items()]
+    return _back_to_sympy(se.Add(*terms), symbols, cache, known)
+
+
+class _Monomials:
+    """A Jacobian column with each component expanded once into its monomials, so that
+    the product of two columns is expanded by multiplying monomials.
+
+    ``combine_angles`` of u . v expands the product anew and first counts, by a walk of
+    it, the terms that expansion could make; a chain's T takes 5050 such products.  Where
+    every monomial is a product of symbols, numbers, functions and powers of them (no sum
+    inside a power), two monomials multiply into a monomial, so the expansion of u . v
+    is the sum of the products of the components' monomials, and its count is bounded by
+    the columns' own counts: :meth:`dot` then makes that sum directly (the same expression
+    as the expansion); else, or past the bound, it is ``combine_angles`` of the product.
+    """
+
+    def __init__(self, column):
+        import symengine as se
+
+        self.column = column
+        # bounds of the terms each component's expansion makes, and of those made inside it
+        self.counts = [expanded_terms(x) for x in column]
+        self.terms = None
+        if max(self.counts) <= MAX_EXPANDED_TERMS:
+            terms = [_terms(se.expand(x)) for x in column]
+            if all(_is_monomial(term) for component in terms for term in component):
+                self.terms = terms
+
+    def dot(self, other: _Monomials):
+        import symengine as se
+
+        u, v = self.column, other.column
+        if self.terms is not None and other.terms is not None:
+            # what expanded_terms would count in u . v: the products' terms, or more inside
+            size = sum(a * b for a, b in zip(self.counts, other.counts, strict=True))
+            if max(size, *self.counts, *other.counts) <= MAX_EXPANDED_TERMS:
+                products = [
+                    x * y
+                    for a, b in zip(self.terms, other.terms, strict=True)
+                    for x in a
+                    for y in b
+                ]
+                return combine_expanded_angles(se.Add(*products))
+        return combine_angles(se.Add(*(x * y for x, y in zip(u, v, strict=True))))
+
+
+def _is_monomial(term) -> bool:
+    """Whether ``term`` (SymEngine) is a product of factors none of which holds a sum
+    outside a function: its product with another such term is again one."""
+    import symengine as se
+
+    for factor in term.args if type(term) is se.Mul else (term,):
+        base = factor.args[0] if type(factor) is se.Pow else factor
+        if type(base) in (se.Add, se.Mul, se.Pow):
+            return False
+    return True
+
+
+class _PositionTerms:
+    """The Jacobian columns of positions (SymEngine), each distinct term of them looked at once.
+
+    Each term of r is differentiated by the coordinates it holds only: a chain's bob
+    at depth k costs O(k) derivatives, not O(k n).  A term's derivatives, and whether it
+    holds |u| or sign(u), are kept for the next points (a chain's bobs share their
+    terms), and so is each column made of the same derivatives (their sums are made once).
+    """
+
+    def __init__(self, q):
+        self.index = {qi: i for i, qi in enumerate(q)}
+        self.known: dict = {}  # term -> ([(i, d term/dq_i)], whether it holds Abs or sign)
+        self.made: dict = {}  # the derivatives a column adds up, per component -> the column
+
+    def term(self, term) -> tuple[list, bool]:
+        import symengine as se
+
+        found = self.known.get(term)
+        if found is None:
+            index = self.index
+            derivatives = [
+                (index[symbol], se.diff(term, symbol))
+                for symbol in term.free_symbols
+                if symbol in index
+            ]
+            found = self.known[term] = (derivatives, bool(term.atoms(se.Abs, se.sign)))
+        return found
+
+    def columns(self, position) -> tuple[dict, bool]:
+        """({i: dr/dq_i} for the q_i that r depends on, whether r holds |u| or sign(u))."""
+        import symengine as se
+
+        nonsmooth = False
+        parts: dict = defaultdict(lambda: [[] for _ in position])
+        for k, x in enumerate(position):
+            for term in x.args if type(x) is se.Add else (x,):
+                derivatives, holds = self.term(term)
+                nonsmooth = nonsmooth or holds
+                for i, derivative in derivatives:
+                    parts[i][k].append(derivative)
+        columns = {}
+        for i in sorted(parts):
+            key = tuple(map(tuple, parts[i]))
+            column = self.made.get(key)
+            if column is None:
+                column = tuple(se.Add(*terms) for terms in parts[i])
+                self.made[key] = column = None if all(x.is_zero for x in column) else column
+            if column is not None:
+                columns[i] = column
+        return columns, nonsmooth
+
+
+def gravity_potential_large(gravity: Gravity, points, known: dict | None) -> sympy.Expr | None:
+    """The same sum in SymEngine, which does not re-sort each partial sum as SymPy does."""
+    import symengine as se
+
+    cache: dict = {}
+    given = [gravity.g, *gravity.direction] + [x for mass, r in points for x in (mass, *r)]
+    if any(to_symengine(x, cache) is None for x in given):
+        return None
+    g = cache[gravity.g]
+    direction = [cache[d] for d in gravity.direction]
+    terms = [
+        cache[mass] * g * se.Add(*(-d * cache[x] for d, x in zip(direction, r, strict=True)))
+        for mass, r in points
+    ]
+    return _back_to_sympy(se.Add(*terms), _converted_symbols(cache), cache, known)
+
+
+def difference_in_symengine(kinetic: sympy.Expr, potential: sympy.Expr | None, known: dict):
+    """(T - V, its SymEngine form) made in SymEngine, where T and V convert to it; else
+    (None, None).
+
+    ``known`` is what :func:`kinetic_energy` and :func:`gravity_potential` collected: T and
+    V convert at the cost of their top level, and L converts back reusing their SymPy
+    terms.  SymPy's ``T - V`` would sort the terms of the sum anew (0.17 s for the
+    100-link chain's 5150); L's terms come in SymEngine's order instead, as T's do.
+    """
+    import symengine as se
+
+    t = to_symengine(kinetic, known)
+    v = se.Integer(0) if potential is None else to_symengine(potential, known)
+    if t is None or v is None:
+        return None, None
+    # -V term by term, as SymPy distributes it (SymEngine would keep -(a + b) whole)
+    difference = se.Add(*_terms(t), *(-term for term in _terms(v)))
+    made = {node: expr for expr, node in known.items()}
+    symbols = {expr.name: expr for expr in known if expr.is_Symbol}
+    return to_sympy(difference, symbols, made), difference
+
+
+def _terms(expr) -> tuple:
+    import symengine as se
+
+    return expr.args if type(expr) is se.Add else (expr,)
+
+
+def _back_to_sympy(expr, symbols: dict, cache: dict, known: dict | None) -> sympy.Expr:
+    """``to_sympy(expr)``; ``known`` (where given) gains every SymPy node made, or met in
+    ``cache`` (a ``to_symengine`` cache), with its SymEngine form."""
+    back: dict = {}
+    result = to_sympy(expr, symbols, back)
+    if known is not None:
+        known.update(cache)
+        known.update((sympy_node, node) for node, sympy_node in back.items())
+    return result
+
+
+def _converted_symbols(cache: dict) -> dict:
+    """{name: SymPy symbol} of the symbols a ``to_symengine`` cache has met (their
+    assumptions kept), without walking the expressions again."""
+    return {node.name: node for node in cache if node.is_Symbol}
