@@ -129,22 +129,23 @@ TAYLOR_STEP_OUTPUT = 3e-7
 
 
 #: Our Taylor method's integration time (backend numba, :mod:`.taylor_compiled`) relative
-#: to the compiled DOP853 at the same tolerance, CPU: 0.38 for the double pendulum at 1e-10
-#: (0.016 s against DOP853's 18,961 steps at 2.2 us; its printed coefficients), 3.5 for a
-#: 3-link chain and 18 for a 10-link chain in the compact mode that larger systems take
-#: (benchmarks/taylor_numba.py): only two coordinates pay.  Every step kept costs little
-#: more (the loop writes each step's end).
-TAYLOR_NUMBA_PACE, TAYLOR_NUMBA_COMPACT_PACE = 0.38, 4.0
+#: to the compiled DOP853 at the same tolerance, CPU: 0.4 for the double pendulum at 1e-10
+#: (0.0166 s against DOP853's 18,961 steps at 2.2 us; its printed coefficients), 3.5 for a
+#: 3-link chain and 12 for a 10-link chain (8.2 s against 0.68 s) in the compact mode that
+#: larger systems take (benchmarks/taylor_numba.py): only two coordinates pay.  Every step
+#: kept costs little more (the loop writes each step's end).
+TAYLOR_NUMBA_PACE, TAYLOR_NUMBA_COMPACT_PACE = 0.4, 4.0
 
 
 def taylor_numba_start_seconds(n: int, cached: bool) -> float:
     """CPU seconds before our Taylor method's first step: the tape and its module made
-    (milliseconds), then numba's compile of the printed coefficients and the loop (2 s for
-    the double pendulum; the compact mode's walk of larger systems 4 s once per machine),
-    or the machine code loaded from the code cache (0.2-0.3 s; benchmarks/taylor_numba.py)."""
+    (milliseconds), then numba's compile of the printed coefficients and the loop (3.3 s
+    for the double pendulum under load; the compact mode's walk of larger systems 3.4 s
+    once per machine), or the machine code loaded from the code cache (0.6-0.75 s;
+    benchmarks/taylor_numba.py, ``prepare`` in a fresh process)."""
     if cached:
-        return 0.3
-    return 2.0 if n <= 2 else 4.0
+        return 0.7
+    return 3.3 if n <= 2 else 4.0
 
 
 def taylor_numba_seconds(n: int, steps: float, cached: bool) -> float:
