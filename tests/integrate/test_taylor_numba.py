@@ -300,3 +300,20 @@ def test_the_tape_keeps_no_dead_operation_nor_a_reciprocal_or_square_as_a_produc
                 inner = made.get(a)
                 assert not (inner and inner.kind == "mul" and b in inner.args), op
     assert [op.kind for op in tape.ops].count("square") == 3  # v1^2, v2^2, cos^2
+
+
+@pytest.mark.slow  # compiles the double pendulum's loop (3 s)
+def test_the_command_line_runs_ours_without_heyoka_and_says_so(monkeypatch, capsys):
+    import json
+
+    from lagrangian.cli import ExitStatus, main
+
+    monkeypatch.setattr(choice_module, "heyoka_installed", lambda: False)
+    arguments = ["simulate", "double_pendulum", "--method", "taylor", "--t-end", "5"]
+    assert main([*arguments, "--rtol", "1e-13", "--json"]) == ExitStatus.SUCCESS
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["method"] == "taylor"
+    assert summary["choice"].startswith("taylor (numba) on ")
+    reference = lg.load("double_pendulum").simulate(t_end=5.0, rtol=1e-13, atol=1e-13)
+    for name, value in reference.final_state.items():
+        assert abs(summary["final_state"][name] - value) < 1e-9
