@@ -212,16 +212,44 @@ def test_driven_duffing_matches_dop853_and_heyokas_steps():
 
 
 @pytest.mark.slow  # compiles the loop (2-3 s)
-def test_events_are_refused_and_a_singularity_fails_naming_the_state():
+def test_a_singularity_fails_naming_the_state():
     compiled = _compiled("x_dot**2/2 + 1/x", ["x"])  # falls into x = 0 in finite time
     params = compiled.parameter_vector({})
     result = Taylor(tol=1e-12, backend="numba").solve(compiled, (0.0, 10.0), [1.0, 0.0], params)
     assert not result.success
     assert "t = " in result.message and "x = " in result.message
-    with pytest.raises(ModelError, match="backend 'numba' does not locate events"):
-        Taylor(backend="numba").solve(
-            compiled, (0.0, 1.0), [1.0, 0.0], params, events=[Event(lambda t, y, p: y[0] - 0.5)]
-        )
+
+
+@pytest.mark.slow  # compiles the loop (3 s)
+def test_events_are_located_as_dop853_locates_them():
+    compiled = _compiled(KEPLER, ["r", "theta"], m=1.0, k=1.0)
+    params = compiled.parameter_vector({})
+    y0 = np.array([1.0, 0.0, 0.1, 1.2])  # off an apsis: none at the start
+    apsis = Event(lambda t, y, p: y[2], name="apsis")  # r' = 0: twice an orbit
+    stop = Event(lambda t, y, p: y[1] - 20.0, terminal=True, name="turns")  # theta = 20
+    grid = np.linspace(0.0, 60.0, 61)
+    ours = Taylor(tol=1e-14, backend="numba").solve(
+        compiled, (0.0, 60.0), y0, params, t_eval=grid, events=[apsis, stop]
+    )
+    reference = solve_ivp(
+        lambda t, y: compiled.rhs(t, y, params), (0.0, 60.0), y0, method="DOP853",
+        rtol=1e-13, atol=1e-13, events=[lambda t, y: y[2], _terminal(lambda t, y: y[1] - 20.0)],
+    )  # fmt: skip
+    assert ours.status.name == "EVENT"
+    found = {record.name: record.times for record in ours.events}
+    np.testing.assert_allclose(found["apsis"], reference.t_events[0], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(found["turns"], reference.t_events[1], rtol=0, atol=1e-9)
+    assert ours.t[-1] == found["turns"][0] and np.all(ours.t[:-1] < ours.t[-1])
+    assert abs(ours.y[1, -1] - 20.0) < 1e-9
+    every = Taylor(tol=1e-14, backend="numba").solve(
+        compiled, (0.0, 60.0), y0, params, events=[apsis, stop]
+    )
+    assert every.t[-1] == found["turns"][0] and every.t.shape[0] == every.steps + 1
+
+
+def _terminal(function):
+    function.terminal = True
+    return function
 
 
 def _choose(t_end: float, **given):
@@ -241,7 +269,7 @@ def test_without_heyoka_method_taylor_is_ours_and_says_so(monkeypatch):
 
 
 @pytest.mark.slow  # the probe and the numba backend's text for three runs (10 s)
-def test_without_heyoka_a_long_smooth_run_takes_ours_unless_it_has_events(monkeypatch):
+def test_without_heyoka_a_long_smooth_run_takes_ours(monkeypatch):
     monkeypatch.setattr(choice_module, "heyoka_installed", lambda: False)
     monkeypatch.setattr(choice_module, "taylor_compiled_ready", lambda compiled: False)
     run = _choose(1e5)
@@ -249,7 +277,7 @@ def test_without_heyoka_a_long_smooth_run_takes_ours_unless_it_has_events(monkey
     assert run.reason.startswith("taylor (numba, tol 1e-12): about ")
     assert "taylor (numba) ~" in run.reason and "compiled loop ~" in run.reason
     with_events = _choose(1e5, events=(Event(lambda t, y, p: y[0]),))
-    assert with_events.method == "dop853" and "taylor" not in with_events.reason
+    assert with_events.method == "taylor"  # located on each step's polynomial
     assert _choose(20.0).method == "dop853"  # too short to pay for a compile
 
 

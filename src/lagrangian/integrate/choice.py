@@ -254,8 +254,8 @@ def choose_run(
             costs["compiled loop on llvm"] = start + steps * linked_step_seconds(n)
     else:
         notes.append("numba is not installed (the compiled loop)")
-    if method is None and not heyoka_installed() and numba_installed() and not events:
-        problem = _taylor_problem(quick, y0, p)  # our Taylor method (it locates no events)
+    if method is None and not heyoka_installed() and numba_installed():
+        problem = _taylor_problem(quick, y0, p)  # our Taylor method
         if problem is None:
             costs["taylor (numba)"] = taylor_numba_seconds(n, steps, taylor_compiled_ready(quick))
         else:

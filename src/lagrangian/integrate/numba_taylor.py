@@ -11,7 +11,7 @@ every system, calling the system's y' through a function pointer) a small system
 is its own: a call through a pointer cost 0.15 us a step, 15% of the double pendulum's.
 
     advance(size, c, order, t_end, clock, tc, work, t_eval, out, ts, ys, counts, limit,
-            keep, program, exponents) -> status
+            keep, program, exponents, kept) -> status
 
 takes steps from (t, y) = (``clock[0]``, ``tc[:size, 0]``) towards ``t_end``, at most
 ``limit`` of them, the step's order ``order`` and size by Jorba and Zou's rule as heyoka
@@ -23,7 +23,9 @@ X = x where x > 1 (the tolerance relative) else 1 (absolute),
 
 cut to end on ``t_end``.  The new state is the Taylor polynomial at h (Horner), and so is
 every output time ``t_eval[counts[2]:]`` the step covers (into the columns of ``out``);
-with ``keep`` every step's end goes into ``ts``/``ys`` at row ``counts[1]``.  ``counts[0]``
+with ``keep`` every step's end goes into ``ts``/``ys`` at row ``counts[1]``, and where
+``kept`` has rows, the step's Taylor coefficients of the state into ``kept[counts[1]]``
+(events are located on them).  ``counts[0]``
 adds the steps.  Status: 0 ``limit`` steps taken or ``ts`` full, 1 t_end reached, 2 the step
 fell below 10 ulp of t, 3 a coefficient or the new state is not finite (the state in
 ``tc[:size, 0]`` and ``clock[0]`` are then the last finite ones).  This module itself is
@@ -91,6 +93,7 @@ def advance(
     keep,
     program,
     exponents,
+    kept,
 ):  # pragma: no cover - compiled by numba
     """Steps towards ``t_end`` (see the module docstring)."""
     t = clock[0]
@@ -112,6 +115,10 @@ def advance(
             h = -h
         if not last and abs(h) <= 10.0 * abs(math.nextafter(t, math.inf) - t):
             return 2
+        if keep and kept.shape[0] > 0:  # the step's polynomial, for events located on it
+            for i in range(size):
+                for k in range(order + 1):
+                    kept[counts[1], i, k] = tc[i, k]
         evaluate(tc, size, order, h, work, 0)
         for i in range(size):
             if not math.isfinite(work[i, 0]):

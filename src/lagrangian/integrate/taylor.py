@@ -6,7 +6,7 @@ own Taylor coefficients by automatic differentiation compiled by numba
 (:mod:`.taylor_compiled`), with heyoka's order and step rule, for machines where heyoka is
 not installed (it is an optional extra with wheels for few platforms).  By default
 (``backend=None``) heyoka runs where it is installed, ours elsewhere; the run's settings
-say which (``backend``).  Ours locates no events (use heyoka's backend or dop853).
+say which (``backend``).  Both locate events on each step's polynomial.
 
 heyoka (F. Biscani and D. Izzo, "Revisiting high-order Taylor methods for
 astrodynamics and celestial mechanics", MNRAS 504 (2021) 2614-2628;
@@ -193,19 +193,21 @@ class Taylor(AbstractIntegrator):
         return self._result(compiled, times, values, Status.FAILED, message, steps, records)
 
     def _numba(self, compiled: CompiledSystem, run: Run) -> IntegrationResult:
-        if run.events:
-            raise ModelError(
-                "method 'taylor' with backend 'numba' does not locate events: use backend "
-                "'heyoka' (pip install \".[taylor]\") or method dop853"
-            )
         if run.watch is not None:  # the budget's clock starts before the build, which counts
             run.watch(run.t0)
         loop = taylor_compiled.taylor_loop(compiled)
-        reached = taylor_compiled.propagate(loop, run, self.tol)
+        events = None
+        if run.events:
+            f0 = np.asarray(compiled.rhs(run.t0, run.y0, run.params), dtype=float)
+            events = StepEvents(run.events, run.params, run.t0, run.y0, f0)
+        reached = taylor_compiled.propagate(loop, run, self.tol, events)
         times, values, steps = reached.times, reached.values, reached.steps
+        records = events.records(run.y0.shape[0]) if events is not None else ()
+        if reached.stopped:
+            return self._result(compiled, times, values, Status.EVENT, TERMINATED, steps, records)
         if reached.status == 1:
             return self._result(
-                compiled, times, values, Status.SUCCESS, "reached the end time", steps
+                compiled, times, values, Status.SUCCESS, "reached the end time", steps, records
             )
         where = f"t = {reached.last_t:.6g} ({describe_state(compiled, reached.last_y)})"
         if reached.status == 3:
@@ -218,7 +220,7 @@ class Taylor(AbstractIntegrator):
         if t_eval_missing_last(run, times, reached.last_t):
             times = np.append(times, reached.last_t)
             values = np.concatenate([values, reached.last_y[:, None]], axis=1)
-        return self._result(compiled, times, values, Status.FAILED, message, steps)
+        return self._result(compiled, times, values, Status.FAILED, message, steps, records)
 
     def _result(
         self, compiled, times, values, status, message, steps, records=()

@@ -10,8 +10,10 @@ walked as data by one loop for every system (:mod:`.numba_taylor_tape`, as heyok
 mode), as numba would take minutes over its printed text.  The run goes in chunks of steps
 with Python between them only (``watch`` told the time, a run that keeps every step
 checked to fit in memory), as the compiled DOP853's.  Outputs are every step's end, or
-with ``t_eval`` each step's Taylor polynomial at the times it covers.  Not handled:
-events (their detection is heyoka's path and dop853's).
+with ``t_eval`` each step's Taylor polynomial at the times it covers.  Events are located
+as the compiled DOP853 and heyoka's path locate them (:class:`.compiled_events.StepEvents`):
+g at every step's end, a sign change found by Brent's method on that step's Taylor
+polynomial, which the loop keeps for each step of a chunk.
 """
 
 from __future__ import annotations
@@ -33,6 +35,7 @@ if TYPE_CHECKING:
     from ..codegen.taylor_tape import Tape
     from ..numeric.compiled import CompiledSystem
     from .base import Run
+    from .compiled_events import StepEvents
 
 #: Steps per call of the loop: the first chunk, and the most (it doubles).
 FIRST_CHUNK, LARGEST_CHUNK = 256, 8192
@@ -189,6 +192,7 @@ def _compile(loop: TaylorLoop) -> None:
         size, loop.constants(np.ones(loop.tape.parameters)), 2, 1.0, np.zeros(1), tc,
         np.empty((size, 1)), np.zeros(0), np.empty((size, 0)), np.empty(0),
         np.empty((0, size)), np.zeros(3, dtype=np.int64), 0, True, loop.program, loop.exponents,
+        np.empty((0, size, 3)),
     )  # fmt: skip
 
 
@@ -203,10 +207,12 @@ class Reached:
     status: int
     last_t: float
     last_y: np.ndarray
+    stopped: bool = False  # by a terminal event, at the last output
 
 
-def propagate(loop: TaylorLoop, run: Run, tol: float) -> Reached:
-    """Taylor's method at ``tol`` over ``run`` (no events) by the compiled loop."""
+def propagate(loop: TaylorLoop, run: Run, tol: float, events: StepEvents | None = None) -> Reached:
+    """Taylor's method at ``tol`` over ``run`` by the compiled loop, ``events`` located on
+    each step's Taylor polynomial (a terminal one ends the run there)."""
     t0, t1, t_eval, watch = run.t0, run.t1, run.t_eval, run.watch
     y0 = np.array(run.y0, dtype=float)
     size, order = y0.shape[0], order_for(tol)
@@ -216,37 +222,72 @@ def propagate(loop: TaylorLoop, run: Run, tol: float) -> Reached:
     work = np.empty((size, 1))
     clock = np.array([t0])
     counts = np.zeros(3, dtype=np.int64)
-    keep = t_eval is None
-    grid = np.zeros(0) if keep else np.ascontiguousarray(t_eval, dtype=float)
+    keep = t_eval is None or events is not None  # the steps' ends: outputs, or for events
+    grid = np.zeros(0) if t_eval is None else np.ascontiguousarray(t_eval, dtype=float)
     out = np.empty((size, grid.shape[0]))
     counts[2] = np.searchsorted(grid, t0, side="right")  # outputs at t0 itself
     out[:, : counts[2]] = y0[:, None]
     times, states = [np.array([t0])], [y0[None, :]]
-    chunk, status, projected_at = FIRST_CHUNK, 0, PROJECT_AFTER_STEPS
+    chunk, status, projected_at, stop = FIRST_CHUNK, 0, PROJECT_AFTER_STEPS, None
     while status == 0:
         ts, ys = np.empty(chunk if keep else 0), np.empty((chunk if keep else 0, size))
+        kept = np.empty((chunk if events is not None else 0, size, order + 1))
         t_before, counts[1] = float(clock[0]), 0
         status = loop.method.advance(
             size, c, order, t1, clock, tc, work, grid, out, ts, ys, counts,
-            chunk, keep, loop.program, loop.exponents,
+            chunk, keep, loop.program, loop.exponents, kept,
         )  # fmt: skip
         if keep:
-            kept = int(counts[1])
-            times.append(ts[:kept])
-            states.append(ys[:kept])
-            if counts[0] >= projected_at:
+            taken = int(counts[1])
+            ts, ys = ts[:taken], ys[:taken]
+            if events is not None:
+                stop = events.located(t_before, ts, ys, _interpolant(kept))
+                if stop is not None:  # the steps beyond it are not the run's
+                    k, (t_stop, y_stop) = stop
+                    ts, ys = np.append(ts[:k], t_stop), np.vstack([ys[:k], y_stop])
+                    counts[0] -= taken - (k + 1)
+            if t_eval is None:
+                times.append(ts)
+                states.append(ys)
+            if t_eval is None and counts[0] >= projected_at:
                 check_kept_steps(
                     "taylor", size, int(counts[0]), (float(clock[0]), t1),
-                    (kept, float(clock[0]) - t_before),
+                    (taken, float(clock[0]) - t_before),
                 )  # fmt: skip
                 projected_at = 2 * int(counts[0])
+        if stop is not None:
+            break
         if status == 0 and watch is not None:
             watch(float(clock[0]))
         chunk = min(2 * chunk, LARGEST_CHUNK)
     last_y = tc[:size, 0].copy()
-    if keep:
+    if t_eval is None:
         t_out, y_out = np.concatenate(times), np.concatenate(states).T
     else:
         done = int(counts[2])
         t_out, y_out = grid[:done], out[:, :done]
-    return Reached(t_out, y_out, int(counts[0]), int(status), float(clock[0]), last_y)
+    if stop is None:
+        return Reached(t_out, y_out, int(counts[0]), int(status), float(clock[0]), last_y)
+    _, (t_stop, y_stop) = stop
+    if t_eval is not None:  # the outputs up to the event, and its state last
+        before = t_out < t_stop
+        t_out = np.append(t_out[before], t_stop)
+        y_out = np.concatenate([y_out[:, before], y_stop[:, None]], axis=1)
+    return Reached(t_out, y_out, int(counts[0]), 1, t_stop, y_stop, stopped=True)
+
+
+def _interpolant(kept: np.ndarray):
+    """``StepEvents.located``'s interpolant of the steps of a chunk: step k's Taylor
+    polynomial (its coefficients ``kept[k]``, rows of the state) at a time within it."""
+
+    def at(k: int, t_old: float):
+        def state(t: float) -> np.ndarray:
+            coefficients, h = kept[k], float(t) - t_old
+            value = coefficients[:, -1].copy()
+            for j in range(coefficients.shape[1] - 2, -1, -1):
+                value = value * h + coefficients[:, j]
+            return value
+
+        return state
+
+    return lambda k, t_old, t: at(k, t_old)
