@@ -342,6 +342,13 @@ def test_the_command_line_runs_ours_without_heyoka_and_says_so(monkeypatch, caps
     summary = json.loads(capsys.readouterr().out)
     assert summary["method"] == "taylor"
     assert summary["choice"].startswith("taylor (numba) on ")
+    assert summary["compiled"] in (
+        "the loop of 25 operations, Taylor's method by numba",
+        "nothing: 25 operations, Taylor's method by numba from the code cache",
+    )
+    assert main([*arguments, "--json"]) == ExitStatus.SUCCESS  # again: made in this process
+    again = json.loads(capsys.readouterr().out)["compiled"]
+    assert again == "nothing: the Taylor loop was made earlier in this process"
     reference = lg.load("double_pendulum").simulate(t_end=5.0, rtol=1e-13, atol=1e-13)
     for name, value in reference.final_state.items():
         assert abs(summary["final_state"][name] - value) < 1e-9

@@ -131,8 +131,11 @@ def what_is_compiled(compiled: CompiledSystem) -> str:
     """What making the loop compiles now, in words, for the run's summary."""
     if built_already(compiled.forms.fingerprint, "taylor-numba", COMPACT_OPERATIONS):
         return "nothing: the Taylor loop was made earlier in this process"
+    cached = loop_ready(compiled)
     loop = taylor_loop(compiled)
-    return f"the Taylor coefficients by numba ({len(loop.tape.ops)} operations)"
+    mode = "walked as data, " if compact(loop.tape) else ""
+    what = f"{len(loop.tape.ops)} operations, {mode}Taylor's method by numba"
+    return f"nothing: {what} from the code cache" if cached else f"the loop of {what}"
 
 
 def loop_ready(compiled: CompiledSystem) -> bool:
