@@ -352,3 +352,11 @@ def test_the_command_line_runs_ours_without_heyoka_and_says_so(monkeypatch, caps
     reference = lg.load("double_pendulum").simulate(t_end=5.0, rtol=1e-13, atol=1e-13)
     for name, value in reference.final_state.items():
         assert abs(summary["final_state"][name] - value) < 1e-9
+
+
+def test_the_help_of_method_says_taylor_runs_without_heyoka(capsys):
+    from lagrangian.cli import main
+
+    main(["simulate", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "or taylor: heyoka's where installed, else ours" in text

@@ -255,7 +255,7 @@ def analyze(
     "--method",
     options.run_methods,
     "Integrator (default: the model's, else chosen for the run's length: dop853, "
-    "its loop compiled for long runs, or taylor where heyoka is installed).",
+    "its loop compiled for long runs, or taylor: heyoka's where installed, else ours).",
 )
 @click.option("--dt", type=float, help="Step of the fixed-step methods (rk4, variational).")
 @options.tolerances(
