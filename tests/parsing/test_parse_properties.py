@@ -7,6 +7,7 @@ of stalling the suite.  Examples are derandomized: CI sees the same ones.
 
 from __future__ import annotations
 
+import math
 import time
 
 import pytest
@@ -191,7 +192,7 @@ LEAVES = st.sampled_from(
     [("x", x), ("y", y), ("theta", theta), ("pi", sympy.pi)]
     + [(str(n), sympy.Integer(n)) for n in range(6)]
     + [("0.25", sympy.Rational(1, 4)), ("1e-2", sympy.Rational(1, 100))]
-).map(lambda leaf: (*leaf, False))
+).map(lambda leaf: (*leaf, False, False))
 UNARY = {
     "sin": sympy.sin,
     "cos": sympy.cos,
@@ -202,10 +203,23 @@ UNARY = {
 }
 
 
-def _node(text: str, value: sympy.Expr, *children) -> tuple[str, sympy.Expr, bool]:
-    """(text, value, whether an infinite, undefined or complex value arose on the way)."""
+def _node(text: str, value: sympy.Expr, *children) -> tuple[str, sympy.Expr, bool, bool]:
+    """(text, value, whether an infinite, undefined or complex value arose on the way,
+    whether a constant beyond double precision did)."""
     undefined = any(child[2] for child in children) or value.has(*NON_FINITE) or _not_real(value)
-    return text, value, undefined
+    beyond = any(child[3] for child in children) or (not undefined and _beyond_double(value))
+    return text, value, undefined, beyond
+
+
+def _beyond_double(value: sympy.Expr) -> bool:
+    """``exp(pi**6)`` (about 10^417) is a real number SymPy keeps exact, but no double holds
+    it, and the parser may refuse it (it does where its enclosure says so for certain)."""
+    if not value.is_number or value.is_zero:
+        return False
+    bounds = RealConstants().bounds(value)
+    return bounds is not None and (
+        max(abs(end) for end in bounds) == math.inf or bounds == (0.0, 0.0)
+    )
 
 
 def _not_real(value: sympy.Expr) -> bool:
@@ -243,7 +257,7 @@ expressions = st.recursive(LEAVES, _extend, max_leaves=12)
 @settings(max_examples=300, deadline=None)
 @given(expressions)
 def test_valid_expressions_parse_to_the_same_object(node):
-    text, expected, undefined = node
+    text, expected, undefined, beyond = node
     if undefined:
         try:
             parse_expression(text, NAMESPACE)
@@ -251,7 +265,25 @@ def test_valid_expressions_parse_to_the_same_object(node):
             return
         raise AssertionError(f"{text!r} should be refused")
     assume(isinstance(expected, sympy.Expr))
+    if beyond:
+        try:
+            parsed = parse_expression(text, NAMESPACE)
+        except ParseError as error:
+            assert "beyond double precision" in str(error)
+            return
+        assert parsed == expected
+        return
     assert parse_expression(text, NAMESPACE) == expected
+
+
+def test_a_constant_beyond_double_is_valid_text_the_parser_may_refuse():
+    """Hypothesis found ``exp(((pi)**(2))**(3))``: e**(pi**6), about 10^417."""
+    pi = ("pi", sympy.pi, False, False)
+    squared = _node("(pi)**(2)", sympy.pi**2, pi)
+    cubed = _node("((pi)**(2))**(3)", sympy.pi**6, squared)
+    huge = _node("exp(((pi)**(2))**(3))", sympy.exp(sympy.pi**6), cubed)
+    assert huge[2:] == (False, True) and cubed[2:] == (False, False)
+    test_valid_expressions_parse_to_the_same_object.hypothesis.inner_test(huge)
 
 
 def test_the_deadline_cannot_be_swallowed(monkeypatch):
