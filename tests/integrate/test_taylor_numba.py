@@ -4,6 +4,7 @@ elementary operation against SymPy, runs against exact solutions and SciPy's DOP
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -337,6 +338,7 @@ def test_the_command_line_runs_ours_without_heyoka_and_says_so(monkeypatch, caps
     from lagrangian.cli import ExitStatus, main
 
     monkeypatch.setattr(choice_module, "heyoka_installed", lambda: False)
+    monkeypatch.setitem(sys.modules, "heyoka", None)  # an import of it fails, as uninstalled
     arguments = ["simulate", "double_pendulum", "--method", "taylor", "--t-end", "5"]
     assert main([*arguments, "--rtol", "1e-13", "--json"]) == ExitStatus.SUCCESS
     summary = json.loads(capsys.readouterr().out)

@@ -152,14 +152,14 @@ class Taylor(AbstractIntegrator):
         return f"heyoka's Taylor integrator (order {integrator.order})"
 
     def integrate(self, compiled: CompiledSystem, run: Run) -> IntegrationResult:
-        import heyoka as hy
-
         t0, t1, y0, params, watch = run.t0, run.t1, run.y0, run.params, run.watch
         if run.problem is not None:  # as dop853 reports it
             return self._result(compiled, [t0], y0[:, None], Status.FAILED, run.problem, 0)
         _check_definite(compiled, t0, y0, params)
-        if self.chosen_backend == "numba":
+        if self.chosen_backend == "numba":  # heyoka may not be installed: not imported
             return self._numba(compiled, run)
+        import heyoka as hy
+
         if watch is not None:  # the budget's clock starts before the build, which counts
             watch(t0)
         integrator, constants = _integrator(compiled, self.tol)  # built by prepare, or now
