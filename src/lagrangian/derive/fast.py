@@ -22,10 +22,8 @@ need M and f alone).
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import functools
-import gc
 import random
 from collections import defaultdict
 
@@ -34,6 +32,7 @@ import sympy
 
 from ..algebra import holds_derivative, to_symengine, to_sympy
 from ..budget import MAX_EXPANDED_TERMS, expanded_terms
+from ..collector import cycle_collector_paused
 from ..model import System
 from .constraints import ConstraintForms
 from .equations import CoordinateDerivation, Deferred, EquationsOfMotion, Later, SymEngineForms
@@ -50,24 +49,8 @@ def derive_large(
     them), each equation holds its constraint force A^T lambda; q'' and lambda are left
     to the numerical solve (their closed forms are out of reach at this size).
     """
-    with _cycle_collector_paused():
+    with cycle_collector_paused():  # the tables keep many objects alive
         return _derived_by_tables(system, constraints)
-
-
-@contextlib.contextmanager
-def _cycle_collector_paused():
-    """Python's cycle collector off while the tables are made.  They hold no reference
-    cycles (reference counting frees them), but the hundreds of thousands of objects they
-    keep alive set off full collections, each walking the whole heap with the model's
-    SymPy trees: 0.36 of 1.8 s of the 100-link chain's derivation.  Any cycle made
-    meanwhile is collected once the collector is back."""
-    enabled = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if enabled:
-            gc.enable()
 
 
 def _derived_by_tables(

@@ -17,6 +17,7 @@ import sympy
 
 from ..algebra import to_symengine
 from ..budget import attempt
+from ..collector import cycle_collector_paused
 from ..errors import ModelError
 from ..symbols import time_symbol
 from .build_names import ModelNames
@@ -44,8 +45,15 @@ BUILD_SECONDS = 60.0
 def build_system(spec: ModelSpec) -> System:
     """Validate ``spec`` and build the frozen :class:`System` it describes.
 
-    Its size is checked first (:mod:`.limits`), before any symbol is made.
+    Its size is checked first (:mod:`.limits`), before any symbol is made.  The cycle
+    collector is paused meanwhile (:mod:`lagrangian.collector`): the expressions and T's
+    pieces of a large model set off full collections that walk the whole heap.
     """
+    with cycle_collector_paused():
+        return _built(spec)
+
+
+def _built(spec: ModelSpec) -> System:
     try:
         check_size(spec)
         given, declared, initial, trees = spec, None, None, None
