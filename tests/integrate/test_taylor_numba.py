@@ -362,3 +362,16 @@ def test_the_help_of_method_says_taylor_runs_without_heyoka(capsys):
     main(["simulate", "--help"])
     text = " ".join(capsys.readouterr().out.split())
     assert "or taylor: heyoka's where installed, else ours" in text
+
+
+def test_without_heyoka_the_choice_leaves_ours_out_where_a_function_has_no_recurrence(monkeypatch):
+    monkeypatch.setattr(choice_module, "heyoka_installed", lambda: False)
+    eom = lg.System.from_lagrangian(
+        "x_dot**2/2 - x*atan(x)", coordinates=["x"]
+    ).equations_of_motion()
+    run = choose_run(
+        eom, t_end=1e5, method=None, backend=None, rtol=None, atol=None, initial={"x": 1.0},
+        params={},
+    )  # fmt: skip
+    assert run.method == "dop853"
+    assert "; taylor (numba) cannot differentiate atan" in run.reason

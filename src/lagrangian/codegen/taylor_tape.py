@@ -39,6 +39,17 @@ from .forms import SymbolicForms
 SUPPORTED = ("sin", "cos", "tan", "exp", "log", "sqrt", "sinh", "cosh", "tanh", "powers")
 
 
+class UnsupportedFunction(ModelError):
+    """A function the tape has no Taylor recurrence for: names it and where it is."""
+
+    def __init__(self, function: str, where: str):
+        self.function = function
+        super().__init__(
+            f"method 'taylor' (numba) cannot differentiate {function} (in {where}): its "
+            f"Taylor recurrences cover {', '.join(SUPPORTED)}; use backend 'heyoka' or dop853"
+        )
+
+
 @dataclass(frozen=True)
 class Op:
     """One series: ``kind`` applied to ``args`` (each ("s", row) a series or ("c", j) a
@@ -359,10 +370,7 @@ class _Converter:
             if name in ("cos", "cosh"):
                 return second
             return first / second
-        raise ModelError(
-            f"method 'taylor' (numba) cannot differentiate {name} (in {_short(e)}): its "
-            f"Taylor recurrences cover {', '.join(SUPPORTED)}; use backend 'heyoka' or dop853"
-        )
+        raise UnsupportedFunction(name, _short(e))
 
     def _pair(self, kind: str, u: Node) -> tuple[Node, Node]:
         if u.where == "c":  # a constant argument: two constants

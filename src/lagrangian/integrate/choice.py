@@ -257,6 +257,9 @@ def choose_run(
     if method is None and not heyoka_installed() and numba_installed():
         problem = _taylor_problem(quick, y0, p)  # our Taylor method
         if problem is None:
+            problem = taylor_compiled_problem(quick)
+            problem = None if problem is None else f"(numba) {problem}"
+        if problem is None:
             costs["taylor (numba)"] = taylor_numba_seconds(n, steps, taylor_compiled_ready(quick))
         else:
             notes.append(f"taylor {problem}")
@@ -339,6 +342,13 @@ def estimated_steps(
 def heyoka_installed() -> bool:
     """Whether heyoka can be imported (without importing it: 0.3 s)."""
     return importlib.util.find_spec("heyoka") is not None
+
+
+def taylor_compiled_problem(compiled: CompiledSystem) -> str | None:
+    """Why our Taylor method cannot take the equations of ``compiled``, or None."""
+    from .taylor_compiled import tape_problem
+
+    return tape_problem(compiled)
 
 
 def taylor_compiled_ready(compiled: CompiledSystem) -> bool:

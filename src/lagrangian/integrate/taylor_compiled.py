@@ -138,6 +138,20 @@ def what_is_compiled(compiled: CompiledSystem) -> str:
     return f"nothing: {what} from the code cache" if cached else f"the loop of {what}"
 
 
+def tape_problem(compiled: CompiledSystem) -> str | None:
+    """Why the equations of ``compiled`` cannot be made into a tape (a function without a
+    Taylor recurrence, named), or None."""
+    from ..codegen.taylor_tape import UnsupportedFunction, tape_of
+
+    try:
+        tape_of(compiled.forms)
+    except UnsupportedFunction as error:
+        return f"cannot differentiate {error.function}"
+    except ModelError:
+        return "cannot take these equations"
+    return None
+
+
 def loop_ready(compiled: CompiledSystem) -> bool:
     """Whether the loop of ``compiled`` is built in this process or its machine code is in
     the code cache (a run then loads it in a fraction of a second instead of compiling)."""
