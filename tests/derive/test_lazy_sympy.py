@@ -18,8 +18,10 @@ import sympy
 
 import lagrangian as lg
 from helpers import assert_close, evaluate, random_point
-from lagrangian.derive.equations import EquationsOfMotion, Later
+from lagrangian.derive.equations import EquationsOfMotion
+from lagrangian.lazy import Later
 from lagrangian.output import derive_document
+from model.test_large_assembly import _closed_form_energies
 
 from .test_chain_pendulum import chain_pendulum, closed_form
 
@@ -59,9 +61,33 @@ def test_the_document_of_a_large_system_converts_nothing_to_sympy(monkeypatch, r
 def test_the_build_s_symengine_lagrangian_is_where_the_large_route_starts(monkeypatch):
     converted = _counting(monkeypatch, "lagrangian.derive.fast", "to_symengine")
     system = chain_pendulum(8)
-    assert system.symengine_lagrangian[0] is system.lagrangian
+    assert system.built_lagrangian is system.symengine_lagrangian[1]
     system.equations_of_motion()
     assert all(args[0] is not system.lagrangian for args in converted)
+    assert system.built_lagrangian is system.symengine_lagrangian[1]  # L read: still the build's
+
+
+def test_a_large_model_s_sympy_forms_are_made_when_first_read(monkeypatch, rng):
+    """Building the 8-link chain and deriving its document convert nothing to SymPy: L, T
+    and V are made on first read, and are then the closed form's, the same object for
+    every reader."""
+    made = [
+        _counting(monkeypatch, module, "to_sympy")
+        for module in ("lagrangian.model.energy_large", "lagrangian.derive.fast")
+    ]
+    system = chain_pendulum(8)
+    document = derive_document(system.equations_of_motion())
+    assert len(document["forcing"]) == 8
+    assert made == [[], []]
+    lagrangian = system.lagrangian
+    assert made[0] != []  # converted now: T and V first, then L reusing their terms
+    assert system.lagrangian is lagrangian
+    assert system.built_lagrangian is system.symengine_lagrangian[1]  # read, still the build's
+    point = random_point(system, rng)
+    kinetic, potential = _closed_form_energies(8, point)
+    assert_close(evaluate(lagrangian, point), kinetic - potential, scale=1.0)
+    assert_close(evaluate(system.kinetic, point), kinetic, scale=1.0)
+    assert_close(evaluate(system.potential, point), potential, scale=1.0)
 
 
 def test_a_lagrangian_changed_after_the_build_is_the_one_derived(rng):

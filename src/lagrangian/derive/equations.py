@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING
 
 import sympy
 
+from ..lazy import MadeOnRead
 from ..symbols import Coordinate
 from .constraints import ConstraintForms
 
@@ -56,36 +57,6 @@ class Deferred(Sequence):
         return repr(self._made())
 
 
-class Later:
-    """A value made on first read: a field of :class:`EquationsOfMotion` may be given as
-    ``Later(make)`` (the large route's M and f, whose SymPy form most uses never read)."""
-
-    __slots__ = ("make",)
-
-    def __init__(self, make: Callable[[], object]):
-        self.make = make
-
-
-class _MadeOnRead:
-    """A dataclass field that holds its value, or a :class:`Later` it replaces by the value
-    on the first read.  A data descriptor, so that a frozen dataclass's ``__init__`` (which
-    sets fields by ``object.__setattr__``) stores through it; no default."""
-
-    def __set_name__(self, owner, name: str) -> None:
-        self.name = name
-
-    def __get__(self, instance, owner=None):
-        if instance is None:
-            raise AttributeError(self.name)  # the class has no default for the field
-        value = instance.__dict__[self.name]
-        if isinstance(value, Later):
-            value = instance.__dict__[self.name] = value.make()
-        return value
-
-    def __set__(self, instance, value) -> None:
-        instance.__dict__[self.name] = value
-
-
 @dataclass(frozen=True)
 class SymEngineForms:
     """L, the equations, M (rows) and f as SymEngine expressions: the same expressions as
@@ -114,7 +85,8 @@ class EquationsOfMotion:
     read M q'' = f + A^T lambda with A q'' = beta; ``equations`` then contain the
     multiplier symbols lambda_j, and ``accelerations`` and ``multipliers`` are
     solved with lambda eliminated.
-    ``mass_matrix`` and ``forcing`` may be given as :class:`Later` (made on first read).
+    ``mass_matrix`` and ``forcing`` may be given as :class:`~lagrangian.lazy.Later` (made on
+    first read).
     ``accelerations`` holds q'' solved explicitly (``None`` where that would
     not stay readable; the numeric stages solve M q'' = f instead).  M depends
     on the velocities only for Lagrangians that are not quadratic in them (a
@@ -123,8 +95,8 @@ class EquationsOfMotion:
 
     system: System
     equations: Sequence[sympy.Expr]
-    mass_matrix: sympy.ImmutableMatrix = _MadeOnRead()  # type: ignore[assignment]
-    forcing: sympy.ImmutableMatrix = _MadeOnRead()  # type: ignore[assignment]
+    mass_matrix: sympy.ImmutableMatrix = MadeOnRead()  # type: ignore[assignment]
+    forcing: sympy.ImmutableMatrix = MadeOnRead()  # type: ignore[assignment]
     accelerations: Mapping[str, sympy.Expr] | None
     steps: Sequence[CoordinateDerivation]
     constraints: ConstraintForms | None = None

@@ -47,10 +47,12 @@ def derive(system: System) -> EquationsOfMotion:
     """The equations of motion M(q, t) q'' = f(q, q', t) of ``system``."""
     coordinates = system.coordinates
     accelerations = [c.q_ddot for c in coordinates]
-    for part, where in [(system.lagrangian, "lagrangian"), (system.dissipation, "dissipation")] + [
+    if _lagrangian_holds_any(system, accelerations):
+        raise ModelError("accelerations (q_ddot) are not allowed", field="lagrangian")
+    for part, where in [(system.dissipation, "dissipation")] + [
         (q, f"forces.{name}") for name, q in system.forces.items()
     ]:
-        if _holds_any(part, accelerations, system):
+        if part.has(*accelerations):
             raise ModelError("accelerations (q_ddot) are not allowed", field=where)
 
     forms = constraint_forms(system) if system.constraints else None
@@ -87,16 +89,16 @@ def _none() -> None:
     return None
 
 
-def _holds_any(part: sympy.Expr, symbols: list, system: System) -> bool:
-    """Whether ``part`` holds one of ``symbols``: for the Lagrangian the build assembled in
+def _lagrangian_holds_any(system: System, symbols: list) -> bool:
+    """Whether L holds one of ``symbols``: for the Lagrangian the build assembled in
     SymEngine, read from that form's free symbols (0.015 s for the 100-link chain's, where
-    SymPy's ``has`` walks its tree in 0.056 s); symbols are told apart by name, as the
-    model has one symbol per name."""
-    built = system.symengine_lagrangian
-    if built is not None and built[0] is part:
+    SymPy's ``has`` walks its tree in 0.056 s, and its SymPy form is not made); symbols
+    are told apart by name, as the model has one symbol per name."""
+    built = system.built_lagrangian
+    if built is not None:
         names = {symbol.name for symbol in symbols}
-        return any(symbol.name in names for symbol in built[1].free_symbols)
-    return part.has(*symbols)
+        return any(symbol.name in names for symbol in built.free_symbols)
+    return system.lagrangian.has(*symbols)
 
 
 def _bounded_large(system: System, forms: ConstraintForms | None) -> EquationsOfMotion | None:

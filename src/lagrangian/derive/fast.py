@@ -33,9 +33,10 @@ import sympy
 from ..algebra import holds_derivative, to_symengine, to_sympy
 from ..budget import MAX_EXPANDED_TERMS, expanded_terms
 from ..collector import cycle_collector_paused
+from ..lazy import Later
 from ..model import System
 from .constraints import ConstraintForms
-from .equations import CoordinateDerivation, Deferred, EquationsOfMotion, Later, SymEngineForms
+from .equations import CoordinateDerivation, Deferred, EquationsOfMotion, SymEngineForms
 from .solve import SYMBOLIC_MAX_SIZE, check_regular, diagonal_blocks, solve_accelerations
 from .term_tables import TermTables, too_many_terms
 
@@ -58,11 +59,9 @@ def _derived_by_tables(
 ) -> EquationsOfMotion | None:
     coordinates = system.coordinates
     cache: dict = {}
-    built = system.symengine_lagrangian  # L as the build made it in SymEngine, if it did
+    built = system.built_lagrangian  # L as the build made it in SymEngine, if it did
     converted = {
-        "lagrangian": built[1]
-        if built is not None and built[0] is system.lagrangian
-        else to_symengine(system.lagrangian, cache),
+        "lagrangian": built if built is not None else to_symengine(system.lagrangian, cache),
         "dissipation": to_symengine(system.dissipation, cache),
     }
     forces = {name: to_symengine(q, cache) for name, q in system.forces.items()}

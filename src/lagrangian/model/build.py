@@ -19,11 +19,12 @@ from ..algebra import to_symengine
 from ..budget import attempt
 from ..collector import cycle_collector_paused
 from ..errors import ModelError
+from ..lazy import stored, value_of
 from ..symbols import time_symbol
 from .build_names import ModelNames
 from .components import Gravity, RigidBody, Spring
 from .energy import conservative_potential, gravity_potential, kinetic_energy, spring_potential
-from .energy_large import difference_in_symengine
+from .energy_large import Converted, difference_in_symengine
 from .impacts import check_initial_gaps, check_restitutions, resolve_impacts
 from .inputs import assemble_inputs, with_input_forces
 from .limits import check_kinetic_work
@@ -71,9 +72,13 @@ def _built(spec: ModelSpec) -> System:
         check_initial_gaps(system, {}, {})
         if declared is not None:
             system = dimensioned(system, spec, declared, initial, trees)
-        return replace(system, spec=given)
+        # L, T and V handed over as stored: a large model's are made in SymPy on first read
+        return replace(system, spec=given, **{name: stored(system, name) for name in _ENERGIES})
     except ModelError as error:
         raise error.located(source=spec.source) from None
+
+
+_ENERGIES = ("lagrangian", "kinetic", "potential")
 
 
 class _Builder(ModelNames):
@@ -136,7 +141,7 @@ class _Builder(ModelNames):
             else None
         )
         if spec.kinetic is not None:
-            kinetic = resolved["kinetic"] + (kinetic or 0)
+            kinetic = resolved["kinetic"] + (value_of(kinetic) or 0)
         potential_terms = []
         if spec.potential is not None:
             potential_terms.append(resolved["potential"])
@@ -150,7 +155,11 @@ class _Builder(ModelNames):
             potential_terms.append(
                 conservative_potential(self.coordinates, conservative, "conservative_forces")
             )
-        potential = sympy.Add(*potential_terms) if potential_terms else None
+        potential = None  # V alone may stay a Later (see energy_large.Converted)
+        if len(potential_terms) == 1:
+            potential = potential_terms[0]
+        elif potential_terms:
+            potential = sympy.Add(*map(value_of, potential_terms))
         converted = None  # L in SymEngine, where T was assembled there
 
         if spec.lagrangian is not None:
@@ -168,10 +177,14 @@ class _Builder(ModelNames):
             )
         else:
             lagrangian = None
-            if known:  # T (and V) made in SymEngine: so is L, T - V (SymPy would sort it)
+            # T (and V) made in SymEngine: so is L, T - V (SymPy would sort it); a T still
+            # to be converted (Converted) has not filled ``known`` yet
+            if known or isinstance(kinetic, Converted):
                 lagrangian, converted = difference_in_symengine(kinetic, potential, known)
             if lagrangian is None:
-                lagrangian = kinetic - (potential if potential is not None else 0)
+                lagrangian = value_of(kinetic) - (
+                    value_of(potential) if potential is not None else 0
+                )
         # where T (and V) were made in SymEngine, so is L: its SymPy form converts back
         # at the cost of its top level, and the large route of derive starts from it
         if converted is None and known:

@@ -28,9 +28,10 @@ from ..algebra import (
     tidy,
 )
 from ..errors import ModelError
+from ..lazy import value_of
 from ..symbols import Coordinate
 from .components import Gravity, Particle, RigidBody, RigidBody2D, Spring
-from .energy_large import gravity_potential_large, kinetic_energy_large
+from .energy_large import Converted, gravity_potential_large, kinetic_energy_large
 from .rigid_body import rotation_piece
 
 #: 3-D bodies whose rotational terms get the trigonometric search (the rest are grouped
@@ -44,11 +45,12 @@ def kinetic_energy(
     particles: Sequence[Particle],
     bodies: Sequence[RigidBody2D | RigidBody],
     known: dict | None = None,
-) -> sympy.Expr:
+) -> sympy.Expr | Converted:
     """T of the particles and rigid bodies (translation of the centre + rotation).
 
     ``known``, where given, gains {SymPy expression: its SymEngine form} of what the large
-    route assembled in SymEngine (so that L converts back at the cost of its top level).
+    route assembled in SymEngine (so that L converts back at the cost of its top level);
+    T is then a :class:`~.energy_large.Converted`, made in SymPy on first read.
 
     A 3-D body's rotation adds omega^T I omega / 2 with omega = A q' + b its body-frame
     angular velocity (:mod:`.rigid_body`): M += A^T I A, linear += A^T I b,
@@ -63,8 +65,10 @@ def kinetic_energy(
     if n >= FAST_MIN_COORDINATES:
         centers = [Particle(b.name, b.mass, b.position) for b in solids]
         fast = kinetic_energy_large(coordinates, time, [*particles, *centers], bodies, known)
+        if fast is not None and not solids:
+            return fast  # made in SymPy on first read where ``known`` is given
         if fast is not None:
-            return fast + _rotational_energy(coordinates, time, solids)
+            return value_of(fast) + _rotational_energy(coordinates, time, solids)
     mass_matrix = [[sympy.Integer(0)] * n for _ in range(n)]
     linear = [sympy.Integer(0)] * n
     constant = sympy.Integer(0)
@@ -138,7 +142,7 @@ def gravity_potential(
     particles: Sequence[Particle],
     bodies: Sequence[RigidBody2D | RigidBody],
     known: dict | None = None,
-) -> sympy.Expr:
+) -> sympy.Expr | Converted:
     """V = -g sum_k m_k (direction . r_k): height measured against the direction of gravity
     (``known``: as for :func:`kinetic_energy`)."""
     points = [(p.mass, p.position) for p in particles] + [(b.mass, b.center) for b in bodies]

@@ -27,6 +27,7 @@ from ..algebra import (
     to_sympy,
 )
 from ..budget import MAX_EXPANDED_TERMS, expanded_terms
+from ..lazy import Later, value_of
 from ..symbols import Coordinate
 from .components import Gravity, Particle, RigidBody2D
 
@@ -37,8 +38,9 @@ def kinetic_energy_large(
     particles: Sequence[Particle],
     bodies: Sequence[RigidBody2D],
     known: dict | None = None,
-) -> sympy.Expr | None:
-    """T as in :func:`kinetic_energy`, assembled with SymEngine (None: not expressible there)."""
+) -> sympy.Expr | Converted | None:
+    """T as in :func:`kinetic_energy`, assembled with SymEngine (None: not expressible there);
+    with ``known``, its SymPy form is made on first read (:class:`Converted`)."""
     import symengine as se
 
     cache: dict = {}
@@ -125,7 +127,27 @@ def kinetic_energy_large(
         weight = velocities[i] ** 2 / 2 if i == j else velocities[i] * velocities[j]
         terms.append(total(groups) * weight)
     terms += [total(groups) * velocities[i] for i, groups in linear.items()]
-    return _back_to_sympy(se.Add(*terms), symbols, cache, known)
+    return _converted(se.Add(*terms), symbols, cache, known)
+
+
+class Converted(Later):
+    """A SymPy expression made on first read (:class:`~lagrangian.lazy.Later`) from
+    ``form``, its SymEngine form, which is at hand before."""
+
+    __slots__ = ("form",)
+
+    def __init__(self, form, make):
+        super().__init__(make)
+        self.form = form
+
+
+def _converted(form, symbols: dict, cache: dict, known: dict | None) -> sympy.Expr | Converted:
+    """``form`` in SymPy; for the build (``known`` given) a :class:`Converted` that makes
+    it on first read: a large model's T takes 0.08 s to convert (the 100-link chain's) and
+    most commands never read it, L starting from the SymEngine forms."""
+    if known is None:
+        return _back_to_sympy(form, symbols, cache, None)
+    return Converted(form, lambda: _back_to_sympy(form, symbols, cache, known))
 
 
 class _Monomials:
@@ -235,8 +257,11 @@ class _PositionTerms:
         return columns, nonsmooth
 
 
-def gravity_potential_large(gravity: Gravity, points, known: dict | None) -> sympy.Expr | None:
-    """The same sum in SymEngine, which does not re-sort each partial sum as SymPy does."""
+def gravity_potential_large(
+    gravity: Gravity, points, known: dict | None
+) -> sympy.Expr | Converted | None:
+    """The same sum in SymEngine, which does not re-sort each partial sum as SymPy does
+    (with ``known``, made in SymPy on first read, as T)."""
     import symengine as se
 
     cache: dict = {}
@@ -249,29 +274,41 @@ def gravity_potential_large(gravity: Gravity, points, known: dict | None) -> sym
         cache[mass] * g * se.Add(*(-d * cache[x] for d, x in zip(direction, r, strict=True)))
         for mass, r in points
     ]
-    return _back_to_sympy(se.Add(*terms), _converted_symbols(cache), cache, known)
+    return _converted(se.Add(*terms), _converted_symbols(cache), cache, known)
 
 
-def difference_in_symengine(kinetic: sympy.Expr, potential: sympy.Expr | None, known: dict):
+def difference_in_symengine(kinetic, potential, known: dict):
     """(T - V, its SymEngine form) made in SymEngine, where T and V convert to it; else
-    (None, None).
+    (None, None).  T - V is a :class:`~lagrangian.lazy.Later`: its SymPy form is made on
+    first read (most commands derive and print from the SymEngine form).
 
-    ``known`` is what :func:`kinetic_energy` and :func:`gravity_potential` collected: T and
-    V convert at the cost of their top level, and L converts back reusing their SymPy
-    terms.  SymPy's ``T - V`` would sort the terms of the sum anew (0.17 s for the
-    100-link chain's 5150); L's terms come in SymEngine's order instead, as T's do.
+    ``known`` is what :func:`kinetic_energy` and :func:`gravity_potential` collected (T and
+    V are :class:`Converted` there, or convert at the cost of their top level), and L
+    converts back reusing their SymPy terms.  SymPy's ``T - V`` would sort the terms of the
+    sum anew (0.17 s for the 100-link chain's 5150); L's terms come in SymEngine's order
+    instead, as T's do.
     """
     import symengine as se
 
-    t = to_symengine(kinetic, known)
-    v = se.Integer(0) if potential is None else to_symengine(potential, known)
+    t = _symengine_form(kinetic, known)
+    v = se.Integer(0) if potential is None else _symengine_form(potential, known)
     if t is None or v is None:
         return None, None
     # -V term by term, as SymPy distributes it (SymEngine would keep -(a + b) whole)
     difference = se.Add(*_terms(t), *(-term for term in _terms(v)))
-    made = {node: expr for expr, node in known.items()}
-    symbols = {expr.name: expr for expr in known if expr.is_Symbol}
-    return to_sympy(difference, symbols, made), difference
+
+    def made_in_sympy() -> sympy.Expr:
+        value_of(kinetic)  # T's and V's conversions fill ``known`` with the terms L reuses
+        value_of(potential)
+        made = {node: expr for expr, node in known.items()}
+        symbols = {expr.name: expr for expr in known if expr.is_Symbol}
+        return to_sympy(difference, symbols, made)
+
+    return Later(made_in_sympy), difference
+
+
+def _symengine_form(expr, known: dict):
+    return expr.form if isinstance(expr, Converted) else to_symengine(expr, known)
 
 
 def _terms(expr) -> tuple:

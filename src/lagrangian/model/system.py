@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 import sympy
 
 from ..errors import ModelError
+from ..lazy import Later, MadeOnRead, stored
 from ..symbols import Coordinate, time_symbol
 from .components import ExprLike, Gravity, Particle, RigidBody, RigidBody2D, Spring
 from .limits import check_plain_text
@@ -79,9 +80,11 @@ class System:
     name: str
     coordinates: tuple[Coordinate, ...]
     parameters: tuple[Parameter, ...]
-    lagrangian: sympy.Expr
-    kinetic: sympy.Expr | None = None
-    potential: sympy.Expr | None = None
+    # L, T and V may be given as lazy.Later (a large model's, built in SymEngine): their
+    # SymPy forms are made when first read, the same objects for every reader after
+    lagrangian: sympy.Expr = MadeOnRead()  # type: ignore[assignment]
+    kinetic: sympy.Expr | None = MadeOnRead(None)  # type: ignore[assignment]
+    potential: sympy.Expr | None = MadeOnRead(None)  # type: ignore[assignment]
     functions: tuple[FunctionDeclaration, ...] = ()
     forces: Mapping[str, sympy.Expr] = field(default_factory=dict)
     inputs: tuple[Input, ...] = ()
@@ -99,8 +102,8 @@ class System:
     units: Units | None = None
     spec: ModelSpec | None = field(default=None, repr=False)
     linkage: Linkage | None = field(default=None, repr=False)  # links and joints, if any
-    # (L, L in SymEngine) as the build assembled them from SymEngine parts (large models):
-    # the large route of derive starts from it while ``lagrangian`` is that very L
+    # (L as given to ``lagrangian``, a Later or not; L in SymEngine) as the build assembled
+    # them from SymEngine parts (large models): see ``built_lagrangian``
     symengine_lagrangian: tuple | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
@@ -113,6 +116,21 @@ class System:
         for kind in ("particles", "bodies", "springs"):
             for i, component in enumerate(getattr(self, kind)):
                 check_plain_text(component.name, f"{kind}[{i}].name")
+
+    @property
+    def built_lagrangian(self) -> object | None:
+        """L in SymEngine as the build assembled it, while ``lagrangian`` is still that L
+        (None otherwise: no such form, or L replaced since): told by the identity of what
+        the field holds, so that its SymPy form is not made (the large route of derive
+        starts from this one)."""
+        built = self.symengine_lagrangian
+        if built is None:
+            return None
+        given, form = built
+        held = stored(self, "lagrangian")
+        if held is given or (isinstance(given, Later) and given.holds(held)):
+            return form
+        return None
 
     def __repr__(self) -> str:  # the REPL shows the model, not every field of it
         values = ", ".join(
@@ -257,4 +275,5 @@ class System:
         takes over a system built by the model layer."""
         if type(system) is cls:
             return system
-        return cls(**{f.name: getattr(system, f.name) for f in fields(system)})
+        # the stored values: a Later is handed over, not made
+        return cls(**{f.name: stored(system, f.name) for f in fields(system)})
