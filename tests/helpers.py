@@ -14,6 +14,7 @@ arguments, e.g. ``{"A": lambda x, y, z: sympy.sin(x) * y}``.
 from __future__ import annotations
 
 import contextlib
+import importlib
 import random
 import signal
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
@@ -214,3 +215,17 @@ def spring_bar_and_bob():
         parameters={"m": 1.0, "M": 2.0, "a": 0.6, "k": 20.0, "L0": 0.5, "g": 9.81},
         initial={"y": 0.9, "phi_dot": 1.0},
     )
+
+
+def counting(monkeypatch, module: str, name: str) -> list:
+    """Patch ``module.name`` to record the arguments of its calls (and still do its work)."""
+    target = importlib.import_module(module)
+    original = getattr(target, name)
+    calls: list = []
+
+    def counted(*args, **kwargs):
+        calls.append(args)
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(target, name, counted)
+    return calls

@@ -10,14 +10,13 @@ the build must be the one derived.
 from __future__ import annotations
 
 import dataclasses
-import importlib
 import math
 
 import pytest
 import sympy
 
 import lagrangian as lg
-from helpers import assert_close, evaluate, random_point
+from helpers import assert_close, counting, evaluate, random_point
 from lagrangian.derive.equations import EquationsOfMotion
 from lagrangian.lazy import Later
 from lagrangian.output import derive_document
@@ -26,22 +25,8 @@ from model.test_large_assembly import _closed_form_energies
 from .test_chain_pendulum import chain_pendulum, closed_form
 
 
-def _counting(monkeypatch, module: str, name: str) -> list:
-    """Patch ``module.name`` to record its calls (and still do its work)."""
-    target = importlib.import_module(module)
-    original = getattr(target, name)
-    calls: list = []
-
-    def counted(*args, **kwargs):
-        calls.append(args)
-        return original(*args, **kwargs)
-
-    monkeypatch.setattr(target, name, counted)
-    return calls
-
-
 def test_the_document_of_a_large_system_converts_nothing_to_sympy(monkeypatch, rng):
-    converted = _counting(monkeypatch, "lagrangian.derive.fast", "to_sympy")
+    converted = counting(monkeypatch, "lagrangian.derive.fast", "to_sympy")
     system = chain_pendulum(8)
     eom = system.equations_of_motion()
     document = derive_document(eom)
@@ -59,7 +44,7 @@ def test_the_document_of_a_large_system_converts_nothing_to_sympy(monkeypatch, r
 
 
 def test_the_build_s_symengine_lagrangian_is_where_the_large_route_starts(monkeypatch):
-    converted = _counting(monkeypatch, "lagrangian.derive.fast", "to_symengine")
+    converted = counting(monkeypatch, "lagrangian.derive.fast", "to_symengine")
     system = chain_pendulum(8)
     assert system.built_lagrangian is system.symengine_lagrangian[1]
     system.equations_of_motion()
@@ -72,7 +57,7 @@ def test_a_large_model_s_sympy_forms_are_made_when_first_read(monkeypatch, rng):
     and V are made on first read, and are then the closed form's, the same object for
     every reader."""
     made = [
-        _counting(monkeypatch, module, "to_sympy")
+        counting(monkeypatch, module, "to_sympy")
         for module in ("lagrangian.model.energy_large", "lagrangian.derive.fast")
     ]
     system = chain_pendulum(8)

@@ -9,29 +9,14 @@ values must still be the n-link pendulum's closed form.
 
 from __future__ import annotations
 
-import importlib
 import math
 
 import pytest
 import sympy
 
 from derive.test_chain_pendulum import chain_pendulum
-from helpers import assert_close, evaluate, random_point
+from helpers import assert_close, counting, evaluate, random_point
 from lagrangian.algebra import to_symengine
-
-
-def _counting(monkeypatch, module: str, name: str) -> list:
-    """Patch ``module.name`` to record its calls (and still do its work)."""
-    target = importlib.import_module(module)
-    original = getattr(target, name)
-    calls: list = []
-
-    def counted(*args, **kwargs):
-        calls.append(args)
-        return original(*args, **kwargs)
-
-    monkeypatch.setattr(target, name, counted)
-    return calls
 
 
 def _closed_form_energies(n: int, point: dict) -> tuple[float, float]:
@@ -52,7 +37,7 @@ def _closed_form_energies(n: int, point: dict) -> tuple[float, float]:
 
 
 def test_each_distinct_sum_of_masses_is_grouped_once(monkeypatch, rng):
-    grouped = _counting(monkeypatch, "lagrangian.model.energy_large", "factor_common")
+    grouped = counting(monkeypatch, "lagrangian.model.energy_large", "factor_common")
     n = 12
     system = chain_pendulum(n)
     # n sums m_j + ... + m_n, each once, and once more as the coefficient of its products
@@ -132,8 +117,8 @@ def test_products_of_columns_by_their_monomials_are_combine_angles_of_the_produc
 def test_the_products_of_columns_are_not_counted_one_by_one(monkeypatch):
     """The expansion bound is taken once per column, not walked for each of the n(n+1)/2
     products (before: one expanded_terms walk per product)."""
-    counted = _counting(monkeypatch, "lagrangian.model.energy_large", "expanded_terms")
-    walked = _counting(monkeypatch, "lagrangian.algebra", "expanded_terms")
+    counted = counting(monkeypatch, "lagrangian.model.energy_large", "expanded_terms")
+    walked = counting(monkeypatch, "lagrangian.algebra", "expanded_terms")
     n = 12
     chain_pendulum(n)
     assert len(counted) + len(walked) <= 2 * n  # two components a column, n columns
