@@ -96,6 +96,10 @@ def test_basins_csv_and_json(capsys, tmp_path):
             "basin_hits must be a whole number >= 1, not 0",
         ),
         (
+            ("--grid", "theta=-3:3:10", "--grid", "theta_dot=-3:3:10", "--backend", "cuda"),
+            "Invalid value for '--backend': 'cuda' is not one of 'numba', 'jax'.",
+        ),
+        (
             ("--grid", "theta=-3:3:10", "--grid", "theta_dot=-3:3:10", "--out", "b.txt"),
             "Invalid value for --out: the output file must end in .csv or .nc or .png",
         ),
@@ -115,3 +119,41 @@ def test_a_huge_grid_is_refused_in_one_line(capsys):
     assert status == ExitStatus.BAD_INPUT
     assert err.startswith("lagrangian: error: a basin map of 1,000,000,000,000 starts needs ")
     assert err.endswith(": use fewer points per --grid\n") and err.count("\n") == 1
+
+
+#: x'' = x - x^3 - 0.3 x': two wells, smooth basins (every start on the same well on both).
+WELL = """
+name = "Damped double well"
+coordinates = ["x"]
+kinetic = "x_dot^2/2"
+potential = "-x^2/2 + x^4/4"
+
+[parameters]
+d = 0.3
+
+[forces]
+x = "-d*x_dot"
+
+[initial]
+x = 0.1
+"""
+
+
+@pytest.mark.slow
+def test_backend_jax_writes_the_csv_numba_writes(capsys, tmp_path):
+    pytest.importorskip("jax")
+    model = tmp_path / "well.toml"
+    model.write_text(WELL)
+    tables = {}
+    for backend in ("numba", "jax"):
+        out = tmp_path / f"{backend}.csv"
+        status, text, _ = run(
+            capsys, "basins", str(model), "--grid", "x=-2:2:10", "--grid", "x_dot=-2:2:10",
+            "--interval", "1", "--backend", backend, "--out", str(out), "--json",
+        )  # fmt: skip
+        assert status == ExitStatus.SUCCESS
+        summary = json.loads(text)
+        assert summary["backend"] == backend and summary["counts"]["-1"] == 0
+        assert [a["kind"] for a in summary["attractors"]] == ["fixed point"] * 2
+        tables[backend] = out.read_text()
+    assert tables["jax"] == tables["numba"]

@@ -43,14 +43,21 @@ from .chaos import phase_option, phase_with_strobe
     help="Iterations in a row in cells of one attractor's basin (cells only its starts "
     "passed) that label a start with it (fewer can be faster).",
 )  # fmt: skip
+@options.choice(
+    "--backend",
+    lambda: _backends(),
+    "Where the starts are integrated (jax: the same rk4 steps on JAX's device, a GPU "
+    "where JAX has one; the labelling stays on numba).",
+    default="numba",
+)
 @options.out("Write F.csv (the grid and an attractor column), F.nc or a map F.png.")
 @options.set_values("A parameter value (repeatable).")
 @options.define
 @options.as_json()
 @options.timeout
 def basins(
-    model, grids, strobe, phase, interval, steps, cells, max_iterations, basin_hits, out,
-    assignments, definitions, as_json, timeout,
+    model, grids, strobe, phase, interval, steps, cells, max_iterations, basin_hits, backend,
+    out, assignments, definitions, as_json, timeout,
 ) -> None:  # fmt: skip
     """Basins of attraction of MODEL: each start of the grid labelled by the attractor of
     the strobe map (or of the flow sampled every --interval) it reaches, found by
@@ -79,7 +86,8 @@ def basins(
         result = basins_of_system(
             system, grid=grid, period=strobe, phase=phase, interval=interval, params=params,
             steps=steps, cells=cells, max_iterations=max_iterations, basin_hits=basin_hits,
-            definitions=options.definitions(definitions), timeout=timeout, progress=progress,
+            backend=backend, definitions=options.definitions(definitions), timeout=timeout,
+            progress=progress,
         )  # fmt: skip
     if out is not None:
         _write(result, out)
@@ -88,6 +96,13 @@ def basins(
         return
     click.echo(basins_text(result))
     options.wrote(out)
+
+
+def _backends() -> tuple[str, ...]:
+    """Read when the command runs: the CLI stays light, the list cannot drift."""
+    from ..ensemble.basins import BACKENDS
+
+    return BACKENDS
 
 
 def _write(result, out: str) -> None:

@@ -25,6 +25,9 @@ each chunk in which some start was labelled, and the later starts are labelled a
 as they reach an attractor or, most of them, the cells of its basin: cells that only
 starts labelled with that attractor passed through before them (where starts of two
 attractors passed, on a fractal boundary, a cell counts for neither).
+With ``backend="jax"`` the pool steps the same rk4 steps on the same grid through the JAX
+ensemble's jitted loop (:mod:`lagrangian.ensemble.basins_jax`; a GPU where JAX has one);
+the labeller runs on numba, on the host, for both.
 
 Each attractor is classified from ``locate`` iterations on it: a fixed point (the map's
 period 1; for the sampled flow an equilibrium), periodic of period K (K <= 64, the
@@ -79,6 +82,8 @@ POOL, FIRST_POOL = 65_536, 256
 CAPACITY = 256
 #: The longest period looked for.
 MAX_PERIOD = 64
+#: Where the starts are integrated (the labeller runs on numba, on the host, for both).
+BACKENDS = ("numba", "jax")
 
 
 @dataclass(frozen=True)
@@ -167,12 +172,15 @@ def basins_of_attraction(
     max_iterations: int = MAX_ITERATIONS,
     basin_hits: int = BASIN_HITS,
     progress: Callable[[float], None] | None = None,
+    backend: str = "numba",
 ) -> BasinMap:
     """The basins of the starts of ``grid`` ({state variable: (low, high, count)} or
     GridAxis values, covering the state) under the strobe map of ``period`` (at
     ``phase``) or the flow sampled every ``interval``; see the module docstring.
     ``basin_hits``: iterations in a row in cells of one attractor's basin (cells that only
-    starts labelled with it passed) that label a start with it (fewer can be faster)."""
+    starts labelled with it passed) that label a start with it (fewer can be faster).
+    ``backend``: where the starts are integrated, ``"numba"`` or ``"jax"`` (the same rk4
+    steps on JAX's device, a GPU where JAX has one; :mod:`.basins_jax`)."""
     from ..integrate.orbits import _angles
     from ..integrate.strobe import Strobe
 
@@ -186,6 +194,8 @@ def basins_of_attraction(
     ):  # fmt: skip
         if isinstance(number, bool) or int(number) != number or number < 1:
             raise ModelError(f"{name} must be a whole number >= 1, not {number!r}")
+    if backend not in BACKENDS:
+        raise ModelError(f"basins run on backend numba or jax, not {backend!r}")
     if (period is None) == (interval is None):
         raise ModelError("give a strobe period or, for an autonomous system, an interval")
     p = _parameters(compiled, params or {})
@@ -215,14 +225,14 @@ def basins_of_attraction(
         _check_autonomous(compiled, span, start, p)
     walk = _Walk(
         compiled, p, t0, span, int(steps), which, lows, widths, reduced, is_angle,
-        (lows + highs) / 2, int(max_iterations), int(basin_hits),
+        (lows + highs) / 2, int(max_iterations), int(basin_hits), backend,
     )  # fmt: skip
     labels, kept, found, alias = walk.run(axes, progress)
     attractors, labels = _attractors(walk, labels, kept, found, alias, period is not None)
     settings = {
         **({"period": clock.period, "phase": clock.phase} if period is not None else {}),
         **({"interval": span} if period is None else {}),
-        "steps": int(steps), "dt": span / int(steps), "method": "rk4", "backend": "numba",
+        "steps": int(steps), "dt": span / int(steps), "method": "rk4", "backend": backend,
         "cells": [int(c) for c in reduced],
         "angles": [name for name, angle in zip(names, is_angle, strict=True) if angle],
         "max_iterations": int(max_iterations), "recurrences": RECURRENCES, "hits": HITS,
@@ -318,16 +328,23 @@ class _Walk:
 
     def __init__(
         self, compiled, p, t0, span, steps, which, lows, widths, sizes, angles, centres, limit,
-        basin_hits,
+        basin_hits, backend="numba",
     ):  # fmt: skip
         from ..codegen.cache import load_text, package_text
-        from .numba_backend import tabulated_kernel
 
-        self.loop = tabulated_kernel(compiled, range(p.size))  # every member has p
-        self.labeller = load_text(*package_text(Path(__file__).with_name("basins_numba.py")))
         self.p, self.steps, self.m = p, steps, 2 * compiled.n
         self.grid = t0 + span * (np.arange(CHUNK * steps + 1) / steps)
-        self.table = self.loop.table(self.grid, p)  # every chunk steps this same grid
+        self.jax = None
+        if backend == "jax":  # the same steps on the same grid, on JAX's device
+            from .basins_jax import JaxIterations
+
+            self.jax = JaxIterations(compiled, p, self.grid, steps, FIRST_POOL)
+        else:
+            from .numba_backend import tabulated_kernel
+
+            self.loop = tabulated_kernel(compiled, range(p.size))  # every member has p
+            self.table = self.loop.table(self.grid, p)  # every chunk steps this same grid
+        self.labeller = load_text(*package_text(Path(__file__).with_name("basins_numba.py")))
         self.which, self.lows, self.widths = which, lows, widths
         self.sizes, self.angles, self.centres = sizes, angles, centres
         self.settings = np.array(
@@ -340,6 +357,9 @@ class _Walk:
 
     def advance(self, states: np.ndarray) -> np.ndarray:
         """The states (B, m) after each of CHUNK iterations: (B, m, CHUNK)."""
+        if self.jax is not None:
+            self.iterations += CHUNK * states.shape[0]
+            return self.jax(states)
         count = states.shape[0]
         paths = np.empty((count, self.m, CHUNK + 1))
         final = np.empty_like(states)

@@ -135,17 +135,17 @@ def basins_of_system(
 ) -> BasinMap:
     """The basin map of ``system`` over ``grid`` (options as
     :func:`~lagrangian.ensemble.basins.basins_of_attraction`: period, phase, params,
-    steps, cells, max_iterations, basin_hits); without a strobe period the flow is sampled every
-    ``interval`` (default: the model's t_end / 100); ``timeout`` as for an ensemble, the
-    share of the starts labelled being the progress."""
+    steps, cells, max_iterations, basin_hits, backend); without a strobe period the flow
+    is sampled every ``interval`` (default: the model's t_end / 100); ``timeout`` as for an
+    ensemble, the share of the starts labelled being the progress."""
     from ..simulation import DEFAULT_T_END
     from .basins import basins_of_attraction
 
     if options.get("period") is None and interval is None:
         interval = float(system.simulate_settings.get("t_end", DEFAULT_T_END)) / 100.0
-    compiled, progress = _compiled_runs(
-        system, definitions, timeout, progress, {"backend": "numba"}
-    )
+    # the budget's clock is the backend's (the wall clock where JAX runs on a GPU)
+    backend = {"backend": str(options.get("backend", "numba"))}
+    compiled, progress = _compiled_runs(system, definitions, timeout, progress, backend)
     return basins_of_attraction(
         compiled, grid=grid, interval=interval, progress=progress, **options
     )
