@@ -7,6 +7,7 @@ import json
 
 import pytest
 
+from ensemble.test_basins import DOUBLE_WELL as WELL  # two wells, smooth basins
 from lagrangian.cli import ExitStatus, main
 
 DRIVE = "9.42477796076938"
@@ -119,24 +120,6 @@ def test_a_huge_grid_is_refused_in_one_line(capsys):
     assert status == ExitStatus.BAD_INPUT
     assert err.startswith("lagrangian: error: a basin map of 1,000,000,000,000 starts needs ")
     assert err.endswith(": use fewer points per --grid\n") and err.count("\n") == 1
-
-
-#: x'' = x - x^3 - 0.3 x': two wells, smooth basins (every start on the same well on both).
-WELL = """
-name = "Damped double well"
-coordinates = ["x"]
-kinetic = "x_dot^2/2"
-potential = "-x^2/2 + x^4/4"
-
-[parameters]
-d = 0.3
-
-[forces]
-x = "-d*x_dot"
-
-[initial]
-x = 0.1
-"""
 
 
 @pytest.mark.slow
