@@ -41,7 +41,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from rhs import chain_pendulum
-from taylor_peer import heyoka_final, heyoka_integrator, heyoka_ode
+from taylor_peer import heyoka_integrator, reference_case
 
 import lagrangian as lg
 from lagrangian.integrate.choice import choose_run
@@ -90,16 +90,11 @@ def path_of(choice) -> str:
 
 
 def against_heyoka(label, system, angles, t_end, tol, repeat, *, scipy_too, tighter):
-    eom = system.equations_of_motion()
-    n = len(eom.coordinates)
-    y0 = np.zeros(2 * n)
-    y0[: len(angles)] = angles
-    ode = heyoka_ode(eom)
-    reference = heyoka_final(ode, y0, t_end, 1e-18, np.longdouble).astype(float)
+    eom, y0, ode, reference = reference_case(system, angles, t_end)
     heyoka_s, heyoka_y, jit = heyoka_run(ode, y0, t_end, tol, repeat)
     heyoka_error = float(np.max(np.abs(heyoka_y - reference)))
     names = [c.q.name for c in eom.coordinates]
-    initial = dict(zip(names, y0[:n].tolist(), strict=True))
+    initial = dict(zip(names, y0[: len(names)].tolist(), strict=True))
     choice = choose_run(
         eom, t_end=t_end, method=None, backend=None, rtol=max(tol, MIN_RTOL), atol=tol,
         initial=initial, params={},

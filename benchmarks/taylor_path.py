@@ -33,7 +33,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from rhs import chain_pendulum
-from taylor_peer import heyoka_final, heyoka_integrator, heyoka_ode
+from taylor_peer import heyoka_integrator, reference_case
 
 import lagrangian as lg
 from lagrangian.integrate import simulate
@@ -116,12 +116,7 @@ def _error(final, reference):
 
 
 def case(label, system, angles, t_end, tol, repeat):
-    eom = system.equations_of_motion()
-    n = len(eom.coordinates)
-    y0 = np.zeros(2 * n)
-    y0[: len(angles)] = angles
-    ode = heyoka_ode(eom)
-    reference = heyoka_final(ode, y0, t_end, 1e-18, np.longdouble).astype(float)
+    eom, y0, ode, reference = reference_case(system, angles, t_end)
     compiled = compile_equations(eom, backend="llvm")
     heyoka, jit = heyoka_works(ode, y0, t_end, tol)
     rows = interleaved(heyoka + our_works(compiled, y0, t_end, tol), repeat)

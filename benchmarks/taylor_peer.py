@@ -83,6 +83,17 @@ def heyoka_integrator(ode, y0, tol, fp_type=float):
     return integrator, time.perf_counter() - start
 
 
+def reference_case(system, angles, t_end):
+    """(equations, y0, heyoka's ODE, the final state at tol 1e-18 in long double) of
+    ``system`` started at ``angles`` (the first coordinates; the rest and every rate 0)."""
+    eom = system.equations_of_motion()
+    y0 = np.zeros(2 * len(eom.coordinates))
+    y0[: len(angles)] = angles
+    ode = heyoka_ode(eom)
+    reference = heyoka_final(ode, y0, t_end, 1e-18, np.longdouble).astype(float)
+    return eom, y0, ode, reference
+
+
 def heyoka_final(ode, y0, t_end, tol, fp_type=float):
     integrator, _ = heyoka_integrator(ode, y0, tol, fp_type)
     integrator.propagate_until(fp_type(t_end))
