@@ -323,6 +323,27 @@ def _check_autonomous(compiled, interval: float, state, p) -> None:
             )
 
 
+class _NumbaIterations:
+    """``iterations(states)``: the states (B, m) after each of the CHUNK iterations of
+    ``steps`` rk4 steps on ``grid``, (B, m, CHUNK), on the tabulated rk4 loop (numba); the
+    same call as :class:`.basins_jax.JaxIterations`."""
+
+    def __init__(self, compiled, p: np.ndarray, grid: np.ndarray, steps: int):
+        from .numba_backend import tabulated_kernel
+
+        self.p, self.grid, self.steps, self.m = p, grid, steps, 2 * compiled.n
+        self.loop = tabulated_kernel(compiled, range(p.size))  # every member has p
+        self.table = self.loop.table(grid, p)  # every chunk steps this same grid
+
+    def __call__(self, states: np.ndarray) -> np.ndarray:
+        count = states.shape[0]
+        paths = np.empty((count, self.m, CHUNK + 1))
+        final = np.empty_like(states)
+        per_member = np.repeat(self.p[None, :], count, axis=0)
+        self.loop.run(states, per_member, self.grid, self.table, self.steps, final, paths)
+        return np.ascontiguousarray(paths[:, :, 1:])
+
+
 class _Walk:
     """The pool of starts iterated and labelled (see the module docstring)."""
 
@@ -332,18 +353,14 @@ class _Walk:
     ):  # fmt: skip
         from ..codegen.cache import load_text, package_text
 
-        self.p, self.steps, self.m = p, steps, 2 * compiled.n
-        self.grid = t0 + span * (np.arange(CHUNK * steps + 1) / steps)
-        self.jax = None
+        self.m = 2 * compiled.n
+        grid = t0 + span * (np.arange(CHUNK * steps + 1) / steps)
         if backend == "jax":  # the same steps on the same grid, on JAX's device
             from .basins_jax import JaxIterations
 
-            self.jax = JaxIterations(compiled, p, self.grid, steps, FIRST_POOL)
+            self.iterate = JaxIterations(compiled, p, grid, steps, FIRST_POOL)
         else:
-            from .numba_backend import tabulated_kernel
-
-            self.loop = tabulated_kernel(compiled, range(p.size))  # every member has p
-            self.table = self.loop.table(self.grid, p)  # every chunk steps this same grid
+            self.iterate = _NumbaIterations(compiled, p, grid, steps)
         self.labeller = load_text(*package_text(Path(__file__).with_name("basins_numba.py")))
         self.which, self.lows, self.widths = which, lows, widths
         self.sizes, self.angles, self.centres = sizes, angles, centres
@@ -357,16 +374,8 @@ class _Walk:
 
     def advance(self, states: np.ndarray) -> np.ndarray:
         """The states (B, m) after each of CHUNK iterations: (B, m, CHUNK)."""
-        if self.jax is not None:
-            self.iterations += CHUNK * states.shape[0]
-            return self.jax(states)
-        count = states.shape[0]
-        paths = np.empty((count, self.m, CHUNK + 1))
-        final = np.empty_like(states)
-        per_member = np.repeat(self.p[None, :], count, axis=0)
-        self.loop.run(states, per_member, self.grid, self.table, self.steps, final, paths)
-        self.iterations += CHUNK * count
-        return np.ascontiguousarray(paths[:, :, 1:])
+        self.iterations += CHUNK * states.shape[0]
+        return self.iterate(states)
 
     def run(self, axes, progress):
         """(labels of every start, the attractors' located points, how many were found)."""
