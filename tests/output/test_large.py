@@ -15,7 +15,14 @@ import sympy
 import lagrangian as lg
 from lagrangian import output
 from lagrangian.algebra import FAST_MIN_COORDINATES
-from lagrangian.output.large import is_large, latex_printer, plain_printer, unicode_printer
+from lagrangian.output.large import (
+    _LatexWalk,
+    _UnicodeWalk,
+    is_large,
+    latex_printer,
+    plain_printer,
+    unicode_printer,
+)
 
 
 def chain(n: int) -> lg.System:
@@ -168,3 +175,35 @@ def test_each_distinct_entry_of_a_large_mass_matrix_is_written_once():
             assert show(rows[i][j]) == str(rows[j][i])
     document = output.derive_document(eom)
     assert document["mass_matrix"][2][1] == str(rows[1][2])
+
+
+class _CountedLookups(dict):
+    """A walk's records, counting the lookups made in them."""
+
+    lookups = 0
+
+    def get(self, key, default=None):
+        self.lookups += 1
+        return super().get(key, default)
+
+
+@pytest.mark.parametrize("walk", [_UnicodeWalk, _LatexWalk])
+def test_a_walk_reads_each_distinct_node_once(walk):
+    """Text and LaTeX make one record per distinct node of an equation and look each
+    child up once per parent that holds it (no negated copy of a term, no second lookup
+    for its rank): the lookups are the edges of the expression's graph, counted here by
+    an independent traversal, plus the root."""
+    equation = chain(FAST_MIN_COORDINATES).equations_of_motion().symengine.equations[3]
+    distinct, edges, pending = set(), 0, [equation]
+    while pending:
+        node = pending.pop()
+        if node not in distinct:
+            distinct.add(node)
+            edges += len(node.args)
+            pending.extend(node.args)
+    printer = walk()
+    printer._done = _CountedLookups()
+    text = printer.text(equation)
+    assert printer._done.lookups == edges + 1
+    assert len(printer._done) == len(distinct)
+    assert text == walk().text(equation)
