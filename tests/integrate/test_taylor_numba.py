@@ -17,10 +17,11 @@ from lagrangian.codegen.taylor_numba import module_text
 from lagrangian.codegen.taylor_tape import tape_of
 from lagrangian.errors import ModelError
 from lagrangian.integrate import choice as choice_module
+from lagrangian.integrate import taylor_compiled
 from lagrangian.integrate.choice import choose_run, heyoka_installed
 from lagrangian.integrate.events import Event
 from lagrangian.integrate.taylor import Taylor
-from lagrangian.integrate.taylor_compiled import order_for
+from lagrangian.integrate.taylor_compiled import MAX_ORDER, order_for
 from lagrangian.numeric import compile_equations
 
 pytest.importorskip("numba")
@@ -44,24 +45,30 @@ def _compiled(lagrangian: str, coordinates: list[str], **parameters: float):
     return compile_equations(system.equations_of_motion())
 
 
-def _python_coefficients(compiled, t: float, y: np.ndarray, params: np.ndarray, order: int):
-    """The generated module's coefficients run as plain Python (numba's decorator made a
-    no-op): the same text, without compiling it."""
-    tape = tape_of(compiled.forms)
+def _as_python(text: str) -> dict:
+    """The names of a generated module's ``text`` run as plain Python (numba's decorator
+    made a no-op): the same text, without compiling it."""
     namespace: dict = {}
-    text = module_text(tape)[1]
     text = text.replace(
-        "from numba import njit, uint64", "njit = lambda **options: lambda f: f\nuint64 = int"
+        "from numba import njit, uint64",
+        "njit = lambda *f, **options: f[0] if f else lambda f: f\nuint64 = int",
     )
     text = text.replace("from lagrangian.codegen.numba_cache import tolerate_full_disk", "")
     text = text.replace("tolerate_full_disk()", "")
     exec(compile(text, "<generated>", "exec"), namespace)  # our own text
+    return namespace
+
+
+def _python_coefficients(compiled, t: float, y: np.ndarray, params: np.ndarray, order: int):
+    """The generated module's coefficients run as plain Python."""
+    tape = tape_of(compiled.forms)
+    namespace = _as_python(module_text(tape)[1])
     c = np.zeros(max(len(tape.constants), 1))
     namespace["constants"](params, c)
-    tc = np.zeros((tape.rows, order + 1))
+    tc = np.zeros((tape.rows, namespace["STRIDE"]))
     tc[: y.shape[0], 0] = y
-    namespace["coefficients"](t, c, order, tc, None, None)
-    return tape, tc[: y.shape[0]]
+    namespace["coefficients"](t, c, order, tc, tc.reshape(-1), None, None)
+    return tape, tc[: y.shape[0], : order + 1]
 
 
 def _lie_coefficients(compiled, t: float, y: np.ndarray, params: np.ndarray, order: int):
@@ -142,6 +149,35 @@ def test_charged_particle_coefficients_are_the_exact_circle():
         series = sympy.series(path, s, 0, 13).removeO()
         exact = [float(series.coeff(s, k)) for k in range(13)]
         np.testing.assert_allclose(ours[row], exact, rtol=1e-12, atol=1e-14)
+
+
+def test_the_step_size_is_heyokas_rule_and_the_ten_ulp_test_exact():
+    # the loop takes rho as one exp of the smaller log, and asks nextafter only for a step
+    # under 10 eps |t|: both against their plain forms
+    loop = _as_python(Path(taylor_compiled.__file__).with_name("numba_taylor.py").read_text())
+    rng = np.random.default_rng(7)
+    for order in (5, 13, 20):
+        for scale in (1e-3, 1.0, 40.0):
+            tc = scale * rng.standard_normal((4, order + 1)) * 0.3 ** np.arange(order + 1)
+            safety = math.exp(-2.0 - 0.7 / (order - 1))
+            x = max(np.max(np.abs(tc[:, 0])), 1.0)
+            rho = min(
+                (x / np.max(np.abs(tc[:, order]))) ** (1.0 / order),
+                (x / np.max(np.abs(tc[:, order - 1]))) ** (1.0 / (order - 1)),
+            )
+            h = loop["step_size"](tc, 4, order, safety)
+            assert h == pytest.approx(rho * safety, rel=1e-14)
+    tc = np.zeros((2, 6))
+    assert loop["step_size"](tc, 2, 5, 1.0) == math.inf  # the last two orders vanish
+    tc[1, 4] = math.nan
+    assert math.isnan(loop["step_size"](tc, 2, 5, 1.0))
+    times = [0.0, 5e-324, -3e-310, 2.2250738585072014e-308, 1.0, -1.0, 0.75, 1e6, -1e6]
+    times += list(rng.uniform(-1.0, 1.0, 20) * 10.0 ** rng.integers(-300, 300, 20))
+    for t in times:
+        ten = 10.0 * abs(math.nextafter(t, math.inf) - t)
+        for h in (ten, math.nextafter(ten, 0.0), math.nextafter(ten, math.inf), 3 * ten):
+            for sign in (1.0, -1.0):
+                assert loop["below_ten_ulp"](sign * h, t) == (h <= ten), (t, h)
 
 
 def test_the_order_follows_the_tolerance_as_heyokas():
@@ -285,7 +321,6 @@ def test_without_heyoka_a_long_smooth_run_takes_ours(monkeypatch):
 @pytest.mark.slow  # compiles the compact mode's walk (4 s)
 def test_the_compact_mode_gives_the_printed_coefficients_and_run(monkeypatch):
     from lagrangian.codegen.cache import load_text, package_text
-    from lagrangian.integrate import taylor_compiled
 
     walk = load_text(
         *package_text(Path(taylor_compiled.__file__).with_name("numba_taylor_tape.py"))
@@ -294,13 +329,14 @@ def test_the_compact_mode_gives_the_printed_coefficients_and_run(monkeypatch):
     for lagrangian, parameters in EVERY_OPERATION:
         compiled = _compiled(lagrangian, ["x"], **parameters)
         params = compiled.parameter_vector({})
-        tape, printed = _python_coefficients(compiled, t, y, params, 8)
+        # to the highest order: the printed rows of fixed length (STRIDE) do not overlap
+        tape, printed = _python_coefficients(compiled, t, y, params, MAX_ORDER)
         program, exponents = taylor_compiled._program(tape)
-        tc = np.zeros((tape.rows, 9))
+        tc = np.zeros((tape.rows, MAX_ORDER + 1))
         tc[:2, 0] = y
         c = taylor_compiled.constant_values(tape, params)
-        walk.coefficients(t, c, 8, tc, program, exponents)
-        np.testing.assert_allclose(tc[:2], printed, rtol=1e-13, atol=1e-15)
+        walk.coefficients(t, c, MAX_ORDER, tc, tc.reshape(-1), program, exponents)
+        np.testing.assert_allclose(tc[:2], printed, rtol=1e-12, atol=1e-15)
     compiled = _compiled(KEPLER, ["r", "theta"], m=1.0, k=1.0)
     params, y0 = compiled.parameter_vector({}), np.array([1.0, 0.0, 0.0, 1.2])
     runs = []

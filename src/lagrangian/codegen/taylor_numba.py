@@ -7,10 +7,18 @@ module (cached on disk like every generated numba module,
 
     constants(p, c)              c = the tape's constants (parameters and what is made of
                                  them alone), once per run
-    coefficients(t, c, order, tc)
+    coefficients(t, c, order, tc, flat, program, exponents)
                                  tc[i, k] = the k-th normalised Taylor coefficient
                                  (y^(k)(t) / k!) of y_i, k = 1..order, for the state in
-                                 tc[:SIZE, 0]; rows SIZE.. hold time and the operations
+                                 tc[:SIZE, 0]; rows SIZE.. hold time and the operations.
+                                 ``tc`` is (ROWS, STRIDE) and C-contiguous, ``flat`` the
+                                 same memory as one row (``tc.reshape(-1)``), which is
+                                 what the function indexes: a row begins at a constant
+                                 (row * STRIDE), where numba's 2-D indexing multiplied
+                                 by the row stride it reads at run time and kept the
+                                 rows' addresses in registers spilled to the stack (16%
+                                 of the double pendulum's coefficients).  The last two:
+                                 the compact mode's (unused here)
 
 Order by order (k = 0..order-1) each operation's coefficient k comes from its operands'
 coefficients 0..k, by the standard recurrences (Jorba and Zou 2005, section 3; w = u v:
@@ -28,7 +36,9 @@ import hashlib
 from .taylor_tape import Constant, Op, Tape
 
 #: Bump when the generated text changes.
-GENERATOR_VERSION = "3"
+GENERATOR_VERSION = "4"
+#: The row length of the coefficients' table: orders up to STRIDE - 1.
+STRIDE = 64
 #: numba's options: NumPy's floating-point rules (x / 0 is inf, found by the run's checks of
 #: finiteness) spare a test before every division.
 OPTIONS = 'cache=True, _nrt=False, error_model="numpy"'
@@ -46,6 +56,7 @@ tolerate_full_disk()
 
 SIZE = {size}
 ROWS = {rows}
+STRIDE = {stride}
 CONSTANTS = {constants}
 OPERATIONS = {operations}
 
@@ -56,9 +67,10 @@ def constants(p, c):
 
 
 @njit({options})
-def coefficients(t, c, order, tc, program, exponents):  # the last two: unused
+def coefficients(t, c, order, tc, flat, program, exponents):
     # unsigned orders: numba then indexes without its check for negative indices (25%)
     zero, one, two = uint64(0), uint64(1), uint64(2)
+{row_lines}
 {time_lines}
 {zero_lines}
 {zero_rates}
@@ -75,23 +87,27 @@ def module_text(tape: Tape) -> tuple[str, str]:
     constant_lines = [f"    c[{j}] = {_constant(entry)}" for j, entry in enumerate(tape.constants)]
     time = tape.size
     time_lines = (
-        [f"    tc[{time}, 0] = t", "    if order > 0:", f"        tc[{time}, 1] = 1.0",
-         "    for k in range(2, order + 1):", f"        tc[{time}, k] = 0.0"]
+        [f"    {_x(time, '0')} = t", "    if order > 0:", f"        {_x(time, 'one')} = 1.0",
+         "    for k in range(two, uint64(order) + one):", f"        {_x(time, 'k')} = 0.0"]
         if tape.uses_time else ["    pass"]
     )  # fmt: skip
+    # each row's start as an unsigned constant (a signed one would make the index a float)
+    row_lines = [f"    r{row} = uint64({row * STRIDE})" for row in range(tape.rows)]
     pieces = [_op_lines(op) for op in tape.ops]
     zero_lines = [line for zero, _ in pieces for line in zero]
     op_lines = [line for _, later in pieces for line in later]
-    zero_rates = [f"    tc[{i}, 1] = {_at(arg, '0')}" for i, arg in enumerate(tape.rates)]
+    zero_rates = [f"    {_x(i, 'one')} = {_at(arg, '0')}" for i, arg in enumerate(tape.rates)]
     rate_lines = [
-        f"        tc[{i}, k + one] = {_at(arg, 'k')} * scale" if arg[0] == "s"
-        else f"        tc[{i}, k + one] = 0.0"
+        f"        {_x(i, 'k + one')} = {_at(arg, 'k')} * scale" if arg[0] == "s"
+        else f"        {_x(i, 'k + one')} = 0.0"
         for i, arg in enumerate(tape.rates)
     ]  # fmt: skip
     text = _HEADER.format(
         version=GENERATOR_VERSION,
         size=tape.size,
         rows=tape.rows,
+        stride=STRIDE,
+        row_lines="\n".join(row_lines),
         constants=len(tape.constants),
         operations=len(tape.ops),
         constant_lines="\n".join(constant_lines or ["    pass"]),
@@ -137,8 +153,13 @@ def _at(arg: tuple[str, int], k: str) -> str:
     value at order 0 and "0.0" after."""
     where, index = arg
     if where == "s":
-        return f"tc[{index}, {k}]"
+        return _x(index, k)
     return f"c[{index}]" if k == "0" else "0.0"
+
+
+def _x(row: int, k: str) -> str:
+    """Coefficient ``k`` (unsigned, or "0") of series ``row`` in the flat table."""
+    return f"flat[r{row}]" if k == "0" else f"flat[r{row} + {k}]"
 
 
 def _op_lines(op: Op) -> tuple[list[str], list[str]]:
@@ -150,12 +171,12 @@ def _op_lines(op: Op) -> tuple[list[str], list[str]]:
 def _binary(symbol: str):
     def emit(w, args, op):
         a, b = args
-        zero = [f"tc[{w}, 0] = {_at(a, '0')} {symbol} {_at(b, '0')}"]
+        zero = [f"{_x(w, '0')} = {_at(a, '0')} {symbol} {_at(b, '0')}"]
         if b[0] == "c":
-            return zero, [f"tc[{w}, k] = {_at(a, 'k')}"]
+            return zero, [f"{_x(w, 'k')} = {_at(a, 'k')}"]
         if a[0] == "c":
-            return zero, [f"tc[{w}, k] = {'-' if symbol == '-' else ''}{_at(b, 'k')}"]
-        return zero, [f"tc[{w}, k] = {_at(a, 'k')} {symbol} {_at(b, 'k')}"]
+            return zero, [f"{_x(w, 'k')} = {'-' if symbol == '-' else ''}{_at(b, 'k')}"]
+        return zero, [f"{_x(w, 'k')} = {_at(a, 'k')} {symbol} {_at(b, 'k')}"]
 
     return emit
 
@@ -166,32 +187,32 @@ def _mul(w, args, op):
         a, b = b, a
     if b[0] == "c":  # a constant is its value at every order
         return (
-            [f"tc[{w}, 0] = c[{b[1]}] * tc[{a[1]}, 0]"],
-            [f"tc[{w}, k] = c[{b[1]}] * tc[{a[1]}, k]"],
+            [f"{_x(w, '0')} = c[{b[1]}] * {_x(a[1], '0')}"],
+            [f"{_x(w, 'k')} = c[{b[1]}] * {_x(a[1], 'k')}"],
         )
     a, b = a[1], b[1]
-    return [f"tc[{w}, 0] = tc[{a}, 0] * tc[{b}, 0]"], [
-        f"s = tc[{a}, k] * tc[{b}, 0]",
+    return [f"{_x(w, '0')} = {_x(a, '0')} * {_x(b, '0')}"], [
+        f"s = {_x(a, 'k')} * {_x(b, '0')}",
         "r = 0.0",
         "for j in range(zero, k - one, two):",
-        f"    s += tc[{a}, j] * tc[{b}, k - j]",
-        f"    r += tc[{a}, j + one] * tc[{b}, k - j - one]",
+        f"    s += {_x(a, 'j')} * {_x(b, 'k - j')}",
+        f"    r += {_x(a, 'j + one')} * {_x(b, 'k - j - one')}",
         "if k % two == one:",
-        f"    s += tc[{a}, k - one] * tc[{b}, 1]",
-        f"tc[{w}, k] = s + r",
+        f"    s += {_x(a, 'k - one')} * {_x(b, 'one')}",
+        f"{_x(w, 'k')} = s + r",
     ]
 
 
 def _square(w, args, op):
     a = args[0][1]
-    return [f"tc[{w}, 0] = tc[{a}, 0] * tc[{a}, 0]"], [
+    return [f"{_x(w, '0')} = {_x(a, '0')} * {_x(a, '0')}"], [
         "s = 0.0",
         "for j in range((k + one) // two):",
-        f"    s += tc[{a}, j] * tc[{a}, k - j]",
+        f"    s += {_x(a, 'j')} * {_x(a, 'k - j')}",
         "s *= 2.0",
         "if k % two == zero:",
-        f"    s += tc[{a}, k // two] * tc[{a}, k // two]",
-        f"tc[{w}, k] = s",
+        f"    s += {_x(a, 'k // two')} * {_x(a, 'k // two')}",
+        f"{_x(w, 'k')} = s",
     ]
 
 
@@ -199,59 +220,59 @@ def _div(w, args, op):
     a, b = args
     if b[0] == "c":
         return (
-            [f"tc[{w}, 0] = {_at(a, '0')} / c[{b[1]}]"],
-            [f"tc[{w}, k] = {_at(a, 'k')} / c[{b[1]}]"],
+            [f"{_x(w, '0')} = {_at(a, '0')} / c[{b[1]}]"],
+            [f"{_x(w, 'k')} = {_at(a, 'k')} / c[{b[1]}]"],
         )
     b = b[1]
-    return [f"tc[{w}, 0] = {_at(a, '0')} / tc[{b}, 0]"], [
+    return [f"{_x(w, '0')} = {_at(a, '0')} / {_x(b, '0')}"], [
         f"s = {_at(a, 'k')}",
         "for j in range(one, k + one):",
-        f"    s -= tc[{b}, j] * tc[{w}, k - j]",
-        f"tc[{w}, k] = s / tc[{b}, 0]",
+        f"    s -= {_x(b, 'j')} * {_x(w, 'k - j')}",
+        f"{_x(w, 'k')} = s / {_x(b, '0')}",
     ]
 
 
 def _neg(w, args, op):
-    return [f"tc[{w}, 0] = -{_at(args[0], '0')}"], [f"tc[{w}, k] = -{_at(args[0], 'k')}"]
+    return [f"{_x(w, '0')} = -{_at(args[0], '0')}"], [f"{_x(w, 'k')} = -{_at(args[0], 'k')}"]
 
 
 def _sqrt(w, args, op):
     u = args[0][1]
-    return [f"tc[{w}, 0] = math.sqrt(tc[{u}, 0])"], [
-        f"s = tc[{u}, k]",
+    return [f"{_x(w, '0')} = math.sqrt({_x(u, '0')})"], [
+        f"s = {_x(u, 'k')}",
         "for j in range(one, k):",
-        f"    s -= tc[{w}, j] * tc[{w}, k - j]",
-        f"tc[{w}, k] = s / (2.0 * tc[{w}, 0])",
+        f"    s -= {_x(w, 'j')} * {_x(w, 'k - j')}",
+        f"{_x(w, 'k')} = s / (2.0 * {_x(w, '0')})",
     ]
 
 
 def _pow(w, args, op):
     u, a = args[0][1], repr(op.exponent)
-    return [f"tc[{w}, 0] = tc[{u}, 0] ** {a}"], [
+    return [f"{_x(w, '0')} = {_x(u, '0')} ** {a}"], [
         "s = 0.0",
         "for j in range(k):",
-        f"    s += ({a} * (k - j) - j) * tc[{u}, k - j] * tc[{w}, j]",
-        f"tc[{w}, k] = s * inverse / tc[{u}, 0]",
+        f"    s += ({a} * (k - j) - j) * {_x(u, 'k - j')} * {_x(w, 'j')}",
+        f"{_x(w, 'k')} = s * inverse / {_x(u, '0')}",
     ]
 
 
 def _exp(w, args, op):
     u = args[0][1]
-    return [f"tc[{w}, 0] = math.exp(tc[{u}, 0])"], [
+    return [f"{_x(w, '0')} = math.exp({_x(u, '0')})"], [
         "s = 0.0",
         "for j in range(one, k + one):",
-        f"    s += j * tc[{u}, j] * tc[{w}, k - j]",
-        f"tc[{w}, k] = s * inverse",
+        f"    s += j * {_x(u, 'j')} * {_x(w, 'k - j')}",
+        f"{_x(w, 'k')} = s * inverse",
     ]
 
 
 def _log(w, args, op):
     u = args[0][1]
-    return [f"tc[{w}, 0] = math.log(tc[{u}, 0])"], [
+    return [f"{_x(w, '0')} = math.log({_x(u, '0')})"], [
         "s = 0.0",
         "for j in range(one, k):",
-        f"    s += j * tc[{w}, j] * tc[{u}, k - j]",
-        f"tc[{w}, k] = (tc[{u}, k] - s * inverse) / tc[{u}, 0]",
+        f"    s += j * {_x(w, 'j')} * {_x(u, 'k - j')}",
+        f"{_x(w, 'k')} = ({_x(u, 'k')} - s * inverse) / {_x(u, '0')}",
     ]
 
 
@@ -259,8 +280,8 @@ def _pair(first: str, second: str, sign: str):
     def emit(w, args, op):
         u, s, c = args[0][1], w, w + 1
         zero = [
-            f"tc[{s}, 0] = math.{first}(tc[{u}, 0])",
-            f"tc[{c}, 0] = math.{second}(tc[{u}, 0])",
+            f"{_x(s, '0')} = math.{first}({_x(u, '0')})",
+            f"{_x(c, '0')} = math.{second}({_x(u, '0')})",
         ]
         return zero, [
             "s = 0.0",
@@ -268,11 +289,11 @@ def _pair(first: str, second: str, sign: str):
             "fj = 0.0",  # j as a float, counted: converting an unsigned j costs more
             "for j in range(one, k + one):",
             "    fj += 1.0",
-            f"    d = fj * tc[{u}, j]",
-            f"    s += d * tc[{c}, k - j]",
-            f"    r += d * tc[{s}, k - j]",
-            f"tc[{s}, k] = s * inverse",
-            f"tc[{c}, k] = {sign}r * inverse",
+            f"    d = fj * {_x(u, 'j')}",
+            f"    s += d * {_x(c, 'k - j')}",
+            f"    r += d * {_x(s, 'k - j')}",
+            f"{_x(s, 'k')} = s * inverse",
+            f"{_x(c, 'k')} = {sign}r * inverse",
         ]
 
     return emit

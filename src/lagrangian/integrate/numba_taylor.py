@@ -10,11 +10,12 @@ text for every system: compiled once per machine), which reads ``program`` and
 every system, calling the system's y' through a function pointer) a small system's loop
 is its own: a call through a pointer cost 0.15 us a step, 15% of the double pendulum's.
 
-    advance(size, c, order, t_end, clock, tc, work, t_eval, out, ts, ys, counts, limit,
-            keep, program, exponents, kept) -> status
+    advance(size, c, order, t_end, clock, tc, flat, work, t_eval, out, ts, ys, counts,
+            limit, keep, program, exponents, kept) -> status
 
 takes steps from (t, y) = (``clock[0]``, ``tc[:size, 0]``) towards ``t_end``, at most
-``limit`` of them, the step's order ``order`` and size by Jorba and Zou's rule as heyoka
+``limit`` of them (``flat``: ``tc``'s memory as one row, which a printed system's
+coefficients index), the step's order ``order`` and size by Jorba and Zou's rule as heyoka
 takes it (Biscani and Izzo, MNRAS 504 (2021), section 2.2): with x = max |y_i|,
 N_j = max_i |y_i[j]| over the coefficients of orders j = order - 1 and order, and
 X = x where x > 1 (the tolerance relative) else 1 (absolute),
@@ -37,31 +38,47 @@ import math
 from numba import njit, uint64
 
 # -- generated: begin (each generated module imports its system's coefficients here) --
-coefficients = None  # coefficients(t, c, order, tc, program, exponents): see below
+coefficients = None  # coefficients(t, c, order, tc, flat, program, exponents): see below
 # -- generated: end ------------------------------------------------------------------
 
 #: heyoka's safety factor on rho at order p: exp(-0.7 / (p - 1)) / e^2.
 SAFETY = math.exp(-2.0)
+#: 10 machine epsilons: 10 ulp of t is at most this times |t|.
+TINY_STEP = 10.0 * 2.220446049250313e-16
 
 
 @njit(cache=True)
-def step_size(tc, size, order):  # pragma: no cover - compiled by numba
-    """h of Jorba and Zou's rule for the coefficients in ``tc`` (see the module); inf where
-    the last two orders vanish, NaN where a coefficient is not finite."""
+def step_size(tc, size, order, safety):  # pragma: no cover - compiled by numba
+    """h of Jorba and Zou's rule for the coefficients in ``tc`` (see the module), ``safety``
+    its factor at ``order``; inf where the last two orders vanish, NaN where a coefficient
+    is not finite."""
     largest, last, before = 0.0, 0.0, 0.0
+    top = uint64(order)
     for i in range(size):
         largest = max(largest, abs(tc[i, 0]))
-        last = max(last, abs(tc[i, order]))
-        before = max(before, abs(tc[i, order - 1]))
-        if not (math.isfinite(tc[i, order]) and math.isfinite(tc[i, order - 1])):
+        last = max(last, abs(tc[i, top]))
+        before = max(before, abs(tc[i, top - uint64(1)]))
+        if not (math.isfinite(tc[i, top]) and math.isfinite(tc[i, top - uint64(1)])):
             return math.nan
     scale = largest if largest > 1.0 else 1.0
-    rho = math.inf
+    # rho = min((scale / last)^(1/order), (scale / before)^(1/(order - 1))) as one exp of
+    # the smaller logarithm: two logs and an exp where two powers took two of each
+    exponent = math.inf
     if last > 0.0:
-        rho = (scale / last) ** (1.0 / order)
+        exponent = math.log(scale / last) / order
     if before > 0.0:
-        rho = min(rho, (scale / before) ** (1.0 / (order - 1)))
-    return rho * SAFETY * math.exp(-0.7 / (order - 1))
+        exponent = min(exponent, math.log(scale / before) / (order - 1))
+    return math.exp(exponent) * safety
+
+
+@njit(cache=True)
+def below_ten_ulp(h, t):  # pragma: no cover - compiled by numba
+    """Whether |h| <= 10 ulp of t.  10 ulp of t is at most 10 eps |t| (or 10 of the smallest
+    subnormal, near 0), so only a step that short asks nextafter (a call each step was a
+    few percent of the double pendulum's)."""
+    return abs(h) <= TINY_STEP * abs(t) + 5e-323 and abs(h) <= 10.0 * abs(
+        math.nextafter(t, math.inf) - t
+    )
 
 
 @njit(cache=True)
@@ -83,6 +100,7 @@ def advance(
     t_end,
     clock,
     tc,
+    flat,
     work,
     t_eval,
     out,
@@ -98,13 +116,14 @@ def advance(
     """Steps towards ``t_end`` (see the module docstring)."""
     t = clock[0]
     forward = t_end >= t
+    safety = SAFETY * math.exp(-0.7 / (order - 1))
     for _ in range(limit):
         if t == t_end:
             return 1
         if keep and counts[1] >= ts.shape[0]:
             return 0
-        coefficients(t, c, order, tc, program, exponents)
-        h = step_size(tc, size, order)
+        coefficients(t, c, order, tc, flat, program, exponents)
+        h = step_size(tc, size, order, safety)
         if math.isnan(h):
             return 3
         remaining = t_end - t
@@ -113,7 +132,7 @@ def advance(
             h = abs(remaining)
         if not forward:
             h = -h
-        if not last and abs(h) <= 10.0 * abs(math.nextafter(t, math.inf) - t):
+        if not last and below_ten_ulp(h, t):
             return 2
         if keep and kept.shape[0] > 0:  # the step's polynomial, for events located on it
             for i in range(size):

@@ -7,12 +7,13 @@ minutes.  Here the tape is an array and one loop walks it order by order (as hey
 compact mode does): the same recurrences, the operation's kind chosen per operation,
 compiled once per machine (this text goes into the code cache as it is).
 
-    coefficients(t, c, order, tc, program, exponents)
+    coefficients(t, c, order, tc, flat, program, exponents)
 
 ``program`` (int64, rows of OPERATION_WIDTH): kind, the row written, the two operands
 (a series' row, or -1 - j for the constant c[j]); then one row more per state element
 whose rate it names the same way, and a last row (time row, 1 where time is used).
-``exponents`` holds ``pow``'s exponent per operation.  This module itself is never run.
+``exponents`` holds ``pow``'s exponent per operation; ``flat`` (the printed modules'
+view of ``tc``) is not read here.  This module itself is never run.
 """
 
 import math
@@ -130,7 +131,7 @@ def order_k(tc, c, kind, w, a, b, exponent, k):  # pragma: no cover - compiled b
 
 
 @njit(cache=True, _nrt=False, error_model="numpy")
-def coefficients(t, c, order, tc, program, exponents):  # pragma: no cover - compiled by numba
+def coefficients(t, c, order, tc, flat, program, exponents):  # pragma: no cover - numba
     """tc[i, 1..order] of the state rows for tc[:, 0] (see the module docstring)."""
     last = program.shape[0] - 1
     time_row, uses_time = program[last, 0], program[last, 1]

@@ -44,7 +44,8 @@ FIRST_CHUNK, LARGEST_CHUNK = 256, 8192
 #: in 2 s, a 3-link chain's 66 in 8.8 s, a 4-link chain's 131 in 19 s), the compact mode's
 #: walk once per machine (4 s), which then runs 2.5-4x slower (the 3- and 4-link chains).
 COMPACT_OPERATIONS = 40
-#: The largest order the loop is asked for (tolerances down to 1e-300 would ask for 346).
+#: The largest order the loop is asked for (tolerances down to 1e-300 would ask for 346);
+#: below the printed table's row length, codegen.taylor_numba.STRIDE (64).
 MAX_ORDER = 60
 
 
@@ -204,13 +205,21 @@ def _compile(loop: TaylorLoop) -> None:
     :func:`propagate` calls them with, by a call that takes no step: what the build costs
     is then the run's ``compile_time``."""
     size = loop.tape.size
-    tc = np.zeros((loop.tape.rows, 3))
+    tc = table(loop.tape, 2)
     loop.method.advance(
         size, loop.constants(np.ones(loop.tape.parameters)), 2, 1.0, np.zeros(1), tc,
-        np.empty((size, 1)), np.zeros(0), np.empty((size, 0)), np.empty(0),
+        tc.reshape(-1), np.empty((size, 1)), np.zeros(0), np.empty((size, 0)), np.empty(0),
         np.empty((0, size)), np.zeros(3, dtype=np.int64), 0, True, loop.program, loop.exponents,
         np.empty((0, size, 3)),
     )  # fmt: skip
+
+
+def table(tape: Tape, order: int) -> np.ndarray:
+    """The zeroed table of Taylor coefficients (rows of the tape, orders 0..``order``): a
+    printed system's coefficients take rows of its fixed length ``STRIDE``."""
+    from ..codegen.taylor_numba import STRIDE
+
+    return np.zeros((tape.rows, order + 1 if compact(tape) else STRIDE))
 
 
 @dataclass(frozen=True)
@@ -234,7 +243,7 @@ def propagate(loop: TaylorLoop, run: Run, tol: float, events: StepEvents | None 
     y0 = np.array(run.y0, dtype=float)
     size, order = y0.shape[0], order_for(tol)
     c = loop.constants(run.params)
-    tc = np.zeros((loop.tape.rows, order + 1))
+    tc = table(loop.tape, order)
     tc[:size, 0] = y0
     work = np.empty((size, 1))
     clock = np.array([t0])
@@ -251,7 +260,7 @@ def propagate(loop: TaylorLoop, run: Run, tol: float, events: StepEvents | None 
         kept = np.empty((chunk if events is not None else 0, size, order + 1))
         t_before, counts[1] = float(clock[0]), 0
         status = loop.method.advance(
-            size, c, order, t1, clock, tc, work, grid, out, ts, ys, counts,
+            size, c, order, t1, clock, tc, tc.reshape(-1), work, grid, out, ts, ys, counts,
             chunk, keep, loop.program, loop.exponents, kept,
         )  # fmt: skip
         if keep:
