@@ -21,6 +21,7 @@ from lagrangian.output.large import (
     is_large,
     latex_printer,
     plain_printer,
+    symengine_text,
     unicode_printer,
 )
 
@@ -207,3 +208,49 @@ def test_a_walk_reads_each_distinct_node_once(walk):
     assert printer._done.lookups == edges + 1
     assert len(printer._done) == len(distinct)
     assert text == walk().text(equation)
+
+
+@pytest.mark.parametrize("make", [chain, unusual])
+def test_an_equation_holds_its_forcing_as_written(make):
+    """An equation M q'' - f is SymEngine's own text with f's text put in, not printed
+    again: the same string as ``str``, and a marker written for f lands in f's place."""
+    forms = make(FAST_MIN_COORDINATES).equations_of_motion().symengine
+    reused = 0
+    for equation, forcing in zip(forms.equations, forms.forcing, strict=True):
+        assert symengine_text(equation, {forcing: str(forcing)}) == str(equation)
+        marked = symengine_text(equation, {forcing: "FORCING"})
+        reused += marked == str(equation).replace(f"({forcing})", "(FORCING)")
+    assert reused >= FAST_MIN_COORDINATES - 1
+
+
+def test_sums_holding_a_written_sum_print_as_symengine_does():
+    """Random sums with a multiple of an inner sum among their terms (and other sums,
+    numbers, powers and functions beside it): the text with the inner sum's written text
+    put in is SymEngine's ``str`` of the whole, character for character."""
+    import symengine as se
+
+    names = [se.Symbol(n) for n in ("x", "theta1", "theta1_dot", "theta2_ddot", "m", "l2")]
+    numbers = [se.Integer(-2), se.Integer(3), se.Rational(1, 2), se.Rational(-3, 4)]
+    rng = random.Random(5)
+
+    def node(depth: int):
+        pick = rng.random()
+        if depth == 0 or pick < 0.3:
+            return rng.choice(names) if rng.random() < 0.85 else rng.choice(numbers)
+        parts = [node(depth - 1) for _ in range(rng.randint(2, 3))]
+        if pick < 0.5:
+            return se.Add(*parts)
+        if pick < 0.8:
+            return se.Mul(*parts)
+        return se.cos(parts[0]) if pick < 0.9 else parts[0] ** rng.choice([2, -1])
+
+    reused = 0
+    for _ in range(400):
+        inner = se.Add(*(node(2) for _ in range(rng.randint(2, 5))))
+        if type(inner) is not se.Add:
+            continue
+        scale = rng.choice([se.Integer(-1), se.Integer(2), se.Rational(-1, 3), se.Integer(1)])
+        whole = se.Add(*(node(3) for _ in range(rng.randint(0, 6))), scale * inner)
+        assert symengine_text(whole, {inner: str(inner)}) == str(whole)
+        reused += "MARK" in symengine_text(whole, {inner: "MARK"})
+    assert reused > 100

@@ -14,6 +14,7 @@ def derive_document(eom: EquationsOfMotion) -> dict:
     n = len(eom.coordinates)
     text = plain_printer(system)  # SymPy's str(), or SymEngine's for large systems
     shown = printed(eom)
+    forcing = [text(shown.forcing[i]) for i in range(n)]  # first: the equations hold it
     document = {
         "name": system.name,
         "coordinates": list(system.coordinate_names),
@@ -22,7 +23,7 @@ def derive_document(eom: EquationsOfMotion) -> dict:
         "lagrangian": text(shown.lagrangian),
         "equations": [text(e) for e in shown.equations],
         "mass_matrix": [[text(shown.mass_matrix[i][j]) for j in range(n)] for i in range(n)],
-        "forcing": [text(shown.forcing[i]) for i in range(n)],
+        "forcing": forcing,
     }
     section = units_section(system)
     if section is not None:  # additive: a dimensioned model's units (issue 31)

@@ -86,7 +86,7 @@ def plain_printer(system) -> Printer:
         if not isinstance(expr, sympy.Basic):  # a SymEngine form (see printed)
             text = written.get(expr)
             if text is None:
-                text = written[expr] = str(expr)
+                text = written[expr] = symengine_text(expr, written)
             return text
         if large or longer_than(expr, PLAIN_MAX_NODES):
             converted = to_symengine(expr, cache)
@@ -95,6 +95,46 @@ def plain_printer(system) -> Printer:
         return str(expr)
 
     return show
+
+
+def symengine_text(expr, written: dict) -> str:
+    """SymEngine's ``str`` of ``expr``, where a sum holds a multiple of a sum whose text is
+    in ``written`` (an equation's ``-(f)`` beside the forcing f) with that text put in
+    instead of printed again (SymEngine's printer writes about 17 MB/s).
+
+    SymEngine's printer writes a sum's terms ordered by their sums, products, powers, ...
+    without their coefficients: first by the kind of node, then, within a kind, by
+    comparing the nodes.  Where the written sum is the only sum among them, a placeholder
+    sum of two names no model can spell takes its place in that order, and its text in
+    parentheses is the written text's place."""
+    import symengine as se
+
+    if type(expr) is not se.Add:
+        return str(expr)
+    terms = expr.args
+    held = None
+    for k, term in enumerate(terms):
+        kind = type(term)
+        if kind is se.Add:
+            return str(expr)  # a sum as a term of its own (coefficient 1)
+        if kind is se.Mul:
+            factors = term.args
+            if len(factors) == 2 and type(factors[1]) is se.Add and factors[0].is_Number:
+                if held is not None:
+                    return str(expr)  # two sums: their order is compared, not by kind
+                held = k
+    if held is None:
+        return str(expr)
+    coefficient, inner = terms[held].args
+    text = written.get(inner)
+    if text is None:
+        return str(expr)
+    placeholder = se.Symbol("\0written") + se.Symbol("\0sum")
+    shown = str(se.Add(*terms[:held], *terms[held + 1 :], coefficient * placeholder))
+    mark = f"({placeholder})"
+    if shown.count(mark) != 1:
+        return str(expr)
+    return shown.replace(mark, f"({text})")
 
 
 def unicode_printer(system) -> Printer:
