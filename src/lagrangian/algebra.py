@@ -429,7 +429,7 @@ def _sympy_functions() -> tuple[dict, dict]:
     return classes(_FUNCTIONS), classes(_EVALUATED)
 
 
-def _applied(function: sympy.FunctionClass, argument: sympy.Expr) -> sympy.Expr:
+def applied_unevaluated(function: sympy.FunctionClass, argument: sympy.Expr) -> sympy.Expr:
     """``function(argument, evaluate=False)``, made as SymPy's ``Application.__new__`` does.
 
     SymEngine's form is already canonical, so SymPy's eval would only redo it slowly;
@@ -473,11 +473,11 @@ def to_sympy(expr, symbols: dict[str, sympy.Symbol], cache: dict | None = None) 
         elif kind is se.Pow:
             base, exponent = node.args
             if base == se.E:  # SymEngine's exp(x) is E**x; SymPy's is exp(x)
-                result = _applied(sympy.exp, convert(exponent))
+                result = applied_unevaluated(sympy.exp, convert(exponent))
             else:
                 result = sympy.Pow(convert(base), convert(exponent), evaluate=False)
         elif kind in functions:
-            result = _applied(functions[kind], convert(node.args[0]))
+            result = applied_unevaluated(functions[kind], convert(node.args[0]))
         elif kind in evaluated:
             result = evaluated[kind](*(convert(a) for a in node.args))
         else:

@@ -98,12 +98,43 @@ def test_written_cases_come_out_as_a_fresh_parse_gives_them(text):
 
 
 def test_the_split_is_the_parsers():
-    assert top_level_terms(" -x + 2*y - 1e-3*x") == [(1, 4, False), (5, 10, False), (11, 18, True)]
-    assert top_level_terms("x*-y - 2^-x") == [(0, 5, False), (6, 11, True)]
-    assert top_level_terms("sin(x - y) + x") == [(0, 11, False), (12, 14, False)]
+    # each term without the spaces around it
+    assert top_level_terms(" -x + 2*y - 1e-3*x") == [(1, 3, False), (6, 9, False), (12, 18, True)]
+    assert top_level_terms("x*-y - 2^-x") == [(0, 4, False), (7, 11, True)]
+    assert top_level_terms("sin(x - y) + x") == [(0, 10, False), (13, 14, False)]
+    assert top_level_terms("x +\t y \n") == [(0, 1, False), (5, 6, False)]
     assert top_level_terms("x") is None  # one term: the parse as before
     assert top_level_terms("x + y)") is None
     assert top_level_terms("x − y + x") is None  # not ASCII
+
+
+def test_a_term_is_the_same_term_whatever_the_spaces_around_it(monkeypatch):
+    """A chain's term is the last of one sum (no space after it) and inside the next:
+    it is built once, so every sum holds the same object (before: two equal objects,
+    which every dict of the checks then compared node by node)."""
+    seen: list[str] = []
+    tokenize = expression_module.tokenize
+
+    def counting(text, limits):
+        seen.append(text)
+        return tokenize(text, limits)
+
+    monkeypatch.setattr(expression_module, "tokenize", counting)
+    terms = Terms()
+    first = _outcome("0 + l1*sin(theta1)", terms)
+    second = _outcome("0 + l1*sin(theta1)\t+ l2*sin(theta2) ", terms)
+    unicode = _outcome("x − y +  l1*sin(theta1)  + l2*sin(theta2)", terms)  # the full parse
+    assert seen[:3] == ["0", "l1*sin(theta1)", "l2*sin(theta2)"]  # then the full parse's
+    product = sympy.Symbol("l1") * sympy.sin(sympy.Symbol("theta1"))
+    made = {term for term in (*first.args, *second.args, *unicode.args) if term == product}
+    assert len(made) == 1 and len({id(term) for term in made}) == 1
+    assert [first, second, unicode] == [
+        _outcome("0 + l1*sin(theta1)"),
+        _outcome("0 + l1*sin(theta1)\t+ l2*sin(theta2) "),
+        _outcome("x − y +  l1*sin(theta1)  + l2*sin(theta2)"),
+    ]
+    assert any(term is next(iter(made)) for term in unicode.args)
+    assert any(term is next(iter(made)) for term in second.args)
 
 
 def test_too_many_tokens_are_refused_where_a_fresh_parse_refuses_them():

@@ -113,3 +113,60 @@ def test_a_sum_of_plain_terms_is_the_sum_sympy_makes():
             assert type(fast) is type(expected) and fast.args == expected.args
             assert fast == expected and hash(fast) == hash(expected)
     assert 100 < made < 400
+
+
+def _assumed_symbols() -> list[sympy.Symbol]:
+    """Symbols of every kind a model declares, and a few it does not (not real, zero)."""
+    kinds = [{}, {"real": True}, {"positive": True}, {"nonnegative": True}, {"negative": True}]
+    kinds += [{"zero": True}, {"imaginary": True}, {"commutative": False}, {"integer": True}]
+    return [sympy.Symbol(f"s{k}", **kind) for k, kind in enumerate(kinds)]
+
+
+def test_sin_and_cos_of_a_symbol_are_sympys():
+    """``plain_call`` makes sin(q) without SymPy's eval only where eval keeps it as it is
+    (a real symbol not known to be zero), with SymPy's type, args, nargs, equality and hash;
+    elsewhere it leaves the call to SymPy (None)."""
+    from lagrangian.parsing.terms import plain_call
+
+    made = 0
+    for symbol in _assumed_symbols():
+        for function in (sympy.sin, sympy.cos, sympy.tan, sympy.exp, sympy.Abs):
+            fast = plain_call(function, symbol)
+            expected = function(symbol)
+            if fast is None:
+                continue
+            made += 1
+            assert type(fast) is type(expected) and fast.args == expected.args
+            assert fast == expected and hash(fast) == hash(expected)
+            assert fast.nargs == expected.nargs and fast.is_real == expected.is_real
+    assert made == 10  # sin and cos of the real, positive, nonnegative, negative, integer
+    zero = sympy.Symbol("z", zero=True)
+    assert plain_call(sympy.sin, zero) is None and sympy.sin(zero) == 0
+    assert plain_call(sympy.sin, sympy.Symbol("x", imaginary=True)) is None
+    assert plain_call(sympy.sin, 2 * X) is None and plain_call(sympy.sin, sympy.pi) is None
+
+
+def test_a_product_of_plain_factors_is_the_product_sympy_makes():
+    """``plain_product`` makes Mul's result without its evaluation for distinct symbols
+    and sines and cosines of them; powers, numbers, like factors, exp are left to Mul."""
+    import functools
+
+    from lagrangian.parsing.terms import plain_product
+
+    rng = random.Random(9)
+    symbols = _assumed_symbols()
+    pool = [*symbols, *(f(s) for s in symbols[:5] for f in (sympy.sin, sympy.cos))]
+    pool += [sympy.Integer(2), sympy.Rational(-1, 3), X**2, sympy.exp(X), sympy.exp(Y["y1"])]
+    pool += [X + Y["y1"], sympy.sqrt(X), sympy.Function("f")(X), sympy.pi, X * Y["y2"]]
+    key = functools.cmp_to_key(sympy.Basic.compare)
+    made = 0
+    for _ in range(600):
+        factors = [rng.choice(pool) for _ in range(rng.randint(1, 5))]
+        fast = plain_product(factors)
+        if fast is not None:
+            made += 1
+            expected = sympy.Mul(*factors)
+            assert type(fast) is type(expected) and fast.args == expected.args
+            assert fast == expected and hash(fast) == hash(expected)
+            assert list(fast.args) == sorted(factors, key=key)
+    assert 50 < made < 600

@@ -46,8 +46,9 @@ from lagrangian.parsing.names import (
     arity_message,
 )
 from lagrangian.parsing.nodes import Call, Name, Negate, Node, Number, Power, Product, Sum
+from lagrangian.parsing.split import without_spaces
 from lagrangian.parsing.suggest import likely_meant
-from lagrangian.parsing.terms import Terms, sorted_sum
+from lagrangian.parsing.terms import Terms, plain_call, plain_product, sorted_sum
 
 _NON_FINITE = (sympy.S.ComplexInfinity, sympy.S.NaN, sympy.S.Infinity, sympy.S.NegativeInfinity)
 _TRIGONOMETRIC = frozenset({"sin", "cos", "tan", "cot", "sec", "csc"})
@@ -59,6 +60,8 @@ _LOG_LARGEST = math.log(sys.float_info.max)
 _LOG_SMALLEST = math.log(math.ulp(0.0))
 #: For ``sinh`` and ``cosh`` (e**|x| / 2): only their size can leave the range.
 _GROWING = {"sinh", "cosh"}
+#: A call or power as built, for a message: made only for one (printing each costs).
+Shown = Callable[[], str]
 
 
 def build_expression(
@@ -114,6 +117,8 @@ class _Builder:
         for k, operand in enumerate(operands):
             start = operand.position + (1 if k else 0)  # past the operator, 1 character
             end = operands[k + 1].position if k + 1 < len(operands) else len(self.text)
+            if not terms.latex:  # the same key as the split's (LaTeX spaces may be commands)
+                start, end = without_spaces(self.text, start, end)
             pieces.append((start, end, operand.inverted, operand.node))
         return self.sum_of_terms(pieces, node.position, terms)
 
@@ -237,7 +242,10 @@ class _Builder:
 
     def builtin(self, name: str, args: list[sympy.Expr], position: int) -> sympy.Expr:
         self.charge_arguments(args, position)
-        shown = f"{name}({', '.join(map(str, args))})"
+
+        def shown() -> str:  # the call as built, for a message (printed only for one)
+            return f"{name}({', '.join(map(str, args))})"
+
         if name == "sqrt":
             return self.power(args[0], _HALF, position, shown=shown)
         if name == "exp":
@@ -249,9 +257,11 @@ class _Builder:
             # cos(asin(r)) is sqrt(1 - r**2): a root of a number twice as long as r.
             self.check_root(2 * sum(numeric_size(arg) for arg in args[0].args), position)
         function = BUILTIN_FUNCTIONS[name][0]
-        result = self.evaluate(lambda: function(*args), f"{name}()", position)
+        result = plain_call(function, args[0]) if len(args) == 1 else None
+        if result is None:
+            result = self.evaluate(lambda: function(*args), f"{name}()", position)
         if is_non_finite(result):
-            raise self.error(f"{_clip(shown)} is infinite or undefined", position)
+            raise self.error(f"{_clip(shown())} is infinite or undefined", position)
         self.check_real(result, shown, position)
         return result
 
@@ -284,18 +294,25 @@ class _Builder:
         roots = [size for factor in factors for size in root_sizes(factor)]
         if len(roots) > 1:
             self.check_root(sum(roots), position)
-        result = self.evaluate(lambda: sympy.Mul(*factors), "the product", position)
+        result = plain_product(factors)
+        if result is None:
+            result = self.evaluate(lambda: sympy.Mul(*factors), "the product", position)
         if is_non_finite(result):
             raise self.error("division by zero", position)
         return result
 
     def power(
-        self, base: sympy.Expr, exponent: sympy.Expr, position: int, shown: str = ""
+        self, base: sympy.Expr, exponent: sympy.Expr, position: int, shown: Shown | None = None
     ) -> sympy.Expr:
+        if shown is None:
+
+            def shown() -> str:
+                return f"({base})**({exponent})"
+
         exact = base.is_Rational and exponent.is_Rational  # bounded by its digits instead
         if base.is_number and exponent.is_number and not exact:
             log_base = sympy.log(sympy.Abs(base, evaluate=False), evaluate=False)
-            self.check_range(exponent, log_base, shown or f"({base})**({exponent})", position)
+            self.check_range(exponent, log_base, shown, position)
         if exponent.is_Rational:
             self.check_power(base, exponent, position)
             if base == 0 and exponent < 0:
@@ -312,7 +329,7 @@ class _Builder:
         result = self.evaluate(lambda: sympy.Pow(base, exponent), "the power", position)
         if is_non_finite(result):
             raise self.error("division by zero", position)
-        self.check_real(result, shown or f"({base})**({exponent})", position)
+        self.check_real(result, shown, position)
         return result
 
     # -- guards ----------------------------------------------------------------------
@@ -351,7 +368,7 @@ class _Builder:
         self,
         exponent: sympy.Expr,
         log_base: sympy.Expr,
-        shown: str,
+        shown: Shown,
         position: int,
         *,
         growing: bool = False,
@@ -372,17 +389,17 @@ class _Builder:
         if low > _LOG_LARGEST or (high < _LOG_SMALLEST and not growing):
             size = low if low > _LOG_LARGEST else high
             raise self.error(
-                f"the number {_clip(shown)} is beyond double precision "
+                f"the number {_clip(shown())} is beyond double precision "
                 f"(about 10^{size / math.log(10):.4g})",
                 position,
             )
 
-    def check_real(self, result: sympy.Expr, shown: str, position: int) -> None:
+    def check_real(self, result: sympy.Expr, shown: Shown, position: int) -> None:
         """Refuse a value that is not real: ``shown`` is the call or power as built."""
         try:
             self.constants.check(result)
         except NotRealError as error:
-            raise self.error(f"{_clip(shown)} {error.reason}", position) from None
+            raise self.error(f"{_clip(shown())} {error.reason}", position) from None
 
     def check_digits(self, size: float, position: int) -> None:
         """Refuse a number of ``size`` (``log10``) with more than ``max_result_digits`` digits."""

@@ -9,7 +9,7 @@ by calling ``Add``, ``Mul``, ``Pow`` and the function classes directly.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import sympy
 
@@ -205,7 +205,7 @@ def _built_by_terms(
             if found is None or (written, False) not in terms.built:
                 tokens = tokenize(written, limits)
                 found = terms.tokens[written] = len(tokens) - 1  # without END
-                made[start] = [replace(t, position=t.position + start) for t in tokens]
+                made[start] = [Token(t.kind, t.text, t.position + start, t.value) for t in tokens]
             count += found
         if count > limits.max_nodes:
             return None  # refused by the full parse ("too large"), at its token

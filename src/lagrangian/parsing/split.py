@@ -24,7 +24,7 @@ _OPERAND_CHARACTERS = frozenset("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTU
 
 def top_level_terms(text: str) -> list[tuple[int, int, bool]] | None:
     """[(start, end, negated)] of the terms of ``text``'s top-level sum, as the parser
-    splits it (``start`` past the sign, the first term from its first character), or None
+    splits it (past the sign, without the spaces around each term), or None
     where the text is not ASCII, its parentheses do not balance, or it has one term."""
     if not text.isascii():
         return None
@@ -44,11 +44,21 @@ def top_level_terms(text: str) -> list[tuple[int, int, bool]] | None:
             cuts.append(at)
     if depth or not cuts:
         return None
-    terms = [(first, cuts[0], False)]
+    terms = [(*without_spaces(text, first, cuts[0]), False)]
     for k, at in enumerate(cuts):
         end = cuts[k + 1] if k + 1 < len(cuts) else len(text)
-        terms.append((at + 1, end, text[at] == "-"))
+        terms.append((*without_spaces(text, at + 1, end), text[at] == "-"))
     return terms
+
+
+def without_spaces(text: str, start: int, end: int) -> tuple[int, int]:
+    """(start, end) of ``text[start:end]`` without the whitespace around it: a term is
+    the same term whatever the spaces around it (the last of a sum has none after it)."""
+    while start < end and text[start] in _SPACE:
+        start += 1
+    while end > start and text[end - 1] in _SPACE:
+        end -= 1
+    return start, end
 
 
 def _follows_operand(text: str, at: int) -> bool:

@@ -13,6 +13,8 @@ from collections.abc import Callable
 import sympy
 from sympy.core.parameters import global_parameters
 
+from lagrangian.algebra import applied_unevaluated
+
 _CANONICAL = functools.cmp_to_key(sympy.Basic.compare)  # the key of SymPy's Add's sort
 
 
@@ -99,4 +101,47 @@ def sorted_sum(ordered: list) -> sympy.Expr | None:
         seen.add(part)
     return sympy.Add._exec_constructor_postprocessors(
         sympy.Add._from_args(terms, is_commutative=True)
+    )
+
+
+#: The functions :func:`plain_call` makes of a real symbol: their ``eval`` leaves it as is.
+_ANGLE_FUNCTIONS = (sympy.sin, sympy.cos)
+#: What a factor may be for :func:`plain_product`: each is its own base to the power 1, so
+#: ``Mul`` has no powers to merge (``exp``, whose base is E, is not one of them).
+_PLAIN_FACTORS = (sympy.Symbol, *_ANGLE_FUNCTIONS)
+
+
+def plain_call(function, argument: sympy.Expr) -> sympy.Expr | None:
+    """``function(argument)`` for sin or cos of a real symbol, made without SymPy's
+    ``eval``; None for anything else.
+
+    ``sin(x)`` of a real symbol that is not known to be zero is left as it is by
+    ``sin.eval`` (no number, no minus sign to pull out, no multiple of pi or of I), but
+    the search for them costs about 0.1 ms per call, once for each term of a model's
+    positions.  The value is the one ``function(argument)`` makes: the same type, args,
+    equality and hash.
+    """
+    if function not in _ANGLE_FUNCTIONS or type(argument) is not sympy.Symbol:
+        return None
+    if argument.is_real is not True or argument.is_zero:
+        return None
+    if not global_parameters.evaluate:
+        return None
+    return applied_unevaluated(function, argument)
+
+
+def plain_product(factors) -> sympy.Expr | None:
+    """``sympy.Mul(*factors)`` for distinct commutative symbols and values of sin and cos,
+    made as ``Mul`` makes it (its args sorted by ``Basic.compare``) without its
+    evaluation; None for anything else (numbers, powers, sums, like factors).
+    """
+    if len(factors) < 2 or not global_parameters.evaluate:
+        return None
+    for factor in factors:
+        if type(factor) not in _PLAIN_FACTORS or factor.is_commutative is not True:
+            return None
+    if len(set(factors)) != len(factors):
+        return None  # x*x: Mul makes x**2
+    return sympy.Mul._exec_constructor_postprocessors(
+        sympy.Mul._from_args(sorted(factors, key=_CANONICAL), is_commutative=True)
     )
