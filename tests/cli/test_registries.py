@@ -24,13 +24,23 @@ from lagrangian.numeric.compile import RUN_BACKENDS
 
 MODEL = "simple_pendulum"
 SHORT = ("--t-end", "0.3")
-#: Methods that run on an optional package (an extra CI does not install).
-METHOD_PACKAGES = {"taylor": "heyoka"}
+#: Methods that run on optional packages (an extra CI does not install), any one of them:
+#: taylor is heyoka's where it is installed, else ours compiled by numba.
+METHOD_PACKAGES = {"taylor": ("heyoka", "numba")}
 
 
 def _skip_without_package(method: str) -> None:
-    if method in METHOD_PACKAGES:
-        pytest.importorskip(METHOD_PACKAGES[method])
+    packages = METHOD_PACKAGES.get(method, ())
+    if packages and not any(importlib.util.find_spec(name) for name in packages):
+        pytest.skip(f"method {method} needs one of {', '.join(packages)}")
+
+
+def _without_heyoka(monkeypatch) -> None:
+    """heyoka as if it were not installed (its import fails), in this process."""
+    from lagrangian.integrate import choice
+
+    monkeypatch.setattr(choice, "heyoka_installed", lambda: False)
+    monkeypatch.setitem(sys.modules, "heyoka", None)
 
 
 def _choices(command: str, option: str) -> list[str]:
@@ -83,6 +93,19 @@ def test_every_method_plots_and_animates(capsys, tmp_path, method, command, suff
     out = tmp_path / f"figure{suffix}"
     _run(capsys, command, MODEL, *SHORT, "--method", method, "--out", str(out))
     assert out.stat().st_size > 0
+
+
+@pytest.mark.slow  # compiles our Taylor loop of the pendulum (2-3 s)
+def test_method_taylor_runs_ours_where_heyoka_is_not_installed(capsys, tmp_path, monkeypatch):
+    _without_heyoka(monkeypatch)
+    _skip_without_package("taylor")  # skipped here before ours existed: runs where numba is
+    summary = json.loads(_run(capsys, "simulate", MODEL, *SHORT, "--method", "taylor", "--json"))
+    assert summary["method"] == "taylor"
+    assert summary["choice"].startswith("taylor (numba) on ")
+    for command, suffix in (("plot", ".png"), ("animate", ".html")):
+        out = tmp_path / f"figure{suffix}"
+        _run(capsys, command, MODEL, *SHORT, "--method", "taylor", "--out", str(out))
+        assert out.stat().st_size > 0
 
 
 @pytest.mark.slow
