@@ -129,12 +129,13 @@ TAYLOR_STEP_OUTPUT = 3e-7
 
 
 #: Our Taylor method's integration time (backend numba, :mod:`.taylor_compiled`) relative
-#: to the compiled DOP853 at the same tolerance, CPU: 0.4 for the double pendulum at 1e-10
-#: (0.0166 s against DOP853's 18,961 steps at 2.2 us; its printed coefficients), 3.5 for a
-#: 3-link chain and 12 for a 10-link chain (8.2 s against 0.68 s) in the compact mode that
-#: larger systems take (benchmarks/taylor_numba.py): only two coordinates pay.  Every step
-#: kept costs little more (the loop writes each step's end).
-TAYLOR_NUMBA_PACE = 0.4
+#: to the compiled DOP853 at the same tolerance, CPU: 0.3 for the double pendulum at 1e-10
+#: (0.0132 s against DOP853's 19,446 steps at 2.16 us; its printed coefficients, 0.4 before
+#: their flat table of round 8), 3.5 for a 3-link chain and 12 for a 10-link chain (8.2 s
+#: against 0.68 s) in the compact mode that larger systems take
+#: (benchmarks/taylor_numba.py): only two coordinates pay.  Every step kept costs little
+#: more (the loop writes each step's end: 0.014 s).
+TAYLOR_NUMBA_PACE = 0.3
 
 
 def taylor_numba_compact_pace(n: int) -> float:
