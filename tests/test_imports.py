@@ -148,3 +148,25 @@ with contextlib.redirect_stdout(io.StringIO()):
     assert '"available": true' in page.read_text("utf-8")  # the section panel's numbers too
     assert "lagrangian.output.page_dop853" in loaded
     assert sorted(m for m in loaded if m.startswith("scipy.integrate")) == []
+
+
+def test_derive_json_of_a_large_system_loads_the_json_writer_only():
+    """``derive --json`` imports the JSON writer and not the text's or LaTeX's writers, their
+    notation, walks or units (issue 36: milliseconds of a 20-link chain's command)."""
+    terms = " + ".join(f"x{i}_dot**2/2 - x{i}**2/2" for i in range(1, 8))
+    names = ",".join(f"x{i}" for i in range(1, 8))
+    code = f"""
+import contextlib, io
+from lagrangian.cli import main
+with contextlib.redirect_stdout(io.StringIO()) as out:
+    assert main(["derive", "--lagrangian", "{terms}", "--coordinates", "{names}", "--json"]) == 0
+assert '"x7 + x7_ddot"' in out.getvalue(), out.getvalue()
+"""
+    writers = {f"lagrangian.output.{m}" for m in ("json_out", "large")}
+    others = {
+        f"lagrangian.output.{m}"
+        for m in ("text", "latex", "notation", "large_walks", "units", "linkage_summary")
+    }
+    loaded = _loaded_after(code)
+    assert writers <= loaded
+    assert others & loaded == set()

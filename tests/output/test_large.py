@@ -16,14 +16,13 @@ import lagrangian as lg
 from lagrangian import output
 from lagrangian.algebra import FAST_MIN_COORDINATES
 from lagrangian.output.large import (
-    _LatexWalk,
-    _UnicodeWalk,
     is_large,
     latex_printer,
     plain_printer,
     symengine_text,
     unicode_printer,
 )
+from lagrangian.output.large_walks import LatexWalk, UnicodeWalk
 
 
 def chain(n: int) -> lg.System:
@@ -188,7 +187,7 @@ class _CountedLookups(dict):
         return super().get(key, default)
 
 
-@pytest.mark.parametrize("walk", [_UnicodeWalk, _LatexWalk])
+@pytest.mark.parametrize("walk", [UnicodeWalk, LatexWalk])
 def test_a_walk_reads_each_distinct_node_once(walk):
     """Text and LaTeX make one record per distinct node of an equation and look each
     child up once per parent that holds it (no negated copy of a term, no second lookup

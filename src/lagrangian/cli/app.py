@@ -119,17 +119,21 @@ def _load(model: str | None, lagrangian_text: str | None, coordinates: str | Non
 @click.option("--steps", is_flag=True, help="Show the derivation step by step, as by hand.")
 def derive(model, lagrangian_text, coordinates, as_json: bool, as_latex: bool, steps: bool) -> None:
     """Derive Lagrange's equations of motion of MODEL."""
-    from .. import output
-
     if as_json and as_latex:
         raise click.UsageError("choose one of --json and --latex")
     eom = _load(model, lagrangian_text, coordinates).equations_of_motion()
-    if as_json:
-        click.echo(json.dumps(output.derive_document(eom), indent=2, ensure_ascii=False))
+    if as_json:  # each format imports its own writer only
+        from ..output.json_out import derive_document
+
+        click.echo(json.dumps(derive_document(eom), indent=2, ensure_ascii=False))
     elif as_latex:
-        click.echo(output.latex_steps(eom) if steps else output.latex_equations(eom))
+        from ..output.latex import latex_equations, latex_steps
+
+        click.echo(latex_steps(eom) if steps else latex_equations(eom))
     else:
-        click.echo(output.format_steps(eom) if steps else output.format_equations(eom))
+        from ..output.text import format_equations, format_steps
+
+        click.echo(format_steps(eom) if steps else format_equations(eom))
 
 
 @app.command(epilog=MODEL_HELP)

@@ -4,8 +4,6 @@ from __future__ import annotations
 
 from ..derive import EquationsOfMotion
 from .large import plain_printer, printed
-from .linkage_summary import linkage_document
-from .units import units_section
 
 
 def derive_document(eom: EquationsOfMotion) -> dict:
@@ -25,9 +23,10 @@ def derive_document(eom: EquationsOfMotion) -> dict:
         "mass_matrix": [[text(shown.mass_matrix[i][j]) for j in range(n)] for i in range(n)],
         "forcing": forcing,
     }
-    section = units_section(system)
-    if section is not None:  # additive: a dimensioned model's units (issue 31)
-        document["units"] = section
+    if system.units is not None:  # additive: a dimensioned model's units (issue 31)
+        from .units import units_section  # imported for such models only
+
+        document["units"] = units_section(system)
     if eom.accelerations is not None:
         document["accelerations"] = {name: text(expr) for name, expr in eom.accelerations.items()}
     if eom.constraints is not None:
@@ -37,7 +36,8 @@ def derive_document(eom: EquationsOfMotion) -> dict:
             if eom.multipliers is not None
             else {str(s): None for s in eom.constraints.multipliers}
         )
-    linkage = linkage_document(eom, text)
-    if linkage is not None:  # additive: a linkage's count, joints and reactions (issue 34)
-        document["linkage"] = linkage
+    if system.linkage is not None:  # additive: a linkage's count, joints and reactions (issue 34)
+        from .linkage_summary import linkage_document  # imported for linkages only
+
+        document["linkage"] = linkage_document(eom, text)
     return document
