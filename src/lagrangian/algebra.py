@@ -547,21 +547,30 @@ def factor_common(terms):
     total = terms[0] if len(terms) == 1 else se.Add(*terms)
     if type(total) is not se.Add:
         return total
-    common: dict | None = None
-    for term in total.args:
-        powers = {}
-        for factor in _args(term, se.Mul):
-            base, exponent = factor.args if type(factor) is se.Pow else (factor, se.Integer(1))
-            if not factor.is_Number and exponent.is_Integer and exponent > 0:
-                powers[base] = exponent
-        if common is None:
-            common = powers
-        else:
-            common = {b: min(e, powers[b]) for b, e in common.items() if b in powers}
+    Mul, Pow = se.Mul, se.Pow
+    addends = total.args
+    one = se.Integer(1)
+    common = {}  # base -> the least positive integer exponent of the terms so far
+    for factor in _args(addends[0], Mul):
+        base, exponent = factor.args if type(factor) is Pow else (factor, one)
+        if not factor.is_Number and exponent.is_Integer and exponent > 0:
+            common[base] = exponent
+    for term in addends[1:]:
         if not common:
             return total
+        found = {}  # only the bases still common are looked at
+        for factor in term.args if type(term) is Mul else (term,):
+            if type(factor) is Pow:
+                base, exponent = factor.args
+                if base in common and exponent.is_Integer and exponent > 0:
+                    found[base] = exponent
+            elif factor in common:
+                found[factor] = one
+        common = {b: min(e, found[b]) for b, e in common.items() if b in found}
+    if not common:
+        return total
     factor = se.Mul(*(b**e for b, e in common.items()))
-    return factor * se.Add(*(term / factor for term in total.args))
+    return factor * se.Add(*(term / factor for term in addends))
 
 
 def _args(expr, kind) -> tuple:

@@ -26,6 +26,8 @@ import dataclasses
 import functools
 import random
 from collections import defaultdict
+from collections.abc import Iterator
+from typing import NamedTuple
 
 import numpy as np
 import sympy
@@ -71,9 +73,11 @@ def _derived_by_tables(
 
     given = {**converted, **{f"forces.{name}": x for name, x in forces.items()}}
     kinds: dict = {}  # field -> the types of its nodes, found by the same walk
+    bounds: dict = {}  # field -> the terms its expansion makes at most
     for field, expr in given.items():
         kinds[field] = set()
-        if expanded_terms(expr, kinds=kinds[field]) > MAX_EXPANDED_TERMS:
+        bounds[field] = expanded_terms(expr, kinds=kinds[field])
+        if bounds[field] > MAX_EXPANDED_TERMS:
             raise too_many_terms(lagrangian_field(system) if field == "lagrangian" else field)
 
     q = [to_symengine(c.q, cache) for c in coordinates]
@@ -81,10 +85,14 @@ def _derived_by_tables(
     t = to_symengine(system.time, cache)
     accelerations = [to_symengine(c.q_ddot, cache) for c in coordinates]
     nonsmooth = any(kinds[x] & {se.Abs, se.sign} for x in ("lagrangian", "dissipation"))
-    tables = TermTables([*q, *v, t], nonsmooth=nonsmooth, field=lambda: lagrangian_field(system))
-    lagrangian = tables.table(tables.split(converted["lagrangian"]), differentiated=True)
-    lagrangian_index = tables.index(lagrangian)
-    dissipation = tables.table(tables.split(converted["dissipation"]), differentiated=True)
+    state = [*q, *v, t]
+
+    def tables_of_coordinates():  # the derivation's tables, coordinate by coordinate
+        return _coordinate_tables(
+            TermTables(state, nonsmooth=nonsmooth, field=lambda: lagrangian_field(system)),
+            {field: (expr, bounds[field]) for field, expr in given.items()},
+            [f"forces.{c.name}" if c.name in forces else None for c in coordinates],
+        )
 
     back: dict = {}
 
@@ -100,54 +108,22 @@ def _derived_by_tables(
     def sympy_of(value) -> sympy.Expr:  # made only when M, f or the steps are read
         return to_sympy(value, symbols(), back)
 
-    velocity_index = {vj: j for j, vj in enumerate(v)}
-    position_index = {qj: j for j, qj in enumerate(q)}
     n = len(coordinates)
-    numeric_rows, terms, rest_terms = [], [], []
-    for i, c in enumerate(coordinates):
-        momentum = tables.table(
-            tables.diff(lagrangian, v[i], lagrangian_index), differentiated=True
-        )
-        # One pass over the momentum's terms gives row i of M = dp_i/dq' and the part
-        # sum_j dp_i/dq_j q_j' + dp_i/dt of dp_i/dt along the motion.  M is symmetric (a
-        # Hessian): the entries left of the diagonal are known already.
-        row_parts: dict = defaultdict(lambda: defaultdict(list))
-        rate: dict = defaultdict(list)
-        for monomial, coefficient in momentum.items():
-            for symbol in tables.symbols[monomial]:
-                j = velocity_index.get(symbol)
-                if j is not None:
-                    if j >= i:
-                        derivative = tables.derivative(monomial, symbol)
-                        tables.split(derivative, row_parts[j], coefficient)
-                    continue
-                j = position_index.get(symbol)
-                derivative = tables.derivative(monomial, symbol)
-                tables.split(derivative if j is None else derivative * v[j], rate, coefficient)
+    numeric_rows, inertias, rest_terms = [], [], []
+    for i, part in enumerate(tables_of_coordinates()):
+        tables, momentum, row_parts = part.tables, part.momentum, part.row_parts
         row = [numeric_rows[j][i] for j in range(i)]
         row += [tables.expr(tables.table(row_parts.get(j, {}))) for j in range(i, n)]
-        velocity_terms = tables.table(rate)
-        gradient = tables.table(tables.diff(lagrangian, q[i], lagrangian_index))
-        friction = tables.table(tables.diff(dissipation, v[i]))
-        total = defaultdict(list)
-        for monomial, coefficient in gradient.items():
-            total[monomial].append(coefficient)
-        for table in (velocity_terms, friction):
-            for monomial, coefficient in table.items():
-                total[monomial].append(-coefficient)
-        if c.name in forces:
-            tables.split(forces[c.name], total)
-        rest = tables.expr(tables.table(total))
+        rest = tables.expr(tables.table(part.total))
         if tables.nonsmooth and any(
             holds_derivative(x) for x in (tables.expr(momentum), *row[i:], rest)
         ):
             return None  # d sign(u)/dx (a Dirac delta), which SymEngine leaves undone
 
         numeric_rows.append(row)
-        inertia = se.Add(*(m * a for m, a in zip(row, accelerations, strict=True)))
+        inertias.append(se.Add(*(m * a for m, a in zip(row, accelerations, strict=True))))
         rest_terms.append(rest)
-        # the parts of the derivation are kept as tables: only --steps makes them expressions
-        terms.append((c, momentum, inertia, velocity_terms, gradient, friction, inertia - rest))
+    equations = tuple(inertia - rest for inertia, rest in zip(inertias, rest_terms, strict=True))
 
     def constraint_force(i: int) -> sympy.Expr:
         if constraints is None:
@@ -156,19 +132,21 @@ def _derived_by_tables(
         return sympy.Add(*(lam * a for lam, a in zip(constraints.multipliers, column, strict=True)))
 
     def steps() -> tuple[CoordinateDerivation, ...]:
+        # the parts' tables are made again: kept, their hundreds of thousands of objects
+        # would cost the cycle collector more than making them again costs --steps
         made = []
-        for i, (c, momentum, inertia, rate, gradient, friction, equation) in enumerate(terms):
-            force = constraint_force(i)
+        for i, part in enumerate(tables_of_coordinates()):
+            c, force, expr = coordinates[i], constraint_force(i), part.tables.expr
             made.append(
                 CoordinateDerivation(
                     coordinate=c,
-                    momentum=sympy_of(tables.expr(momentum)),
-                    momentum_rate=sympy_of(inertia + tables.expr(rate)),
-                    force_gradient=sympy_of(tables.expr(gradient)),
+                    momentum=sympy_of(expr(part.momentum)),
+                    momentum_rate=sympy_of(inertias[i] + expr(part.rate)),
+                    force_gradient=sympy_of(expr(part.gradient)),
                     generalized_force=system.forces.get(c.name, sympy.Integer(0)),
-                    dissipation_force=sympy_of(tables.expr(friction)),
+                    dissipation_force=sympy_of(expr(part.friction)),
                     constraint_force=force,
-                    equation=sympy_of(equation) - force,
+                    equation=sympy_of(equations[i]) - force,
                 )
             )
         return tuple(made)
@@ -202,11 +180,63 @@ def _derived_by_tables(
         if constraints
         else SymEngineForms(
             lagrangian=converted["lagrangian"],
-            equations=tuple(term[-1] for term in terms),
+            equations=equations,
             mass_matrix=tuple(tuple(row) for row in numeric_rows),
             forcing=tuple(rest_terms),
         ),
     )
+
+
+class _Parts(NamedTuple):
+    """The tables of one coordinate's equation (lists of coefficients where not summed)."""
+
+    tables: TermTables
+    momentum: dict  # p_i
+    row_parts: dict  # j -> the lists of dp_i/dq_j', j >= i
+    rate: dict  # sum_j dp_i/dq_j q_j' + dp_i/dt
+    gradient: dict  # dL/dq_i
+    friction: dict  # dD/dq_i'
+    total: dict  # dL/dq_i - rate - friction + Q_i, the lists of f_i
+
+
+def _coordinate_tables(tables: TermTables, given: dict, forces: list) -> Iterator[_Parts]:
+    """The parts of each coordinate's equation in turn, from ``given`` {field: (SymEngine
+    expression, its expansion's bound)} and the field of each coordinate's force (or None);
+    the state symbols of ``tables`` are numbered q, q', t (n each of the first two)."""
+    n = len(forces)
+
+    def split(field: str, into=None) -> dict:
+        expr, bound = given[field]
+        return tables.split(expr, into, bound=bound)
+
+    lagrangian = tables.table(split("lagrangian"), differentiated=True)
+    lagrangian_index = tables.index(lagrangian)
+    dissipation = tables.table(split("dissipation"), differentiated=True)
+    for i, force in enumerate(forces):
+        momentum = tables.table(
+            tables.diff(lagrangian, n + i, lagrangian_index), differentiated=True
+        )
+        # One pass over the momentum's terms gives row i of M = dp_i/dq' and the part
+        # sum_j dp_i/dq_j q_j' + dp_i/dt of dp_i/dt along the motion.  M is symmetric (a
+        # Hessian): the entries left of the diagonal are known already.
+        row_parts = {j: defaultdict(list) for j in range(i, n)}
+        rate: dict = defaultdict(list)
+        # the symbols by number: q_j (its derivative times q_j'), q_j', t
+        routes = [(rate, n + j) for j in range(n)] + [None] * i
+        routes += [(row_parts[j], None) for j in range(i, n)] + [(rate, None)]
+        tables.differentiate(momentum, routes)
+        velocity_terms = tables.table(rate)
+        gradient = tables.table(tables.diff(lagrangian, i, lagrangian_index))
+        friction = tables.table(tables.diff(dissipation, n + i))
+        total = defaultdict(list)
+        for monomial, coefficient in gradient.items():
+            total[monomial].append(coefficient)
+        for table in (velocity_terms, friction):
+            for monomial, coefficient in table.items():
+                total[monomial].append(-coefficient)
+        if force is not None:
+            split(force, total)
+        yield _Parts(tables, momentum, row_parts, velocity_terms, gradient, friction, total)
 
 
 def lagrangian_field(system: System) -> str:
