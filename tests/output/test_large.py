@@ -202,11 +202,25 @@ def test_a_walk_reads_each_distinct_node_once(walk):
             edges += len(node.args)
             pending.extend(node.args)
     printer = walk()
-    printer._done = _CountedLookups()
+    printer._done, printer._symbols = _CountedLookups(), _CountedLookups()
     text = printer.text(equation)
-    assert printer._done.lookups == edges + 1
-    assert len(printer._done) == len(distinct)
+    assert printer._done.lookups + printer._symbols.lookups == edges + 1
+    assert len(printer._done) + len(printer._symbols) == len(distinct)
     assert text == walk().text(equation)
+
+
+@pytest.mark.parametrize(
+    ("walk", "expected"),
+    [(UnicodeWalk, "-1.875 x θ₁ + exp(1.0 x)"), (LatexWalk, r"-1.875 \theta_{1} x + e^{1.0 x}")],
+)
+def test_a_walk_writes_a_float_coefficient(walk, expected):
+    """A float is no fraction: it stands in a product as itself (SymPy writes 1.875 too)."""
+    import symengine as se
+
+    x, theta1 = se.symbols("x theta1")
+    assert (
+        walk().text(se.RealDouble(-1.875) * x * theta1 + se.exp(se.RealDouble(1.0) * x)) == expected
+    )
 
 
 @pytest.mark.parametrize("make", [chain, unusual])
