@@ -13,7 +13,7 @@ import sympy
 from scipy.integrate import solve_ivp
 
 import lagrangian as lg
-from lagrangian.codegen.taylor_numba import module_text
+from lagrangian.codegen.taylor_numba import SCALED, module_text, table_rows
 from lagrangian.codegen.taylor_tape import tape_of
 from lagrangian.errors import ModelError
 from lagrangian.integrate import choice as choice_module
@@ -65,7 +65,7 @@ def _python_coefficients(compiled, t: float, y: np.ndarray, params: np.ndarray, 
     namespace = _as_python(module_text(tape)[1])
     c = np.zeros(max(len(tape.constants), 1))
     namespace["constants"](params, c)
-    tc = np.zeros((tape.rows, namespace["STRIDE"]))
+    tc = np.zeros((namespace["ROWS"], namespace["STRIDE"]))
     tc[: y.shape[0], 0] = y
     namespace["coefficients"](t, c, order, tc, tc.reshape(-1), None, None)
     return tape, tc[: y.shape[0], : order + 1]
@@ -149,6 +149,27 @@ def test_charged_particle_coefficients_are_the_exact_circle():
         series = sympy.series(path, s, 0, 13).removeO()
         exact = [float(series.coeff(s, k)) for k in range(13)]
         np.testing.assert_allclose(ours[row], exact, rtol=1e-12, atol=1e-14)
+
+
+@pytest.mark.slow  # derives two systems (6 s)
+def test_exp_sin_cos_sinh_cosh_keep_j_u_j_in_spare_rows():
+    # the recurrences of exp and of the sin/cos and sinh/cosh pairs sum j u_j times their
+    # own coefficients: each such operation writes k u_k once per order into a row of its own
+    for lagrangian, parameters in (EVERY_OPERATION[0], EVERY_OPERATION[2]):
+        compiled = _compiled(lagrangian, ["x"], **parameters)
+        tape = tape_of(compiled.forms)
+        scaled = [op for op in tape.ops if op.kind in SCALED]
+        assert {"exp", "sincos", "sinhcosh"} & {op.kind for op in scaled}
+        namespace = _as_python(module_text(tape)[1])
+        assert namespace["ROWS"] == tape.rows + len(scaled) == table_rows(tape)
+        c = np.zeros(max(len(tape.constants), 1))
+        namespace["constants"](compiled.parameter_vector({}), c)
+        tc = np.zeros((namespace["ROWS"], namespace["STRIDE"]))
+        tc[:2, 0] = [0.4, -0.3]
+        namespace["coefficients"](0.6, c, 8, tc, tc.reshape(-1), None, None)
+        k = np.arange(1, 8)
+        for spare, op in enumerate(scaled, start=tape.rows):
+            np.testing.assert_array_equal(tc[spare, 1:8], k * tc[op.args[0][1], 1:8])
 
 
 def test_the_step_size_is_heyokas_rule_and_the_ten_ulp_test_exact():

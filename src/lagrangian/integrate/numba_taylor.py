@@ -85,11 +85,11 @@ def below_ten_ulp(h, t):  # pragma: no cover - compiled by numba
 def evaluate(tc, size, order, h, into, column):  # pragma: no cover - compiled by numba
     """into[:, column] = the Taylor polynomial of every state row at h (Horner)."""
     top = uint64(order)  # unsigned: indexed without numba's check for negative indices
-    for i in range(size):
-        into[i, column] = tc[i, top]
-    for k in range(uint64(1), top + uint64(1)):  # the rows side by side: independent chains
-        for i in range(size):
-            into[i, column] = into[i, column] * h + tc[i, top - k]
+    for i in range(size):  # a row's sum in a register (through ``into`` it was a store and a
+        value = tc[i, top]  # load a term, 9% of the double pendulum's step)
+        for k in range(uint64(1), top + uint64(1)):
+            value = value * h + tc[i, top - k]
+        into[i, column] = value
 
 
 @njit(cache=True)

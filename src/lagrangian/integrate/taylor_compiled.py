@@ -216,10 +216,13 @@ def _compile(loop: TaylorLoop) -> None:
 
 def table(tape: Tape, order: int) -> np.ndarray:
     """The zeroed table of Taylor coefficients (rows of the tape, orders 0..``order``): a
-    printed system's coefficients take rows of its fixed length ``STRIDE``."""
-    from ..codegen.taylor_numba import STRIDE
+    printed system's coefficients take rows of its fixed length ``STRIDE``, and spare
+    rows after the tape's."""
+    from ..codegen.taylor_numba import STRIDE, table_rows
 
-    return np.zeros((tape.rows, order + 1 if compact(tape) else STRIDE))
+    if compact(tape):
+        return np.zeros((tape.rows, order + 1))
+    return np.zeros((table_rows(tape), STRIDE))
 
 
 @dataclass(frozen=True)
