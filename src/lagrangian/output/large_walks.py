@@ -129,7 +129,7 @@ class Walk:
                 text = factor[0] if factor[1] >= MUL else self.parenthesized(factor[0])
                 keyed.append((factor[2], factor[3], text))
         keyed.sort()
-        return [text for *_, text in keyed]
+        return [key[2] for key in keyed]
 
     def factors(self, factors: list) -> str:
         return " ".join(self.ordered(factors))
