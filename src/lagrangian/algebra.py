@@ -506,34 +506,39 @@ def combine_expanded_angles(expanded):
     """:func:`combine_angles` of an expression already expanded (SymEngine)."""
     import symengine as se
 
+    # names bound once: T calls this for each product of two columns (5,050 at n = 100)
+    add, mul, pow_, sin, cos, two = se.Add, se.Mul, se.Pow, se.sin, se.cos, se.Integer(2)
     pairs: dict[tuple, dict[type, object]] = {}
     kept = []
-    for term in _args(expanded, se.Add):
+    for term in expanded.args if type(expanded) is add else (expanded,):
         rest, trig = [], []
-        for factor in _args(term, se.Mul):
-            if type(factor) in (se.sin, se.cos):
+        for factor in term.args if type(term) is mul else (term,):
+            kind = type(factor)
+            if kind is sin or kind is cos:
                 trig.append(factor)
-            elif (
-                type(factor) is se.Pow
-                and type(factor.args[0]) in (se.sin, se.cos)
-                and (factor.args[1] == 2)
-            ):
-                trig += [factor.args[0]] * 2
-            else:
-                rest.append(factor)
-        kind = type(trig[0]) if len(trig) == 2 and type(trig[0]) is type(trig[1]) else None
-        key = (se.Mul(*rest), frozenset(f.args[0] for f in trig)) if kind else None
-        if key is None or kind in pairs.setdefault(key, {}):
+                continue
+            if kind is pow_:
+                base, exponent = factor.args
+                if (type(base) is sin or type(base) is cos) and exponent == two:
+                    trig += (base, base)
+                    continue
+            rest.append(factor)
+        if len(trig) != 2 or type(trig[0]) is not type(trig[1]):
+            kept.append(term)
+            continue
+        kind = type(trig[0])
+        found = pairs.setdefault((mul(*rest), frozenset(f.args[0] for f in trig)), {})
+        if kind in found:
             kept.append(term)
         else:
-            pairs[key][kind] = term
+            found[kind] = term
     for (coefficient, angles), found in pairs.items():
         if len(found) == 2:
             a, b = (*angles, *angles)[:2]
-            kept.append(coefficient * se.cos(a - b))
+            kept.append(coefficient * cos(a - b))
         else:
             kept += found.values()
-    return se.Add(*kept)
+    return add(*kept)
 
 
 def factor_common(terms):

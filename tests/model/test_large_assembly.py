@@ -151,3 +151,55 @@ def test_a_sum_of_terms_met_before_is_checked_whole():
     system = loads(_chain_with_last_position(n, cancelled))
     names = {s.name for s in system.particles[-1].position[0].free_symbols}
     assert names == {f"{kind}{i}" for kind in ("l", "theta") for i in range(1, n + 1)}
+
+
+def _pairs_point_by_point(actives: list[list]) -> list:
+    """The pairs of columns as each point's pairs list them (i <= j), in the order met,
+    with the points that move with both: what ``_Movers.pairs`` must give."""
+    from itertools import combinations_with_replacement
+
+    pairs: dict = {}
+    for point, active in enumerate(actives):
+        for pair in combinations_with_replacement(active, 2):
+            pairs.setdefault(pair, []).append(point)
+    return [(pair, tuple(points)) for pair, points in pairs.items()]
+
+
+def test_the_pairs_of_columns_are_each_points_pairs_in_the_order_met(rng):
+    """``_Movers`` finds T's pairs of columns by intersecting the points of each column
+    (not a dict update for each of a point's pairs, O(n^3) for a chain): the same pairs,
+    the same points, the same order as listing each point's pairs."""
+    from lagrangian.model.energy_large import _Movers
+
+    for _ in range(200):
+        coordinates = rng.randint(1, 8)
+        actives = []
+        for _ in range(rng.randint(1, 12)):
+            chosen = sorted(rng.sample(range(coordinates), rng.randint(0, coordinates)))
+            actives.append([(i, rng.randint(0, 2)) for i in chosen])  # column ids recur
+        movers = _Movers()
+        for point, active in enumerate(actives):
+            movers.add(point, active)
+        assert movers.pairs() == _pairs_point_by_point(actives)
+
+
+def test_the_partial_time_derivative_is_made_with_the_columns(rng):
+    """dr/dt of a position comes from its terms (those holding t), as the columns do:
+    equal to SymEngine's derivative of the whole position."""
+    import symengine as se
+
+    from lagrangian.model.energy_large import _PositionTerms
+
+    q = [se.Symbol(f"q{k}") for k in range(4)]
+    t, w = se.Symbol("t"), se.Symbol("w")
+    pieces = [q[0] * se.sin(w * t), se.cos(q[1] - t), t**2, q[2] * q[3], se.Integer(3), w * q[1]]
+    terms = _PositionTerms(q, t)
+    for _ in range(50):
+        position = [se.Add(*rng.sample(pieces, rng.randint(0, 4))) for _ in range(2)]
+        columns, explicit, _ = terms.columns(position)
+        assert explicit == tuple(se.diff(x, t) for x in position)
+        assert columns == {
+            i: tuple(se.diff(x, q[i]) for x in position)
+            for i in range(4)
+            if any(se.diff(x, q[i]) != 0 for x in position)
+        }

@@ -118,3 +118,15 @@ def test_the_root_of_a_negative_parameter_is_refused():
         parse_expression("a + sqrt(-g)", namespace)
     assert str(caught.value) == "sqrt(-g) is not a real number at position 5"
     assert parse_expression("sqrt(-a)", namespace) == sympy.sqrt(-a)
+
+
+def test_a_checker_meeting_no_constant_makes_no_interval_context():
+    """mpmath's contexts and the function table are made on the first constant met: the
+    checker of an expression with none (a position's sin(q)) never needs them."""
+    x = sympy.Symbol("x", real=True)
+    checker = RealConstants()
+    checker.check(sympy.Symbol("l", positive=True) * sympy.sin(x) + x * sympy.cos(x))
+    assert not {"iv", "mp", "functions"} & set(vars(checker))
+    with pytest.raises(NotRealError, match="acos"):
+        checker.check(x * sympy.acos(2))
+    assert {"iv", "mp", "functions"} <= set(vars(checker))

@@ -14,7 +14,6 @@ from __future__ import annotations
 
 from collections import defaultdict
 from collections.abc import Sequence
-from itertools import combinations_with_replacement
 
 import sympy
 
@@ -77,32 +76,31 @@ def kinetic_energy_large(
             found = products[a, b] = expanded(a).dot(expanded(b))
         return found
 
-    # ((i, column id), (j, column id)) -> the masses of the points that move with both
-    pairs: dict = defaultdict(list)
     linear: dict = defaultdict(lambda: defaultdict(list))
     constant: dict = defaultdict(list)
-    terms_seen = _PositionTerms(q)  # each distinct term of the positions, looked at once
+    masses: list = []  # of the points, in their order
+    movers = _Movers()  # which points move with each (i, column id)
+    terms_seen = _PositionTerms(q, t)  # each distinct term of the positions, looked at once
     for mass, position in points:
         m = to_symengine(mass, cache)
         r = [to_symengine(x, cache) for x in position]
         if m is None or any(x is None for x in r):
             return None
-        columns, nonsmooth = terms_seen.columns(r)
-        explicit = tuple(se.diff(x, t) for x in r)
+        columns, explicit, nonsmooth = terms_seen.columns(r)
         derivatives = [*explicit, *(x for column in columns.values() for x in column)]
         if nonsmooth and any(map(holds_derivative, derivatives)):
             return None  # d|u|/dq or d sign(u)/dq, which SymEngine leaves undone
         active = [(i, column_id(column)) for i, column in columns.items()]
-        for pair in combinations_with_replacement(active, 2):
-            pairs[pair].append(m)
+        movers.add(len(masses), active)
+        masses.append(m)
         if not all(x.is_zero for x in explicit):
             e = column_id(explicit)
             for i, ci in active:
                 linear[i][ci, e].append(m)
             constant[e, e].append(m)
-    quadratic: dict = defaultdict(dict)  # (i, j) -> {(column id, column id): masses}
-    for ((i, ci), (j, cj)), masses in pairs.items():
-        quadratic[i, j][ci, cj] = masses
+    quadratic: dict = defaultdict(dict)  # (i, j) -> {(column id, column id): point numbers}
+    for ((i, ci), (j, cj)), together in movers.pairs():
+        quadratic[i, j][ci, cj] = together
 
     grouped: dict = {}  # the sum of masses -> its common factor pulled out (lists recur)
 
@@ -113,21 +111,76 @@ def kinetic_energy_large(
             found = grouped[key] = factor_common(masses)
         return found
 
-    def total(groups):
+    summed: dict = {}  # the points (numbers) that move with a pair -> the sum of their masses
+
+    def points_sum(together):
+        found = summed.get(together)
+        if found is None:
+            found = summed[together] = mass_sum([masses[k] for k in together])
+        return found
+
+    def total(groups, sums=mass_sum):
         # the same product under several pairs of ids is added, not kept twice
         by_product: dict = defaultdict(list)
-        for pair, masses in groups.items():
-            by_product[dot(*pair)].append(mass_sum(masses))
-        return se.Add(*(mass_sum(masses) * product for product, masses in by_product.items()))
+        for pair, group in groups.items():
+            by_product[dot(*pair)].append(sums(group))
+        return se.Add(*(mass_sum(found) * product for product, found in by_product.items()))
 
     velocities = [to_symengine(c.q_dot, cache) for c in coordinates]
     symbols = _converted_symbols(cache) | {c.q_dot.name: c.q_dot for c in coordinates}
     terms = [total(constant) / 2]
     for (i, j), groups in quadratic.items():
         weight = velocities[i] ** 2 / 2 if i == j else velocities[i] * velocities[j]
-        terms.append(total(groups) * weight)
+        terms.append(total(groups, points_sum) * weight)
     terms += [total(groups) * velocities[i] for i, groups in linear.items()]
     return _converted(se.Add(*terms), symbols, cache, known)
+
+
+class _Movers:
+    """Which points move with each Jacobian column (i, column id), and so the pairs of
+    columns T pairs: each pair with the points that move with both, in the order the
+    points meet them.
+
+    Listing each point's pairs would be O(n^3) for a chain (171,700 at n = 100, a dict
+    update each); here each column gets a number and its points a set, and a pair's
+    points are the intersection of its columns' sets (in C).
+    """
+
+    def __init__(self):
+        self.numbers: dict = {}  # (i, column id) -> its number
+        self.columns: list = []  # number -> (i, column id)
+        self.points: list = []  # number -> the set of points that move with it
+        self.actives: list = []  # point -> the numbers of its columns, by i
+
+    def add(self, point: int, active: list) -> None:
+        numbers = []
+        for column in active:
+            number = self.numbers.get(column)
+            if number is None:
+                number = self.numbers[column] = len(self.columns)
+                self.columns.append(column)
+                self.points.append(set())
+            self.points[number].add(point)
+            numbers.append(number)
+        self.actives.append(numbers)
+
+    def pairs(self) -> list:
+        """[((i, column id), (j, column id)), points] for i <= j, each pair of columns some
+        point moves with, with the (sorted) numbers of the points that move with both; in
+        the order a walk of each point's pairs (by i, then j) first meets them."""
+        columns, points, actives = self.columns, self.points, self.actives
+        found = []
+        for a, holders in enumerate(points):
+            beside: set = set()  # the columns some point moves with along with a
+            for point in holders:
+                beside.update(actives[point])
+            i = columns[a][0]
+            for b in beside:
+                if columns[b][0] > i or b == a:
+                    together = tuple(sorted(holders & points[b]))
+                    found.append((together[0], i, columns[b][0], a, b, together))
+        found.sort(key=lambda entry: entry[:3])
+        return [((columns[a], columns[b]), together) for *_, a, b, together in found]
 
 
 class Converted(Later):
@@ -214,9 +267,10 @@ class _PositionTerms:
     terms), and so is each column made of the same derivatives (their sums are made once).
     """
 
-    def __init__(self, q):
+    def __init__(self, q, t):
         self.index = {qi: i for i, qi in enumerate(q)}
-        self.known: dict = {}  # term -> ([(i, d term/dq_i)], whether it holds Abs or sign)
+        self.time = self.index[t] = len(q)  # dr/dt is made as the columns are
+        self.known: dict = {}  # term -> ([(i, d term/dq_i or dt)], whether it holds Abs or sign)
         self.made: dict = {}  # the derivatives a column adds up, per component -> the column
 
     def term(self, term) -> tuple[list, bool]:
@@ -233,8 +287,9 @@ class _PositionTerms:
             found = self.known[term] = (derivatives, bool(term.atoms(se.Abs, se.sign)))
         return found
 
-    def columns(self, position) -> tuple[dict, bool]:
-        """({i: dr/dq_i} for the q_i that r depends on, whether r holds |u| or sign(u))."""
+    def columns(self, position) -> tuple[dict, tuple, bool]:
+        """({i: dr/dq_i} for the q_i that r depends on, the partial dr/dt, whether r holds
+        |u| or sign(u))."""
         import symengine as se
 
         nonsmooth = False
@@ -245,6 +300,7 @@ class _PositionTerms:
                 nonsmooth = nonsmooth or holds
                 for i, derivative in derivatives:
                     parts[i][k].append(derivative)
+        explicit = tuple(se.Add(*terms) for terms in parts.pop(self.time, [[] for _ in position]))
         columns = {}
         for i in sorted(parts):
             key = tuple(map(tuple, parts[i]))
@@ -254,7 +310,7 @@ class _PositionTerms:
                 self.made[key] = column = None if all(x.is_zero for x in column) else column
             if column is not None:
                 columns[i] = column
-        return columns, nonsmooth
+        return columns, explicit, nonsmooth
 
 
 def gravity_potential_large(

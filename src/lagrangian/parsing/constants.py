@@ -63,10 +63,22 @@ class RealConstants:
     """
 
     def __init__(self) -> None:
-        self.iv, self.mp = _contexts()
         self.known: dict[sympy.Basic, object] = {}
+
+    # mpmath's contexts and the table of functions, made on the first constant met: a
+    # checker is made per expression parsed, and most meet none (sin(q), l*q_dot**2)
+    @functools.cached_property
+    def iv(self) -> MPIntervalContext:
+        return _contexts()[0]
+
+    @functools.cached_property
+    def mp(self) -> MPContext:
+        return _contexts()[1]
+
+    @functools.cached_property
+    def functions(self) -> dict[type, Callable[[object], object]]:
         mp = self.mp
-        self.functions: dict[type, Callable[[object], object]] = {
+        return {
             sympy.exp: self._exp,
             sympy.log: self._log,
             sympy.sin: self.iv.sin,
@@ -124,19 +136,18 @@ class RealConstants:
     # -- one node from the enclosures of its arguments ----------------------------------
 
     def _evaluate(self, node: sympy.Basic, values: Sequence[object]):
-        iv = self.iv
         if node is sympy.I:
             raise _OutsideDomain
         if any(node is special for special in _NON_FINITE):
             raise NotRealError(node, "is infinite or undefined")
         if node.is_Rational:
-            return iv.mpf(node.p) / iv.mpf(node.q)
+            return self.iv.mpf(node.p) / self.iv.mpf(node.q)
         if node.is_Float:
-            return iv.mpf(self.mp.make_mpf(node._mpf_))
+            return self.iv.mpf(self.mp.make_mpf(node._mpf_))
         if node is sympy.pi:
-            return iv.pi
+            return self.iv.pi
         if node is sympy.E:
-            return iv.e
+            return self.iv.e
         if not values or any(value is None for value in values):
             return None  # a symbol, an unknown atom, or an argument that is not constant
         if node.is_Add:
