@@ -13,7 +13,7 @@ module (cached on disk like every generated numba module,
                                  tc[:SIZE, 0]; rows SIZE.. hold time and the operations
                                  (then the spare rows of SCALED operations).
                                  ``tc`` is (ROWS, STRIDE) and C-contiguous, ``flat`` the
-                                 same memory as one row (``tc.reshape(-1)``), which is
+                                 same memory as one 1-D array (``tc.reshape(-1)``), which is
                                  what the function indexes: a row begins at a constant
                                  (row * STRIDE), where numba's 2-D indexing multiplied
                                  by the row stride it reads at run time and kept the

@@ -14,7 +14,7 @@ is its own: a call through a pointer cost 0.15 us a step, 15% of the double pend
             limit, keep, program, exponents, kept) -> status
 
 takes steps from (t, y) = (``clock[0]``, ``tc[:size, 0]``) towards ``t_end``, at most
-``limit`` of them (``flat``: ``tc``'s memory as one row, which a printed system's
+``limit`` of them (``flat``: ``tc``'s memory as a 1-D array, which a printed system's
 coefficients index), the step's order ``order`` and size by Jorba and Zou's rule as heyoka
 takes it (Biscani and Izzo, MNRAS 504 (2021), section 2.2): with x = max |y_i|,
 N_j = max_i |y_i[j]| over the coefficients of orders j = order - 1 and order, and
