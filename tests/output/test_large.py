@@ -267,3 +267,27 @@ def test_sums_holding_a_written_sum_print_as_symengine_does():
         assert symengine_text(whole, {inner: str(inner)}) == str(whole)
         reused += "MARK" in symengine_text(whole, {inner: "MARK"})
     assert reused > 100
+
+
+@pytest.mark.parametrize(
+    ("write", "walk"), [(output.format_equations, UnicodeWalk), (output.latex_equations, LatexWalk)]
+)
+def test_the_collector_rests_while_a_large_system_is_walked(write, walk, monkeypatch):
+    """A large system's walk keeps its records (tuples, without a cycle among them) alive by
+    the hundred thousand, which set off full collections of the whole heap: the collector
+    is off at every node the text or LaTeX walk visits, and on again after."""
+    import gc
+
+    eom = chain(FAST_MIN_COORDINATES).equations_of_motion()
+    visit, collecting = walk._visit, []
+
+    def watched(self, node):
+        collecting.append(gc.isenabled())
+        return visit(self, node)
+
+    monkeypatch.setattr(walk, "_visit", watched)
+    assert gc.isenabled()
+    text = write(eom)
+    assert len(collecting) > 100 and not any(collecting)
+    assert gc.isenabled()
+    assert text.count("= ") > FAST_MIN_COORDINATES

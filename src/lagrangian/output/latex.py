@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sympy
 
+from ..collector import cycle_collector_paused
 from ..derive import EquationsOfMotion
 from ..model import System
 from .large import latex_printer, printed
@@ -30,6 +31,7 @@ def aligned(rows: list[str]) -> str:
     return "\\begin{align*}\n" + " \\\\\n".join(rows) + "\n\\end{align*}"
 
 
+@cycle_collector_paused()  # a large system's walk keeps 100,000s of records, no cycles
 def equation_rows(eom: EquationsOfMotion) -> list[str]:
     """The rows of :func:`latex_equations`."""
     system = eom.system
@@ -65,6 +67,7 @@ def latex_steps(eom: EquationsOfMotion) -> str:
     return aligned(step_rows(eom))
 
 
+@cycle_collector_paused()  # a large system's walk keeps 100,000s of records, no cycles
 def step_rows(eom: EquationsOfMotion) -> list[str]:
     """The rows of :func:`latex_steps`."""
     system = eom.system

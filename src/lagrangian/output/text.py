@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sympy
 
+from ..collector import cycle_collector_paused
 from ..derive import EquationsOfMotion
 from ..model import System
 from .large import printed, unicode_printer
@@ -17,6 +18,7 @@ def unicode_expression(expr: sympy.Expr, system: System | None = None) -> str:
     return UnicodePrinter(declared_functions(system)).doprint(expr)
 
 
+@cycle_collector_paused()  # a large system's walk keeps 100,000s of records, no cycles
 def format_equations(eom: EquationsOfMotion) -> str:
     """The equations of motion as text: L, the equations (= 0) and the accelerations."""
     system = eom.system
@@ -56,6 +58,7 @@ _STEP_LINES = {
 }
 
 
+@cycle_collector_paused()  # a large system's walk keeps 100,000s of records, no cycles
 def format_steps(eom: EquationsOfMotion) -> str:
     """The derivation as done by hand: T, V, L, then each coordinate's terms."""
     system = eom.system
