@@ -79,3 +79,34 @@ def test_a_denominator_with_a_squared_cosine_is_written_as_a_textbook_writes_it(
     m1, m2, t1, t2 = (eom.system.symbol(n) for n in ("m1", "m2", "theta1", "theta2"))
     denominator = sympy.fraction(eom.accelerations["theta1"])[1]
     assert m1 + m2 * sympy.sin(t1 - t2) ** 2 in sympy.Mul.make_args(denominator)
+
+
+def test_to_symengine_looks_up_a_converted_node_once():
+    """A large model's positions are sums of the same terms: each term met again costs one
+    lookup of the cache (before: a membership test, then the item)."""
+    from lagrangian.algebra import to_symengine
+
+    class Counted(dict):
+        lookups = 0
+
+        def __contains__(self, key):
+            Counted.lookups += 1
+            return super().__contains__(key)
+
+        def __getitem__(self, key):
+            Counted.lookups += 1
+            return super().__getitem__(key)
+
+        def get(self, key, default=None):
+            Counted.lookups += 1
+            return super().get(key, default)
+
+    x, y = sympy.symbols("x y", real=True)
+    terms = [x * sympy.sin(y), y * sympy.cos(x), x**2]
+    cache = Counted()
+    first = to_symengine(sympy.Add(*terms), cache)
+    Counted.lookups = 0
+    again = to_symengine(sympy.Add(*terms[:2]), cache)
+    assert Counted.lookups == 3  # the new sum, then its two terms once each
+    assert str(again) == str(to_symengine(sympy.Add(*terms[:2])))
+    assert first == to_symengine(sympy.Add(*terms))

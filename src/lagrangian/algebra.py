@@ -372,8 +372,9 @@ def to_symengine(expr: sympy.Expr, cache: dict | None = None):
     cache = {} if cache is None else cache
 
     def convert(node):
-        if node in cache:
-            return cache[node]
+        found = cache.get(node)  # one lookup: a large model's sums meet each term often
+        if found is not None:
+            return found
         if node.is_Symbol:
             result = se.Symbol(node.name)
         elif node.is_Integer:
@@ -381,9 +382,9 @@ def to_symengine(expr: sympy.Expr, cache: dict | None = None):
         elif node.is_Rational:
             result = se.Rational(int(node.p), int(node.q))
         elif node.is_Add:
-            result = se.Add(*(convert(a) for a in node.args))
+            result = se.Add(*[convert(a) for a in node.args])
         elif node.is_Mul:
-            result = se.Mul(*(convert(a) for a in node.args))
+            result = se.Mul(*[convert(a) for a in node.args])
         elif node.is_Pow:
             result = se.Pow(convert(node.base), convert(node.exp))
         elif node is sympy.pi:
