@@ -9,7 +9,6 @@ from ..derive import EquationsOfMotion
 from ..model import System
 from .large import latex_printer, printed
 from .notation import DotLatexPrinter, declared_functions, equality, latex_name, step_terms
-from .units import latex_units_row
 
 
 def latex_expression(expr: sympy.Expr, system: System | None = None) -> str:
@@ -37,7 +36,7 @@ def equation_rows(eom: EquationsOfMotion) -> list[str]:
     system = eom.system
     show = latex_printer(system)  # linear-time printing for large systems
     shown = printed(eom)
-    rows = [row for row in (latex_units_row(system),) if row is not None]
+    rows = _units_rows(system)
     rows.append(rf"L &= {show(shown.lagrangian)}")
     rows += [rf"0 &= {show(equation)}" for equation in shown.equations]
     if eom.accelerations is not None:
@@ -48,6 +47,15 @@ def equation_rows(eom: EquationsOfMotion) -> list[str]:
     if eom.multipliers is not None:
         rows += [_solved(latex_name(n), v, system) for n, v in eom.multipliers.items()]
     return rows
+
+
+def _units_rows(system: System) -> list[str]:
+    """The units row of a dimensioned model; none otherwise (nor the units module imported)."""
+    if system.units is None:
+        return []
+    from .units import latex_units_row
+
+    return [latex_units_row(system)]
 
 
 #: The row of each term of a coordinate's equation (see notation.step_terms).
@@ -72,7 +80,7 @@ def step_rows(eom: EquationsOfMotion) -> list[str]:
     """The rows of :func:`latex_steps`."""
     system = eom.system
     show = latex_printer(system)  # linear-time printing for large systems
-    rows = [row for row in (latex_units_row(system),) if row is not None]
+    rows = _units_rows(system)
     if system.kinetic is not None:
         rows += [rf"T &= {show(system.kinetic)}", rf"V &= {show(system.potential)}"]
     rows.append(rf"L &= {show(system.lagrangian)}")

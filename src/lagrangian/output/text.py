@@ -8,9 +8,7 @@ from ..collector import cycle_collector_paused
 from ..derive import EquationsOfMotion
 from ..model import System
 from .large import printed, unicode_printer
-from .linkage_summary import linkage_lines
 from .notation import UnicodePrinter, declared_functions, equality, step_terms, unicode_name
-from .units import units_line
 
 
 def unicode_expression(expr: sympy.Expr, system: System | None = None) -> str:
@@ -42,7 +40,10 @@ def format_equations(eom: EquationsOfMotion) -> str:
         lines.append("Lagrange multipliers (constraint forces):")
         for name, value in eom.multipliers.items():
             lines.append("  " + equality(unicode_name(name), value, show))
-    lines += linkage_lines(eom)
+    if system.linkage is not None:  # the linkage module imported for linkages only
+        from .linkage_summary import linkage_lines
+
+        lines += linkage_lines(eom)
     return "\n".join(lines)
 
 
@@ -92,6 +93,10 @@ def format_steps(eom: EquationsOfMotion) -> str:
 
 def _title(system: System) -> str:
     """The model's name and coordinates, and a second line of its units if it has them."""
+    if system.units is None:  # the units module imported for dimensioned models only
+        return _name_line(system)
+    from .units import units_line
+
     line = units_line(system)
     return _name_line(system) + (f"\n{line}" if line else "")
 
