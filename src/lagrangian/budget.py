@@ -368,15 +368,20 @@ def expanded_terms(
     pending: list = [(expr, None)]  # (node, its args once its args are pending)
     while pending:
         node, args = pending.pop()
-        if node in counts:
-            continue
-        if args is None:  # the args first (each read once: SymEngine makes them anew)
-            args = node.args
-            pending.append((node, args))
-            pending.extend((arg, None) for arg in args if arg not in counts)
-            continue
-        if node.is_Add:
-            terms = min(sum(counts[arg] for arg in args), over)
+        if args is None:
+            if node in counts:
+                continue
+            args = node.args  # each read once: SymEngine makes them anew
+            if args:
+                missing = [(arg, None) for arg in args if arg not in counts]
+                if missing:  # the args first, then the node again
+                    pending.append((node, args))
+                    pending += missing
+                    continue
+        if not args:  # a symbol, a number
+            terms = 1
+        elif node.is_Add:
+            terms = min(sum([counts[arg] for arg in args]), over)
         elif node.is_Mul:
             terms = 1
             for arg in args:
@@ -386,12 +391,13 @@ def expanded_terms(
             expanded = _multinomial_terms(counts[args[0]], abs(math.trunc(exponent)), over)
             worst = max(worst, expanded)  # a denominator is expanded, but is one term
             terms = expanded if exponent > 0 else 1
-        else:  # a symbol, a number, a function: one term (its arguments counted in worst)
+        else:  # a function: one term (its arguments counted in worst)
             terms = 1
         counts[node] = terms
         if kinds is not None:
             kinds.add(type(node))
-        worst = max(worst, terms)
+        if terms > worst:
+            worst = terms
         if worst > limit:
             return over
     return worst
