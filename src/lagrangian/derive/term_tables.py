@@ -43,6 +43,8 @@ class TermTables:
         self._exprs: dict = {(): self.one}  # monomial -> its SymEngine form
         self._atom_derivatives: dict = {}  # (atom, symbol) -> ([(monomial, factors)], cost)
         self._integers: dict = {}
+        self._circular = (se.sin, se.cos)
+        self._partners: dict = {}  # atom sin(u) or cos(u) -> (u, the other's (atom, 1))
 
     def _factor(self, factor):
         """What ``factor`` of a term is (cached: the same factors recur): False where it
@@ -274,10 +276,38 @@ class TermTables:
         """([(monomial, factors)], terms counted) of d atom / d symbol; None where the
         derivative is a sum (SymEngine's derivative of the product then stays one term
         with that sum as a factor, which the split expands otherwise)."""
-        derivative = self.derivative(self.atoms[atom], self.atoms[symbol])
-        found = None if type(derivative) is self.se.Add else self._terms(derivative)
+        base = self.atoms[atom]
+        found = _UNKNOWN
+        if type(base) in self._circular:
+            found = self._circular_derivative(atom, base, symbol)
+        if found is _UNKNOWN:
+            derivative = self.derivative(base, self.atoms[symbol])
+            found = None if type(derivative) is self.se.Add else self._terms(derivative)
         self._atom_derivatives[(atom, symbol)] = found
         return found
+
+    def _circular_derivative(self, atom: int, base, symbol: int):
+        """d sin(u)/ds = cos(u) du/ds and d cos(u)/ds = -sin(u) du/ds where du/ds holds no
+        state symbol, as ``_atom_derivative`` gives them (the factors of SymEngine's
+        derivative, without making and splitting it); _UNKNOWN otherwise."""
+        se = self.se
+        partner = self._partners.get(atom)
+        if partner is None:
+            (inside,) = base.args
+            made = se.cos(inside) if type(base) is se.sin else se.sin(inside)
+            power = None
+            if type(made) in self._circular:  # not -sin(u) for an odd sin of a negation
+                power = self._factors.get(made) or self._factor(made)
+            partner = self._partners[atom] = (inside, power)
+        inside, power = partner
+        if power is None:
+            return _UNKNOWN
+        rate = se.diff(inside, self.atoms[symbol])
+        if not rate.is_Number and rate.free_symbols & self.state:
+            return _UNKNOWN
+        if type(base) is se.cos:
+            rate = -rate
+        return [((power,), () if rate == 1 else (rate,))], 1
 
     def _integer(self, k: int):
         found = self._integers.get(k)
