@@ -215,8 +215,8 @@ class TermTables:
         times the state symbol numbered ``times`` where that is not None: the terms
         SymEngine's derivative would give, split."""
         Mul = self.se.Mul
-        MINUS = (self.se.Integer(-1),)
         symbols, plain, derivatives = self.symbols, self._plain, self._atom_derivatives
+        made = 0  # terms counted, added to self.made table by table
         for monomial in table if monomials is None else monomials:
             scale = table[monomial]
             for symbol, held in symbols[monomial].items():
@@ -230,6 +230,8 @@ class TermTables:
                     if found is _UNKNOWN:
                         found = self._atom_derivative(held[0], symbol)
                 if found is None:  # SymEngine's derivative of the whole monomial
+                    self._count(made)
+                    made = 0
                     derivative = self.derivative(self.expr_of(monomial), self.atoms[symbol])
                     if times is not None:
                         derivative = derivative * self.atoms[times]
@@ -247,30 +249,26 @@ class TermTables:
                     lowered = (self._integer(exponent),)
                 if times is not None:
                     rest[times] = rest.get(times, 0) + 1
-                for powers, factors in terms:
-                    if powers:
-                        product = rest.copy()
-                        for a, k in powers:
-                            k += product.get(a, 0)
-                            if type(k) is not int and k.is_Integer:  # a sum of rationals
-                                k = int(k)
-                            if k == 0:
-                                del product[a]
-                            else:
-                                product[a] = k
-                        key = tuple(sorted(product.items()))
-                    else:
-                        key = tuple(sorted(rest.items()))
-                    factors = lowered + factors
-                    if not factors:
-                        into[key].append(scale)
-                    elif factors == MINUS:  # the same product as Mul's, made faster
+                single = len(terms) == 1
+                for powers, factors, negated in terms:
+                    product = rest if single else rest.copy()
+                    for a, k in powers:
+                        k += product.get(a, 0)
+                        if type(k) is not int and k.is_Integer:  # a sum of rationals
+                            k = int(k)
+                        if k == 0:
+                            del product[a]
+                        else:
+                            product[a] = k
+                    key = tuple(sorted(product.items()))
+                    if lowered:
+                        into[key].append(Mul(scale, *lowered, *factors))
+                    elif negated:  # the product Mul(scale, -1) makes, made faster
                         into[key].append(-scale)
                     else:
-                        into[key].append(Mul(scale, *factors))
-                self.made += cost
-                if self.made > MAX_EXPANDED_TERMS:
-                    raise too_many_terms(self.field())
+                        into[key].append(Mul(scale, *factors) if factors else scale)
+                made += cost
+        self._count(made)
 
     def _atom_derivative(self, atom: int, symbol: int):
         """([(monomial, factors)], terms counted) of d atom / d symbol; None where the
@@ -283,6 +281,9 @@ class TermTables:
         if found is _UNKNOWN:
             derivative = self.derivative(base, self.atoms[symbol])
             found = None if type(derivative) is self.se.Add else self._terms(derivative)
+        if found is not None:  # each term marked where its coefficient is -1 alone
+            minus = (self.se.Integer(-1),)
+            found = [(m, f, f == minus) for m, f in found[0]], found[1]
         self._atom_derivatives[(atom, symbol)] = found
         return found
 
@@ -334,8 +335,14 @@ class TermTables:
         return into
 
     def expr(self, table: dict):
-        expr_of = self.expr_of
-        return self.se.Add(*(c * expr_of(m) for m, c in table.items()))
+        """The sum of ``table``'s terms, each one product of its coefficient and powers."""
+        Mul, atoms = self.se.Mul, self.atoms
+        return self.se.Add(
+            *(
+                Mul(c, *[atoms[a] if k == 1 else atoms[a] ** k for a, k in m]) if m else c
+                for m, c in table.items()
+            )
+        )
 
 
 _UNKNOWN = object()
