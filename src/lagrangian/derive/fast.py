@@ -231,9 +231,14 @@ def _coordinate_tables(tables: TermTables, given: dict, forces: list) -> Iterato
         total = defaultdict(list)
         for monomial, coefficient in gradient.items():
             total[monomial].append(coefficient)
-        for table in (velocity_terms, friction):
-            for monomial, coefficient in table.items():
+        for monomial, coefficient in velocity_terms.items():
+            found = total.get(monomial)
+            if found is not None and len(found) == 1 and found[0] == coefficient:
+                del total[monomial]  # c - c: a chain's q_i' q_j' terms (the sum would be 0)
+            else:
                 total[monomial].append(-coefficient)
+        for monomial, coefficient in friction.items():
+            total[monomial].append(-coefficient)
         if force is not None:
             split(force, total)
         yield _Parts(tables, momentum, row_parts, velocity_terms, gradient, friction, total)

@@ -74,18 +74,25 @@ class TermTables:
             elif not exponent.is_Rational:
                 base, exponent = factor, 1
         number = self._numbers.get(base)
-        if number is None:
-            number = self._numbers[base] = len(self.atoms)
-            self.atoms.append(base)  # b^k with a number k holds b's symbols
-            self._holds.append(tuple(sorted(self._numbers[s] for s in held)))
+        if number is None:  # b^k with a number k holds b's symbols
+            holds = tuple(sorted(self._numbers[s] for s in held))
             # the product rule over atoms gives SymEngine's terms where the atom is a
             # symbol or a function of the state that SymEngine differentiates itself
-            self._plain.append(
+            plain = (
                 type(base) not in (se.Add, se.Mul, se.Pow)
                 and not base.is_Number
                 and not (self.nonsmooth and base.atoms(se.Abs, se.sign))
             )
+            number = self._atom(base, holds, plain)
         return (number, exponent)
+
+    def _atom(self, base, holds: tuple, plain: bool) -> int:
+        """The number of a new atom ``base`` holding the symbols numbered ``holds``."""
+        number = self._numbers[base] = len(self.atoms)
+        self.atoms.append(base)
+        self._holds.append(holds)
+        self._plain.append(plain)
+        return number
 
     def expr_of(self, monomial: tuple):
         """The SymEngine form of ``monomial`` (made once)."""
@@ -298,7 +305,10 @@ class TermTables:
             made = se.cos(inside) if type(base) is se.sin else se.sin(inside)
             power = None
             if type(made) in self._circular:  # not -sin(u) for an odd sin of a negation
-                power = self._factors.get(made) or self._factor(made)
+                power = self._factors.get(made)
+                if power is None:  # an atom holding the symbols that its partner holds
+                    number = self._atom(made, self._holds[atom], self._plain[atom])
+                    power = self._factors[made] = (number, 1)
             partner = self._partners[atom] = (inside, power)
         inside, power = partner
         if power is None:
