@@ -365,6 +365,7 @@ def expanded_terms(
     over = limit + 1
     counts: dict = {}  # node -> terms of its own expansion
     worst = 0  # the largest expansion made on the way, of any node
+    shapes: dict = {}  # node's type -> "add", "mul", "pow" or "" (asked once per type)
     pending: list = [(expr, None)]  # (node, its args once its args are pending)
     while pending:
         node, args = pending.pop()
@@ -378,15 +379,18 @@ def expanded_terms(
                     pending.append((node, args))
                     pending += missing
                     continue
+        shape = shapes.get(type(node))
+        if shape is None:
+            shape = shapes[type(node)] = _shape(node)
         if not args:  # a symbol, a number
             terms = 1
-        elif node.is_Add:
+        elif shape == "add":
             terms = min(sum([counts[arg] for arg in args]), over)
-        elif node.is_Mul:
+        elif shape == "mul":
             terms = 1
             for arg in args:
                 terms = min(terms * counts[arg], over)
-        elif powers and node.is_Pow and args[1].is_Rational:  # SymPy expands (a + b)^(5/2) too
+        elif powers and shape == "pow" and args[1].is_Rational:  # SymPy expands (a + b)^(5/2)
             exponent = Fraction(str(args[1]))
             expanded = _multinomial_terms(counts[args[0]], abs(math.trunc(exponent)), over)
             worst = max(worst, expanded)  # a denominator is expanded, but is one term
@@ -394,13 +398,20 @@ def expanded_terms(
         else:  # a function: one term (its arguments counted in worst)
             terms = 1
         counts[node] = terms
-        if kinds is not None:
-            kinds.add(type(node))
         if terms > worst:
             worst = terms
         if worst > limit:
+            if kinds is not None:
+                kinds.update(shapes)
             return over
+    if kinds is not None:
+        kinds.update(shapes)
     return worst
+
+
+def _shape(node) -> str:
+    """How ``expanded_terms`` counts a node of this type (SymPy's and SymEngine's alike)."""
+    return "add" if node.is_Add else "mul" if node.is_Mul else "pow" if node.is_Pow else ""
 
 
 def _multinomial_terms(n: int, k: int, over: int) -> int:
