@@ -104,9 +104,12 @@ def test_a_sum_of_plain_terms_is_the_sum_sympy_makes():
     pool += [sympy.Integer(0), sympy.Function("f")(x), -3 * l * y1 / 7, x**y1, sympy.sqrt(l)]
     key = functools.cmp_to_key(sympy.Basic.compare)
     made = 0
+    known: dict = {}  # each term's part, kept across the sums (a model's sums share terms)
     for _ in range(400):
         values = sorted(rng.sample(pool, rng.randint(1, 8)), key=key)
         fast = sorted_sum(values)
+        remembered = sorted_sum(values, known)
+        assert (fast is None and remembered is None) or fast.args == remembered.args
         if fast is not None:
             made += 1
             expected = sympy.Add(*values)
@@ -170,3 +173,29 @@ def test_a_product_of_plain_factors_is_the_product_sympy_makes():
             assert fast == expected and hash(fast) == hash(expected)
             assert list(fast.args) == sorted(factors, key=key)
     assert 50 < made < 600
+
+
+def test_the_parts_of_a_sum_are_found_by_identity(monkeypatch):
+    """``Terms.union`` and ``sorted_sum``'s memo find a term met before by identity (the
+    terms are built once per model): no SymPy hash, a Python call, per use of a term."""
+    from lagrangian.parsing.terms import sorted_sum
+
+    terms = Terms()
+    values = [sympy.Symbol(f"y{i}") * sympy.sin(X) for i in range(30)]
+    total = sympy.Add(*values)
+    ordered = list(total.args)
+    known: dict = {}
+    assert terms.union(total, lambda term: {len(term.args)}) == {2}
+    assert sorted_sum(ordered, known) == total
+    hashed: list = []
+    basic_hash = sympy.Basic.__hash__
+
+    def counted(self):
+        hashed.append(self)
+        return basic_hash(self)
+
+    monkeypatch.setattr(sympy.Basic, "__hash__", counted)
+    assert terms.union(total, lambda term: {len(term.args)}) == {2}
+    assert not hashed
+    assert sorted_sum(ordered, known) == total
+    assert len(hashed) == 2 * len(ordered)  # only the parts, in and into its set of seen

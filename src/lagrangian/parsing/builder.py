@@ -154,7 +154,8 @@ class _Builder:
         limit = self.limits.max_result_digits
         self.check_digits(sum_size(values, limit, terms.number_sizes), position)
         ordered = terms.in_canonical_order(values)  # the same sum, its sort done mostly
-        made = sorted_sum(ordered)  # the same sum, where Add would only keep the terms
+        # the same sum, where Add would only keep the terms
+        made = sorted_sum(ordered, terms.plain_parts)
         if made is not None:
             return made
         return self.evaluate(lambda: sympy.Add(*ordered), "the sum", position)

@@ -33,8 +33,9 @@ class Terms:
         self.built: dict = {}
         self.negated: dict = {}  # {(text, latex): -value} of the terms written after a minus
         self.tokens: dict = {}  # {text: its token count} of the terms split without a parse
-        self.parts: dict = {}  # {what: {term: what(term)}} (see union)
+        self.parts: dict = {}  # {what: {id(term): (term, what(term))}} (see union)
         self.number_sizes: dict = {}  # {term: (numeric size, denominators)} (builder's)
+        self.plain_parts: dict = {}  # {id(term): (term, its part)} (sorted_sum's)
         self._ordered: list = []  # the distinct terms met, in SymPy's canonical order
         self._rank: dict = {}  # term -> its place in _ordered
 
@@ -44,13 +45,15 @@ class Terms:
         a chain's positions are sums of the same terms, met O(n^2) times."""
         if type(expr) is not sympy.Add:
             return what(expr)
+        # by identity (the terms are built once): a SymPy hash is a Python call; the entry
+        # keeps its term alive, so no other term can have its id
         found = self.parts.setdefault(what, {})
         union: set = set()
         for term in expr.args:
-            part = found.get(term)
-            if part is None:
-                part = found[term] = what(term)
-            union |= part
+            entry = found.get(id(term))
+            if entry is None:
+                entry = found[id(term)] = (term, what(term))
+            union |= entry[1]
         return union
 
     def in_canonical_order(self, values: list) -> list:
@@ -77,7 +80,7 @@ class Terms:
 _PLAIN_TERMS = (sympy.Symbol, sympy.Mul, sympy.Pow, sympy.Function)
 
 
-def sorted_sum(ordered: list) -> sympy.Expr | None:
+def sorted_sum(ordered: list, known: dict | None = None) -> sympy.Expr | None:
     """``sympy.Add(*ordered)`` for terms already in ``Add``'s order that it would only
     keep, made without ``Add``'s evaluation; None where that would do more.
 
@@ -85,23 +88,36 @@ def sorted_sum(ordered: list) -> sympy.Expr | None:
     values, then sorts; with none of these, its result is the terms in their order, the
     zeros dropped.  The first evaluated sum of a process also imports sympy.tensor and
     sympy.combinatorics (0.03 s), which a model of plain terms then never needs.
+    ``known`` keeps each term's part without its coefficient (False: not a plain term), by
+    identity, for the next sums: a chain's sums share their terms, and ``as_coeff_Mul`` of
+    -l cos(q) makes a new product (and its hash) each time.
     """
     terms = [term for term in ordered if term is not sympy.S.Zero]
     if len(terms) < 2 or not global_parameters.evaluate:
         return None
     seen = set()
     for term in terms:
-        if not isinstance(term, _PLAIN_TERMS) or term.is_commutative is not True:
-            return None
-        if term.is_Pow and term.base.is_Number:
-            return None  # 2**(-1/2): Add evaluates it again
-        part = term.as_coeff_Mul()[1] if term.is_Mul else term
-        if part in seen:
+        entry = None if known is None else known.get(id(term))  # by identity, as union
+        if entry is None:
+            entry = (term, _plain_part(term))
+            if known is not None:
+                known[id(term)] = entry
+        part = entry[1]
+        if part is False or part in seen:
             return None  # like terms: Add adds their coefficients
         seen.add(part)
     return sympy.Add._exec_constructor_postprocessors(
         sympy.Add._from_args(terms, is_commutative=True)
     )
+
+
+def _plain_part(term: sympy.Expr) -> sympy.Expr | bool:
+    """``term`` without its numeric coefficient, or False where ``term`` is not plain."""
+    if not isinstance(term, _PLAIN_TERMS) or term.is_commutative is not True:
+        return False
+    if term.is_Pow and term.base.is_Number:
+        return False  # 2**(-1/2): Add evaluates it again
+    return term.as_coeff_Mul()[1] if term.is_Mul else term
 
 
 #: The functions :func:`plain_call` makes of a real symbol: their ``eval`` leaves it as is.
