@@ -98,3 +98,28 @@ def test_a_mass_of_two_parameters_among_others_is_checked_at_their_defaults(tmp_
         lg.load(model)
     model.write_text(model.read_text().replace("m1 - m2", "m2 - m1"))
     assert lg.load(model).parameter_values["k"] == 3.0
+
+
+def test_the_masses_are_checked_against_the_defaults_made_once(monkeypatch):
+    """A large model has a mass per parameter or two: the defaults are gathered once for
+    all its masses (before: once per mass, O(n^2) for a chain), and a bad mass among
+    many is still named."""
+    from lagrangian.model import system as system_module
+    from lagrangian.model.values import check_masses
+
+    n = 12
+    particles = [lg.Particle(f"bob{i}", mass=f"m{i}", position=[f"x*l{i}", "0"]) for i in range(n)]
+    model = lg.System.from_particles(coordinates=["x"], particles=particles)
+    read: list[int] = []
+    defaults = system_module.System.parameter_values
+
+    def counted(self):
+        read.append(1)
+        return defaults.fget(self)
+
+    monkeypatch.setattr(system_module.System, "parameter_values", property(counted))
+    check_masses(model)
+    assert len(read) == 1
+    negative = {"m7": -2.0}
+    with pytest.raises(ModelError, match=r"the mass of 'bob7' \(particles\[7\]\.mass = m7\) is -2"):
+        check_masses(model, negative)

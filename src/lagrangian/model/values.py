@@ -101,14 +101,15 @@ def check_masses(system: System, values: Mapping[str, float | np.ndarray] | None
     """
     given_any = bool(values)
     values = values or {}
+    defaults = _defaults(system)  # once: a large model has a mass per parameter or two
     for field, what, expression, sign in masses(system):
-        used = sorted(s.name for s in expression.free_symbols)
+        free = expression.free_symbols  # only these are replaced: a Float for each
+        used = sorted(s.name for s in free)
         names = [name for name in used if name in values]
         if given_any and not names:
             continue  # checked at the defaults when the model was built
-        for at, shown in _combinations(system, names, values):
-            free = expression.free_symbols  # only these are replaced: a Float for each
-            value = expression.xreplace({k: sympy.Float(v) for k, v in at.items() if k in free})
+        for at, shown in _combinations(system, names, values, defaults):
+            value = expression.xreplace({k: sympy.Float(at[k]) for k in free if k in at})
             if not (value.is_number and value.is_real) or not SIGN_BREAKS[sign](float(value)):
                 continue
             if not shown:  # the defaults
@@ -166,16 +167,26 @@ def _check_body(
             raise ModelError(f"{error.message} (with {given})", field=field) from None
 
 
+def _defaults(system: System) -> dict[sympy.Symbol, float]:
+    """{symbol: default value} of the parameters that have one."""
+    symbols = {p.name: p.symbol for p in system.parameters}
+    return {symbols[n]: v for n, v in system.parameter_values.items()}
+
+
 def _combinations(
-    system: System, names: list[str], values: Mapping[str, float | np.ndarray]
+    system: System,
+    names: list[str],
+    values: Mapping[str, float | np.ndarray],
+    defaults: dict[sympy.Symbol, float] | None = None,
 ) -> Iterator[tuple[dict[sympy.Symbol, float], str]]:
     """Each distinct combination of the given values of the parameters ``names`` (arrays
-    broadcast together), the defaults for the others: ({symbol: value}, "a = 1, b = 2")."""
-    symbols = {p.name: p.symbol for p in system.parameters}
-    defaults = {symbols[n]: v for n, v in system.parameter_values.items()}
+    broadcast together), the defaults for the others (``defaults``, where made before):
+    ({symbol: value}, "a = 1, b = 2")."""
+    defaults = _defaults(system) if defaults is None else defaults
     if not names:
         yield defaults, ""
         return
+    symbols = {p.name: p.symbol for p in system.parameters}
     columns = np.broadcast_arrays(*(np.asarray(values[n], dtype=float) for n in names))
     for row in np.unique(np.stack([np.ravel(c) for c in columns], axis=1), axis=0):
         at = defaults | {symbols[n]: float(v) for n, v in zip(names, row, strict=True)}
