@@ -203,3 +203,26 @@ def test_the_partial_time_derivative_is_made_with_the_columns(rng):
             for i in range(4)
             if any(se.diff(x, q[i]) != 0 for x in position)
         }
+
+
+def test_the_positions_are_converted_to_symengine_once_for_t_and_v(monkeypatch, rng):
+    """V's large route starts from the SymEngine forms T's made of the positions (before:
+    each position, a sum of up to n terms, converted again for V)."""
+    from lagrangian.model import energy_large
+
+    convert = energy_large.to_symengine
+    made: list = []
+
+    def counted(expr, cache=None):
+        if cache is not None and isinstance(expr, sympy.Add) and expr not in cache:
+            made.append(expr)
+        return convert(expr, cache)
+
+    monkeypatch.setattr(energy_large, "to_symengine", counted)
+    n = 9
+    system = chain_pendulum(n)
+    assert made and len(made) == len(set(made))
+    point = random_point(system, rng)
+    kinetic, potential = _closed_form_energies(n, point)
+    assert_close(evaluate(system.potential, point), potential, scale=1.0)
+    assert_close(evaluate(system.lagrangian, point), kinetic - potential, scale=1.0)

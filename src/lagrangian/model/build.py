@@ -135,8 +135,9 @@ class _Builder(ModelNames):
         time = time_symbol()
         self._check_kinetic_work(particles, bodies)
         known: dict = {}  # SymPy -> SymEngine of what the large route assembled in SymEngine
+        converted: dict = {}  # the positions' SymEngine forms, made by T's large route for V
         kinetic = (
-            kinetic_energy(self.coordinates, time, particles, bodies, known)
+            kinetic_energy(self.coordinates, time, particles, bodies, known, converted)
             if (particles or bodies)
             else None
         )
@@ -146,7 +147,7 @@ class _Builder(ModelNames):
         if spec.potential is not None:
             potential_terms.append(resolved["potential"])
         if gravity is not None:
-            potential_terms.append(gravity_potential(gravity, particles, bodies, known))
+            potential_terms.append(gravity_potential(gravity, particles, bodies, known, converted))
         potential_terms += [spring_potential(s) for s in springs]
         conservative = self._by_coordinate(
             spec.conservative_forces, "conservative_forces", resolved

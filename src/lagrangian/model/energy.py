@@ -45,12 +45,15 @@ def kinetic_energy(
     particles: Sequence[Particle],
     bodies: Sequence[RigidBody2D | RigidBody],
     known: dict | None = None,
+    converted: dict | None = None,
 ) -> sympy.Expr | Converted:
     """T of the particles and rigid bodies (translation of the centre + rotation).
 
     ``known``, where given, gains {SymPy expression: its SymEngine form} of what the large
     route assembled in SymEngine (so that L converts back at the cost of its top level);
     T is then a :class:`~.energy_large.Converted`, made in SymPy on first read.
+    ``converted`` gains the SymEngine forms of the positions the large route converts
+    (V's large route starts from them: :func:`gravity_potential`).
 
     A 3-D body's rotation adds omega^T I omega / 2 with omega = A q' + b its body-frame
     angular velocity (:mod:`.rigid_body`): M += A^T I A, linear += A^T I b,
@@ -64,7 +67,8 @@ def kinetic_energy(
     bodies = [b for b in bodies if not isinstance(b, RigidBody)]
     if n >= FAST_MIN_COORDINATES:
         centers = [Particle(b.name, b.mass, b.position) for b in solids]
-        fast = kinetic_energy_large(coordinates, time, [*particles, *centers], bodies, known)
+        points = [*particles, *centers]
+        fast = kinetic_energy_large(coordinates, time, points, bodies, known, converted)
         if fast is not None and not solids:
             return fast  # made in SymPy on first read where ``known`` is given
         if fast is not None:
@@ -142,13 +146,14 @@ def gravity_potential(
     particles: Sequence[Particle],
     bodies: Sequence[RigidBody2D | RigidBody],
     known: dict | None = None,
+    converted: dict | None = None,
 ) -> sympy.Expr | Converted:
     """V = -g sum_k m_k (direction . r_k): height measured against the direction of gravity
-    (``known``: as for :func:`kinetic_energy`)."""
+    (``known``, ``converted``: as for :func:`kinetic_energy`)."""
     points = [(p.mass, p.position) for p in particles] + [(b.mass, b.center) for b in bodies]
     large = len(points) >= FAST_MIN_COORDINATES  # tidy costs more than it gives there
     if large:
-        fast = gravity_potential_large(gravity, points, known)
+        fast = gravity_potential_large(gravity, points, known, converted)
         if fast is not None:
             return fast
     terms = []

@@ -37,12 +37,14 @@ def kinetic_energy_large(
     particles: Sequence[Particle],
     bodies: Sequence[RigidBody2D],
     known: dict | None = None,
+    converted: dict | None = None,
 ) -> sympy.Expr | Converted | None:
     """T as in :func:`kinetic_energy`, assembled with SymEngine (None: not expressible there);
-    with ``known``, its SymPy form is made on first read (:class:`Converted`)."""
+    with ``known``, its SymPy form is made on first read (:class:`Converted`); ``converted``
+    (where given) is the conversion cache, kept for V (:func:`gravity_potential_large`)."""
     import symengine as se
 
-    cache: dict = {}
+    cache: dict = {} if converted is None else converted
     points = [(p.mass, p.position) for p in particles]
     points += [(b.mass, b.center) for b in bodies]
     points += [(b.inertia, (b.angle,)) for b in bodies]
@@ -314,13 +316,14 @@ class _PositionTerms:
 
 
 def gravity_potential_large(
-    gravity: Gravity, points, known: dict | None
+    gravity: Gravity, points, known: dict | None, converted: dict | None = None
 ) -> sympy.Expr | Converted | None:
     """The same sum in SymEngine, which does not re-sort each partial sum as SymPy does
-    (with ``known``, made in SymPy on first read, as T)."""
+    (with ``known``, made in SymPy on first read, as T); ``converted``: T's conversions, so
+    that the positions are converted once (a copy: V's own do not go into T's)."""
     import symengine as se
 
-    cache: dict = {}
+    cache: dict = {} if converted is None else dict(converted)
     given = [gravity.g, *gravity.direction] + [x for mass, r in points for x in (mass, *r)]
     if any(to_symengine(x, cache) is None for x in given):
         return None
