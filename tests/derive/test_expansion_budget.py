@@ -204,3 +204,22 @@ def test_the_count_s_walk_reports_the_kind_of_every_node():
         pending.extend(node.args)
     assert kinds == every
     assert {se.Abs, se.sign, se.sin} <= kinds
+
+
+@pytest.mark.parametrize("depth", [5, 199, 200, 201, 1200])
+def test_a_tree_nested_deeper_than_the_recursion_is_counted_the_same(depth):
+    """The count recurses node by node; a tree nested deeper than its bound (or than
+    Python's recursion limit, 1200 levels) is walked by a stack to the same answer:
+    sin((sin((x + y)^3) + y)^3) ... each level the cube of a sum of two terms (4 terms
+    expanded, C(4, 3)) inside a function (one term), and every kind of node reported."""
+    import symengine as se
+
+    for expr, sin in ((x, sympy.sin), (algebra.to_symengine(x), se.sin)):
+        for _ in range(depth):
+            expr = sin((expr + y) ** 3)
+        kinds: set = set()
+        assert expanded_terms(expr, kinds=kinds) == 4
+        assert expanded_terms(expr, 3) == 4  # over its limit: limit + 1
+        assert expanded_terms(expr, powers=False) == 2  # without powers: the sum's terms
+        power = expr.args[0]
+        assert {type(expr), type(power), type(power.args[0]), type(power.args[1])} <= kinds
