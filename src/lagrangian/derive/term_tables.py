@@ -53,7 +53,10 @@ class TermTables:
         factor is a sum or a power of one, which expansion distributes."""
         se = self.se
         kind = type(factor)
-        held = factor.free_symbols & self.state
+        if kind is se.Symbol:  # a parameter or a state symbol (no set of its symbols made)
+            held = (factor,) if factor in self.state else ()
+        else:
+            held = factor.free_symbols & self.state
         if not held:
             found = False
         elif kind is se.Add or (kind is se.Pow and type(factor.args[0]) is se.Add):
@@ -347,6 +350,9 @@ class TermTables:
     def expr(self, table: dict):
         """The sum of ``table``'s terms, each one product of its coefficient and powers."""
         Mul, atoms = self.se.Mul, self.atoms
+        if len(table) == 1:  # most of M's entries: the term itself, as the sum of one is
+            ((m, c),) = table.items()
+            return Mul(c, *[atoms[a] if k == 1 else atoms[a] ** k for a, k in m]) if m else c
         return self.se.Add(
             *(
                 Mul(c, *[atoms[a] if k == 1 else atoms[a] ** k for a, k in m]) if m else c
