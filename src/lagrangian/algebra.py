@@ -559,7 +559,7 @@ def factor_common(terms):
     common = {}  # base -> the least positive integer exponent of the terms so far
     for factor in _args(addends[0], Mul):
         base, exponent = factor.args if type(factor) is Pow else (factor, one)
-        if not factor.is_Number and exponent.is_Integer and exponent > 0:
+        if not factor.is_Number and exponent.is_Integer and int(exponent) > 0:
             common[base] = exponent
     for term in addends[1:]:
         if not common:
@@ -568,7 +568,7 @@ def factor_common(terms):
         for factor in term.args if type(term) is Mul else (term,):
             if type(factor) is Pow:
                 base, exponent = factor.args
-                if base in common and exponent.is_Integer and exponent > 0:
+                if base in common and exponent.is_Integer and int(exponent) > 0:
                     found[base] = exponent
             elif factor in common:
                 found[factor] = one

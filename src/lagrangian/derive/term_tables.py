@@ -30,6 +30,7 @@ class TermTables:
 
         self.se = se
         self.one = se.Integer(1)
+        self._minus = (se.Integer(-1),)  # the factors of a coefficient -1
         self.state = frozenset(state)
         self.nonsmooth = nonsmooth  # whether an |u| or sign(u) may be differentiated
         self.field = field  # () -> the model's field a refusal names (found only then)
@@ -41,6 +42,7 @@ class TermTables:
         self._plain: list = [True] * len(state)  # atom -> product rule on it is SymEngine's
         self._factors: dict = {}  # factor -> False, (atom, exponent) or (atom, exponent, SUM)
         self._exprs: dict = {(): self.one}  # monomial -> its SymEngine form
+        self._powers: dict = {}  # (atom, exponent) -> its SymEngine form
         self._atom_derivatives: dict = {}  # (atom, symbol) -> ([(monomial, factors)], cost)
         self._integers: dict = {}
         self._circular = (se.sin, se.cos)
@@ -101,8 +103,8 @@ class TermTables:
         """The SymEngine form of ``monomial`` (made once)."""
         found = self._exprs.get(monomial)
         if found is None:
-            atoms = self.atoms
-            factors = [atoms[a] if k == 1 else atoms[a] ** k for a, k in monomial]
+            powers, power_of = self._powers, self._power_of
+            factors = [powers[p] if p in powers else power_of(p) for p in monomial]
             found = factors[0] if len(factors) == 1 else self.se.Mul(*factors)
             self._exprs[monomial] = found
         return found
@@ -292,7 +294,7 @@ class TermTables:
             derivative = self.derivative(base, self.atoms[symbol])
             found = None if type(derivative) is self.se.Add else self._terms(derivative)
         if found is not None:  # each term marked where its coefficient is -1 alone
-            minus = (self.se.Integer(-1),)
+            minus = self._minus
             found = [(m, f, f == minus) for m, f in found[0]], found[1]
         self._atom_derivatives[(atom, symbol)] = found
         return found
@@ -321,7 +323,21 @@ class TermTables:
             return _UNKNOWN
         if type(base) is se.cos:
             rate = -rate
-        return [((power,), () if rate == 1 else (rate,))], 1
+        return [((power,), () if rate == self.one else (rate,))], 1
+
+    def _power_of(self, power: tuple):
+        """The SymEngine form of an (atom, exponent) pair (made once: the same powers recur
+        in many terms, and ``base ** k`` of a Python int converts k on each use)."""
+        atom, k = power
+        base = self.atoms[atom]
+        if type(k) is not int:  # a rational exponent
+            found = base**k
+        elif k == 1:
+            found = base
+        else:
+            found = base ** self._integer(k)
+        self._powers[power] = found
+        return found
 
     def _integer(self, k: int):
         found = self._integers.get(k)
@@ -349,13 +365,13 @@ class TermTables:
 
     def expr(self, table: dict):
         """The sum of ``table``'s terms, each one product of its coefficient and powers."""
-        Mul, atoms = self.se.Mul, self.atoms
+        Mul, powers, power_of = self.se.Mul, self._powers, self._power_of
         if len(table) == 1:  # most of M's entries: the term itself, as the sum of one is
             ((m, c),) = table.items()
-            return Mul(c, *[atoms[a] if k == 1 else atoms[a] ** k for a, k in m]) if m else c
+            return Mul(c, *[powers[p] if p in powers else power_of(p) for p in m]) if m else c
         return self.se.Add(
             *(
-                Mul(c, *[atoms[a] if k == 1 else atoms[a] ** k for a, k in m]) if m else c
+                Mul(c, *[powers[p] if p in powers else power_of(p) for p in m]) if m else c
                 for m, c in table.items()
             )
         )
