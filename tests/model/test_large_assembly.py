@@ -88,7 +88,7 @@ def test_products_of_columns_by_their_monomials_are_combine_angles_of_the_produc
     import symengine as se
 
     from lagrangian.algebra import combine_angles
-    from lagrangian.model.energy_large import _Monomials
+    from lagrangian.model.energy_columns import Monomials
 
     a, b, c, l1, l2 = se.symbols("a b c l1 l2")
     components = [
@@ -107,17 +107,72 @@ def test_products_of_columns_by_their_monomials_are_combine_angles_of_the_produc
     for _ in range(200):
         u = tuple(rng.choice(components) for _ in range(2))
         v = tuple(rng.choice(components) for _ in range(2))
-        left, right = _Monomials(u), _Monomials(v)
+        left, right = Monomials(u), Monomials(v)
         shortcut += left.terms is not None and right.terms is not None
         expected = combine_angles(se.Add(*(x * y for x, y in zip(u, v, strict=True))))
         assert left.dot(right) == expected, (u, v)
     assert 50 < shortcut < 200  # both ways were taken
 
 
+def test_a_product_of_columns_paired_into_one_cosine_is_the_walks_term_for_term(rng):
+    """c cos a cos b + c sin a sin b made as c cos(a - b) from the columns' monomials
+    (``_paired``, no product or sum made) is the very expression ``combine_expanded_angles``
+    makes of the expanded product: the same text, so cos(a - b) and not cos(b - a) (which
+    SymEngine keeps apart); other products are left to it."""
+    import symengine as se
+
+    from lagrangian.algebra import combine_expanded_angles
+    from lagrangian.model import energy_columns
+    from lagrangian.model.energy_columns import Monomials
+
+    t = se.Symbol("t")
+    angles = [se.function_symbol(f"theta{k}", t) for k in range(1, 40)] + list(se.symbols("a b c"))
+    l1, l2 = se.symbols("l1 l2")
+    sin, cos = se.sin, se.cos
+
+    def component(angle):
+        coefficient = rng.choice([l1, l2, -l1, 2 * l1 * l2, se.Rational(1, 2), se.sqrt(l2)])
+        return coefficient * rng.choice([sin, cos])(angle) ** rng.choice([1, 1, 1, 2, 3])
+
+    def column():
+        angle = rng.choice(angles)
+        if rng.random() < 0.2:
+            angle = angle + rng.choice(angles) / 2
+        first = component(angle)
+        second = component(angle)
+        if rng.random() < 0.7:  # a link's column: (l cos a, l sin a) or (l sin a, -l cos a)
+            coefficient = rng.choice([l1, l2, -l1, 3 * l2])
+            first, second = coefficient * cos(angle), coefficient * sin(angle)
+            if rng.random() < 0.5:
+                first, second = second, -first
+        extra = [rng.choice([se.Integer(0), first])] if rng.random() < 0.3 else []
+        return (first, second, *extra)
+
+    made = []
+    real = energy_columns._paired
+    paired = lambda left, right: made.append(real(left, right)) or made[-1]  # noqa: E731
+    energy_columns._paired = paired
+    try:
+        for _ in range(600):
+            u = column()
+            v = column()
+            if len(u) != len(v):
+                continue
+            left, right = Monomials(u), Monomials(v)
+            got = left.dot(right)
+            products = [x * y for x, y in zip(u, v, strict=True)]
+            expected = combine_expanded_angles(se.expand(se.Add(*products)))
+            assert str(got) == str(expected) and got == expected, (u, v)
+    finally:
+        energy_columns._paired = real
+    taken = sum(result is not None for result in made)
+    assert 40 < taken < len(made) - 40  # both ways were taken
+
+
 def test_the_products_of_columns_are_not_counted_one_by_one(monkeypatch):
     """The expansion bound is taken once per column, not walked for each of the n(n+1)/2
     products (before: one expanded_terms walk per product)."""
-    counted = counting(monkeypatch, "lagrangian.model.energy_large", "expanded_terms")
+    counted = counting(monkeypatch, "lagrangian.model.energy_columns", "expanded_terms")
     walked = counting(monkeypatch, "lagrangian.algebra", "expanded_terms")
     n = 12
     chain_pendulum(n)

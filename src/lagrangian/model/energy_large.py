@@ -18,17 +18,15 @@ from collections.abc import Sequence
 import sympy
 
 from ..algebra import (
-    combine_angles,
-    combine_expanded_angles,
     factor_common,
     holds_derivative,
     to_symengine,
     to_sympy,
 )
-from ..budget import MAX_EXPANDED_TERMS, expanded_terms
 from ..lazy import Later, value_of
 from ..symbols import Coordinate
 from .components import Gravity, Particle, RigidBody2D
+from .energy_columns import Monomials
 
 
 def kinetic_energy_large(
@@ -64,12 +62,12 @@ def kinetic_energy_large(
             columns_by_id.append(column)
         return found
 
-    monomials: dict = {}  # column id -> its components' monomials (see _Monomials)
+    monomials: dict = {}  # column id -> its components' monomials (see Monomials)
 
-    def expanded(c: int) -> _Monomials:
+    def expanded(c: int) -> Monomials:
         found = monomials.get(c)
         if found is None:
-            found = monomials[c] = _Monomials(columns_by_id[c])
+            found = monomials[c] = Monomials(columns_by_id[c])
         return found
 
     def dot(a: int, b: int):
@@ -203,61 +201,6 @@ def _converted(form, symbols: dict, cache: dict, known: dict | None) -> sympy.Ex
     if known is None:
         return _back_to_sympy(form, symbols, cache, None)
     return Converted(form, lambda: _back_to_sympy(form, symbols, cache, known))
-
-
-class _Monomials:
-    """A Jacobian column with each component expanded once into its monomials, so that
-    the product of two columns is expanded by multiplying monomials.
-
-    ``combine_angles`` of u . v expands the product anew and first counts, by a walk of
-    it, the terms that expansion could make; a chain's T takes 5050 such products.  Where
-    every monomial is a product of symbols, numbers, functions and powers of them (no sum
-    inside a power), two monomials multiply into a monomial, so the expansion of u . v
-    is the sum of the products of the components' monomials, and its count is bounded by
-    the columns' own counts: :meth:`dot` then makes that sum directly (the same expression
-    as the expansion); else, or past the bound, it is ``combine_angles`` of the product.
-    """
-
-    def __init__(self, column):
-        import symengine as se
-
-        self.column = column
-        # bounds of the terms each component's expansion makes, and of those made inside it
-        self.counts = [expanded_terms(x) for x in column]
-        self.terms = None
-        if max(self.counts) <= MAX_EXPANDED_TERMS:
-            terms = [_terms(se.expand(x)) for x in column]
-            if all(_is_monomial(term) for component in terms for term in component):
-                self.terms = terms
-
-    def dot(self, other: _Monomials):
-        import symengine as se
-
-        u, v = self.column, other.column
-        if self.terms is not None and other.terms is not None:
-            # what expanded_terms would count in u . v: the products' terms, or more inside
-            size = sum(a * b for a, b in zip(self.counts, other.counts, strict=True))
-            if max(size, *self.counts, *other.counts) <= MAX_EXPANDED_TERMS:
-                products = [
-                    x * y
-                    for a, b in zip(self.terms, other.terms, strict=True)
-                    for x in a
-                    for y in b
-                ]
-                return combine_expanded_angles(se.Add(*products))
-        return combine_angles(se.Add(*(x * y for x, y in zip(u, v, strict=True))))
-
-
-def _is_monomial(term) -> bool:
-    """Whether ``term`` (SymEngine) is a product of factors none of which holds a sum
-    outside a function: its product with another such term is again one."""
-    import symengine as se
-
-    for factor in term.args if type(term) is se.Mul else (term,):
-        base = factor.args[0] if type(factor) is se.Pow else factor
-        if type(base) in (se.Add, se.Mul, se.Pow):
-            return False
-    return True
 
 
 class _PositionTerms:
