@@ -404,8 +404,8 @@ def expanded_terms(
         count(expr, 0)
     except _Over:
         worst[0] = over
-    except _TooDeep:  # a tree nested deeper than the recursion allows: walked by a stack
-        return _expanded_terms_walk(expr, limit, powers, kinds)
+    except (_TooDeep, RecursionError):  # too deep a tree, or called deep in the stack:
+        return _expanded_terms_walk(expr, limit, powers, kinds)  # walked by its own stack
     if kinds is not None:
         kinds.update(shapes)
     return worst[0]

@@ -223,3 +223,25 @@ def test_a_tree_nested_deeper_than_the_recursion_is_counted_the_same(depth):
         assert expanded_terms(expr, powers=False) == 2  # without powers: the sum's terms
         power = expr.args[0]
         assert {type(expr), type(power), type(power.args[0]), type(power.args[1])} <= kinds
+
+
+def test_a_count_started_deep_in_the_stack_is_not_a_recursion_error():
+    """The recursion's 200 levels fit under Python's limit from a shallow caller; called
+    near that limit, the count falls back to its own stack with the same answer."""
+    import sys
+
+    expr = x
+    for _ in range(150):  # 150 levels: within the recursion's bound
+        expr = sympy.sin((expr + y) ** 3)
+
+    def nested(depth: int) -> int:
+        return expanded_terms(expr) if depth == 0 else nested(depth - 1)
+
+    room = sys.getrecursionlimit() - len(_frames()) - 60  # about 60 levels left for the count
+    assert nested(room) == 4
+
+
+def _frames() -> list:
+    import inspect
+
+    return inspect.stack(0)
