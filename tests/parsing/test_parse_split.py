@@ -108,10 +108,9 @@ def test_the_split_is_the_parsers():
     assert top_level_terms("x − y + x") is None  # not ASCII
 
 
-def test_a_term_is_the_same_term_whatever_the_spaces_around_it(monkeypatch):
-    """A chain's term is the last of one sum (no space after it) and inside the next:
-    it is built once, so every sum holds the same object (before: two equal objects,
-    which every dict of the checks then compared node by node)."""
+@pytest.fixture
+def tokenized(monkeypatch) -> list[str]:
+    """The texts handed to the tokenizer, in order."""
     seen: list[str] = []
     tokenize = expression_module.tokenize
 
@@ -120,6 +119,14 @@ def test_a_term_is_the_same_term_whatever_the_spaces_around_it(monkeypatch):
         return tokenize(text, limits)
 
     monkeypatch.setattr(expression_module, "tokenize", counting)
+    return seen
+
+
+def test_a_term_is_the_same_term_whatever_the_spaces_around_it(tokenized):
+    """A chain's term is the last of one sum (no space after it) and inside the next:
+    it is built once, so every sum holds the same object (before: two equal objects,
+    which every dict of the checks then compared node by node)."""
+    seen = tokenized
     terms = Terms()
     first = _outcome("0 + l1*sin(theta1)", terms)
     second = _outcome("0 + l1*sin(theta1)\t+ l2*sin(theta2) ", terms)
@@ -146,15 +153,8 @@ def test_too_many_tokens_are_refused_where_a_fresh_parse_refuses_them():
     assert "more than 40 tokens" in _outcome(longer, terms, limits)[1]
 
 
-def test_only_the_terms_not_met_before_are_tokenized(monkeypatch):
-    seen: list[str] = []
-    tokenize = expression_module.tokenize
-
-    def counting(text, limits):
-        seen.append(text)
-        return tokenize(text, limits)
-
-    monkeypatch.setattr(expression_module, "tokenize", counting)
+def test_only_the_terms_not_met_before_are_tokenized(tokenized):
+    seen = tokenized
     chains = ["0"]
     for i in range(1, 31):
         chains.append(chains[-1] + f" + l{1 + i % 2}*sin(theta{1 + i % 2})")
