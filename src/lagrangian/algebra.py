@@ -7,7 +7,7 @@ keeps its result only when it is shorter, and writes the result the way a
 textbook does: terms with the same dependence on the state grouped, with the
 parameter coefficient factored ((m1 + m2) g sin(theta1)).  Every step is
 skipped above a fixed operation count, so the cost is bounded; sizes are
-measured by :func:`lagrangian.budget.ops_exceed`, which stops counting at the
+measured by :func:`lagrangian.sizes.ops_exceed`, which stops counting at the
 limit (SymPy's ``count_ops`` alone walks a huge tree for minutes).
 """
 
@@ -20,7 +20,7 @@ from collections.abc import Iterable
 import sympy
 from sympy.core.function import AppliedUndef
 
-from .budget import MAX_EXPANDED_TERMS, exceeds, expanded_terms, ops_exceed
+from .sizes import MAX_EXPANDED_TERMS, exceeds, expanded_terms, ops_exceed
 
 #: Largest operation count handed to ``trigsimp`` (tens of milliseconds at this size).
 TRIGSIMP_MAX_OPS = 120

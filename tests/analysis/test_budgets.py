@@ -31,10 +31,10 @@ from lagrangian.budget import (
     checked_seconds,
     cpu_seconds,
     deadline,
-    exceeds,
     remaining,
 )
 from lagrangian.output.analysis import analysis_document, format_analysis, latex_analysis
+from lagrangian.sizes import exceeds
 
 TOP_KINETIC = (
     "(I1*(phi_dot*sin(theta)*sin(psi) + theta_dot*cos(psi))**2"

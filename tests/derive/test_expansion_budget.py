@@ -2,7 +2,7 @@
 
 SymEngine's expand runs in C++, where no deadline reaches: (q0' + ... + q19')^20 / 2,
 156 characters, ran for 200 s and 6.8 GB and growing against a budget of 60 s.  The
-number of terms an expansion makes is counted first (:func:`budget.expanded_terms`,
+number of terms an expansion makes is counted first (:func:`sizes.expanded_terms`,
 checked here against SymPy's own expansion), and every place that hands SymEngine an
 expansion asks it: the large route of derivation, and the angle rule of ``tidy`` and of
 the kinetic energy's assembly.
@@ -18,8 +18,8 @@ import sympy
 
 import lagrangian as lg
 from lagrangian import algebra
-from lagrangian.budget import MAX_EXPANDED_TERMS, expanded_terms
 from lagrangian.errors import ModelError
+from lagrangian.sizes import MAX_EXPANDED_TERMS, expanded_terms
 
 fast = importlib.import_module("lagrangian.derive.fast")  # lagrangian.derive is a function
 term_tables = importlib.import_module("lagrangian.derive.term_tables")

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import sympy
 
-from ..budget import ops_exceed
+from ..sizes import ops_exceed
 from .modes import NormalModes, Stability, assumed_sign
 
 #: Largest root (operation count) turned into a condition.

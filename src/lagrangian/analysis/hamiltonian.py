@@ -20,11 +20,11 @@ from dataclasses import dataclass
 import sympy
 
 from ..algebra import tidy, tidy_fraction
-from ..budget import exceeds
 from ..derive import EquationsOfMotion
 from ..derive.solve import diagonal_blocks, solve_linear
 from ..errors import ModelError
 from ..provided import Provided
+from ..sizes import exceeds
 
 #: Largest H (tree nodes) whose derivatives are formed and tidied.
 DIFFERENTIATE_MAX_NODES = 5_000

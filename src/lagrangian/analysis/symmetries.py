@@ -39,9 +39,9 @@ import numpy as np
 import sympy
 
 from ..algebra import is_zero, tidy
-from ..budget import ops_exceed
 from ..derive import EquationsOfMotion
 from ..model import System
+from ..sizes import ops_exceed
 from .motion import vanishes_along_motion
 
 #: Largest number of coordinates mixed by a linear part B (k^2 unknowns).

@@ -33,10 +33,10 @@ import numpy as np
 import sympy
 
 from ..algebra import holds_derivative, to_symengine, to_sympy
-from ..budget import MAX_EXPANDED_TERMS, expanded_terms
 from ..collector import cycle_collector_paused
 from ..lazy import Later
 from ..model import System
+from ..sizes import MAX_EXPANDED_TERMS, expanded_terms
 from .constraints import ConstraintForms
 from .equations import CoordinateDerivation, Deferred, EquationsOfMotion, SymEngineForms
 from .solve import SYMBOLIC_MAX_SIZE, check_regular, diagonal_blocks, solve_accelerations

@@ -15,8 +15,8 @@ from __future__ import annotations
 from collections import defaultdict
 
 from ..algebra import factor_common
-from ..budget import MAX_EXPANDED_TERMS, expanded_terms
 from ..errors import ModelError
+from ..sizes import MAX_EXPANDED_TERMS, expanded_terms
 
 
 class TermTables:

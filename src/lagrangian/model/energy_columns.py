@@ -6,7 +6,7 @@ c cos a cos b + c sin a sin b = c cos(a - b), made without its sum (a chain's ev
 from __future__ import annotations
 
 from ..algebra import combine_angles, combine_expanded_angles
-from ..budget import MAX_EXPANDED_TERMS, expanded_terms
+from ..sizes import MAX_EXPANDED_TERMS, expanded_terms
 
 
 class Monomials:
