@@ -8,6 +8,7 @@ of stalling the suite.  Examples are derandomized: CI sees the same ones.
 from __future__ import annotations
 
 import math
+import sys
 import time
 
 import pytest
@@ -217,9 +218,12 @@ def _beyond_double(value: sympy.Expr) -> bool:
     if not value.is_number or value.is_zero:
         return False
     bounds = RealConstants().bounds(value)
-    return bounds is not None and (
-        max(abs(end) for end in bounds) == math.inf or bounds == (0.0, 0.0)
-    )
+    if bounds is None:  # no enclosure: exp(exp(pi**3)) overflows mpmath's intervals
+        magnitude = sympy.Abs(value).evalf(15)  # mpmath's exponents have no such limit
+        return magnitude.is_Float and not (
+            math.ulp(0.0) <= magnitude <= sys.float_info.max and math.isfinite(magnitude)
+        )
+    return max(abs(end) for end in bounds) == math.inf or bounds == (0.0, 0.0)
 
 
 def _not_real(value: sympy.Expr) -> bool:
@@ -283,6 +287,17 @@ def test_a_constant_beyond_double_is_valid_text_the_parser_may_refuse():
     cubed = _node("((pi)**(2))**(3)", sympy.pi**6, squared)
     huge = _node("exp(((pi)**(2))**(3))", sympy.exp(sympy.pi**6), cubed)
     assert huge[2:] == (False, True) and cubed[2:] == (False, False)
+    test_valid_expressions_parse_to_the_same_object.hypothesis.inner_test(huge)
+
+
+def test_a_constant_without_an_enclosure_beyond_double_may_be_refused():
+    """Hypothesis found ``exp(exp(pi**3))``, about 10^(1.3e13): its enclosure overflows
+    mpmath's intervals (no bounds), and the parser refuses it from its exponent's bounds."""
+    pi = ("pi", sympy.pi, False, False)
+    cubed = _node("pi**3", sympy.pi**3, pi)
+    inner = _node("exp(pi**3)", sympy.exp(sympy.pi**3), cubed)
+    huge = _node("exp(exp(pi**3))", sympy.exp(sympy.exp(sympy.pi**3)), inner)
+    assert huge[2:] == (False, True) and inner[2:] == (False, False)
     test_valid_expressions_parse_to_the_same_object.hypothesis.inner_test(huge)
 
 
