@@ -557,7 +557,7 @@ def factor_common(terms):
     addends = total.args
     one = se.Integer(1)
     common = {}  # base -> the least positive integer exponent of the terms so far
-    for factor in _args(addends[0], Mul):
+    for factor in args_of(addends[0], Mul):
         base, exponent = factor.args if type(factor) is Pow else (factor, one)
         if not factor.is_Number and exponent.is_Integer and int(exponent) > 0:
             common[base] = exponent
@@ -579,5 +579,7 @@ def factor_common(terms):
     return factor * se.Add(*(term / factor for term in addends))
 
 
-def _args(expr, kind) -> tuple:
+def args_of(expr, kind) -> tuple:
+    """The args of ``expr`` where it is of ``kind`` (SymPy's or SymEngine's Add, Mul), else
+    ``(expr,)``: the terms of a sum, the factors of a product, without SymPy's make_args."""
     return expr.args if type(expr) is kind else (expr,)

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from collections import defaultdict
 
-from ..algebra import factor_common
+from ..algebra import args_of, factor_common
 from ..errors import ModelError
 from ..sizes import MAX_EXPANDED_TERMS, expanded_terms
 
@@ -168,9 +168,9 @@ class TermTables:
             raise too_many_terms(self.field())
         parts = []
         known, classify = self._factors, self._factor
-        for part in _args(se.expand(product), se.Add):
+        for part in args_of(se.expand(product), se.Add):
             inner, powers = list(coefficient), []
-            for factor in _args(part, se.Mul):
+            for factor in args_of(part, se.Mul):
                 found = known.get(factor)
                 if found is None:
                     found = classify(factor)
@@ -388,7 +388,3 @@ def too_many_terms(field: str | None = None) -> ModelError:
         "n terms to the k makes C(n + k - 1, k)): the model is too large to derive",
         field=field,
     )
-
-
-def _args(expr, kind) -> tuple:
-    return expr.args if type(expr) is kind else (expr,)

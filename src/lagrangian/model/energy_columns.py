@@ -5,7 +5,7 @@ c cos a cos b + c sin a sin b = c cos(a - b), made without its sum (a chain's ev
 
 from __future__ import annotations
 
-from ..algebra import combine_angles, combine_expanded_angles
+from ..algebra import args_of, combine_angles, combine_expanded_angles
 from ..sizes import MAX_EXPANDED_TERMS, expanded_terms
 
 
@@ -31,7 +31,7 @@ class Monomials:
         self.terms = None
         self.shapes = None  # each component's monomials split as _shape does, where all split
         if max(self.counts) <= MAX_EXPANDED_TERMS:
-            terms = [_terms(se.expand(x)) for x in column]
+            terms = [args_of(se.expand(x), se.Add) for x in column]
             if all(_is_monomial(term) for component in terms for term in component):
                 self.terms = terms
                 shapes = [[_shape(x) for x in component if x != 0] for component in terms]
@@ -127,9 +127,3 @@ def _is_monomial(term) -> bool:
         if type(base) in (se.Add, se.Mul, se.Pow):
             return False
     return True
-
-
-def _terms(expr) -> tuple:
-    import symengine as se
-
-    return expr.args if type(expr) is se.Add else (expr,)

@@ -18,6 +18,7 @@ from collections.abc import Sequence
 import sympy
 
 from ..algebra import (
+    args_of,
     factor_common,
     holds_derivative,
     to_symengine,
@@ -297,7 +298,7 @@ def difference_in_symengine(kinetic, potential, known: dict):
     if t is None or v is None:
         return None, None
     # -V term by term, as SymPy distributes it (SymEngine would keep -(a + b) whole)
-    difference = se.Add(*_terms(t), *(-term for term in _terms(v)))
+    difference = se.Add(*args_of(t, se.Add), *(-term for term in args_of(v, se.Add)))
 
     def made_in_sympy() -> sympy.Expr:
         value_of(kinetic)  # T's and V's conversions fill ``known`` with the terms L reuses
@@ -311,12 +312,6 @@ def difference_in_symengine(kinetic, potential, known: dict):
 
 def _symengine_form(expr, known: dict):
     return expr.form if isinstance(expr, Converted) else to_symengine(expr, known)
-
-
-def _terms(expr) -> tuple:
-    import symengine as se
-
-    return expr.args if type(expr) is se.Add else (expr,)
 
 
 def _back_to_sympy(expr, symbols: dict, cache: dict, known: dict | None) -> sympy.Expr:
