@@ -103,11 +103,15 @@ class TermTables:
         """The SymEngine form of ``monomial`` (made once)."""
         found = self._exprs.get(monomial)
         if found is None:
-            powers, power_of = self._powers, self._power_of
-            factors = [powers[p] if p in powers else power_of(p) for p in monomial]
+            factors = self._forms(monomial)
             found = factors[0] if len(factors) == 1 else self.se.Mul(*factors)
             self._exprs[monomial] = found
         return found
+
+    def _forms(self, monomial: tuple) -> list:
+        """The SymEngine forms of ``monomial``'s powers."""
+        powers, power_of = self._powers, self._power_of
+        return [powers[p] if p in powers else power_of(p) for p in monomial]
 
     def split(self, expr, into=None, scale=None, *, bound: int | None = None) -> dict:
         """Add ``scale * expr`` term by term to ``into`` ({monomial: [coefficients]});
@@ -365,16 +369,10 @@ class TermTables:
 
     def expr(self, table: dict):
         """The sum of ``table``'s terms, each one product of its coefficient and powers."""
-        Mul, powers, power_of = self.se.Mul, self._powers, self._power_of
-        if len(table) == 1:  # most of M's entries: the term itself, as the sum of one is
-            ((m, c),) = table.items()
-            return Mul(c, *[powers[p] if p in powers else power_of(p) for p in m]) if m else c
-        return self.se.Add(
-            *(
-                Mul(c, *[powers[p] if p in powers else power_of(p) for p in m]) if m else c
-                for m, c in table.items()
-            )
-        )
+        Mul, forms = self.se.Mul, self._forms
+        terms = [Mul(c, *forms(m)) if m else c for m, c in table.items()]
+        # most of M's entries have one term: the term itself, as the sum of one is
+        return terms[0] if len(terms) == 1 else self.se.Add(*terms)
 
 
 _UNKNOWN = object()
