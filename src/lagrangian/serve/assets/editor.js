@@ -21,6 +21,7 @@ let examples = [];
 let timer = null;
 let latest = 0;        // the number of the newest request: older answers are ignored
 let inFlight = null;   // its AbortController
+let typed = false;     // whether the user has typed here: the first example then waits
 
 function showError(text) {
   errorLine.textContent = text;
@@ -109,6 +110,7 @@ async function loadExamples() {
 }
 
 editor.addEventListener("input", () => {
+  typed = true;
   menu.value = "";
   keepText();
   scheduleDerive();
@@ -117,7 +119,8 @@ menu.addEventListener("change", () => chooseExample(menu.value));
 exerciseBox.addEventListener("change", derive);
 
 // The user's text first, derived at once (the examples may be slow or fail); the first
-// example only for an editor never used here.
+// example only for an editor never used here, and not over text typed while the examples
+// were on their way.
 const restored = storedText();
 if (restored !== null) {
   editor.value = restored;
@@ -125,9 +128,9 @@ if (restored !== null) {
 }
 loadExamples().then(
   () => {
-    if (restored === null) {
+    if (restored === null && !typed) {
       chooseExample(FIRST_EXAMPLE);
-    } else {
+    } else {  // the menu names the example the text is, if it is one
       const same = examples.find((entry) => entry.text === editor.value);
       menu.value = same ? same.name : "";
     }
